@@ -1,0 +1,5 @@
+//! The `learnpnp` command line.
+
+fn main() {
+    println!("learnpnp");
+}

@@ -1,0 +1,7 @@
+//! learnpnp: reinforcement learning in plan space.
+//!
+//! A designer writes a behaviour as a Petri Net Plan and leaves some choices open;
+//! the executor runs the plan with the thesis's operational semantics and hands
+//! every open choice to a learner. See `docs/ARCHITECTURE.md` for the data path.
+
+pub mod rng;
