@@ -1,0 +1,16 @@
+//! Place/transition nets: the structure under every plan.
+//!
+//! [`PetriNet`] is the net as a file describes it (ids, labels, arcs, weights,
+//! initial marking); [`Incidence`] is its compiled form for firing; [`Marking`]
+//! is the token count of every place, the state key of every value table.
+
+mod incidence;
+mod marking;
+mod petri_net;
+
+pub use incidence::{Arc, Incidence};
+pub use marking::{Marking, TokenOverflow};
+pub use petri_net::{
+    ArcNode, NetError, NodeRef, PetriNet, PlaceId, PlaceNode, Position, TransitionId,
+    TransitionNode,
+};
