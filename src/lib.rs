@@ -4,5 +4,8 @@
 //! the executor runs the plan with the thesis's operational semantics and hands
 //! every open choice to a learner. See `docs/ARCHITECTURE.md` for the data path.
 
+pub mod condition;
+pub mod executor;
 pub mod net;
+pub mod plan;
 pub mod rng;

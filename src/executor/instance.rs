@@ -1,0 +1,409 @@
+//! One running plan: its marking, its actions, and its running sub-plans
+//! (a node of the activation tree).
+
+use std::sync::Arc;
+
+use super::bits::BitSet;
+use super::conflict::{self, ConflictScratch};
+use super::registry::{Entry, Registry};
+use super::{Action, Chooser, ExecError, PlanKey, World};
+use crate::condition::AtomRef;
+use crate::net::{Marking, PlaceId, TransitionId};
+use crate::plan::{ActionId, Call, Function, InternalKind, Plan};
+
+/// Most alternative firing sets one conflict may offer.
+pub(crate) const MAX_OPTIONS: usize = 4096;
+
+/// Where a plan's execution stands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Status {
+    /// Neither in a goal nor in a fail marking.
+    Running,
+    /// In a goal marking: the plan has finished.
+    Goal,
+    /// In a fail marking: the plan has failed.
+    Failed,
+}
+
+/// What runs for one action name.
+pub(crate) enum Executable<W> {
+    /// A primitive action.
+    Primitive(Box<dyn Action<W>>),
+    /// A sub-plan.
+    Plan(Box<PlanInstance<W>>),
+}
+
+/// An internal condition bound to the executable that answers it.
+#[derive(Debug, Clone, Copy)]
+enum Binding {
+    Finished(usize),
+    Failed(usize),
+    Declared(usize, usize),
+}
+
+/// A plan being executed.
+pub(crate) struct PlanInstance<W> {
+    pub(crate) plan: Arc<Plan>,
+    key: PlanKey,
+    pub(crate) marking: Marking,
+    /// Per transition: input arcs whose place lacks tokens.
+    missing: Vec<u16>,
+    /// Transitions with enough tokens (guards aside).
+    enabled: BitSet,
+    executables: Vec<Executable<W>>,
+    /// Per action: how many of its execution places are marked.
+    marked_exec: Vec<u16>,
+    /// Actions with a marked execution place.
+    active: BitSet,
+    bindings: Vec<Binding>,
+    pub(crate) status: Status,
+    /// Started (or resumed) during the current step: its transitions wait.
+    fresh: bool,
+    pub(crate) pending_reward: f64,
+    pub(crate) elapsed: u32,
+    executable: Vec<TransitionId>,
+    chosen: Vec<TransitionId>,
+    options: Vec<Marking>,
+    conflicts: ConflictScratch,
+}
+
+impl<W: World> PlanInstance<W> {
+    /// Instantiates `plan` and, recursively, its actions and sub-plans.
+    pub(crate) fn new(plan: Arc<Plan>, key: PlanKey, registry: &Registry<W>, callers: &mut Vec<String>) -> Result<Self, ExecError> {
+        if callers.iter().any(|c| c == plan.name()) {
+            return Err(ExecError::RecursiveSubPlan { plan: plan.name().to_string() });
+        }
+        callers.push(plan.name().to_string());
+        let mut executables = Vec::with_capacity(plan.actions().len());
+        let mut declared_lists: Vec<Option<Vec<String>>> = Vec::new();
+        for info in plan.actions() {
+            match registry.resolve(&info.name) {
+                Some(Entry::Primitive { declared, factory }) => {
+                    executables.push(Executable::Primitive(factory(&info.name)));
+                    declared_lists.push(Some(declared.to_vec()));
+                }
+                Some(Entry::SubPlan(sub_key, sub)) => {
+                    let instance = PlanInstance::new(Arc::clone(sub), sub_key, registry, callers)?;
+                    executables.push(Executable::Plan(Box::new(instance)));
+                    declared_lists.push(None);
+                }
+                None => {
+                    return Err(ExecError::UnknownAction { plan: plan.name().to_string(), action: info.name.clone() });
+                }
+            }
+        }
+        callers.pop();
+        let mut bindings = Vec::with_capacity(plan.internal_conditions().len());
+        for cond in plan.internal_conditions() {
+            let a = cond.action.index();
+            bindings.push(match &cond.kind {
+                InternalKind::Finished => Binding::Finished(a),
+                InternalKind::Failed => Binding::Failed(a),
+                InternalKind::Declared(name) => {
+                    let declared = declared_lists[a].as_deref().unwrap_or(&[]);
+                    let index = declared.iter().position(|d| d == name).ok_or_else(|| ExecError::UndeclaredCondition {
+                        plan: plan.name().to_string(),
+                        action: plan.action(cond.action).name.clone(),
+                        condition: name.clone(),
+                        declared: if declared.is_empty() { "nothing".to_string() } else { declared.join(", ") },
+                    })?;
+                    Binding::Declared(a, index)
+                }
+            });
+        }
+        let transitions = plan.incidence().transition_count();
+        let actions = plan.actions().len();
+        let mut instance = PlanInstance {
+            marking: plan.initial_marking(),
+            missing: vec![0; transitions],
+            enabled: BitSet::new(transitions),
+            executables,
+            marked_exec: vec![0; actions],
+            active: BitSet::new(actions),
+            bindings,
+            status: Status::Running,
+            fresh: true,
+            pending_reward: 0.0,
+            elapsed: 0,
+            executable: Vec::new(),
+            chosen: Vec::new(),
+            options: Vec::new(),
+            conflicts: ConflictScratch::default(),
+            key,
+            plan,
+        };
+        instance.rebuild();
+        Ok(instance)
+    }
+
+    /// Recomputes the enabled and active sets from the marking.
+    fn rebuild(&mut self) {
+        let incidence = self.plan.incidence();
+        self.enabled.clear();
+        for t in incidence.transition_ids() {
+            let missing = incidence.inputs(t).iter().filter(|a| self.marking.get(a.place) < a.weight).count();
+            self.missing[t.index()] = missing as u16;
+            self.enabled.set(t.index(), missing == 0);
+        }
+        self.active.clear();
+        self.marked_exec.iter_mut().for_each(|c| *c = 0);
+        for (p, _) in self.marking.marked() {
+            if let Some(a) = self.plan.exec_action(p) {
+                self.marked_exec[a.index()] += 1;
+                self.active.set(a.index(), true);
+            }
+        }
+        self.status = self.status_of_marking();
+    }
+
+    fn status_of_marking(&self) -> Status {
+        if self.plan.is_goal(&self.marking) {
+            Status::Goal
+        } else if self.plan.is_fail(&self.marking) {
+            Status::Failed
+        } else {
+            Status::Running
+        }
+    }
+
+    /// Resets every primitive action in the tree for a new episode.
+    pub(crate) fn reset_actions(&mut self) {
+        for e in &mut self.executables {
+            match e {
+                Executable::Primitive(a) => a.reset(),
+                Executable::Plan(p) => p.reset_actions(),
+            }
+        }
+    }
+
+    /// Starts the plan from its initial marking; actions on initially marked
+    /// execution places are started.
+    pub(crate) fn start(&mut self, world: &mut W) {
+        self.marking = self.plan.initial_marking();
+        self.rebuild();
+        self.fresh = true;
+        self.pending_reward = 0.0;
+        self.elapsed = 0;
+        for a in 0..self.executables.len() {
+            if self.active.contains(a) {
+                self.call(world, Call { function: Function::Start, action: ActionId(a as u32) });
+            }
+        }
+    }
+
+    /// Applies `function` to every active executable of this plan, recursively
+    /// (ending, interrupting or failing a plan does the same to its sub-tree).
+    fn propagate(&mut self, world: &mut W, function: Function) {
+        let Self { active, executables, .. } = self;
+        for a in active.iter() {
+            match &mut executables[a] {
+                Executable::Primitive(x) => match function {
+                    Function::Interrupt => x.interrupt(world),
+                    Function::Resume => x.resume(world),
+                    _ => x.end(world),
+                },
+                Executable::Plan(p) => p.propagate(world, function),
+            }
+        }
+        if function == Function::Resume {
+            self.fresh = true;
+        }
+    }
+
+    /// Steps every active action; sub-plans step their own actions in turn.
+    pub(crate) fn act(&mut self, world: &mut W) {
+        self.fresh = false;
+        let Self { active, executables, .. } = self;
+        for a in active.iter() {
+            match &mut executables[a] {
+                Executable::Primitive(x) => x.step(world),
+                Executable::Plan(p) if p.status == Status::Running => p.act(world),
+                Executable::Plan(_) => {}
+            }
+        }
+    }
+
+    /// Adds one step and its reward to this plan and its running sub-plans.
+    pub(crate) fn accrue(&mut self, reward: f64) {
+        self.pending_reward += reward;
+        self.elapsed += 1;
+        let Self { active, executables, .. } = self;
+        for a in active.iter() {
+            if let Executable::Plan(p) = &mut executables[a] {
+                if p.status == Status::Running {
+                    p.accrue(reward);
+                }
+            }
+        }
+    }
+
+    fn internal_holds(&self, index: u32, world: &W) -> bool {
+        match self.bindings[index as usize] {
+            Binding::Finished(a) => match &self.executables[a] {
+                Executable::Primitive(x) => x.finished(world),
+                Executable::Plan(p) => p.status == Status::Goal,
+            },
+            Binding::Failed(a) => match &self.executables[a] {
+                Executable::Primitive(x) => x.failed(world),
+                Executable::Plan(p) => p.status == Status::Failed,
+            },
+            Binding::Declared(a, i) => match &self.executables[a] {
+                Executable::Primitive(x) => x.condition(i, world),
+                Executable::Plan(_) => false,
+            },
+        }
+    }
+
+    /// Fires this step's executable transitions (asking `chooser` on conflicts),
+    /// then lets running sub-plans fire theirs: a higher plan's transitions,
+    /// interrupts included, take effect before those of the plans below it.
+    pub(crate) fn fire<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) -> Result<(), ExecError> {
+        if self.status != Status::Running {
+            return Ok(());
+        }
+        let mut executable = std::mem::take(&mut self.executable);
+        executable.clear();
+        for t in self.enabled.iter() {
+            let t = TransitionId::new(t);
+            let holds = self.plan.transition(t).guard.eval(&|atom| match atom {
+                AtomRef::Fact(id) => world.holds(id),
+                AtomRef::Internal(i) => self.internal_holds(i, world),
+            });
+            if holds {
+                executable.push(t);
+            }
+        }
+        let result = if executable.is_empty() { Ok(()) } else { self.fire_executable(world, chooser, &executable) };
+        self.executable = executable;
+        result?;
+        for a in 0..self.executables.len() {
+            if !self.active.contains(a) {
+                continue;
+            }
+            if let Executable::Plan(p) = &mut self.executables[a] {
+                if !p.fresh && p.status == Status::Running {
+                    p.fire(world, chooser)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn fire_executable<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C, executable: &[TransitionId]) -> Result<(), ExecError> {
+        let incidence = self.plan.incidence();
+        let mut chosen = std::mem::take(&mut self.chosen);
+        chosen.clear();
+        if conflict::has_conflict(incidence, &self.marking, executable, &mut self.conflicts) {
+            if !conflict::enumerate(incidence, &self.marking, executable, &mut self.conflicts, MAX_OPTIONS) {
+                self.chosen = chosen;
+                return Err(ExecError::TooManyOptions { plan: self.plan.name().to_string(), limit: MAX_OPTIONS });
+            }
+            let count = self.conflicts.sets.len();
+            self.options.truncate(count);
+            for (i, set) in self.conflicts.sets.iter().enumerate() {
+                if i < self.options.len() {
+                    self.options[i].clone_from(&self.marking);
+                } else {
+                    self.options.push(self.marking.clone());
+                }
+                let next = &mut self.options[i];
+                for &t in self.conflicts.free.iter().chain(set) {
+                    incidence.fire(next, t).map_err(|e| ExecError::TokenOverflow {
+                        plan: self.plan.name().to_string(),
+                        place: self.plan.net().place(PlaceId::new(e.place)).id.clone(),
+                    })?;
+                }
+            }
+            let index = chooser.choose(self.key, &self.marking, &self.options);
+            if index >= count {
+                self.chosen = chosen;
+                return Err(ExecError::InvalidChoice { plan: self.plan.name().to_string(), index, count });
+            }
+            chosen.extend_from_slice(&self.conflicts.free);
+            chosen.extend_from_slice(&self.conflicts.sets[index]);
+        } else {
+            chosen.extend_from_slice(executable);
+        }
+        let result = self.fire_set(world, &chosen);
+        self.chosen = chosen;
+        result?;
+        self.status = self.status_of_marking();
+        chooser.transition(self.key, &self.marking, self.pending_reward, self.elapsed);
+        self.pending_reward = 0.0;
+        self.elapsed = 0;
+        Ok(())
+    }
+
+    /// Moves the tokens of `set`, then calls the functions its transitions carry.
+    fn fire_set(&mut self, world: &mut W, set: &[TransitionId]) -> Result<(), ExecError> {
+        let plan = Arc::clone(&self.plan);
+        let incidence = plan.incidence();
+        for &t in set {
+            for a in incidence.inputs(t) {
+                let old = self.marking.get(a.place);
+                self.marking.remove(a.place, a.weight);
+                self.place_changed(a.place, old);
+            }
+        }
+        for &t in set {
+            for a in incidence.outputs(t) {
+                let old = self.marking.get(a.place);
+                self.marking.add(a.place, a.weight).map_err(|_| ExecError::TokenOverflow {
+                    plan: plan.name().to_string(),
+                    place: plan.net().place(a.place).id.clone(),
+                })?;
+                self.place_changed(a.place, old);
+            }
+        }
+        for &t in set {
+            for &call in &plan.transition(t).calls {
+                self.call(world, call);
+            }
+        }
+        Ok(())
+    }
+
+    /// Updates the enabled and active sets after `place` changed from `old` tokens.
+    #[inline]
+    fn place_changed(&mut self, place: PlaceId, old: u8) {
+        let new = self.marking.get(place);
+        for &(t, w) in self.plan.incidence().consumers(place) {
+            let (was, is) = (old >= w, new >= w);
+            if was != is {
+                let m = &mut self.missing[t.index()];
+                if is {
+                    *m -= 1;
+                } else {
+                    *m += 1;
+                }
+                self.enabled.set(t.index(), *m == 0);
+            }
+        }
+        if let Some(a) = self.plan.exec_action(place) {
+            let count = &mut self.marked_exec[a.index()];
+            match (old > 0, new > 0) {
+                (false, true) => *count += 1,
+                (true, false) => *count -= 1,
+                _ => {}
+            }
+            self.active.set(a.index(), *count > 0);
+        }
+    }
+
+    /// Calls one function on one action or sub-plan.
+    fn call(&mut self, world: &mut W, call: Call) {
+        match &mut self.executables[call.action.index()] {
+            Executable::Primitive(x) => match call.function {
+                Function::Start => x.start(world),
+                Function::End => x.end(world),
+                Function::Interrupt => x.interrupt(world),
+                Function::Resume => x.resume(world),
+                Function::Fail => x.fail(world),
+            },
+            Executable::Plan(p) => match call.function {
+                Function::Start => p.start(world),
+                other => p.propagate(world, other),
+            },
+        }
+    }
+}

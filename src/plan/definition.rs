@@ -1,0 +1,386 @@
+//! A Petri Net Plan: a net whose labels are interpreted as actions, goals and guards.
+
+use std::collections::HashMap;
+
+use serde::{Deserialize, Serialize};
+
+use super::PlanError;
+use super::labels::{Function, TransitionToken, parse_place_label, transition_tokens};
+use crate::condition::{AtomRef, AtomTable, Condition, parse_condition};
+use crate::net::{Incidence, Marking, PetriNet, PlaceId, TransitionId};
+
+/// Index of an action (or sub-plan call) in its plan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct ActionId(pub u32);
+
+impl ActionId {
+    /// Its index.
+    #[inline]
+    pub const fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// An action or sub-plan named by execution places.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ActionInfo {
+    /// The full name before `.exec`, agent prefix and parameters included (`r1#goto_3_4`).
+    pub name: String,
+    /// The agent in charge, from a `robot#action` prefix.
+    pub agent: Option<String>,
+    /// Places labelled as its execution place (they share one action object).
+    pub exec_places: Vec<PlaceId>,
+}
+
+impl ActionInfo {
+    /// The name without the agent prefix.
+    pub fn base_name(&self) -> &str {
+        self.name.split_once('#').map_or(&self.name, |(_, b)| b)
+    }
+}
+
+/// A function call carried by a transition.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Call {
+    /// What to call.
+    pub function: Function,
+    /// On which action.
+    pub action: ActionId,
+}
+
+/// The interpreted label of a transition.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TransitionInfo {
+    /// The compiled guard: the explicit one, or the implicit wait for
+    /// `A.finished` (`A.end`) / `A.failed` (`A.fail`), or true.
+    pub guard: Condition,
+    /// The explicit guard text, if the label had one.
+    pub explicit_guard: Option<String>,
+    /// The functions it calls, in label order.
+    pub calls: Vec<Call>,
+}
+
+/// What an internal condition asks of its action.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum InternalKind {
+    /// `A.finished`.
+    Finished,
+    /// `A.failed`.
+    Failed,
+    /// Any other condition the action declares.
+    Declared(String),
+}
+
+/// An internal condition `A.cond`, tested by the action itself.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct InternalCondition {
+    /// The action answering it.
+    pub action: ActionId,
+    /// Which condition.
+    pub kind: InternalKind,
+}
+
+/// Which atoms a plan may use.
+#[derive(Debug, Clone, Copy)]
+pub enum Vocabulary<'a> {
+    /// Any atom: the plan collects its own table (for inspection tools).
+    Open,
+    /// Only the atoms a domain declares; any other is refused at load.
+    Closed(&'a AtomTable),
+}
+
+/// A loaded plan: the net plus its interpretation, ready to execute or analyse.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    net: PetriNet,
+    incidence: Incidence,
+    actions: Vec<ActionInfo>,
+    place_action: Vec<Option<ActionId>>,
+    goal: Vec<(PlaceId, u8)>,
+    fail: Vec<(PlaceId, u8)>,
+    transitions: Vec<TransitionInfo>,
+    internal: Vec<InternalCondition>,
+    atoms: AtomTable,
+}
+
+impl Plan {
+    /// Interprets `net` as a plan, resolving atoms against `vocabulary`.
+    pub fn from_net(net: PetriNet, vocabulary: Vocabulary<'_>) -> Result<Self, PlanError> {
+        let incidence = Incidence::new(&net);
+        let mut actions: Vec<ActionInfo> = Vec::new();
+        let mut by_name: HashMap<String, ActionId> = HashMap::new();
+        let mut place_action = vec![None; net.places().len()];
+        let mut goal = Vec::new();
+        let mut fail = Vec::new();
+        for (i, place) in net.places().iter().enumerate() {
+            let pid = PlaceId::new(i);
+            let label = parse_place_label(&place.label).map_err(|e| PlanError::PlaceLabel {
+                place: place.id.clone(),
+                label: place.label.clone(),
+                token: e.token,
+                reason: e.reason,
+            })?;
+            if let Some(name) = label.exec {
+                let id = *by_name.entry(name.clone()).or_insert_with(|| {
+                    actions.push(ActionInfo {
+                        agent: name.split_once('#').map(|(a, _)| a.to_string()),
+                        name: name.clone(),
+                        exec_places: Vec::new(),
+                    });
+                    ActionId(actions.len() as u32 - 1)
+                });
+                actions[id.index()].exec_places.push(pid);
+                place_action[i] = Some(id);
+            }
+            if let Some(n) = label.goal {
+                goal.push((pid, n));
+            }
+            if let Some(n) = label.fail {
+                fail.push((pid, n));
+            }
+        }
+
+        let mut atoms = match vocabulary {
+            Vocabulary::Open => AtomTable::new(),
+            Vocabulary::Closed(table) => table.clone(),
+        };
+        let mut internal: Vec<InternalCondition> = Vec::new();
+        let mut transitions = Vec::with_capacity(net.transitions().len());
+        for (i, node) in net.transitions().iter().enumerate() {
+            let tid = TransitionId::new(i);
+            let label_error = |token: &str, reason: &str| PlanError::TransitionLabel {
+                transition: node.id.clone(),
+                label: node.label.clone(),
+                token: token.to_string(),
+                reason: reason.to_string(),
+            };
+            let tokens = transition_tokens(&node.label).ok_or_else(|| label_error(&node.label, "unbalanced brackets"))?;
+            let mut guard_text: Option<&str> = None;
+            let mut calls = Vec::new();
+            for token in tokens {
+                match token {
+                    TransitionToken::Guard(g) => {
+                        if guard_text.replace(g).is_some() {
+                            return Err(label_error(&format!("[{g}]"), "a transition has at most one guard"));
+                        }
+                    }
+                    TransitionToken::Call(name, function) => {
+                        let action = *by_name
+                            .get(name)
+                            .ok_or_else(|| label_error(&format!("{name}.{}", function.as_str()), "no execution place names this action"))?;
+                        calls.push(Call { function, action });
+                    }
+                    TransitionToken::BareCall(function) => {
+                        let adjacent = adjacent_actions(&incidence, &place_action, tid, function.binds_output());
+                        if adjacent.is_empty() {
+                            return Err(label_error(function.as_str(), "no adjacent execution place for this function"));
+                        }
+                        calls.extend(adjacent.into_iter().map(|action| Call { function, action }));
+                    }
+                    TransitionToken::Name(_) => {}
+                    TransitionToken::UnknownFunction(t) => {
+                        return Err(label_error(t, "unknown transition function (expected start, end, interrupt, resume or fail)"));
+                    }
+                }
+            }
+            let mut resolve = |atom: &str| -> Result<AtomRef, PlanError> {
+                resolve_atom(atom, &by_name, &mut atoms, vocabulary, &mut internal).map_err(|reason| label_error(atom, &reason))
+            };
+            let guard = match guard_text {
+                Some(text) => {
+                    let expr = parse_condition(text).map_err(|source| PlanError::Guard {
+                        transition: node.id.clone(),
+                        label: node.label.clone(),
+                        source,
+                    })?;
+                    Condition::compile(&expr, &mut resolve)?
+                }
+                None => implicit_wait(&calls, &mut internal),
+            };
+            transitions.push(TransitionInfo {
+                guard,
+                explicit_guard: guard_text.map(str::to_string),
+                calls,
+            });
+        }
+        Ok(Plan { net, incidence, actions, place_action, goal, fail, transitions, internal, atoms })
+    }
+
+    /// The plan's name.
+    pub fn name(&self) -> &str {
+        self.net.name()
+    }
+
+    /// The underlying net with its ids and labels.
+    pub fn net(&self) -> &PetriNet {
+        &self.net
+    }
+
+    /// The compiled pre/post sets.
+    pub fn incidence(&self) -> &Incidence {
+        &self.incidence
+    }
+
+    /// Every action and sub-plan the plan names.
+    pub fn actions(&self) -> &[ActionInfo] {
+        &self.actions
+    }
+
+    /// One action.
+    pub fn action(&self, id: ActionId) -> &ActionInfo {
+        &self.actions[id.index()]
+    }
+
+    /// The action named `name`, if any.
+    pub fn action_named(&self, name: &str) -> Option<ActionId> {
+        self.actions.iter().position(|a| a.name == name).map(|i| ActionId(i as u32))
+    }
+
+    /// The action whose execution place `place` is.
+    #[inline]
+    pub fn exec_action(&self, place: PlaceId) -> Option<ActionId> {
+        self.place_action[place.index()]
+    }
+
+    /// Places with a goal value and that value.
+    pub fn goal(&self) -> &[(PlaceId, u8)] {
+        &self.goal
+    }
+
+    /// Places with a fail value and that value.
+    pub fn fail(&self) -> &[(PlaceId, u8)] {
+        &self.fail
+    }
+
+    /// The interpreted label of `t`.
+    #[inline]
+    pub fn transition(&self, t: TransitionId) -> &TransitionInfo {
+        &self.transitions[t.index()]
+    }
+
+    /// Internal conditions referenced by guards (indexed by `AtomRef::Internal`).
+    pub fn internal_conditions(&self) -> &[InternalCondition] {
+        &self.internal
+    }
+
+    /// The atom table guards resolve against.
+    pub fn atoms(&self) -> &AtomTable {
+        &self.atoms
+    }
+
+    /// The initial marking.
+    pub fn initial_marking(&self) -> Marking {
+        self.net.initial_marking()
+    }
+
+    /// Whether `m` is a goal marking (a plan without goal places never is).
+    #[inline]
+    pub fn is_goal(&self, m: &Marking) -> bool {
+        !self.goal.is_empty() && self.goal.iter().all(|&(p, n)| m.get(p) == n)
+    }
+
+    /// Whether `m` is a fail marking (a plan without fail places never is).
+    #[inline]
+    pub fn is_fail(&self, m: &Marking) -> bool {
+        !self.fail.is_empty() && self.fail.iter().all(|&(p, n)| m.get(p) == n)
+    }
+
+    /// A readable name for an atom reference.
+    pub fn atom_name(&self, atom: AtomRef) -> String {
+        match atom {
+            AtomRef::Fact(id) => self.atoms.name(id).to_string(),
+            AtomRef::Internal(i) => {
+                let c = &self.internal[i as usize];
+                let cond = match &c.kind {
+                    InternalKind::Finished => "finished",
+                    InternalKind::Failed => "failed",
+                    InternalKind::Declared(s) => s,
+                };
+                format!("{}.{}", self.action(c.action).name, cond)
+            }
+        }
+    }
+
+    /// A readable description of a marking: the labels of its marked places.
+    pub fn describe(&self, m: &Marking) -> String {
+        let parts: Vec<String> = m
+            .marked()
+            .map(|(p, n)| {
+                let place = self.net.place(p);
+                let name = if place.label.is_empty() { &place.id } else { &place.label };
+                if n == 1 { name.clone() } else { format!("{name}*{n}") }
+            })
+            .collect();
+        if parts.is_empty() { "-".to_string() } else { parts.join(" ") }
+    }
+}
+
+/// Actions of the execution places adjacent to `t` (outputs or inputs).
+fn adjacent_actions(
+    incidence: &Incidence,
+    place_action: &[Option<ActionId>],
+    t: TransitionId,
+    outputs: bool,
+) -> Vec<ActionId> {
+    let arcs = if outputs { incidence.outputs(t) } else { incidence.inputs(t) };
+    let mut found: Vec<ActionId> = arcs.iter().filter_map(|a| place_action[a.place.index()]).collect();
+    found.sort_unstable();
+    found.dedup();
+    found
+}
+
+fn intern_internal(internal: &mut Vec<InternalCondition>, cond: InternalCondition) -> AtomRef {
+    let index = internal.iter().position(|c| *c == cond).unwrap_or_else(|| {
+        internal.push(cond);
+        internal.len() - 1
+    });
+    AtomRef::Internal(index as u32)
+}
+
+/// Resolves one atom name: `A.cond` (exactly one '.') is internal, anything else a fact.
+fn resolve_atom(
+    atom: &str,
+    actions: &HashMap<String, ActionId>,
+    atoms: &mut AtomTable,
+    vocabulary: Vocabulary<'_>,
+    internal: &mut Vec<InternalCondition>,
+) -> Result<AtomRef, String> {
+    if atom.matches('.').count() == 1 {
+        let (name, cond) = atom.split_once('.').unwrap_or((atom, ""));
+        let action = *actions
+            .get(name)
+            .ok_or_else(|| format!("internal condition of '{name}', which no execution place names"))?;
+        let kind = match cond {
+            "finished" => InternalKind::Finished,
+            "failed" => InternalKind::Failed,
+            other if other.is_empty() => return Err("empty internal condition".to_string()),
+            other => InternalKind::Declared(other.to_string()),
+        };
+        return Ok(intern_internal(internal, InternalCondition { action, kind }));
+    }
+    match vocabulary {
+        Vocabulary::Open => Ok(AtomRef::Fact(atoms.intern(atom))),
+        Vocabulary::Closed(_) => atoms.get(atom).map(AtomRef::Fact).ok_or_else(|| {
+            let known: Vec<&str> = atoms.names().collect();
+            format!("unknown atom (the domain declares: {})", known.join(", "))
+        }),
+    }
+}
+
+/// The implicit guard: wait for `finished` of ended actions and `failed` of failed ones.
+fn implicit_wait(calls: &[Call], internal: &mut Vec<InternalCondition>) -> Condition {
+    let waits: Vec<Condition> = calls
+        .iter()
+        .filter_map(|c| match c.function {
+            Function::End => Some(InternalKind::Finished),
+            Function::Fail => Some(InternalKind::Failed),
+            _ => None,
+        }
+        .map(|kind| Condition::Atom(intern_internal(internal, InternalCondition { action: c.action, kind }))))
+        .collect();
+    match waits.len() {
+        0 => Condition::True,
+        1 => waits.into_iter().next().unwrap_or(Condition::True),
+        _ => Condition::And(waits.into_boxed_slice()),
+    }
+}

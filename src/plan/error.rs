@@ -1,0 +1,46 @@
+//! Why a net is not a valid plan: every message names the element and the token.
+
+use crate::condition::ConditionError;
+use crate::net::NetError;
+
+/// A plan that cannot be loaded.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum PlanError {
+    /// The net itself is malformed.
+    #[error(transparent)]
+    Net(#[from] NetError),
+    /// A place label is malformed.
+    #[error("place '{place}' (label '{label}'): {reason}: '{token}'")]
+    PlaceLabel {
+        /// The place id.
+        place: String,
+        /// Its label.
+        label: String,
+        /// The offending token.
+        token: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A transition label is malformed or names something unknown.
+    #[error("transition '{transition}' (label '{label}'): {reason}: '{token}'")]
+    TransitionLabel {
+        /// The transition id.
+        transition: String,
+        /// Its label.
+        label: String,
+        /// The offending token.
+        token: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A guard does not parse.
+    #[error("transition '{transition}' (label '{label}'): broken guard: {source}")]
+    Guard {
+        /// The transition id.
+        transition: String,
+        /// Its label.
+        label: String,
+        /// The parse error, with the token.
+        source: ConditionError,
+    },
+}
