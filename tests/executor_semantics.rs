@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use learnpnp::condition::{AtomId, AtomTable, BitKnowledgeBase, KnowledgeBase, parse_condition};
+use learnpnp::condition::{AtomId, AtomTable, BitKnowledgeBase, KnowledgeBase};
 use learnpnp::executor::{Action, Chooser, ExecError, Executor, PlanKey, RandomChooser, Registry, Status, World};
 use learnpnp::net::Marking;
 use learnpnp::plan::{Plan, PlanBuilder, Vocabulary};
@@ -208,7 +208,7 @@ fn guards_read_the_knowledge_base_and_sensing_takes_the_true_branch() {
     let sensing = b.sensing(
         init,
         "act_look_1",
-        &[parse_condition("ballSeen").unwrap(), parse_condition("not ballSeen").unwrap()],
+        &["ballSeen", "not ballSeen"],
     );
     let seen = b.place("seen goal");
     let unseen = b.place("unseen fail");
@@ -231,7 +231,7 @@ fn interrupt_preempts_the_normal_end() {
     let init = b.initial_place("init");
     let go = b.action(init, "act_go_5");
     let recover = b.place("recover");
-    b.interrupt(&go, &parse_condition("obstacle").unwrap(), recover);
+    b.interrupt(&go, "obstacle", recover);
     let plan = Arc::new(b.build(Vocabulary::Closed(&atoms)).unwrap());
     let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();
     let mut world = Log { kb: BitKnowledgeBase::new(1), ..Log::default() };
@@ -320,7 +320,7 @@ fn a_higher_interrupt_preempts_the_sub_plan_and_ends_its_subtree() {
     let init = b.initial_place("init");
     let patrol = b.call(init, "patrol");
     let safe = b.place("safe goal");
-    b.interrupt(&patrol, &parse_condition("alarm").unwrap(), safe);
+    b.interrupt(&patrol, "alarm", safe);
     let plan = Arc::new(b.build(Vocabulary::Closed(&atoms)).unwrap());
     let mut exec = Executor::new(plan, &reg).unwrap();
     let mut world = Log { kb: BitKnowledgeBase::new(1), ..Log::default() };

@@ -4,8 +4,7 @@
 //! plan built here is interpreted exactly like one read from a file, and can be
 //! written to PNML.
 
-use crate::condition::Expr;
-use crate::net::{NetError, PetriNet, PlaceNode, TransitionNode};
+use crate::net::{NetError, PetriNet, PlaceNode, Position, TransitionNode};
 
 use super::{Plan, PlanError, Vocabulary};
 
@@ -138,15 +137,16 @@ impl PlanBuilder {
         self.action(from, name)
     }
 
-    /// Sensing action `name`: it ends into the outcome whose condition holds.
-    pub fn sensing(&mut self, from: PlaceRef, name: &str, outcomes: &[Expr]) -> SensingNet {
+    /// Sensing action `name`: it ends into the outcome whose condition holds
+    /// (conditions in the guard syntax, e.g. `not ballSeen`).
+    pub fn sensing(&mut self, from: PlaceRef, name: &str, outcomes: &[&str]) -> SensingNet {
         let exec = self.place(format!("{name}.exec"));
         self.transition(format!("{name}.start"), &[(from, 1)], &[(exec, 1)]);
         let outcomes = outcomes
             .iter()
             .map(|cond| {
                 let out = self.place("");
-                self.transition(format!("{name}.end [{}]", cond.to_guard_text()), &[(exec, 1)], &[(out, 1)]);
+                self.transition(format!("{name}.end [{cond}]"), &[(exec, 1)], &[(out, 1)]);
                 out
             })
             .collect();
@@ -169,9 +169,10 @@ impl PlanBuilder {
         out
     }
 
-    /// Interrupt: leaves the execution of `action` for `to` when `condition` holds.
-    pub fn interrupt(&mut self, action: &ActionNet, condition: &Expr, to: PlaceRef) -> TransitionRef {
-        let label = format!("{}.interrupt [{}]", action.name, condition.to_guard_text());
+    /// Interrupt: leaves the execution of `action` for `to` when `condition`
+    /// (guard syntax) holds.
+    pub fn interrupt(&mut self, action: &ActionNet, condition: &str, to: PlaceRef) -> TransitionRef {
+        let label = format!("{}.interrupt [{condition}]", action.name);
         self.transition(label, &[(action.exec, 1)], &[(to, 1)])
     }
 
@@ -200,8 +201,65 @@ impl PlanBuilder {
         Tracker { holds, not_holds }
     }
 
-    /// The net as built.
-    pub fn build_net(self) -> Result<PetriNet, NetError> {
+    /// Gives every node a drawing position: layers by distance from the
+    /// initially marked places, left to right, so an editor shows the flow.
+    fn layout(&mut self) {
+        let node_count = self.places.len() + self.transitions.len();
+        let index_of = |id: &str, places: &[PlaceNode], transitions: &[TransitionNode]| {
+            places
+                .iter()
+                .position(|p| p.id == id)
+                .or_else(|| transitions.iter().position(|t| t.id == id).map(|i| places.len() + i))
+        };
+        let mut successors = vec![Vec::new(); node_count];
+        for (_, s, t, _) in &self.arcs {
+            if let (Some(a), Some(b)) = (index_of(s, &self.places, &self.transitions), index_of(t, &self.places, &self.transitions)) {
+                successors[a].push(b);
+            }
+        }
+        let mut layer = vec![usize::MAX; node_count];
+        let mut queue = std::collections::VecDeque::new();
+        for (i, p) in self.places.iter().enumerate() {
+            if p.initial > 0 {
+                layer[i] = 0;
+                queue.push_back(i);
+            }
+        }
+        let mut next_root = 0;
+        loop {
+            while let Some(n) = queue.pop_front() {
+                for &m in &successors[n] {
+                    if layer[m] == usize::MAX {
+                        layer[m] = layer[n] + 1;
+                        queue.push_back(m);
+                    }
+                }
+            }
+            match (next_root..node_count).find(|&i| layer[i] == usize::MAX) {
+                Some(i) => {
+                    next_root = i;
+                    layer[i] = layer.iter().filter(|&&l| l != usize::MAX).max().map_or(0, |m| m + 1);
+                    queue.push_back(i);
+                }
+                None => break,
+            }
+        }
+        let mut rows: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
+        for (i, &l) in layer.iter().enumerate() {
+            let row = rows.entry(l).or_insert(0);
+            let position = Some(Position { x: 60.0 + 90.0 * l as f64, y: 60.0 + 80.0 * *row as f64 });
+            *row += 1;
+            if i < self.places.len() {
+                self.places[i].position = position;
+            } else {
+                self.transitions[i - self.places.len()].position = position;
+            }
+        }
+    }
+
+    /// The net as built, laid out for drawing.
+    pub fn build_net(mut self) -> Result<PetriNet, NetError> {
+        self.layout();
         let arcs: Vec<(&str, &str, &str, u8)> =
             self.arcs.iter().map(|(a, s, t, w)| (a.as_str(), s.as_str(), t.as_str(), *w)).collect();
         PetriNet::new(self.name, self.places, self.transitions, &arcs)

@@ -191,7 +191,7 @@ impl Plan {
                     let expr = parse_condition(text).map_err(|source| PlanError::Guard {
                         transition: node.id.clone(),
                         label: node.label.clone(),
-                        source,
+                        source: Box::new(source),
                     })?;
                     Condition::compile(&expr, &mut resolve)?
                 }
@@ -353,7 +353,7 @@ fn resolve_atom(
         let kind = match cond {
             "finished" => InternalKind::Finished,
             "failed" => InternalKind::Failed,
-            other if other.is_empty() => return Err("empty internal condition".to_string()),
+            "" => return Err("empty internal condition".to_string()),
             other => InternalKind::Declared(other.to_string()),
         };
         return Ok(intern_internal(internal, InternalCondition { action, kind }));

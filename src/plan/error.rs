@@ -41,6 +41,6 @@ pub enum PlanError {
         /// Its label.
         label: String,
         /// The parse error, with the token.
-        source: ConditionError,
+        source: Box<ConditionError>,
     },
 }

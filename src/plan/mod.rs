@@ -2,6 +2,7 @@
 //! builder with the thesis's operators.
 
 mod builder;
+pub mod catalog;
 mod error;
 pub mod labels;
 mod definition;

@@ -1,0 +1,140 @@
+//! The thesis's example plans, built with the operators (shipped as PNML in `plans/`).
+//!
+//! Each function returns the net; `tests/shipped_plans.rs` keeps the files in
+//! `plans/` identical to these definitions.
+
+use crate::net::{NetError, PetriNet};
+
+use super::PlanBuilder;
+
+/// Every catalogued plan with the file stem it ships under.
+pub fn all() -> Result<Vec<(&'static str, PetriNet)>, NetError> {
+    Ok(vec![
+        ("football", football()?),
+        ("choice_point", choice_point()?),
+        ("penalty_kick_plain", penalty_kick_plain()?),
+        ("penalty_kick_tree", penalty_kick_tree()?),
+        ("penalty_kick_memory", penalty_kick_memory()?),
+        ("loop_counter", loop_counter()?),
+        ("environment_tracking", environment_tracking()?),
+    ])
+}
+
+/// Figure 2.6: a football-playing robot. A sensing action tells whether the
+/// ball is seen; each branch forks two parallel actions and joins them; the kick
+/// ends normally or is interrupted when the ball is lost. No goal: it runs forever.
+pub fn football() -> Result<PetriNet, NetError> {
+    let mut b = PlanBuilder::new("football");
+    let start = b.initial_place("start");
+    let look = b.sensing(start, "SeeBall", &["ballSeen", "not ballSeen"]);
+
+    // Ball seen: approach it while tracking it, then kick.
+    let branches = b.fork(look.outcomes[0], 2);
+    let approach = b.action(branches[0], "GoToBall");
+    let track = b.action(branches[1], "TrackBall");
+    let near = b.join(&[approach.done, track.done]);
+    let kick = b.action_into(near, "Kick", start);
+    b.interrupt(&kick, "ballLost", start);
+
+    // Ball not seen: turn the body and scan with the head until it is seen.
+    let branches = b.fork(look.outcomes[1], 2);
+    let turn = b.action(branches[0], "TurnBody");
+    let scan = b.action(branches[1], "ScanHead");
+    let found = b.join(&[turn.done, scan.done]);
+    b.transition("back", &[(found, 1)], &[(start, 1)]);
+    b.build_net()
+}
+
+/// Figure 5.1: a non-deterministic choice between two ordinary actions.
+pub fn choice_point() -> Result<PetriNet, NetError> {
+    let mut b = PlanBuilder::new("choice_point");
+    let start = b.initial_place("start");
+    let goal = b.goal_place();
+    b.action_into(start, "ActionA", goal);
+    b.action_into(start, "ActionB", goal);
+    b.build_net()
+}
+
+/// Figure 3.6: the penalty kick, plain. Both choices lead to the same Kick
+/// marking, so one-step methods cannot tell them apart.
+pub fn penalty_kick_plain() -> Result<PetriNet, NetError> {
+    let mut b = PlanBuilder::new("penalty_kick_plain");
+    let start = b.initial_place("start");
+    let ready = b.place("ready");
+    b.action_into(start, "WalkStraight", ready);
+    b.action_into(start, "Turn", ready);
+    let goal = b.goal_place();
+    b.action_into(ready, "Kick", goal);
+    b.build_net()
+}
+
+/// Figure 5.3: the penalty kick as a tree: Kick is duplicated after each choice
+/// (two execution places of one action), so the markings at Kick differ.
+pub fn penalty_kick_tree() -> Result<PetriNet, NetError> {
+    let mut b = PlanBuilder::new("penalty_kick_tree");
+    let start = b.initial_place("start");
+    let goal = b.goal_place();
+    let walk = b.action(start, "WalkStraight");
+    b.action_into(walk.done, "Kick", goal);
+    let turn = b.action(start, "Turn");
+    b.action_into(turn.done, "Kick", goal);
+    b.build_net()
+}
+
+/// Figure 5.4: the penalty kick with memory. Each choice's start also forks a
+/// token into a memory place recording it, so the markings at Kick differ
+/// without duplicating Kick; after the kick a join per branch removes the
+/// memory token before the goal. (Two complementary memory places let the joins
+/// stay deterministic: PNP has no inhibitor arcs to test an empty place.)
+pub fn penalty_kick_memory() -> Result<PetriNet, NetError> {
+    let mut b = PlanBuilder::new("penalty_kick_memory");
+    let start = b.initial_place("start");
+    let ready = b.place("ready");
+    let walked = b.memory_place("walked");
+    let turned = b.memory_place("turned");
+    let walk = b.action_into(start, "WalkStraight", ready);
+    b.produce(walk.start, walked, 1);
+    let turn = b.action_into(start, "Turn", ready);
+    b.produce(turn.start, turned, 1);
+    let kick = b.action(ready, "Kick");
+    let goal = b.goal_place();
+    b.transition("join", &[(kick.done, 1), (walked, 1)], &[(goal, 1)]);
+    b.transition("join", &[(kick.done, 1), (turned, 1)], &[(goal, 1)]);
+    b.build_net()
+}
+
+/// Figure 5.7: counting loop passes. A maze of binary junctions: at each
+/// junction choose Left or Right; every pass adds a token to `passes`, so each
+/// junction has its own marking (and value) without one place per junction.
+/// The counter is unbounded by design.
+pub fn loop_counter() -> Result<PetriNet, NetError> {
+    let mut b = PlanBuilder::new("loop_counter");
+    let junction = b.initial_place("junction");
+    let passes = b.memory_place("passes");
+    let moved = b.place("moved");
+    b.action_into(junction, "Left", moved);
+    b.action_into(junction, "Right", moved);
+    let next = b.transition("[not atExit]", &[(moved, 1)], &[(junction, 1)]);
+    b.produce(next, passes, 1);
+    let goal = b.goal_place();
+    b.transition("[atExit]", &[(moved, 1)], &[(goal, 1)]);
+    b.build_net()
+}
+
+/// Figure 5.9: four actions in a domain of two binary variables. A separate
+/// environment-tracking part follows `x` and `y`; the procedural part has one
+/// choice among the four actions, and each observation gives its own marking.
+pub fn environment_tracking() -> Result<PetriNet, NetError> {
+    let mut b = PlanBuilder::new("environment_tracking");
+    b.tracker("x");
+    b.tracker("y");
+    let choose = b.initial_place("choose");
+    let acted = b.place("acted");
+    for name in ["Action1", "Action2", "Action3", "Action4"] {
+        b.action_into(choose, name, acted);
+    }
+    b.transition("[not done]", &[(acted, 1)], &[(choose, 1)]);
+    let goal = b.goal_place();
+    b.transition("[done]", &[(acted, 1)], &[(goal, 1)]);
+    b.build_net()
+}
