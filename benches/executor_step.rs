@@ -61,13 +61,15 @@ fn ring_of_transitions() -> learnpnp::plan::Plan {
 fn bench(c: &mut Criterion) {
     let mut registry = Registry::new();
     registry.family("work", &[], |_| Forever);
-    let mut world = Bench { kb: BitKnowledgeBase::new(1) };
+    let mut world = Bench {
+        kb: BitKnowledgeBase::new(1),
+    };
     let mut chooser = RandomChooser::new(seeded(1));
 
     let plan = Arc::new(ring_of_actions());
     assert_eq!(plan.net().places().len(), 100);
     let mut exec = Executor::new(plan, &registry).expect("executor");
-    exec.reset(&mut world);
+    exec.reset(&mut world, &mut chooser);
     exec.step(&mut world, &mut chooser).expect("step"); // start work_0
     c.bench_function("step_100_places_no_firing", |b| {
         b.iter(|| black_box(exec.step(&mut world, &mut chooser).expect("step")))
@@ -76,7 +78,7 @@ fn bench(c: &mut Criterion) {
     let plan = Arc::new(ring_of_transitions());
     assert_eq!(plan.net().places().len(), 100);
     let mut exec = Executor::new(plan, &registry).expect("executor");
-    exec.reset(&mut world);
+    exec.reset(&mut world, &mut chooser);
     c.bench_function("step_100_places_one_firing", |b| {
         b.iter(|| black_box(exec.step(&mut world, &mut chooser).expect("step")))
     });

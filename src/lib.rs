@@ -6,6 +6,7 @@
 
 pub mod condition;
 pub mod executor;
+pub mod learning;
 pub mod net;
 pub mod plan;
 pub mod rng;

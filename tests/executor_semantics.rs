@@ -3,7 +3,9 @@
 use std::sync::Arc;
 
 use learnpnp::condition::{AtomId, AtomTable, BitKnowledgeBase, KnowledgeBase};
-use learnpnp::executor::{Action, Chooser, ExecError, Executor, PlanKey, RandomChooser, Registry, Status, World};
+use learnpnp::executor::{
+    Action, Chooser, ExecError, Executor, PlanKey, RandomChooser, Registry, Status, World,
+};
 use learnpnp::net::Marking;
 use learnpnp::plan::{Plan, PlanBuilder, Vocabulary};
 use learnpnp::rng::seeded;
@@ -37,8 +39,16 @@ struct Timed {
 
 impl Timed {
     fn new(name: &str) -> Self {
-        let steps = name.rsplit('_').next().and_then(|n| n.parse().ok()).unwrap_or(1);
-        Timed { name: name.to_string(), steps, done: 0 }
+        let steps = name
+            .rsplit('_')
+            .next()
+            .and_then(|n| n.parse().ok())
+            .unwrap_or(1);
+        Timed {
+            name: name.to_string(),
+            steps,
+            done: 0,
+        }
     }
 }
 
@@ -88,12 +98,18 @@ impl Chooser for Recorder {
         self.pick
     }
     fn transition(&mut self, plan: PlanKey, marking: &Marking, reward: f64, elapsed: u32) {
-        self.transitions.push((plan, marking.clone(), reward, elapsed));
+        self.transitions
+            .push((plan, marking.clone(), reward, elapsed));
     }
 }
 
-fn run(exec: &mut Executor<Log>, world: &mut Log, chooser: &mut impl Chooser, max: usize) -> (Status, usize) {
-    exec.reset(world);
+fn run(
+    exec: &mut Executor<Log>,
+    world: &mut Log,
+    chooser: &mut impl Chooser,
+    max: usize,
+) -> (Status, usize) {
+    exec.reset(world, chooser);
     for i in 1..=max {
         let s = exec.step(world, chooser).unwrap();
         if s != Status::Running {
@@ -120,7 +136,15 @@ fn sequence_runs_actions_in_order_and_reaches_the_goal() {
     assert_eq!(steps, 5);
     assert_eq!(
         world.lines,
-        ["start act_a_2", "step act_a_2", "step act_a_2", "end act_a_2", "start act_b_1", "step act_b_1", "end act_b_1"]
+        [
+            "start act_a_2",
+            "step act_a_2",
+            "step act_a_2",
+            "end act_a_2",
+            "start act_b_1",
+            "step act_b_1",
+            "end act_b_1"
+        ]
     );
     assert!(rec.choices.is_empty());
     // Elapsed steps between marking changes: 1, 2, 1, 1.
@@ -140,8 +164,11 @@ fn choice_offers_the_next_markings_and_follows_the_pick() {
     for pick in 0..2 {
         let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();
         let mut world = Log::default();
-        let mut rec = Recorder { pick, ..Recorder::default() };
-        exec.reset(&mut world);
+        let mut rec = Recorder {
+            pick,
+            ..Recorder::default()
+        };
+        exec.reset(&mut world, &mut rec);
         exec.step(&mut world, &mut rec).unwrap();
         assert_eq!(rec.choices.len(), 1);
         let (key, state, opts) = &rec.choices[0];
@@ -149,7 +176,13 @@ fn choice_offers_the_next_markings_and_follows_the_pick() {
         assert_eq!(state, &plan.initial_marking());
         assert_eq!(opts.len(), 2);
         for (i, o) in opts.iter().enumerate() {
-            assert_eq!(o.get(plan_place(&plan, &format!("act_{}_1.exec", ["left", "right"][i]))), 1);
+            assert_eq!(
+                o.get(plan_place(
+                    &plan,
+                    &format!("act_{}_1.exec", ["left", "right"][i])
+                )),
+                1
+            );
             assert_eq!(o.total(), 1);
         }
         assert_eq!(exec.marking(), &opts[pick]);
@@ -172,7 +205,12 @@ fn transitions_enabled_by_this_step_wait_for_the_next() {
     b.transition("t2", &[(mid, 1)], &[(goal, 1)]);
     let plan = Arc::new(b.build(Vocabulary::Open).unwrap());
     let mut exec = Executor::new(plan, &registry()).unwrap();
-    let (status, steps) = run(&mut exec, &mut Log::default(), &mut RandomChooser::new(seeded(1)), 10);
+    let (status, steps) = run(
+        &mut exec,
+        &mut Log::default(),
+        &mut RandomChooser::new(seeded(1)),
+        10,
+    );
     assert_eq!((status, steps), (Status::Goal, 2));
 }
 
@@ -187,10 +225,16 @@ fn non_conflicting_transitions_fire_together_and_appear_in_every_option() {
     let tracker = b.tracker("wall");
     let plan = Arc::new(b.build(Vocabulary::Closed(&atoms)).unwrap());
     let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();
-    let mut world = Log { kb: BitKnowledgeBase::new(1), ..Log::default() };
+    let mut world = Log {
+        kb: BitKnowledgeBase::new(1),
+        ..Log::default()
+    };
     world.kb.set(wall, true);
-    let mut rec = Recorder { pick: 2, ..Recorder::default() };
-    exec.reset(&mut world);
+    let mut rec = Recorder {
+        pick: 2,
+        ..Recorder::default()
+    };
+    exec.reset(&mut world, &mut rec);
     exec.step(&mut world, &mut rec).unwrap();
     let (_, _, opts) = &rec.choices[0];
     assert_eq!(opts.len(), 3);
@@ -205,11 +249,7 @@ fn guards_read_the_knowledge_base_and_sensing_takes_the_true_branch() {
     let atoms: AtomTable = ["ballSeen"].into_iter().collect();
     let mut b = PlanBuilder::new("sense");
     let init = b.initial_place("init");
-    let sensing = b.sensing(
-        init,
-        "act_look_1",
-        &["ballSeen", "not ballSeen"],
-    );
+    let sensing = b.sensing(init, "act_look_1", &["ballSeen", "not ballSeen"]);
     let seen = b.place("seen goal");
     let unseen = b.place("unseen fail");
     b.transition("", &[(sensing.outcomes[0], 1)], &[(seen, 1)]);
@@ -217,9 +257,17 @@ fn guards_read_the_knowledge_base_and_sensing_takes_the_true_branch() {
     let plan = Arc::new(b.build(Vocabulary::Closed(&atoms)).unwrap());
     for (truth, expected) in [(true, Status::Goal), (false, Status::Failed)] {
         let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();
-        let mut world = Log { kb: BitKnowledgeBase::new(1), ..Log::default() };
+        let mut world = Log {
+            kb: BitKnowledgeBase::new(1),
+            ..Log::default()
+        };
         world.kb.set(AtomId(0), truth);
-        let (status, _) = run(&mut exec, &mut world, &mut RandomChooser::new(seeded(3)), 10);
+        let (status, _) = run(
+            &mut exec,
+            &mut world,
+            &mut RandomChooser::new(seeded(3)),
+            10,
+        );
         assert_eq!(status, expected);
     }
 }
@@ -234,14 +282,25 @@ fn interrupt_preempts_the_normal_end() {
     b.interrupt(&go, "obstacle", recover);
     let plan = Arc::new(b.build(Vocabulary::Closed(&atoms)).unwrap());
     let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();
-    let mut world = Log { kb: BitKnowledgeBase::new(1), ..Log::default() };
+    let mut world = Log {
+        kb: BitKnowledgeBase::new(1),
+        ..Log::default()
+    };
     let mut chooser = RandomChooser::new(seeded(0));
-    exec.reset(&mut world);
+    exec.reset(&mut world, &mut chooser);
     exec.step(&mut world, &mut chooser).unwrap();
     exec.step(&mut world, &mut chooser).unwrap();
     world.kb.set(AtomId(0), true);
     exec.step(&mut world, &mut chooser).unwrap();
-    assert_eq!(world.lines, ["start act_go_5", "step act_go_5", "step act_go_5", "interrupt act_go_5"]);
+    assert_eq!(
+        world.lines,
+        [
+            "start act_go_5",
+            "step act_go_5",
+            "step act_go_5",
+            "interrupt act_go_5"
+        ]
+    );
     assert_eq!(exec.marking().get(plan_place(&plan, "recover")), 1);
 }
 
@@ -251,10 +310,19 @@ fn declared_internal_conditions_are_bound_and_checked() {
     let init = b.initial_place("init");
     let go = b.action(init, "act_go_5");
     let early = b.place("early goal");
-    b.transition("act_go_5.end [act_go_5.begun]", &[(go.exec, 1)], &[(early, 1)]);
+    b.transition(
+        "act_go_5.end [act_go_5.begun]",
+        &[(go.exec, 1)],
+        &[(early, 1)],
+    );
     let plan = Arc::new(b.build(Vocabulary::Open).unwrap());
     let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();
-    let (status, steps) = run(&mut exec, &mut Log::default(), &mut RandomChooser::new(seeded(0)), 20);
+    let (status, steps) = run(
+        &mut exec,
+        &mut Log::default(),
+        &mut RandomChooser::new(seeded(0)),
+        20,
+    );
     assert_eq!((status, steps), (Status::Goal, 2));
 
     let mut b = PlanBuilder::new("undeclared");
@@ -264,7 +332,10 @@ fn declared_internal_conditions_are_bound_and_checked() {
     b.transition("[act_go_5.blocked]", &[(go.exec, 1)], &[(out, 1)]);
     let plan = Arc::new(b.build(Vocabulary::Open).unwrap());
     let err = Executor::new(plan, &registry()).err().unwrap();
-    assert!(matches!(err, ExecError::UndeclaredCondition { ref condition, .. } if condition == "blocked"), "{err}");
+    assert!(
+        matches!(err, ExecError::UndeclaredCondition { ref condition, .. } if condition == "blocked"),
+        "{err}"
+    );
     assert!(err.to_string().contains("begun"));
 }
 
@@ -296,18 +367,34 @@ fn sub_plans_run_as_actions_and_report_under_their_own_key() {
     b.action_into(init, "fetch", goal);
     let plan = Arc::new(b.build(Vocabulary::Open).unwrap());
     let mut exec = Executor::new(plan, &reg).unwrap();
-    let mut world = Log { reward_per_step: 1.0, ..Log::default() };
+    let mut world = Log {
+        reward_per_step: 1.0,
+        ..Log::default()
+    };
     let mut rec = Recorder::default();
     let (status, steps) = run(&mut exec, &mut world, &mut rec, 20);
     assert_eq!(status, Status::Goal);
     // 1 start fetch; 2 (fresh sub-plan waits) sub fires: start grab; 3 grab steps;
     // 4 grab steps, sub ends grab -> sub goal; 5 main ends fetch -> goal.
     assert_eq!(steps, 5);
-    assert_eq!(world.lines, ["start act_grab_2", "step act_grab_2", "step act_grab_2", "end act_grab_2"]);
+    assert_eq!(
+        world.lines,
+        [
+            "start act_grab_2",
+            "step act_grab_2",
+            "step act_grab_2",
+            "end act_grab_2"
+        ]
+    );
     let sub: Vec<_> = rec.transitions.iter().filter(|t| t.0 == key).collect();
     assert_eq!(sub.len(), 2);
     // The root saw: start (1 step), then the end after 4 more steps, 4 reward.
-    let root: Vec<_> = rec.transitions.iter().filter(|t| t.0 == PlanKey::ROOT).map(|t| (t.2, t.3)).collect();
+    let root: Vec<_> = rec
+        .transitions
+        .iter()
+        .filter(|t| t.0 == PlanKey::ROOT)
+        .map(|t| (t.2, t.3))
+        .collect();
     assert_eq!(root, [(1.0, 1), (4.0, 4)]);
 }
 
@@ -323,15 +410,26 @@ fn a_higher_interrupt_preempts_the_sub_plan_and_ends_its_subtree() {
     b.interrupt(&patrol, "alarm", safe);
     let plan = Arc::new(b.build(Vocabulary::Closed(&atoms)).unwrap());
     let mut exec = Executor::new(plan, &reg).unwrap();
-    let mut world = Log { kb: BitKnowledgeBase::new(1), ..Log::default() };
+    let mut world = Log {
+        kb: BitKnowledgeBase::new(1),
+        ..Log::default()
+    };
     let mut chooser = RandomChooser::new(seeded(0));
-    exec.reset(&mut world);
+    exec.reset(&mut world, &mut chooser);
     for _ in 0..3 {
         exec.step(&mut world, &mut chooser).unwrap();
     }
     world.kb.set(AtomId(0), true);
     assert_eq!(exec.step(&mut world, &mut chooser).unwrap(), Status::Goal);
-    assert_eq!(world.lines, ["start act_walk_9", "step act_walk_9", "step act_walk_9", "interrupt act_walk_9"]);
+    assert_eq!(
+        world.lines,
+        [
+            "start act_walk_9",
+            "step act_walk_9",
+            "step act_walk_9",
+            "interrupt act_walk_9"
+        ]
+    );
 }
 
 #[test]
@@ -362,12 +460,21 @@ fn memory_place_makes_the_markings_after_a_choice_differ() {
     let mut kick_markings = Vec::new();
     for pick in 0..2 {
         let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();
-        let mut rec = Recorder { pick, ..Recorder::default() };
+        let mut rec = Recorder {
+            pick,
+            ..Recorder::default()
+        };
         let (status, _) = run(&mut exec, &mut Log::default(), &mut rec, 30);
         // Goal markings only constrain places labelled goal: the memory token stays.
         assert_eq!(status, Status::Goal);
         let kick_exec = plan_place(&plan, "act_kick_1.exec");
-        let m = rec.transitions.iter().map(|t| &t.1).find(|m| m.get(kick_exec) == 1).unwrap().clone();
+        let m = rec
+            .transitions
+            .iter()
+            .map(|t| &t.1)
+            .find(|m| m.get(kick_exec) == 1)
+            .unwrap()
+            .clone();
         kick_markings.push(m);
     }
     assert_ne!(kick_markings[0], kick_markings[1]);

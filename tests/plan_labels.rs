@@ -4,24 +4,45 @@ use learnpnp::condition::{AtomRef, AtomTable, Condition};
 use learnpnp::net::{PetriNet, PlaceNode, TransitionNode};
 use learnpnp::plan::{Function, InternalKind, Plan, PlanError, Vocabulary, catalog};
 
-fn net(places: &[(&str, &str, u8)], transitions: &[(&str, &str)], arcs: &[(&str, &str)]) -> PetriNet {
+fn net(
+    places: &[(&str, &str, u8)],
+    transitions: &[(&str, &str)],
+    arcs: &[(&str, &str)],
+) -> PetriNet {
     let ps = places
         .iter()
-        .map(|(id, label, m)| PlaceNode { id: id.to_string(), label: label.to_string(), initial: *m, position: None })
+        .map(|(id, label, m)| PlaceNode {
+            id: id.to_string(),
+            label: label.to_string(),
+            initial: *m,
+            position: None,
+        })
         .collect();
     let ts = transitions
         .iter()
-        .map(|(id, label)| TransitionNode { id: id.to_string(), label: label.to_string(), position: None })
+        .map(|(id, label)| TransitionNode {
+            id: id.to_string(),
+            label: label.to_string(),
+            position: None,
+        })
         .collect();
     let ids: Vec<String> = (0..arcs.len()).map(|i| format!("a{i}")).collect();
-    let specs: Vec<_> = arcs.iter().zip(&ids).map(|((s, t), id)| (id.as_str(), *s, *t, 1)).collect();
+    let specs: Vec<_> = arcs
+        .iter()
+        .zip(&ids)
+        .map(|((s, t), id)| (id.as_str(), *s, *t, 1))
+        .collect();
     PetriNet::new("test", ps, ts, &specs).expect("valid net")
 }
 
 /// init -> t1 -> goto.exec -> t2 -> done
 fn action_net(start_label: &str, end_label: &str) -> PetriNet {
     net(
-        &[("p1", "init", 1), ("p2", "goto.exec", 0), ("p3", "done goal", 0)],
+        &[
+            ("p1", "init", 1),
+            ("p2", "goto.exec", 0),
+            ("p3", "done goal", 0),
+        ],
         &[("t1", start_label), ("t2", end_label)],
         &[("p1", "t1"), ("t1", "p2"), ("p2", "t2"), ("t2", "p3")],
     )
@@ -33,25 +54,46 @@ fn load(n: PetriNet) -> Result<Plan, PlanError> {
 
 #[test]
 fn explicit_and_bare_functions_bind_to_the_action() {
-    for (start, end) in [("goto.start", "goto.end"), ("start", "end"), ("T1 start", "T2 goto.end")] {
+    for (start, end) in [
+        ("goto.start", "goto.end"),
+        ("start", "end"),
+        ("T1 start", "T2 goto.end"),
+    ] {
         let plan = load(action_net(start, end)).unwrap();
         assert_eq!(plan.actions().len(), 1);
         let t = |i| plan.transition(learnpnp::net::TransitionId::new(i));
         assert_eq!(t(0).calls[0].function, Function::Start);
         assert_eq!(t(1).calls[0].function, Function::End);
         // The end waits implicitly for goto.finished.
-        let Condition::Atom(AtomRef::Internal(i)) = t(1).guard else { panic!("implicit wait expected") };
-        assert_eq!(plan.internal_conditions()[i as usize].kind, InternalKind::Finished);
+        let Condition::Atom(AtomRef::Internal(i)) = t(1).guard else {
+            panic!("implicit wait expected")
+        };
+        assert_eq!(
+            plan.internal_conditions()[i as usize].kind,
+            InternalKind::Finished
+        );
         assert_eq!(plan.goal().len(), 1);
     }
 }
 
 #[test]
 fn an_explicit_guard_replaces_the_implicit_wait() {
-    let plan = load(action_net("goto.start", "goto.end [and arrived (not goto.failed)]")).unwrap();
+    let plan = load(action_net(
+        "goto.start",
+        "goto.end [and arrived (not goto.failed)]",
+    ))
+    .unwrap();
     let t = plan.transition(learnpnp::net::TransitionId::new(1));
-    assert_eq!(t.explicit_guard.as_deref(), Some("and arrived (not goto.failed)"));
-    let names: Vec<String> = t.guard.atoms().into_iter().map(|a| plan.atom_name(a)).collect();
+    assert_eq!(
+        t.explicit_guard.as_deref(),
+        Some("and arrived (not goto.failed)")
+    );
+    let names: Vec<String> = t
+        .guard
+        .atoms()
+        .into_iter()
+        .map(|a| plan.atom_name(a))
+        .collect();
     assert_eq!(names, ["arrived", "goto.failed"]);
 }
 
@@ -62,12 +104,48 @@ fn transition_error(start: &str, end: &str) -> PlanError {
 #[test]
 fn transition_label_errors_name_the_transition_and_token() {
     let cases = [
-        ("goto.strat", "goto.end", "t1", "goto.strat", "unknown transition function"),
-        ("goto.start", "fly.end", "t2", "fly.end", "no execution place"),
-        ("goto.start", "goto.end [a] [b]", "t2", "[b]", "at most one guard"),
-        ("goto.start", "goto.end [a", "t2", "goto.end [a", "unbalanced"),
-        ("end", "goto.end", "t1", "end", "no adjacent execution place"),
-        ("goto.start", "goto.end [fly.finished]", "t2", "fly.finished", "no execution place names"),
+        (
+            "goto.strat",
+            "goto.end",
+            "t1",
+            "goto.strat",
+            "unknown transition function",
+        ),
+        (
+            "goto.start",
+            "fly.end",
+            "t2",
+            "fly.end",
+            "no execution place",
+        ),
+        (
+            "goto.start",
+            "goto.end [a] [b]",
+            "t2",
+            "[b]",
+            "at most one guard",
+        ),
+        (
+            "goto.start",
+            "goto.end [a",
+            "t2",
+            "goto.end [a",
+            "unbalanced",
+        ),
+        (
+            "end",
+            "goto.end",
+            "t1",
+            "end",
+            "no adjacent execution place",
+        ),
+        (
+            "goto.start",
+            "goto.end [fly.finished]",
+            "t2",
+            "fly.finished",
+            "no execution place names",
+        ),
     ];
     for (start, end, id, token, reason) in cases {
         let err = transition_error(start, end);
@@ -94,7 +172,10 @@ fn malformed_goal_tokens_are_refused() {
     for label in ["goalX", "goal(two)", "fail(0)", "goal goal"] {
         let n = net(&[("p1", label, 1)], &[], &[]);
         let err = load(n).unwrap_err();
-        assert!(matches!(err, PlanError::PlaceLabel { ref place, .. } if place == "p1"), "{label}: {err}");
+        assert!(
+            matches!(err, PlanError::PlaceLabel { ref place, .. } if place == "p1"),
+            "{label}: {err}"
+        );
     }
     let plan = load(net(&[("p1", "goal(2)", 1), ("p2", "fail", 0)], &[], &[])).unwrap();
     assert_eq!(plan.goal()[0].1, 2);
@@ -104,20 +185,41 @@ fn malformed_goal_tokens_are_refused() {
 #[test]
 fn unknown_atoms_are_refused_against_a_domain() {
     let atoms: AtomTable = ["arrived", "blocked"].into_iter().collect();
-    let err = Plan::from_net(action_net("goto.start", "goto.end [or arrived lost]"), Vocabulary::Closed(&atoms)).unwrap_err();
+    let err = Plan::from_net(
+        action_net("goto.start", "goto.end [or arrived lost]"),
+        Vocabulary::Closed(&atoms),
+    )
+    .unwrap_err();
     let msg = err.to_string();
-    assert!(msg.contains("'lost'") && msg.contains("unknown atom") && msg.contains("arrived, blocked"), "{msg}");
+    assert!(
+        msg.contains("'lost'") && msg.contains("unknown atom") && msg.contains("arrived, blocked"),
+        "{msg}"
+    );
     // Known atoms resolve to the domain's ids.
-    let plan = Plan::from_net(action_net("goto.start", "goto.end [blocked]"), Vocabulary::Closed(&atoms)).unwrap();
+    let plan = Plan::from_net(
+        action_net("goto.start", "goto.end [blocked]"),
+        Vocabulary::Closed(&atoms),
+    )
+    .unwrap();
     let t = plan.transition(learnpnp::net::TransitionId::new(1));
-    assert_eq!(t.guard.atoms(), [AtomRef::Fact(atoms.get("blocked").unwrap())]);
+    assert_eq!(
+        t.guard.atoms(),
+        [AtomRef::Fact(atoms.get("blocked").unwrap())]
+    );
 }
 
 #[test]
 fn agent_prefix_and_parameters_stay_in_the_action_name() {
     let n = net(
-        &[("p1", "init", 1), ("p2", "r1#gotopose_6_2_0.exec", 0), ("p3", "", 0)],
-        &[("t1", "r1#gotopose_6_2_0.start"), ("t2", "r1#gotopose_6_2_0.end")],
+        &[
+            ("p1", "init", 1),
+            ("p2", "r1#gotopose_6_2_0.exec", 0),
+            ("p3", "", 0),
+        ],
+        &[
+            ("t1", "r1#gotopose_6_2_0.start"),
+            ("t2", "r1#gotopose_6_2_0.end"),
+        ],
         &[("p1", "t1"), ("t1", "p2"), ("p2", "t2"), ("t2", "p3")],
     );
     let plan = load(n).unwrap();

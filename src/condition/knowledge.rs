@@ -92,7 +92,9 @@ pub struct BitKnowledgeBase {
 impl BitKnowledgeBase {
     /// All atoms false, for a table of `atoms` atoms.
     pub fn new(atoms: usize) -> Self {
-        BitKnowledgeBase { words: vec![0; atoms.div_ceil(64).max(1)] }
+        BitKnowledgeBase {
+            words: vec![0; atoms.div_ceil(64).max(1)],
+        }
     }
 
     /// Sets the truth of `atom` (atoms beyond the table are ignored).

@@ -9,7 +9,9 @@ pub struct BitSet {
 impl BitSet {
     /// An empty set over `0..len`.
     pub fn new(len: usize) -> Self {
-        BitSet { words: vec![0; len.div_ceil(64)] }
+        BitSet {
+            words: vec![0; len.div_ceil(64)],
+        }
     }
 
     /// Adds or removes `i`.

@@ -7,7 +7,9 @@ use crate::rng::SimRng;
 
 /// Identifies the plan a marking belongs to: 0 is the root plan, sub-plans
 /// follow in the order they were registered. Value tables key on it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
 pub struct PlanKey(pub u16);
 
 impl PlanKey {
@@ -29,6 +31,9 @@ pub trait Chooser {
 
     /// `plan` moved to `marking` after `elapsed` steps that collected `reward`.
     fn transition(&mut self, _plan: PlanKey, _marking: &Marking, _reward: f64, _elapsed: u32) {}
+
+    /// `plan` (re)started in its initial `marking`.
+    fn plan_started(&mut self, _plan: PlanKey, _marking: &Marking) {}
 }
 
 /// The default chooser: a seeded uniform random choice.

@@ -16,7 +16,12 @@ pub(crate) struct ConflictScratch {
 }
 
 /// Whether some place is asked for more tokens than it holds by `executable` together.
-pub(crate) fn has_conflict(incidence: &Incidence, marking: &Marking, executable: &[TransitionId], scratch: &mut ConflictScratch) -> bool {
+pub(crate) fn has_conflict(
+    incidence: &Incidence,
+    marking: &Marking,
+    executable: &[TransitionId],
+    scratch: &mut ConflictScratch,
+) -> bool {
     if executable.len() < 2 {
         return false;
     }
@@ -60,7 +65,12 @@ pub(crate) fn enumerate(
             .inputs(t)
             .iter()
             .any(|a| scratch.demand[a.place.index()] > u16::from(marking.get(a.place)));
-        if contested { &mut scratch.conflicting } else { &mut scratch.free }.push(t);
+        if contested {
+            &mut scratch.conflicting
+        } else {
+            &mut scratch.free
+        }
+        .push(t);
     }
     for &t in executable {
         for a in incidence.inputs(t) {
@@ -68,15 +78,26 @@ pub(crate) fn enumerate(
         }
     }
     scratch.capacity.clear();
-    scratch.capacity.extend(marking.tokens().iter().map(|&t| u16::from(t)));
+    scratch
+        .capacity
+        .extend(marking.tokens().iter().map(|&t| u16::from(t)));
     scratch.sets.clear();
     scratch.current.clear();
-    let ConflictScratch { capacity, conflicting, current, sets, .. } = scratch;
+    let ConflictScratch {
+        capacity,
+        conflicting,
+        current,
+        sets,
+        ..
+    } = scratch;
     search(incidence, conflicting, 0, capacity, current, sets, limit)
 }
 
 fn fits(incidence: &Incidence, capacity: &[u16], t: TransitionId) -> bool {
-    incidence.inputs(t).iter().all(|a| capacity[a.place.index()] >= u16::from(a.weight))
+    incidence
+        .inputs(t)
+        .iter()
+        .all(|a| capacity[a.place.index()] >= u16::from(a.weight))
 }
 
 fn take(incidence: &Incidence, capacity: &mut [u16], t: TransitionId, sign: bool) {
@@ -100,7 +121,9 @@ fn search(
     limit: usize,
 ) -> bool {
     if i == items.len() {
-        let maximal = items.iter().all(|t| current.contains(t) || !fits(incidence, capacity, *t));
+        let maximal = items
+            .iter()
+            .all(|t| current.contains(t) || !fits(incidence, capacity, *t));
         if maximal {
             if sets.len() >= limit {
                 return false;
@@ -128,17 +151,34 @@ mod tests {
     use super::*;
     use crate::net::{PetriNet, PlaceNode, TransitionNode};
 
-    fn net(places: &[(&str, u8)], transitions: &[&str], arcs: &[(&str, &str, u8)]) -> (Incidence, Marking) {
+    fn net(
+        places: &[(&str, u8)],
+        transitions: &[&str],
+        arcs: &[(&str, &str, u8)],
+    ) -> (Incidence, Marking) {
         let ps = places
             .iter()
-            .map(|(id, m)| PlaceNode { id: id.to_string(), label: String::new(), initial: *m, position: None })
+            .map(|(id, m)| PlaceNode {
+                id: id.to_string(),
+                label: String::new(),
+                initial: *m,
+                position: None,
+            })
             .collect();
         let ts = transitions
             .iter()
-            .map(|id| TransitionNode { id: id.to_string(), label: String::new(), position: None })
+            .map(|id| TransitionNode {
+                id: id.to_string(),
+                label: String::new(),
+                position: None,
+            })
             .collect();
         let ids: Vec<String> = (0..arcs.len()).map(|i| format!("a{i}")).collect();
-        let specs: Vec<_> = arcs.iter().zip(&ids).map(|((s, t, w), id)| (id.as_str(), *s, *t, *w)).collect();
+        let specs: Vec<_> = arcs
+            .iter()
+            .zip(&ids)
+            .map(|((s, t, w), id)| (id.as_str(), *s, *t, *w))
+            .collect();
         let n = PetriNet::new("n", ps, ts, &specs).unwrap();
         (Incidence::new(&n), n.initial_marking())
     }
@@ -153,7 +193,12 @@ mod tests {
         let (inc, m) = net(
             &[("p0", 1), ("p1", 1)],
             &["t0", "t1", "t2", "t3"],
-            &[("p0", "t0", 1), ("p0", "t1", 1), ("p0", "t2", 1), ("p1", "t3", 1)],
+            &[
+                ("p0", "t0", 1),
+                ("p0", "t1", 1),
+                ("p0", "t2", 1),
+                ("p1", "t3", 1),
+            ],
         );
         let exec = [t(0), t(1), t(2), t(3)];
         let mut s = ConflictScratch::default();
@@ -165,16 +210,27 @@ mod tests {
 
     #[test]
     fn two_tokens_allow_pairs() {
-        let (inc, m) = net(&[("p0", 2)], &["t0", "t1", "t2"], &[("p0", "t0", 1), ("p0", "t1", 1), ("p0", "t2", 1)]);
+        let (inc, m) = net(
+            &[("p0", 2)],
+            &["t0", "t1", "t2"],
+            &[("p0", "t0", 1), ("p0", "t1", 1), ("p0", "t2", 1)],
+        );
         let mut s = ConflictScratch::default();
         assert!(enumerate(&inc, &m, &[t(0), t(1), t(2)], &mut s, 100));
-        assert_eq!(s.sets, vec![vec![t(0), t(1)], vec![t(0), t(2)], vec![t(1), t(2)]]);
+        assert_eq!(
+            s.sets,
+            vec![vec![t(0), t(1)], vec![t(0), t(2)], vec![t(1), t(2)]]
+        );
     }
 
     #[test]
     fn weighted_arcs_and_limit() {
         // t0 needs both tokens, t1 and t2 one each: maximal sets {t0} and {t1, t2}.
-        let (inc, m) = net(&[("p0", 2)], &["t0", "t1", "t2"], &[("p0", "t0", 2), ("p0", "t1", 1), ("p0", "t2", 1)]);
+        let (inc, m) = net(
+            &[("p0", 2)],
+            &["t0", "t1", "t2"],
+            &[("p0", "t0", 2), ("p0", "t1", 1), ("p0", "t2", 1)],
+        );
         let mut s = ConflictScratch::default();
         assert!(enumerate(&inc, &m, &[t(0), t(1), t(2)], &mut s, 100));
         assert_eq!(s.sets, vec![vec![t(0)], vec![t(1), t(2)]]);
@@ -183,7 +239,11 @@ mod tests {
 
     #[test]
     fn no_conflict_when_tokens_suffice() {
-        let (inc, m) = net(&[("p0", 2)], &["t0", "t1"], &[("p0", "t0", 1), ("p0", "t1", 1)]);
+        let (inc, m) = net(
+            &[("p0", 2)],
+            &["t0", "t1"],
+            &[("p0", "t0", 1), ("p0", "t1", 1)],
+        );
         let mut s = ConflictScratch::default();
         assert!(!has_conflict(&inc, &m, &[t(0), t(1)], &mut s));
     }

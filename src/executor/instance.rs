@@ -69,9 +69,16 @@ pub(crate) struct PlanInstance<W> {
 
 impl<W: World> PlanInstance<W> {
     /// Instantiates `plan` and, recursively, its actions and sub-plans.
-    pub(crate) fn new(plan: Arc<Plan>, key: PlanKey, registry: &Registry<W>, callers: &mut Vec<String>) -> Result<Self, ExecError> {
+    pub(crate) fn new(
+        plan: Arc<Plan>,
+        key: PlanKey,
+        registry: &Registry<W>,
+        callers: &mut Vec<String>,
+    ) -> Result<Self, ExecError> {
         if callers.iter().any(|c| c == plan.name()) {
-            return Err(ExecError::RecursiveSubPlan { plan: plan.name().to_string() });
+            return Err(ExecError::RecursiveSubPlan {
+                plan: plan.name().to_string(),
+            });
         }
         callers.push(plan.name().to_string());
         let mut executables = Vec::with_capacity(plan.actions().len());
@@ -88,7 +95,10 @@ impl<W: World> PlanInstance<W> {
                     declared_lists.push(None);
                 }
                 None => {
-                    return Err(ExecError::UnknownAction { plan: plan.name().to_string(), action: info.name.clone() });
+                    return Err(ExecError::UnknownAction {
+                        plan: plan.name().to_string(),
+                        action: info.name.clone(),
+                    });
                 }
             }
         }
@@ -101,11 +111,17 @@ impl<W: World> PlanInstance<W> {
                 InternalKind::Failed => Binding::Failed(a),
                 InternalKind::Declared(name) => {
                     let declared = declared_lists[a].as_deref().unwrap_or(&[]);
-                    let index = declared.iter().position(|d| d == name).ok_or_else(|| ExecError::UndeclaredCondition {
-                        plan: plan.name().to_string(),
-                        action: plan.action(cond.action).name.clone(),
-                        condition: name.clone(),
-                        declared: if declared.is_empty() { "nothing".to_string() } else { declared.join(", ") },
+                    let index = declared.iter().position(|d| d == name).ok_or_else(|| {
+                        ExecError::UndeclaredCondition {
+                            plan: plan.name().to_string(),
+                            action: plan.action(cond.action).name.clone(),
+                            condition: name.clone(),
+                            declared: if declared.is_empty() {
+                                "nothing".to_string()
+                            } else {
+                                declared.join(", ")
+                            },
+                        }
                     })?;
                     Binding::Declared(a, index)
                 }
@@ -141,7 +157,11 @@ impl<W: World> PlanInstance<W> {
         let incidence = self.plan.incidence();
         self.enabled.clear();
         for t in incidence.transition_ids() {
-            let missing = incidence.inputs(t).iter().filter(|a| self.marking.get(a.place) < a.weight).count();
+            let missing = incidence
+                .inputs(t)
+                .iter()
+                .filter(|a| self.marking.get(a.place) < a.weight)
+                .count();
             self.missing[t.index()] = missing as u16;
             self.enabled.set(t.index(), missing == 0);
         }
@@ -178,15 +198,23 @@ impl<W: World> PlanInstance<W> {
 
     /// Starts the plan from its initial marking; actions on initially marked
     /// execution places are started.
-    pub(crate) fn start(&mut self, world: &mut W) {
+    pub(crate) fn start<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) {
         self.marking = self.plan.initial_marking();
         self.rebuild();
         self.fresh = true;
         self.pending_reward = 0.0;
         self.elapsed = 0;
+        chooser.plan_started(self.key, &self.marking);
         for a in 0..self.executables.len() {
             if self.active.contains(a) {
-                self.call(world, Call { function: Function::Start, action: ActionId(a as u32) });
+                self.call(
+                    world,
+                    chooser,
+                    Call {
+                        function: Function::Start,
+                        action: ActionId(a as u32),
+                    },
+                );
             }
         }
     }
@@ -194,7 +222,11 @@ impl<W: World> PlanInstance<W> {
     /// Applies `function` to every active executable of this plan, recursively
     /// (ending, interrupting or failing a plan does the same to its sub-tree).
     fn propagate(&mut self, world: &mut W, function: Function) {
-        let Self { active, executables, .. } = self;
+        let Self {
+            active,
+            executables,
+            ..
+        } = self;
         for a in active.iter() {
             match &mut executables[a] {
                 Executable::Primitive(x) => match function {
@@ -213,7 +245,11 @@ impl<W: World> PlanInstance<W> {
     /// Steps every active action; sub-plans step their own actions in turn.
     pub(crate) fn act(&mut self, world: &mut W) {
         self.fresh = false;
-        let Self { active, executables, .. } = self;
+        let Self {
+            active,
+            executables,
+            ..
+        } = self;
         for a in active.iter() {
             match &mut executables[a] {
                 Executable::Primitive(x) => x.step(world),
@@ -227,7 +263,11 @@ impl<W: World> PlanInstance<W> {
     pub(crate) fn accrue(&mut self, reward: f64) {
         self.pending_reward += reward;
         self.elapsed += 1;
-        let Self { active, executables, .. } = self;
+        let Self {
+            active,
+            executables,
+            ..
+        } = self;
         for a in active.iter() {
             if let Executable::Plan(p) = &mut executables[a] {
                 if p.status == Status::Running {
@@ -257,7 +297,11 @@ impl<W: World> PlanInstance<W> {
     /// Fires this step's executable transitions (asking `chooser` on conflicts),
     /// then lets running sub-plans fire theirs: a higher plan's transitions,
     /// interrupts included, take effect before those of the plans below it.
-    pub(crate) fn fire<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) -> Result<(), ExecError> {
+    pub(crate) fn fire<C: Chooser + ?Sized>(
+        &mut self,
+        world: &mut W,
+        chooser: &mut C,
+    ) -> Result<(), ExecError> {
         if self.status != Status::Running {
             return Ok(());
         }
@@ -273,7 +317,11 @@ impl<W: World> PlanInstance<W> {
                 executable.push(t);
             }
         }
-        let result = if executable.is_empty() { Ok(()) } else { self.fire_executable(world, chooser, &executable) };
+        let result = if executable.is_empty() {
+            Ok(())
+        } else {
+            self.fire_executable(world, chooser, &executable)
+        };
         self.executable = executable;
         result?;
         for a in 0..self.executables.len() {
@@ -289,14 +337,28 @@ impl<W: World> PlanInstance<W> {
         Ok(())
     }
 
-    fn fire_executable<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C, executable: &[TransitionId]) -> Result<(), ExecError> {
+    fn fire_executable<C: Chooser + ?Sized>(
+        &mut self,
+        world: &mut W,
+        chooser: &mut C,
+        executable: &[TransitionId],
+    ) -> Result<(), ExecError> {
         let incidence = self.plan.incidence();
         let mut chosen = std::mem::take(&mut self.chosen);
         chosen.clear();
         if conflict::has_conflict(incidence, &self.marking, executable, &mut self.conflicts) {
-            if !conflict::enumerate(incidence, &self.marking, executable, &mut self.conflicts, MAX_OPTIONS) {
+            if !conflict::enumerate(
+                incidence,
+                &self.marking,
+                executable,
+                &mut self.conflicts,
+                MAX_OPTIONS,
+            ) {
                 self.chosen = chosen;
-                return Err(ExecError::TooManyOptions { plan: self.plan.name().to_string(), limit: MAX_OPTIONS });
+                return Err(ExecError::TooManyOptions {
+                    plan: self.plan.name().to_string(),
+                    limit: MAX_OPTIONS,
+                });
             }
             let count = self.conflicts.sets.len();
             self.options.truncate(count);
@@ -308,23 +370,29 @@ impl<W: World> PlanInstance<W> {
                 }
                 let next = &mut self.options[i];
                 for &t in self.conflicts.free.iter().chain(set) {
-                    incidence.fire(next, t).map_err(|e| ExecError::TokenOverflow {
-                        plan: self.plan.name().to_string(),
-                        place: self.plan.net().place(PlaceId::new(e.place)).id.clone(),
-                    })?;
+                    incidence
+                        .fire(next, t)
+                        .map_err(|e| ExecError::TokenOverflow {
+                            plan: self.plan.name().to_string(),
+                            place: self.plan.net().place(PlaceId::new(e.place)).id.clone(),
+                        })?;
                 }
             }
             let index = chooser.choose(self.key, &self.marking, &self.options);
             if index >= count {
                 self.chosen = chosen;
-                return Err(ExecError::InvalidChoice { plan: self.plan.name().to_string(), index, count });
+                return Err(ExecError::InvalidChoice {
+                    plan: self.plan.name().to_string(),
+                    index,
+                    count,
+                });
             }
             chosen.extend_from_slice(&self.conflicts.free);
             chosen.extend_from_slice(&self.conflicts.sets[index]);
         } else {
             chosen.extend_from_slice(executable);
         }
-        let result = self.fire_set(world, &chosen);
+        let result = self.fire_set(world, chooser, &chosen);
         self.chosen = chosen;
         result?;
         self.status = self.status_of_marking();
@@ -335,7 +403,12 @@ impl<W: World> PlanInstance<W> {
     }
 
     /// Moves the tokens of `set`, then calls the functions its transitions carry.
-    fn fire_set(&mut self, world: &mut W, set: &[TransitionId]) -> Result<(), ExecError> {
+    fn fire_set<C: Chooser + ?Sized>(
+        &mut self,
+        world: &mut W,
+        chooser: &mut C,
+        set: &[TransitionId],
+    ) -> Result<(), ExecError> {
         let plan = Arc::clone(&self.plan);
         let incidence = plan.incidence();
         for &t in set {
@@ -348,16 +421,18 @@ impl<W: World> PlanInstance<W> {
         for &t in set {
             for a in incidence.outputs(t) {
                 let old = self.marking.get(a.place);
-                self.marking.add(a.place, a.weight).map_err(|_| ExecError::TokenOverflow {
-                    plan: plan.name().to_string(),
-                    place: plan.net().place(a.place).id.clone(),
-                })?;
+                self.marking
+                    .add(a.place, a.weight)
+                    .map_err(|_| ExecError::TokenOverflow {
+                        plan: plan.name().to_string(),
+                        place: plan.net().place(a.place).id.clone(),
+                    })?;
                 self.place_changed(a.place, old);
             }
         }
         for &t in set {
             for &call in &plan.transition(t).calls {
-                self.call(world, call);
+                self.call(world, chooser, call);
             }
         }
         Ok(())
@@ -391,7 +466,7 @@ impl<W: World> PlanInstance<W> {
     }
 
     /// Calls one function on one action or sub-plan.
-    fn call(&mut self, world: &mut W, call: Call) {
+    fn call<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C, call: Call) {
         match &mut self.executables[call.action.index()] {
             Executable::Primitive(x) => match call.function {
                 Function::Start => x.start(world),
@@ -401,7 +476,7 @@ impl<W: World> PlanInstance<W> {
                 Function::Fail => x.fail(world),
             },
             Executable::Plan(p) => match call.function {
-                Function::Start => p.start(world),
+                Function::Start => p.start(world, chooser),
                 other => p.propagate(world, other),
             },
         }

@@ -52,17 +52,24 @@ impl<W: World> Executor<W> {
     /// Instantiates `plan`'s actions and sub-plans from `registry`, binding every
     /// internal condition its guards use.
     pub fn new(plan: Arc<Plan>, registry: &Registry<W>) -> Result<Self, ExecError> {
-        Ok(Executor { root: PlanInstance::new(plan, PlanKey::ROOT, registry, &mut Vec::new())? })
+        Ok(Executor {
+            root: PlanInstance::new(plan, PlanKey::ROOT, registry, &mut Vec::new())?,
+        })
     }
 
-    /// Starts a new episode: resets every action and restores the initial marking.
-    pub fn reset(&mut self, world: &mut W) {
+    /// Starts a new episode: resets every action, restores the initial marking
+    /// and tells `chooser` the plan started.
+    pub fn reset<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) {
         self.root.reset_actions();
-        self.root.start(world);
+        self.root.start(world, chooser);
     }
 
     /// One execution step (see the module documentation).
-    pub fn step<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) -> Result<Status, ExecError> {
+    pub fn step<C: Chooser + ?Sized>(
+        &mut self,
+        world: &mut W,
+        chooser: &mut C,
+    ) -> Result<Status, ExecError> {
         if self.root.status != Status::Running {
             return Ok(self.root.status);
         }
@@ -91,7 +98,10 @@ impl<W: World> Executor<W> {
     /// Takes the root plan's reward and steps since its last marking change
     /// (at the end of an episode cut short, before the learner closes it).
     pub fn take_pending(&mut self) -> PendingReward {
-        let pending = PendingReward { reward: self.root.pending_reward, elapsed: self.root.elapsed };
+        let pending = PendingReward {
+            reward: self.root.pending_reward,
+            elapsed: self.root.elapsed,
+        };
         self.root.pending_reward = 0.0;
         self.root.elapsed = 0;
         pending

@@ -41,7 +41,11 @@ pub struct Registry<W> {
 
 impl<W> Default for Registry<W> {
     fn default() -> Self {
-        Registry { actions: HashMap::new(), families: Vec::new(), plans: Vec::new() }
+        Registry {
+            actions: HashMap::new(),
+            families: Vec::new(),
+            plans: Vec::new(),
+        }
     }
 }
 
@@ -59,7 +63,13 @@ impl<W> Registry<W> {
         A: Action<W> + 'static,
     {
         let declared = declared.iter().map(|s| s.to_string()).collect();
-        self.actions.insert(name.to_string(), Primitive { declared, factory: Box::new(move |n| Box::new(factory(n))) });
+        self.actions.insert(
+            name.to_string(),
+            Primitive {
+                declared,
+                factory: Box::new(move |n| Box::new(factory(n))),
+            },
+        );
         self
     }
 
@@ -70,8 +80,13 @@ impl<W> Registry<W> {
         A: Action<W> + 'static,
     {
         let declared = declared.iter().map(|s| s.to_string()).collect();
-        self.families
-            .push((prefix.to_string(), Primitive { declared, factory: Box::new(move |n| Box::new(factory(n))) }));
+        self.families.push((
+            prefix.to_string(),
+            Primitive {
+                declared,
+                factory: Box::new(move |n| Box::new(factory(n))),
+            },
+        ));
         self
     }
 
@@ -91,7 +106,10 @@ impl<W> Registry<W> {
             self.families
                 .iter()
                 .find(|(prefix, _)| {
-                    name == prefix || name.strip_prefix(prefix.as_str()).is_some_and(|r| r.starts_with('_'))
+                    name == prefix
+                        || name
+                            .strip_prefix(prefix.as_str())
+                            .is_some_and(|r| r.starts_with('_'))
                 })
                 .map(|(_, p)| p)
         })
@@ -100,9 +118,14 @@ impl<W> Registry<W> {
     /// How `name` is executed, if anything provides it.
     pub(crate) fn resolve(&self, name: &str) -> Option<Entry<'_, W>> {
         let base = name.split_once('#').map(|(_, b)| b);
-        let primitive = self.primitive(name).or_else(|| base.and_then(|b| self.primitive(b)));
+        let primitive = self
+            .primitive(name)
+            .or_else(|| base.and_then(|b| self.primitive(b)));
         if let Some(p) = primitive {
-            return Some(Entry::Primitive { declared: &p.declared, factory: &p.factory });
+            return Some(Entry::Primitive {
+                declared: &p.declared,
+                factory: &p.factory,
+            });
         }
         self.plans
             .iter()

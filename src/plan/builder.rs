@@ -60,13 +60,23 @@ pub struct PlanBuilder {
 impl PlanBuilder {
     /// An empty plan called `name`.
     pub fn new(name: impl Into<String>) -> Self {
-        PlanBuilder { name: name.into(), places: Vec::new(), transitions: Vec::new(), arcs: Vec::new() }
+        PlanBuilder {
+            name: name.into(),
+            places: Vec::new(),
+            transitions: Vec::new(),
+            arcs: Vec::new(),
+        }
     }
 
     /// A plain place (connector, memory or initial place) with `label`.
     pub fn place(&mut self, label: impl Into<String>) -> PlaceRef {
         let id = format!("p{}", self.places.len() + 1);
-        self.places.push(PlaceNode { id, label: label.into(), initial: 0, position: None });
+        self.places.push(PlaceNode {
+            id,
+            label: label.into(),
+            initial: 0,
+            position: None,
+        });
         PlaceRef(self.places.len() - 1)
     }
 
@@ -93,9 +103,18 @@ impl PlanBuilder {
     }
 
     /// A transition with `label` and weighted input and output places.
-    pub fn transition(&mut self, label: impl Into<String>, inputs: &[(PlaceRef, u8)], outputs: &[(PlaceRef, u8)]) -> TransitionRef {
+    pub fn transition(
+        &mut self,
+        label: impl Into<String>,
+        inputs: &[(PlaceRef, u8)],
+        outputs: &[(PlaceRef, u8)],
+    ) -> TransitionRef {
         let id = format!("t{}", self.transitions.len() + 1);
-        self.transitions.push(TransitionNode { id, label: label.into(), position: None });
+        self.transitions.push(TransitionNode {
+            id,
+            label: label.into(),
+            position: None,
+        });
         let t = TransitionRef(self.transitions.len() - 1);
         for &(p, w) in inputs {
             self.consume(t, p, w);
@@ -109,13 +128,23 @@ impl PlanBuilder {
     /// Adds an arc from `p` into `t` with weight `w`.
     pub fn consume(&mut self, t: TransitionRef, p: PlaceRef, w: u8) {
         let id = format!("a{}", self.arcs.len() + 1);
-        self.arcs.push((id, self.places[p.0].id.clone(), self.transitions[t.0].id.clone(), w));
+        self.arcs.push((
+            id,
+            self.places[p.0].id.clone(),
+            self.transitions[t.0].id.clone(),
+            w,
+        ));
     }
 
     /// Adds an arc from `t` into `p` with weight `w` (e.g. a memory token).
     pub fn produce(&mut self, t: TransitionRef, p: PlaceRef, w: u8) {
         let id = format!("a{}", self.arcs.len() + 1);
-        self.arcs.push((id, self.transitions[t.0].id.clone(), self.places[p.0].id.clone(), w));
+        self.arcs.push((
+            id,
+            self.transitions[t.0].id.clone(),
+            self.places[p.0].id.clone(),
+            w,
+        ));
     }
 
     /// Ordinary action `name` started from `from`; ends (waiting for `name.finished`) into a new place.
@@ -129,7 +158,12 @@ impl PlanBuilder {
         let exec = self.place(format!("{name}.exec"));
         let start = self.transition(format!("{name}.start"), &[(from, 1)], &[(exec, 1)]);
         self.transition(format!("{name}.end"), &[(exec, 1)], &[(done, 1)]);
-        ActionNet { name: name.to_string(), exec, done, start }
+        ActionNet {
+            name: name.to_string(),
+            exec,
+            done,
+            start,
+        }
     }
 
     /// A call of sub-plan `name`: structurally an action whose executable is a plan.
@@ -171,7 +205,12 @@ impl PlanBuilder {
 
     /// Interrupt: leaves the execution of `action` for `to` when `condition`
     /// (guard syntax) holds.
-    pub fn interrupt(&mut self, action: &ActionNet, condition: &str, to: PlaceRef) -> TransitionRef {
+    pub fn interrupt(
+        &mut self,
+        action: &ActionNet,
+        condition: &str,
+        to: PlaceRef,
+    ) -> TransitionRef {
         let label = format!("{}.interrupt [{condition}]", action.name);
         self.transition(label, &[(action.exec, 1)], &[(to, 1)])
     }
@@ -206,14 +245,19 @@ impl PlanBuilder {
     fn layout(&mut self) {
         let node_count = self.places.len() + self.transitions.len();
         let index_of = |id: &str, places: &[PlaceNode], transitions: &[TransitionNode]| {
-            places
-                .iter()
-                .position(|p| p.id == id)
-                .or_else(|| transitions.iter().position(|t| t.id == id).map(|i| places.len() + i))
+            places.iter().position(|p| p.id == id).or_else(|| {
+                transitions
+                    .iter()
+                    .position(|t| t.id == id)
+                    .map(|i| places.len() + i)
+            })
         };
         let mut successors = vec![Vec::new(); node_count];
         for (_, s, t, _) in &self.arcs {
-            if let (Some(a), Some(b)) = (index_of(s, &self.places, &self.transitions), index_of(t, &self.places, &self.transitions)) {
+            if let (Some(a), Some(b)) = (
+                index_of(s, &self.places, &self.transitions),
+                index_of(t, &self.places, &self.transitions),
+            ) {
                 successors[a].push(b);
             }
         }
@@ -238,7 +282,11 @@ impl PlanBuilder {
             match (next_root..node_count).find(|&i| layer[i] == usize::MAX) {
                 Some(i) => {
                     next_root = i;
-                    layer[i] = layer.iter().filter(|&&l| l != usize::MAX).max().map_or(0, |m| m + 1);
+                    layer[i] = layer
+                        .iter()
+                        .filter(|&&l| l != usize::MAX)
+                        .max()
+                        .map_or(0, |m| m + 1);
                     queue.push_back(i);
                 }
                 None => break,
@@ -247,7 +295,10 @@ impl PlanBuilder {
         let mut rows: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
         for (i, &l) in layer.iter().enumerate() {
             let row = rows.entry(l).or_insert(0);
-            let position = Some(Position { x: 60.0 + 90.0 * l as f64, y: 60.0 + 80.0 * *row as f64 });
+            let position = Some(Position {
+                x: 60.0 + 90.0 * l as f64,
+                y: 60.0 + 80.0 * *row as f64,
+            });
             *row += 1;
             if i < self.places.len() {
                 self.places[i].position = position;
@@ -260,8 +311,11 @@ impl PlanBuilder {
     /// The net as built, laid out for drawing.
     pub fn build_net(mut self) -> Result<PetriNet, NetError> {
         self.layout();
-        let arcs: Vec<(&str, &str, &str, u8)> =
-            self.arcs.iter().map(|(a, s, t, w)| (a.as_str(), s.as_str(), t.as_str(), *w)).collect();
+        let arcs: Vec<(&str, &str, &str, u8)> = self
+            .arcs
+            .iter()
+            .map(|(a, s, t, w)| (a.as_str(), s.as_str(), t.as_str(), *w))
+            .collect();
         PetriNet::new(self.name, self.places, self.transitions, &arcs)
     }
 

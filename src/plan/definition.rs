@@ -154,37 +154,56 @@ impl Plan {
                 token: token.to_string(),
                 reason: reason.to_string(),
             };
-            let tokens = transition_tokens(&node.label).ok_or_else(|| label_error(&node.label, "unbalanced brackets"))?;
+            let tokens = transition_tokens(&node.label)
+                .ok_or_else(|| label_error(&node.label, "unbalanced brackets"))?;
             let mut guard_text: Option<&str> = None;
             let mut calls = Vec::new();
             for token in tokens {
                 match token {
                     TransitionToken::Guard(g) => {
                         if guard_text.replace(g).is_some() {
-                            return Err(label_error(&format!("[{g}]"), "a transition has at most one guard"));
+                            return Err(label_error(
+                                &format!("[{g}]"),
+                                "a transition has at most one guard",
+                            ));
                         }
                     }
                     TransitionToken::Call(name, function) => {
-                        let action = *by_name
-                            .get(name)
-                            .ok_or_else(|| label_error(&format!("{name}.{}", function.as_str()), "no execution place names this action"))?;
+                        let action = *by_name.get(name).ok_or_else(|| {
+                            label_error(
+                                &format!("{name}.{}", function.as_str()),
+                                "no execution place names this action",
+                            )
+                        })?;
                         calls.push(Call { function, action });
                     }
                     TransitionToken::BareCall(function) => {
-                        let adjacent = adjacent_actions(&incidence, &place_action, tid, function.binds_output());
+                        let adjacent = adjacent_actions(
+                            &incidence,
+                            &place_action,
+                            tid,
+                            function.binds_output(),
+                        );
                         if adjacent.is_empty() {
-                            return Err(label_error(function.as_str(), "no adjacent execution place for this function"));
+                            return Err(label_error(
+                                function.as_str(),
+                                "no adjacent execution place for this function",
+                            ));
                         }
                         calls.extend(adjacent.into_iter().map(|action| Call { function, action }));
                     }
                     TransitionToken::Name(_) => {}
                     TransitionToken::UnknownFunction(t) => {
-                        return Err(label_error(t, "unknown transition function (expected start, end, interrupt, resume or fail)"));
+                        return Err(label_error(
+                            t,
+                            "unknown transition function (expected start, end, interrupt, resume or fail)",
+                        ));
                     }
                 }
             }
             let mut resolve = |atom: &str| -> Result<AtomRef, PlanError> {
-                resolve_atom(atom, &by_name, &mut atoms, vocabulary, &mut internal).map_err(|reason| label_error(atom, &reason))
+                resolve_atom(atom, &by_name, &mut atoms, vocabulary, &mut internal)
+                    .map_err(|reason| label_error(atom, &reason))
             };
             let guard = match guard_text {
                 Some(text) => {
@@ -203,7 +222,17 @@ impl Plan {
                 calls,
             });
         }
-        Ok(Plan { net, incidence, actions, place_action, goal, fail, transitions, internal, atoms })
+        Ok(Plan {
+            net,
+            incidence,
+            actions,
+            place_action,
+            goal,
+            fail,
+            transitions,
+            internal,
+            atoms,
+        })
     }
 
     /// The plan's name.
@@ -233,7 +262,10 @@ impl Plan {
 
     /// The action named `name`, if any.
     pub fn action_named(&self, name: &str) -> Option<ActionId> {
-        self.actions.iter().position(|a| a.name == name).map(|i| ActionId(i as u32))
+        self.actions
+            .iter()
+            .position(|a| a.name == name)
+            .map(|i| ActionId(i as u32))
     }
 
     /// The action whose execution place `place` is.
@@ -307,11 +339,23 @@ impl Plan {
             .marked()
             .map(|(p, n)| {
                 let place = self.net.place(p);
-                let name = if place.label.is_empty() { &place.id } else { &place.label };
-                if n == 1 { name.clone() } else { format!("{name}*{n}") }
+                let name = if place.label.is_empty() {
+                    &place.id
+                } else {
+                    &place.label
+                };
+                if n == 1 {
+                    name.clone()
+                } else {
+                    format!("{name}*{n}")
+                }
             })
             .collect();
-        if parts.is_empty() { "-".to_string() } else { parts.join(" ") }
+        if parts.is_empty() {
+            "-".to_string()
+        } else {
+            parts.join(" ")
+        }
     }
 }
 
@@ -322,8 +366,15 @@ fn adjacent_actions(
     t: TransitionId,
     outputs: bool,
 ) -> Vec<ActionId> {
-    let arcs = if outputs { incidence.outputs(t) } else { incidence.inputs(t) };
-    let mut found: Vec<ActionId> = arcs.iter().filter_map(|a| place_action[a.place.index()]).collect();
+    let arcs = if outputs {
+        incidence.outputs(t)
+    } else {
+        incidence.inputs(t)
+    };
+    let mut found: Vec<ActionId> = arcs
+        .iter()
+        .filter_map(|a| place_action[a.place.index()])
+        .collect();
     found.sort_unstable();
     found.dedup();
     found
@@ -347,16 +398,19 @@ fn resolve_atom(
 ) -> Result<AtomRef, String> {
     if atom.matches('.').count() == 1 {
         let (name, cond) = atom.split_once('.').unwrap_or((atom, ""));
-        let action = *actions
-            .get(name)
-            .ok_or_else(|| format!("internal condition of '{name}', which no execution place names"))?;
+        let action = *actions.get(name).ok_or_else(|| {
+            format!("internal condition of '{name}', which no execution place names")
+        })?;
         let kind = match cond {
             "finished" => InternalKind::Finished,
             "failed" => InternalKind::Failed,
             "" => return Err("empty internal condition".to_string()),
             other => InternalKind::Declared(other.to_string()),
         };
-        return Ok(intern_internal(internal, InternalCondition { action, kind }));
+        return Ok(intern_internal(
+            internal,
+            InternalCondition { action, kind },
+        ));
     }
     match vocabulary {
         Vocabulary::Open => Ok(AtomRef::Fact(atoms.intern(atom))),
@@ -371,12 +425,22 @@ fn resolve_atom(
 fn implicit_wait(calls: &[Call], internal: &mut Vec<InternalCondition>) -> Condition {
     let waits: Vec<Condition> = calls
         .iter()
-        .filter_map(|c| match c.function {
-            Function::End => Some(InternalKind::Finished),
-            Function::Fail => Some(InternalKind::Failed),
-            _ => None,
-        }
-        .map(|kind| Condition::Atom(intern_internal(internal, InternalCondition { action: c.action, kind }))))
+        .filter_map(|c| {
+            match c.function {
+                Function::End => Some(InternalKind::Finished),
+                Function::Fail => Some(InternalKind::Failed),
+                _ => None,
+            }
+            .map(|kind| {
+                Condition::Atom(intern_internal(
+                    internal,
+                    InternalCondition {
+                        action: c.action,
+                        kind,
+                    },
+                ))
+            })
+        })
         .collect();
     match waits.len() {
         0 => Condition::True,

@@ -68,7 +68,10 @@ pub struct LabelError {
 }
 
 fn label_error(token: &str, reason: impl Into<String>) -> LabelError {
-    LabelError { token: token.to_string(), reason: reason.into() }
+    LabelError {
+        token: token.to_string(),
+        reason: reason.into(),
+    }
 }
 
 /// The action name of an execution-place token (`X.exec`, `X.ex`, legacy `ex.X`).
@@ -88,7 +91,10 @@ fn marking_token(token: &str, keyword: &str) -> Option<Result<u8, LabelError>> {
     let inner = rest.strip_prefix('(').and_then(|r| r.strip_suffix(')'));
     Some(match inner.map(|n| n.trim().parse::<u8>()) {
         Some(Ok(n)) if n > 0 => Ok(n),
-        _ => Err(label_error(token, format!("expected '{keyword}' or '{keyword}(n)' with 1 <= n <= 255"))),
+        _ => Err(label_error(
+            token,
+            format!("expected '{keyword}' or '{keyword}(n)' with 1 <= n <= 255"),
+        )),
     })
 }
 
@@ -99,7 +105,10 @@ pub fn parse_place_label(label: &str) -> Result<PlaceLabel, LabelError> {
     for token in tokens {
         if let Some(name) = exec_name(token) {
             if name.is_empty() {
-                return Err(label_error(token, "an execution place needs an action name"));
+                return Err(label_error(
+                    token,
+                    "an execution place needs an action name",
+                ));
             }
             if out.exec.replace(name.to_string()).is_some() {
                 return Err(label_error(token, "a second execution token"));
@@ -207,8 +216,14 @@ mod tests {
 
     #[test]
     fn splits_outside_brackets() {
-        assert_eq!(split_tokens("goto.end [and a b]").unwrap(), vec!["goto.end", "[and a b]"]);
-        assert_eq!(split_tokens("goto.end[done] x").unwrap(), vec!["goto.end", "[done]", "x"]);
+        assert_eq!(
+            split_tokens("goto.end [and a b]").unwrap(),
+            vec!["goto.end", "[and a b]"]
+        );
+        assert_eq!(
+            split_tokens("goto.end[done] x").unwrap(),
+            vec!["goto.end", "[done]", "x"]
+        );
         assert_eq!(split_tokens("  goal(2)  p ").unwrap(), vec!["goal(2)", "p"]);
         assert_eq!(split_tokens("[a (b c)]").unwrap(), vec!["[a (b c)]"]);
         assert!(split_tokens("[a").is_none());
@@ -219,10 +234,19 @@ mod tests {
     fn place_labels() {
         let l = parse_place_label("gotopose_6_2_0.exec").unwrap();
         assert_eq!(l.exec.as_deref(), Some("gotopose_6_2_0"));
-        assert_eq!(parse_place_label("ex.kick").unwrap().exec.as_deref(), Some("kick"));
-        assert_eq!(parse_place_label("r1#kick.ex").unwrap().exec.as_deref(), Some("r1#kick"));
+        assert_eq!(
+            parse_place_label("ex.kick").unwrap().exec.as_deref(),
+            Some("kick")
+        );
+        assert_eq!(
+            parse_place_label("r1#kick.ex").unwrap().exec.as_deref(),
+            Some("r1#kick")
+        );
         assert_eq!(parse_place_label("goal").unwrap().goal, Some(1));
-        assert_eq!(parse_place_label("goalie.exec").unwrap().exec.as_deref(), Some("goalie"));
+        assert_eq!(
+            parse_place_label("goalie.exec").unwrap().exec.as_deref(),
+            Some("goalie")
+        );
         assert_eq!(parse_place_label("goal(3)").unwrap().goal, Some(3));
         assert_eq!(parse_place_label("fail").unwrap().fail, Some(1));
         assert_eq!(parse_place_label("p1").unwrap(), PlaceLabel::default());

@@ -3,11 +3,13 @@
 
 mod builder;
 pub mod catalog;
+mod definition;
 mod error;
 pub mod labels;
-mod definition;
 
-pub use builder::{ActionNet, PlaceRef, PlanBuilder, SensingNet, TransitionRef, Tracker};
+pub use builder::{ActionNet, PlaceRef, PlanBuilder, SensingNet, Tracker, TransitionRef};
+pub use definition::{
+    ActionId, ActionInfo, Call, InternalCondition, InternalKind, Plan, TransitionInfo, Vocabulary,
+};
 pub use error::PlanError;
 pub use labels::Function;
-pub use definition::{ActionId, ActionInfo, Call, InternalCondition, InternalKind, Plan, TransitionInfo, Vocabulary};

@@ -1,0 +1,72 @@
+//! Learners: they choose at the executor's choice points and learn from rewards.
+//!
+//! Values are kept per marking of the plan (afterstates, as the reference
+//! library does): the marking after a choice already encodes the option taken
+//! (its output places) and the observation (the environment-tracking part), so
+//! it identifies the thesis's observation-action pair, while plans that lead to
+//! the same marking deliberately share one value (see docs/ARCHITECTURE.md).
+
+mod mcesp;
+mod monte_carlo;
+pub mod selection;
+mod sosmc;
+mod td;
+mod trajectory;
+mod values;
+
+pub use mcesp::{Mcesp, McespConfig};
+pub use monte_carlo::{MonteCarlo, MonteCarloConfig};
+pub use selection::{Exploration, Schedule, Strategy};
+pub use sosmc::{Assessment, Sigma, SoSmc, SoSmcConfig, StepSize, ThresholdRule};
+pub use td::{Scope, Target, TdConfig, TdLearner};
+pub use trajectory::{Trajectory, discount};
+pub use values::{KeyId, StateKey, ValueTable, blend};
+
+use crate::executor::{Chooser, PendingReward};
+
+/// How an episode is to be run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct EpisodeStart {
+    /// Whether values learn from it (false: an evaluation episode, values
+    /// frozen, behaviour exactly as while learning).
+    pub learning: bool,
+    /// Forces the episode to be exploratory or not (a schedule shared by several
+    /// agents); `None` lets the learner decide by its own rule.
+    pub exploratory: Option<bool>,
+}
+
+impl EpisodeStart {
+    /// A learning episode decided by the learner's own rule.
+    pub const LEARN: EpisodeStart = EpisodeStart {
+        learning: true,
+        exploratory: None,
+    };
+    /// An evaluation episode decided by the learner's own rule.
+    pub const EVALUATE: EpisodeStart = EpisodeStart {
+        learning: false,
+        exploratory: None,
+    };
+}
+
+/// A learner serving an executor: a [`Chooser`] that is told where episodes start and end.
+pub trait Learner: Chooser + Send {
+    /// A new episode begins.
+    fn begin_episode(&mut self, start: EpisodeStart);
+    /// The episode ends; `tail` is the reward and steps after the last marking change.
+    fn end_episode(&mut self, tail: PendingReward);
+    /// Whether the current (or just ended) episode explores.
+    fn exploratory(&self) -> bool;
+    /// What has been learned.
+    fn values(&self) -> &ValueTable;
+    /// What has been learned, for loading a saved table.
+    fn values_mut(&mut self) -> &mut ValueTable;
+}
+
+/// Per-plan-level state, indexed by [`crate::executor::PlanKey`].
+pub(crate) fn level<T: Default>(levels: &mut Vec<T>, plan: crate::executor::PlanKey) -> &mut T {
+    let i = usize::from(plan.0);
+    if levels.len() <= i {
+        levels.resize_with(i + 1, T::default);
+    }
+    &mut levels[i]
+}
