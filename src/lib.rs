@@ -5,6 +5,7 @@
 //! every open choice to a learner. See `docs/ARCHITECTURE.md` for the data path.
 
 pub mod condition;
+pub mod domains;
 pub mod executor;
 pub mod learning;
 pub mod net;

@@ -17,7 +17,7 @@ pub trait World: KnowledgeBase {
 /// fire, calls [`Action::step`] once per executor step while the action's
 /// execution place is marked, and asks [`Action::finished`] / [`Action::failed`]
 /// / [`Action::condition`] for the guards that wait on it.
-pub trait Action<W> {
+pub trait Action<W>: Send {
     /// A new episode begins: forget any state from the previous one.
     fn reset(&mut self) {}
     /// The action starts.

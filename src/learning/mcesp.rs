@@ -46,6 +46,7 @@ pub struct Mcesp {
     stage_count: u32,
     episode: u64,
     learning: bool,
+    greedy: bool,
     explored: bool,
     ids: Vec<KeyId>,
     option_values: Vec<f64>,
@@ -69,6 +70,7 @@ impl Mcesp {
             stage_count: 0,
             episode: 0,
             learning: true,
+            greedy: false,
             explored: false,
             ids: Vec::new(),
             option_values: Vec::new(),
@@ -156,7 +158,8 @@ impl Learner for Mcesp {
     fn begin_episode(&mut self, start: EpisodeStart) {
         self.levels.iter_mut().for_each(Trajectory::clear);
         self.memory.clear();
-        self.learning = start.learning;
+        self.learning = start.learning();
+        self.greedy = start.greedy();
         self.explored = false;
         if self.learning && self.episode > 0 && self.episode % self.config.stage_length.max(1) == 0
         {

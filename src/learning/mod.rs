@@ -24,12 +24,23 @@ pub use values::{KeyId, StateKey, ValueTable, blend};
 
 use crate::executor::{Chooser, PendingReward};
 
+/// What an episode is for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+pub enum EpisodeMode {
+    /// Values learn from it.
+    Learn,
+    /// Values are frozen; the learner behaves exactly as it would while learning
+    /// (the thesis's evaluation protocol).
+    Evaluate,
+    /// Values are frozen and every choice is greedy (the learned policy itself).
+    Greedy,
+}
+
 /// How an episode is to be run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct EpisodeStart {
-    /// Whether values learn from it (false: an evaluation episode, values
-    /// frozen, behaviour exactly as while learning).
-    pub learning: bool,
+    /// Learning, evaluation or greedy.
+    pub mode: EpisodeMode,
     /// Forces the episode to be exploratory or not (a schedule shared by several
     /// agents); `None` lets the learner decide by its own rule.
     pub exploratory: Option<bool>,
@@ -37,15 +48,26 @@ pub struct EpisodeStart {
 
 impl EpisodeStart {
     /// A learning episode decided by the learner's own rule.
-    pub const LEARN: EpisodeStart = EpisodeStart {
-        learning: true,
-        exploratory: None,
-    };
+    pub const LEARN: EpisodeStart = EpisodeStart { mode: EpisodeMode::Learn, exploratory: None };
     /// An evaluation episode decided by the learner's own rule.
-    pub const EVALUATE: EpisodeStart = EpisodeStart {
-        learning: false,
-        exploratory: None,
-    };
+    pub const EVALUATE: EpisodeStart = EpisodeStart { mode: EpisodeMode::Evaluate, exploratory: None };
+    /// A greedy episode without learning.
+    pub const GREEDY: EpisodeStart = EpisodeStart { mode: EpisodeMode::Greedy, exploratory: Some(false) };
+
+    /// An episode of `mode` decided by the learner's own rule.
+    pub const fn of(mode: EpisodeMode) -> Self {
+        EpisodeStart { mode, exploratory: None }
+    }
+
+    /// Whether values learn.
+    pub fn learning(&self) -> bool {
+        self.mode == EpisodeMode::Learn
+    }
+
+    /// Whether every choice must be greedy.
+    pub fn greedy(&self) -> bool {
+        self.mode == EpisodeMode::Greedy
+    }
 }
 
 /// A learner serving an executor: a [`Chooser`] that is told where episodes start and end.

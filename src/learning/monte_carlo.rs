@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::selection::{self, Exploration};
+use super::selection::{self, Exploration, Strategy};
 use super::{EpisodeStart, Learner, Trajectory, ValueTable, blend, level};
 use crate::executor::{Chooser, PendingReward, PlanKey};
 use crate::net::Marking;
@@ -29,6 +29,7 @@ pub struct MonteCarlo {
     levels: Vec<Trajectory>,
     decisions: u64,
     learning: bool,
+    greedy: bool,
     left_greedy: bool,
     option_values: Vec<f64>,
     scratch: Vec<usize>,
@@ -45,6 +46,7 @@ impl MonteCarlo {
             levels: Vec::new(),
             decisions: 0,
             learning: true,
+            greedy: false,
             left_greedy: false,
             option_values: Vec::new(),
             scratch: Vec::new(),
@@ -58,7 +60,7 @@ impl Chooser for MonteCarlo {
         self.option_values.clear();
         self.option_values
             .extend(options.iter().map(|m| self.values.value_of(plan, m)));
-        let strategy = self.config.exploration.at(self.decisions);
+        let strategy = if self.greedy { Strategy::Greedy } else { self.config.exploration.at(self.decisions) };
         let i = selection::select(
             strategy,
             &self.option_values,
@@ -88,7 +90,8 @@ impl Chooser for MonteCarlo {
 impl Learner for MonteCarlo {
     fn begin_episode(&mut self, start: EpisodeStart) {
         self.levels.iter_mut().for_each(Trajectory::clear);
-        self.learning = start.learning;
+        self.learning = start.learning();
+        self.greedy = start.greedy();
         self.left_greedy = false;
     }
 

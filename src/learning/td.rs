@@ -9,7 +9,7 @@
 use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
 
-use super::selection::{self, Exploration};
+use super::selection::{self, Exploration, Strategy};
 use super::{EpisodeStart, KeyId, Learner, ValueTable, discount, level};
 use crate::executor::{Chooser, PendingReward, PlanKey};
 use crate::net::Marking;
@@ -73,6 +73,7 @@ pub struct TdLearner {
     memory: FxHashMap<KeyId, KeyId>,
     decisions: u64,
     learning: bool,
+    greedy: bool,
     left_greedy: bool,
     ids: Vec<KeyId>,
     option_values: Vec<f64>,
@@ -91,6 +92,7 @@ impl TdLearner {
             memory: FxHashMap::default(),
             decisions: 0,
             learning: true,
+            greedy: false,
             left_greedy: false,
             ids: Vec::new(),
             option_values: Vec::new(),
@@ -155,7 +157,7 @@ impl Chooser for TdLearner {
             .and_then(|o| self.memory.get(&o))
             .and_then(|after| self.ids.iter().position(|id| id == after));
         let index = remembered.unwrap_or_else(|| {
-            let strategy = self.config.exploration.at(self.decisions);
+            let strategy = if self.greedy { Strategy::Greedy } else { self.config.exploration.at(self.decisions) };
             let i = selection::select(
                 strategy,
                 &self.option_values,
@@ -242,7 +244,8 @@ impl Learner for TdLearner {
             *lvl = Level::default();
         }
         self.memory.clear();
-        self.learning = start.learning;
+        self.learning = start.learning();
+        self.greedy = start.greedy();
         self.left_greedy = false;
     }
 

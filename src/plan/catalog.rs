@@ -17,6 +17,8 @@ pub fn all() -> Result<Vec<(&'static str, PetriNet)>, NetError> {
         ("penalty_kick_memory", penalty_kick_memory()?),
         ("loop_counter", loop_counter()?),
         ("environment_tracking", environment_tracking()?),
+        ("parr_russell", parr_russell()?),
+        ("sutton", sutton()?),
     ])
 }
 
@@ -136,5 +138,49 @@ pub fn environment_tracking() -> Result<PetriNet, NetError> {
     b.transition("[not done]", &[(acted, 1)], &[(choose, 1)]);
     let goal = b.goal_place();
     b.transition("[done]", &[(acted, 1)], &[(goal, 1)]);
+    b.build_net()
+}
+
+/// The four moves of the grid worlds, in plan order.
+pub const MOVES: [&str; 4] = ["MoveNorth", "MoveSouth", "MoveEast", "MoveWest"];
+
+/// Figure 6.2: Parr and Russell's grid. An environment-tracking part follows
+/// `WallLeft` and `WallRight`; the procedural part chooses one of four moves,
+/// loops until `Terminal` holds, then reaches the goal.
+pub fn parr_russell() -> Result<PetriNet, NetError> {
+    let mut b = PlanBuilder::new("parr_russell");
+    b.tracker("WallLeft");
+    b.tracker("WallRight");
+    let choose = b.initial_place("choose");
+    let moved = b.place("moved");
+    for name in MOVES {
+        b.action_into(choose, name, moved);
+    }
+    b.transition("[not Terminal]", &[(moved, 1)], &[(choose, 1)]);
+    let goal = b.goal_place();
+    b.transition("[Terminal]", &[(moved, 1)], &[(goal, 1)]);
+    b.build_net()
+}
+
+/// The eight neighbour atoms of Sutton's grid, clockwise from north.
+pub const NEIGHBOURS: [&str; 8] =
+    ["BlockedN", "BlockedNE", "BlockedE", "BlockedSE", "BlockedS", "BlockedSW", "BlockedW", "BlockedNW"];
+
+/// Sutton's grid (thesis 6.4): eight trackers for the neighbouring cells and a
+/// choice among the moves that do not run into an obstacle (each start is
+/// guarded by its direction's neighbour being free).
+pub fn sutton() -> Result<PetriNet, NetError> {
+    let mut b = PlanBuilder::new("sutton");
+    for atom in NEIGHBOURS {
+        b.tracker(atom);
+    }
+    let choose = b.initial_place("choose");
+    let moved = b.place("moved");
+    for (name, blocked) in MOVES.iter().zip(["BlockedN", "BlockedS", "BlockedE", "BlockedW"]) {
+        b.guarded_action_into(choose, name, &format!("not {blocked}"), moved);
+    }
+    b.transition("[not AtGoal]", &[(moved, 1)], &[(choose, 1)]);
+    let goal = b.goal_place();
+    b.transition("[AtGoal]", &[(moved, 1)], &[(goal, 1)]);
     b.build_net()
 }

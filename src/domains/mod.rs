@@ -1,0 +1,46 @@
+//! Domains the thesis learns in, each driven by a plan: the penalty kick
+//! (chapter 3 and 5), Parr and Russell's 4 x 3 grid and Sutton's grid (chapter 6).
+//!
+//! A domain is a [`Task`]: it runs episodes of a plan with a learner choosing at
+//! its choice points, and reports what each episode earned.
+
+mod driver;
+pub mod grid;
+pub mod parr_russell;
+pub mod penalty_kick;
+pub mod sutton;
+
+pub use driver::{EpisodeOutcome, PlanAgent, TaskError};
+
+use crate::learning::{EpisodeMode, Learner};
+
+/// Episodes of one learning run in one domain.
+pub trait Task: Send {
+    /// Runs one episode in `mode`.
+    fn episode(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError>;
+
+    /// The score the evaluation protocol plots: by default the mean return of
+    /// `episodes` evaluation episodes (values frozen, behaviour as while learning).
+    fn evaluate(&mut self, episodes: usize) -> Result<f64, TaskError> {
+        mean_return(self, EpisodeMode::Evaluate, episodes)
+    }
+
+    /// The mean return of the greedy policy over `episodes` episodes.
+    fn greedy_score(&mut self, episodes: usize) -> Result<f64, TaskError> {
+        mean_return(self, EpisodeMode::Greedy, episodes)
+    }
+
+    /// Named values followed through a run (e.g. the options at the initial observation).
+    fn traced_values(&self) -> Vec<(String, f64)>;
+
+    /// The learners of the task (one per learning agent).
+    fn learners(&self) -> Vec<&dyn Learner>;
+}
+
+fn mean_return<T: Task + ?Sized>(task: &mut T, mode: EpisodeMode, episodes: usize) -> Result<f64, TaskError> {
+    let mut total = 0.0;
+    for _ in 0..episodes {
+        total += task.episode(mode)?.ret;
+    }
+    Ok(total / episodes.max(1) as f64)
+}

@@ -1,0 +1,212 @@
+//! The penalty kick (thesis Figures 3.6, 5.2 - 5.6): a robot faces the goal
+//! with the ball in front of it. Walking straight then kicking scores 10;
+//! turning first makes the kick miss, which pays 0 after a timeout.
+//!
+//! In the plain plan both choices reach the same Kick marking, so methods that
+//! bootstrap from the next marking cannot tell them apart; the tree and
+//! memory-place plans make the markings differ (chapter 5.5).
+
+use std::sync::Arc;
+
+use super::driver::{EpisodeOutcome, PlanAgent, TaskError, marking_with, traced};
+use super::Task;
+use crate::condition::{AtomId, KnowledgeBase};
+use crate::executor::{Action, PlanKey, Registry, World};
+use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};
+use crate::net::{NetError, PetriNet};
+use crate::plan::{Plan, Vocabulary, catalog};
+
+/// Which plan drives the kick.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
+pub enum Variant {
+    /// Figure 3.6: both choices lead to one Kick marking.
+    Plain,
+    /// Figure 5.3: Kick duplicated after each choice.
+    Tree,
+    /// Figure 5.4: memory places record the choice.
+    Memory,
+}
+
+impl Variant {
+    /// The variant's plan.
+    pub fn net(self) -> Result<PetriNet, NetError> {
+        match self {
+            Variant::Plain => catalog::penalty_kick_plain(),
+            Variant::Tree => catalog::penalty_kick_tree(),
+            Variant::Memory => catalog::penalty_kick_memory(),
+        }
+    }
+
+    fn traced_labels(self) -> [(&'static str, Vec<&'static str>); 2] {
+        match self {
+            Variant::Memory => [
+                ("WalkStraight", vec!["WalkStraight.exec", "walked"]),
+                ("Turn", vec!["Turn.exec", "turned"]),
+            ],
+            _ => [("WalkStraight", vec!["WalkStraight.exec"]), ("Turn", vec!["Turn.exec"])],
+        }
+    }
+}
+
+/// The kick's parameters.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PenaltyKickConfig {
+    /// The plan variant.
+    pub variant: Variant,
+    /// Reward of a goal.
+    pub goal_reward: f64,
+    /// Steps a missed kick takes before its timeout.
+    pub miss_timeout: u32,
+}
+
+impl Default for PenaltyKickConfig {
+    fn default() -> Self {
+        PenaltyKickConfig { variant: Variant::Plain, goal_reward: 10.0, miss_timeout: 5 }
+    }
+}
+
+/// The pitch as the plan's world.
+#[derive(Debug, Default)]
+pub struct Pitch {
+    facing_goal: bool,
+    pending: f64,
+    ret: f64,
+    actions: u32,
+    goal_reward: f64,
+    miss_timeout: u32,
+}
+
+impl KnowledgeBase for Pitch {
+    fn holds(&self, _: AtomId) -> bool {
+        false
+    }
+}
+
+impl World for Pitch {
+    fn take_reward(&mut self) -> f64 {
+        std::mem::take(&mut self.pending)
+    }
+}
+
+/// WalkStraight (keeps facing the goal) or Turn (faces away): one step each.
+struct Orient {
+    keeps_facing: bool,
+    done: bool,
+}
+
+impl Action<Pitch> for Orient {
+    fn reset(&mut self) {
+        self.done = false;
+    }
+    fn start(&mut self, _: &mut Pitch) {
+        self.done = false;
+    }
+    fn step(&mut self, p: &mut Pitch) {
+        if !self.done {
+            p.facing_goal &= self.keeps_facing;
+            p.actions += 1;
+            self.done = true;
+        }
+    }
+    fn finished(&self, _: &Pitch) -> bool {
+        self.done
+    }
+}
+
+/// Kick: scores at once when facing the goal, otherwise misses after a timeout.
+#[derive(Default)]
+struct Kick {
+    elapsed: u32,
+    done: bool,
+}
+
+impl Action<Pitch> for Kick {
+    fn reset(&mut self) {
+        *self = Kick::default();
+    }
+    fn start(&mut self, _: &mut Pitch) {
+        *self = Kick::default();
+    }
+    fn step(&mut self, p: &mut Pitch) {
+        if self.done {
+            return;
+        }
+        self.elapsed += 1;
+        if p.facing_goal {
+            p.pending += p.goal_reward;
+            p.ret += p.goal_reward;
+            self.done = true;
+        } else if self.elapsed >= p.miss_timeout {
+            self.done = true;
+        }
+        if self.done {
+            p.actions += 1;
+        }
+    }
+    fn finished(&self, _: &Pitch) -> bool {
+        self.done
+    }
+}
+
+/// The actions of the kick.
+pub fn registry() -> Registry<Pitch> {
+    let mut r = Registry::new();
+    r.action("WalkStraight", &[], |_| Orient { keeps_facing: true, done: false });
+    r.action("Turn", &[], |_| Orient { keeps_facing: false, done: false });
+    r.action("Kick", &[], |_| Kick::default());
+    r
+}
+
+/// The variant's plan.
+pub fn plan(variant: Variant) -> Result<Plan, TaskError> {
+    let net = variant.net().map_err(crate::plan::PlanError::from)?;
+    Ok(Plan::from_net(net, Vocabulary::Open)?)
+}
+
+/// Learning runs of the penalty kick.
+pub struct PenaltyKick {
+    agent: PlanAgent<Pitch>,
+    pitch: Pitch,
+    traced: Vec<(String, StateKey)>,
+}
+
+impl PenaltyKick {
+    /// A run of `plan` with `learner`.
+    pub fn new(config: PenaltyKickConfig, plan: Arc<Plan>, learner: Box<dyn Learner>) -> Result<Self, TaskError> {
+        let agent = PlanAgent::new(Arc::clone(&plan), &registry(), learner)?;
+        let traced = config
+            .variant
+            .traced_labels()
+            .into_iter()
+            .filter_map(|(name, labels)| {
+                marking_with(&plan, &labels).ok().map(|m| (name.to_string(), StateKey { plan: PlanKey::ROOT, marking: m }))
+            })
+            .collect();
+        let pitch = Pitch { goal_reward: config.goal_reward, miss_timeout: config.miss_timeout, ..Pitch::default() };
+        Ok(PenaltyKick { agent, pitch, traced })
+    }
+}
+
+impl Task for PenaltyKick {
+    fn episode(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
+        self.pitch.facing_goal = true;
+        self.pitch.pending = 0.0;
+        self.pitch.ret = 0.0;
+        self.pitch.actions = 0;
+        let steps = self.agent.run(&mut self.pitch, EpisodeStart::of(mode), 200, |_| false)?;
+        Ok(EpisodeOutcome {
+            ret: self.pitch.ret,
+            actions: self.pitch.actions,
+            steps,
+            exploratory: self.agent.learner().exploratory(),
+        })
+    }
+
+    fn traced_values(&self) -> Vec<(String, f64)> {
+        traced(self.agent.learner(), &self.traced)
+    }
+
+    fn learners(&self) -> Vec<&dyn Learner> {
+        vec![self.agent.learner()]
+    }
+}

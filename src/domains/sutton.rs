@@ -1,0 +1,223 @@
+//! Sutton's 9 x 6 grid (thesis 6.4, Figure 6.12, from Sutton 1990).
+//!
+//! Deterministic moves; the agent observes its eight neighbouring cells
+//! (blocked: obstacle or outside), 30 distinct observations over the cells it
+//! can start from; the plan only offers moves that do not hit an obstacle.
+//! Each action costs 1, except the one entering the goal (0). An episode starts
+//! in a uniformly random cell and lasts at most 20 actions.
+
+use std::sync::Arc;
+
+use rand::RngExt;
+
+use super::driver::{EpisodeOutcome, PlanAgent, TaskError};
+use super::grid::{Direction, Mover};
+use super::Task;
+use crate::condition::{AtomId, AtomTable, KnowledgeBase};
+use crate::executor::{Registry, World};
+use crate::learning::{EpisodeMode, EpisodeStart, Learner};
+use crate::plan::{Plan, Vocabulary, catalog};
+use crate::rng::SimRng;
+
+/// Rows of the grid.
+pub const ROWS: i8 = 6;
+/// Columns of the grid.
+pub const COLS: i8 = 9;
+/// The goal cell (row from the top, column).
+pub const GOAL: (i8, i8) = (0, 8);
+/// The obstacles.
+pub const OBSTACLES: [(i8, i8); 7] = [(1, 2), (2, 2), (3, 2), (0, 7), (1, 7), (2, 7), (4, 5)];
+
+/// The grid's parameters.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SuttonConfig {
+    /// Actions after which an episode is cut.
+    pub max_actions: u32,
+}
+
+impl Default for SuttonConfig {
+    fn default() -> Self {
+        SuttonConfig { max_actions: 20 }
+    }
+}
+
+/// Whether `cell` is inside the grid and not an obstacle.
+pub fn free(cell: (i8, i8)) -> bool {
+    (0..ROWS).contains(&cell.0) && (0..COLS).contains(&cell.1) && !OBSTACLES.contains(&cell)
+}
+
+/// The free cells an episode may start in (every free cell but the goal).
+pub fn start_cells() -> Vec<(i8, i8)> {
+    (0..ROWS).flat_map(|r| (0..COLS).map(move |c| (r, c))).filter(|&c| free(c) && c != GOAL).collect()
+}
+
+/// Neighbour offsets clockwise from north, matching [`catalog::NEIGHBOURS`].
+const OFFSETS: [(i8, i8); 8] = [(-1, 0), (-1, 1), (0, 1), (1, 1), (1, 0), (1, -1), (0, -1), (-1, -1)];
+
+/// The observation of `cell`: one bit per neighbour, set when blocked.
+pub fn observe(cell: (i8, i8)) -> u8 {
+    OFFSETS
+        .iter()
+        .enumerate()
+        .fold(0, |bits, (i, (dr, dc))| if free((cell.0 + dr, cell.1 + dc)) { bits } else { bits | 1 << i })
+}
+
+fn offset(d: Direction) -> (i8, i8) {
+    match d {
+        Direction::North => (-1, 0),
+        Direction::South => (1, 0),
+        Direction::East => (0, 1),
+        Direction::West => (0, -1),
+    }
+}
+
+/// The grid as the plan's world.
+pub struct Maze {
+    config: SuttonConfig,
+    cell: (i8, i8),
+    observation: u8,
+    starts: Vec<(i8, i8)>,
+    rng: SimRng,
+    pending: f64,
+    ret: f64,
+    actions: u32,
+}
+
+impl Maze {
+    fn reset_to(&mut self, cell: (i8, i8)) {
+        self.cell = cell;
+        self.observation = observe(cell);
+        self.pending = 0.0;
+        self.ret = 0.0;
+        self.actions = 0;
+    }
+}
+
+impl KnowledgeBase for Maze {
+    fn holds(&self, atom: AtomId) -> bool {
+        match atom.0 {
+            0..=7 => self.observation & (1 << atom.0) != 0,
+            8 => self.cell == GOAL,
+            _ => false,
+        }
+    }
+}
+
+impl World for Maze {
+    fn take_reward(&mut self) -> f64 {
+        std::mem::take(&mut self.pending)
+    }
+}
+
+impl Mover for Maze {
+    fn apply_move(&mut self, direction: Direction) {
+        if self.cell == GOAL {
+            return;
+        }
+        let (dr, dc) = offset(direction);
+        let next = (self.cell.0 + dr, self.cell.1 + dc);
+        if free(next) {
+            self.cell = next;
+            self.observation = observe(next);
+        }
+        let r = if self.cell == GOAL { 0.0 } else { -1.0 };
+        self.pending += r;
+        self.ret += r;
+        self.actions += 1;
+    }
+}
+
+/// The domain's atoms: the eight neighbours, then `AtGoal`.
+pub fn atoms() -> AtomTable {
+    catalog::NEIGHBOURS.into_iter().chain(["AtGoal"]).collect()
+}
+
+/// The plan of thesis 6.4, loaded against the domain's atoms.
+pub fn default_plan() -> Result<Plan, TaskError> {
+    let net = catalog::sutton().map_err(crate::plan::PlanError::from)?;
+    Ok(Plan::from_net(net, Vocabulary::Closed(&atoms()))?)
+}
+
+/// The actions the grid provides.
+pub fn registry() -> Registry<Maze> {
+    let mut r = Registry::new();
+    for d in Direction::ALL {
+        r.action(d.action_name(), &[], move |_| super::grid::Move::new(d));
+    }
+    r
+}
+
+/// Learning runs in Sutton's grid.
+pub struct Sutton {
+    agent: PlanAgent<Maze>,
+    maze: Maze,
+}
+
+impl Sutton {
+    /// A run of `plan` (whose atoms must be [`atoms`]) with `learner`; `rng` draws start cells.
+    pub fn new(config: SuttonConfig, plan: Arc<Plan>, learner: Box<dyn Learner>, rng: SimRng) -> Result<Self, TaskError> {
+        let agent = PlanAgent::new(plan, &registry(), learner)?;
+        let starts = start_cells();
+        let maze = Maze { config, cell: starts[0], observation: 0, starts, rng, pending: 0.0, ret: 0.0, actions: 0 };
+        Ok(Sutton { agent, maze })
+    }
+
+    fn run_from(&mut self, cell: (i8, i8), mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
+        self.maze.reset_to(cell);
+        let max = self.maze.config.max_actions;
+        let steps = self.agent.run(&mut self.maze, EpisodeStart::of(mode), max.saturating_mul(4).saturating_add(8), |m| {
+            m.actions >= max || m.cell == GOAL
+        })?;
+        Ok(EpisodeOutcome {
+            ret: self.maze.ret,
+            actions: self.maze.actions,
+            steps,
+            exploratory: self.agent.learner().exploratory(),
+        })
+    }
+}
+
+impl Task for Sutton {
+    fn episode(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
+        let i = self.maze.rng.random_range(0..self.maze.starts.len());
+        let cell = self.maze.starts[i];
+        self.run_from(cell, mode)
+    }
+
+    /// The thesis's protocol: the current best (greedy) policy from every start cell.
+    fn evaluate(&mut self, _episodes: usize) -> Result<f64, TaskError> {
+        self.greedy_score(0)
+    }
+
+    /// The greedy policy from every start cell, once each (moves are deterministic).
+    fn greedy_score(&mut self, _episodes: usize) -> Result<f64, TaskError> {
+        let starts = self.maze.starts.clone();
+        let mut total = 0.0;
+        for &cell in &starts {
+            total += self.run_from(cell, EpisodeMode::Greedy)?.ret;
+        }
+        Ok(total / starts.len() as f64)
+    }
+
+    fn traced_values(&self) -> Vec<(String, f64)> {
+        Vec::new()
+    }
+
+    fn learners(&self) -> Vec<&dyn Learner> {
+        vec![self.agent.learner()]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thirty_observations_over_the_start_cells() {
+        let mut seen: Vec<u8> = start_cells().iter().map(|&c| observe(c)).collect();
+        seen.sort_unstable();
+        seen.dedup();
+        assert_eq!(seen.len(), 30);
+        assert_eq!(start_cells().len(), 46);
+    }
+}
