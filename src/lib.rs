@@ -5,4 +5,5 @@
 //! every open choice to a learner. See `docs/ARCHITECTURE.md` for the data path.
 
 pub mod net;
+pub mod pnml;
 pub mod rng;
