@@ -96,4 +96,7 @@ impl PnmlFileError {
 /// A dialect name other than `jarp` or `standard`.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("unknown PNML dialect '{0}' (expected 'jarp' or 'standard')")]
-pub struct UnknownDialect(pub String);
+pub struct UnknownDialect(
+    /// The name given.
+    pub String,
+);

@@ -26,7 +26,7 @@ pub fn read_file(path: &Path) -> Result<PetriNet, PnmlFileError> {
     })
 }
 
-/// Writes the net to `path` in `dialect` (see [`write`]), atomically: the text
+/// Writes the net to `path` in `dialect` (see [`write`](fn@write)), atomically: the text
 /// goes to a temporary file in the same directory, which then replaces `path`.
 /// An error message names the path.
 pub fn write_file(net: &PetriNet, dialect: Dialect, path: &Path) -> io::Result<()> {

@@ -6,9 +6,9 @@
 //! name in a comment `PLAN NAME: ...`. [`Dialect::Standard`] is ISO/IEC 15909-2
 //! place/transition PNML as pm4py and other tools write it: nodes in (possibly
 //! nested) `page`s, values in `<text>`, the name in `net/name`. [`parse`] detects
-//! the dialect; [`write`] takes it as an argument. Labels are opaque strings here.
+//! the dialect; [`write`](fn@write) takes it as an argument. Labels are opaque strings here.
 //!
-//! `parse(&write(net, d), _)` equals `net` for both dialects (see [`write`] for
+//! `parse(&write(net, d), _)` equals `net` for both dialects (see [`write`](fn@write) for
 //! the few strings XML cannot carry).
 
 mod dialect;

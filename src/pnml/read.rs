@@ -21,8 +21,15 @@ pub(super) const PLAN_NAME_PREFIX: &str = "PLAN NAME:";
 /// `graphics/position` is kept; tool-specific data is ignored.
 ///
 /// The plan's name is the (trimmed) rest of the last comment whose text starts
-/// with `PLAN NAME:`; failing that, in the standard dialect, the text of
-/// `net/name`; failing that, `fallback_name`.
+/// with `PLAN NAME:` (case-sensitive, as in the reference library; leading
+/// white space is skipped); failing that, in the standard dialect, the trimmed
+/// text of `net/name` (JARP's `net/name` is the editor's `P/T net` and is
+/// ignored); failing that, `fallback_name`. The dialect is standard when the
+/// document uses the PNML namespace or net type or has a `page`.
+///
+/// Node ids must be present and non-empty; an initial marking or inscription
+/// must be an integer from 0 to 255 (weight 0 is then rejected by the net);
+/// everything [`PetriNet::new`] checks is checked. Never panics.
 pub fn parse(text: &str, fallback_name: &str) -> Result<PetriNet, PnmlError> {
     let doc = Document::parse(text).map_err(|e| {
         let pos = e.pos();
