@@ -10,4 +10,5 @@ pub mod executor;
 pub mod learning;
 pub mod net;
 pub mod plan;
+pub mod pnml;
 pub mod rng;
