@@ -47,13 +47,26 @@ pub struct PlanAgent<W> {
 
 impl<W: World> PlanAgent<W> {
     /// Instantiates `plan` from `registry` with `learner` choosing.
-    pub fn new(plan: Arc<Plan>, registry: &Registry<W>, learner: Box<dyn Learner>) -> Result<Self, TaskError> {
-        Ok(PlanAgent { executor: Executor::new(plan, registry)?, learner })
+    pub fn new(
+        plan: Arc<Plan>,
+        registry: &Registry<W>,
+        learner: Box<dyn Learner>,
+    ) -> Result<Self, TaskError> {
+        Ok(PlanAgent {
+            executor: Executor::new(plan, registry)?,
+            learner,
+        })
     }
 
     /// Runs an episode until the plan ends, `over` says the world has ended it,
     /// or `step_limit` steps pass; returns the steps taken.
-    pub fn run(&mut self, world: &mut W, start: EpisodeStart, step_limit: u32, mut over: impl FnMut(&W) -> bool) -> Result<u32, TaskError> {
+    pub fn run(
+        &mut self,
+        world: &mut W,
+        start: EpisodeStart,
+        step_limit: u32,
+        mut over: impl FnMut(&W) -> bool,
+    ) -> Result<u32, TaskError> {
         let learner = self.learner.as_mut();
         learner.begin_episode(start);
         self.executor.reset(world, learner);
@@ -84,10 +97,14 @@ impl<W: World> PlanAgent<W> {
 pub fn marking_with(plan: &Plan, labels: &[&str]) -> Result<Marking, TaskError> {
     let mut m = Marking::empty(plan.net().places().len());
     for label in labels {
-        let place = plan.net().places_labelled(label).next().ok_or_else(|| TaskError::MissingPlace {
-            plan: plan.name().to_string(),
-            label: label.to_string(),
-        })?;
+        let place =
+            plan.net()
+                .places_labelled(label)
+                .next()
+                .ok_or_else(|| TaskError::MissingPlace {
+                    plan: plan.name().to_string(),
+                    label: label.to_string(),
+                })?;
         m.set(place, 1);
     }
     Ok(m)
@@ -95,5 +112,7 @@ pub fn marking_with(plan: &Plan, labels: &[&str]) -> Result<Marking, TaskError> 
 
 /// Values of named root-plan markings in a learner's table.
 pub fn traced(learner: &dyn Learner, keys: &[(String, StateKey)]) -> Vec<(String, f64)> {
-    keys.iter().map(|(name, k)| (name.clone(), learner.values().value_of(k.plan, &k.marking))).collect()
+    keys.iter()
+        .map(|(name, k)| (name.clone(), learner.values().value_of(k.plan, &k.marking)))
+        .collect()
 }

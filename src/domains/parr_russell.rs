@@ -10,9 +10,9 @@ use std::sync::Arc;
 
 use rand::RngExt;
 
+use super::Task;
 use super::driver::{EpisodeOutcome, PlanAgent, TaskError, marking_with, traced};
 use super::grid::{Direction, Mover};
-use super::Task;
 use crate::condition::{AtomId, AtomTable, KnowledgeBase};
 use crate::executor::{PlanKey, Registry, World};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};
@@ -35,7 +35,11 @@ pub struct ParrRussellConfig {
 
 impl Default for ParrRussellConfig {
     fn default() -> Self {
-        ParrRussellConfig { max_actions: 100, step_reward: -0.04, success: 0.8 }
+        ParrRussellConfig {
+            max_actions: 100,
+            step_reward: -0.04,
+            success: 0.8,
+        }
     }
 }
 
@@ -81,7 +85,14 @@ pub struct Grid {
 
 impl Grid {
     fn new(config: ParrRussellConfig, rng: SimRng) -> Self {
-        Grid { config, cell: START, rng, pending: 0.0, ret: 0.0, actions: 0 }
+        Grid {
+            config,
+            cell: START,
+            rng,
+            pending: 0.0,
+            ret: 0.0,
+            actions: 0,
+        }
     }
 
     fn reset(&mut self) {
@@ -171,16 +182,34 @@ pub struct ParrRussell {
 
 impl ParrRussell {
     /// A run of `plan` (whose atoms must be [`ATOMS`]) with `learner`; `rng` drives the moves.
-    pub fn new(config: ParrRussellConfig, plan: Arc<Plan>, learner: Box<dyn Learner>, rng: SimRng) -> Result<Self, TaskError> {
+    pub fn new(
+        config: ParrRussellConfig,
+        plan: Arc<Plan>,
+        learner: Box<dyn Learner>,
+        rng: SimRng,
+    ) -> Result<Self, TaskError> {
         let agent = PlanAgent::new(Arc::clone(&plan), &registry(), learner)?;
         let mut traced = Vec::new();
         // The initial observation: a wall west only.
         for name in catalog::MOVES {
-            if let Ok(m) = marking_with(&plan, &["WallLeft", "not_WallRight", &format!("{name}.exec")]) {
-                traced.push((name.to_string(), StateKey { plan: PlanKey::ROOT, marking: m }));
+            if let Ok(m) = marking_with(
+                &plan,
+                &["WallLeft", "not_WallRight", &format!("{name}.exec")],
+            ) {
+                traced.push((
+                    name.to_string(),
+                    StateKey {
+                        plan: PlanKey::ROOT,
+                        marking: m,
+                    },
+                ));
             }
         }
-        Ok(ParrRussell { agent, grid: Grid::new(config, rng), traced })
+        Ok(ParrRussell {
+            agent,
+            grid: Grid::new(config, rng),
+            traced,
+        })
     }
 }
 
@@ -188,9 +217,12 @@ impl Task for ParrRussell {
     fn episode(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
         self.grid.reset();
         let max = self.grid.config.max_actions;
-        let steps = self.agent.run(&mut self.grid, EpisodeStart::of(mode), max.saturating_mul(4).saturating_add(8), |g| {
-            g.actions >= max || g.terminal()
-        })?;
+        let steps = self.agent.run(
+            &mut self.grid,
+            EpisodeStart::of(mode),
+            max.saturating_mul(4).saturating_add(8),
+            |g| g.actions >= max || g.terminal(),
+        )?;
         Ok(EpisodeOutcome {
             ret: self.grid.ret,
             actions: self.grid.actions,

@@ -8,8 +8,8 @@
 
 use std::sync::Arc;
 
-use super::driver::{EpisodeOutcome, PlanAgent, TaskError, marking_with, traced};
 use super::Task;
+use super::driver::{EpisodeOutcome, PlanAgent, TaskError, marking_with, traced};
 use crate::condition::{AtomId, KnowledgeBase};
 use crate::executor::{Action, PlanKey, Registry, World};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};
@@ -17,7 +17,9 @@ use crate::net::{NetError, PetriNet};
 use crate::plan::{Plan, Vocabulary, catalog};
 
 /// Which plan drives the kick.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, clap::ValueEnum,
+)]
 pub enum Variant {
     /// Figure 3.6: both choices lead to one Kick marking.
     Plain,
@@ -43,7 +45,10 @@ impl Variant {
                 ("WalkStraight", vec!["WalkStraight.exec", "walked"]),
                 ("Turn", vec!["Turn.exec", "turned"]),
             ],
-            _ => [("WalkStraight", vec!["WalkStraight.exec"]), ("Turn", vec!["Turn.exec"])],
+            _ => [
+                ("WalkStraight", vec!["WalkStraight.exec"]),
+                ("Turn", vec!["Turn.exec"]),
+            ],
         }
     }
 }
@@ -61,7 +66,11 @@ pub struct PenaltyKickConfig {
 
 impl Default for PenaltyKickConfig {
     fn default() -> Self {
-        PenaltyKickConfig { variant: Variant::Plain, goal_reward: 10.0, miss_timeout: 5 }
+        PenaltyKickConfig {
+            variant: Variant::Plain,
+            goal_reward: 10.0,
+            miss_timeout: 5,
+        }
     }
 }
 
@@ -151,8 +160,14 @@ impl Action<Pitch> for Kick {
 /// The actions of the kick.
 pub fn registry() -> Registry<Pitch> {
     let mut r = Registry::new();
-    r.action("WalkStraight", &[], |_| Orient { keeps_facing: true, done: false });
-    r.action("Turn", &[], |_| Orient { keeps_facing: false, done: false });
+    r.action("WalkStraight", &[], |_| Orient {
+        keeps_facing: true,
+        done: false,
+    });
+    r.action("Turn", &[], |_| Orient {
+        keeps_facing: false,
+        done: false,
+    });
     r.action("Kick", &[], |_| Kick::default());
     r
 }
@@ -172,18 +187,38 @@ pub struct PenaltyKick {
 
 impl PenaltyKick {
     /// A run of `plan` with `learner`.
-    pub fn new(config: PenaltyKickConfig, plan: Arc<Plan>, learner: Box<dyn Learner>) -> Result<Self, TaskError> {
+    pub fn new(
+        config: PenaltyKickConfig,
+        plan: Arc<Plan>,
+        learner: Box<dyn Learner>,
+    ) -> Result<Self, TaskError> {
         let agent = PlanAgent::new(Arc::clone(&plan), &registry(), learner)?;
         let traced = config
             .variant
             .traced_labels()
             .into_iter()
             .filter_map(|(name, labels)| {
-                marking_with(&plan, &labels).ok().map(|m| (name.to_string(), StateKey { plan: PlanKey::ROOT, marking: m }))
+                marking_with(&plan, &labels).ok().map(|m| {
+                    (
+                        name.to_string(),
+                        StateKey {
+                            plan: PlanKey::ROOT,
+                            marking: m,
+                        },
+                    )
+                })
             })
             .collect();
-        let pitch = Pitch { goal_reward: config.goal_reward, miss_timeout: config.miss_timeout, ..Pitch::default() };
-        Ok(PenaltyKick { agent, pitch, traced })
+        let pitch = Pitch {
+            goal_reward: config.goal_reward,
+            miss_timeout: config.miss_timeout,
+            ..Pitch::default()
+        };
+        Ok(PenaltyKick {
+            agent,
+            pitch,
+            traced,
+        })
     }
 }
 
@@ -193,7 +228,9 @@ impl Task for PenaltyKick {
         self.pitch.pending = 0.0;
         self.pitch.ret = 0.0;
         self.pitch.actions = 0;
-        let steps = self.agent.run(&mut self.pitch, EpisodeStart::of(mode), 200, |_| false)?;
+        let steps = self
+            .agent
+            .run(&mut self.pitch, EpisodeStart::of(mode), 200, |_| false)?;
         Ok(EpisodeOutcome {
             ret: self.pitch.ret,
             actions: self.pitch.actions,

@@ -10,9 +10,9 @@ use std::sync::Arc;
 
 use rand::RngExt;
 
+use super::Task;
 use super::driver::{EpisodeOutcome, PlanAgent, TaskError};
 use super::grid::{Direction, Mover};
-use super::Task;
 use crate::condition::{AtomId, AtomTable, KnowledgeBase};
 use crate::executor::{Registry, World};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner};
@@ -48,18 +48,33 @@ pub fn free(cell: (i8, i8)) -> bool {
 
 /// The free cells an episode may start in (every free cell but the goal).
 pub fn start_cells() -> Vec<(i8, i8)> {
-    (0..ROWS).flat_map(|r| (0..COLS).map(move |c| (r, c))).filter(|&c| free(c) && c != GOAL).collect()
+    (0..ROWS)
+        .flat_map(|r| (0..COLS).map(move |c| (r, c)))
+        .filter(|&c| free(c) && c != GOAL)
+        .collect()
 }
 
 /// Neighbour offsets clockwise from north, matching [`catalog::NEIGHBOURS`].
-const OFFSETS: [(i8, i8); 8] = [(-1, 0), (-1, 1), (0, 1), (1, 1), (1, 0), (1, -1), (0, -1), (-1, -1)];
+const OFFSETS: [(i8, i8); 8] = [
+    (-1, 0),
+    (-1, 1),
+    (0, 1),
+    (1, 1),
+    (1, 0),
+    (1, -1),
+    (0, -1),
+    (-1, -1),
+];
 
 /// The observation of `cell`: one bit per neighbour, set when blocked.
 pub fn observe(cell: (i8, i8)) -> u8 {
-    OFFSETS
-        .iter()
-        .enumerate()
-        .fold(0, |bits, (i, (dr, dc))| if free((cell.0 + dr, cell.1 + dc)) { bits } else { bits | 1 << i })
+    OFFSETS.iter().enumerate().fold(0, |bits, (i, (dr, dc))| {
+        if free((cell.0 + dr, cell.1 + dc)) {
+            bits
+        } else {
+            bits | 1 << i
+        }
+    })
 }
 
 fn offset(d: Direction) -> (i8, i8) {
@@ -155,19 +170,36 @@ pub struct Sutton {
 
 impl Sutton {
     /// A run of `plan` (whose atoms must be [`atoms`]) with `learner`; `rng` draws start cells.
-    pub fn new(config: SuttonConfig, plan: Arc<Plan>, learner: Box<dyn Learner>, rng: SimRng) -> Result<Self, TaskError> {
+    pub fn new(
+        config: SuttonConfig,
+        plan: Arc<Plan>,
+        learner: Box<dyn Learner>,
+        rng: SimRng,
+    ) -> Result<Self, TaskError> {
         let agent = PlanAgent::new(plan, &registry(), learner)?;
         let starts = start_cells();
-        let maze = Maze { config, cell: starts[0], observation: 0, starts, rng, pending: 0.0, ret: 0.0, actions: 0 };
+        let maze = Maze {
+            config,
+            cell: starts[0],
+            observation: 0,
+            starts,
+            rng,
+            pending: 0.0,
+            ret: 0.0,
+            actions: 0,
+        };
         Ok(Sutton { agent, maze })
     }
 
     fn run_from(&mut self, cell: (i8, i8), mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
         self.maze.reset_to(cell);
         let max = self.maze.config.max_actions;
-        let steps = self.agent.run(&mut self.maze, EpisodeStart::of(mode), max.saturating_mul(4).saturating_add(8), |m| {
-            m.actions >= max || m.cell == GOAL
-        })?;
+        let steps = self.agent.run(
+            &mut self.maze,
+            EpisodeStart::of(mode),
+            max.saturating_mul(4).saturating_add(8),
+            |m| m.actions >= max || m.cell == GOAL,
+        )?;
         Ok(EpisodeOutcome {
             ret: self.maze.ret,
             actions: self.maze.actions,

@@ -48,15 +48,27 @@ pub struct EpisodeStart {
 
 impl EpisodeStart {
     /// A learning episode decided by the learner's own rule.
-    pub const LEARN: EpisodeStart = EpisodeStart { mode: EpisodeMode::Learn, exploratory: None };
+    pub const LEARN: EpisodeStart = EpisodeStart {
+        mode: EpisodeMode::Learn,
+        exploratory: None,
+    };
     /// An evaluation episode decided by the learner's own rule.
-    pub const EVALUATE: EpisodeStart = EpisodeStart { mode: EpisodeMode::Evaluate, exploratory: None };
+    pub const EVALUATE: EpisodeStart = EpisodeStart {
+        mode: EpisodeMode::Evaluate,
+        exploratory: None,
+    };
     /// A greedy episode without learning.
-    pub const GREEDY: EpisodeStart = EpisodeStart { mode: EpisodeMode::Greedy, exploratory: Some(false) };
+    pub const GREEDY: EpisodeStart = EpisodeStart {
+        mode: EpisodeMode::Greedy,
+        exploratory: Some(false),
+    };
 
     /// An episode of `mode` decided by the learner's own rule.
     pub const fn of(mode: EpisodeMode) -> Self {
-        EpisodeStart { mode, exploratory: None }
+        EpisodeStart {
+            mode,
+            exploratory: None,
+        }
     }
 
     /// Whether values learn.

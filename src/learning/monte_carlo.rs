@@ -60,7 +60,11 @@ impl Chooser for MonteCarlo {
         self.option_values.clear();
         self.option_values
             .extend(options.iter().map(|m| self.values.value_of(plan, m)));
-        let strategy = if self.greedy { Strategy::Greedy } else { self.config.exploration.at(self.decisions) };
+        let strategy = if self.greedy {
+            Strategy::Greedy
+        } else {
+            self.config.exploration.at(self.decisions)
+        };
         let i = selection::select(
             strategy,
             &self.option_values,

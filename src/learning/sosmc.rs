@@ -289,7 +289,11 @@ impl Learner for SoSmc {
         self.decisions.clear();
         self.left_greedy = false;
         self.learning = start.learning();
-        self.kind = if start.greedy() { Kind::Exploit } else { self.kind_for(start.exploratory) };
+        self.kind = if start.greedy() {
+            Kind::Exploit
+        } else {
+            self.kind_for(start.exploratory)
+        };
         self.parameter = if self.kind == Kind::Initial {
             self.config.initial_parameter.at(self.episode)
         } else {

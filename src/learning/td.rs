@@ -157,7 +157,11 @@ impl Chooser for TdLearner {
             .and_then(|o| self.memory.get(&o))
             .and_then(|after| self.ids.iter().position(|id| id == after));
         let index = remembered.unwrap_or_else(|| {
-            let strategy = if self.greedy { Strategy::Greedy } else { self.config.exploration.at(self.decisions) };
+            let strategy = if self.greedy {
+                Strategy::Greedy
+            } else {
+                self.config.exploration.at(self.decisions)
+            };
             let i = selection::select(
                 strategy,
                 &self.option_values,

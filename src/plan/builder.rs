@@ -167,11 +167,26 @@ impl PlanBuilder {
     }
 
     /// Action `name` from `from` into `done` whose start also needs `guard` (guard syntax).
-    pub fn guarded_action_into(&mut self, from: PlaceRef, name: &str, guard: &str, done: PlaceRef) -> ActionNet {
+    pub fn guarded_action_into(
+        &mut self,
+        from: PlaceRef,
+        name: &str,
+        guard: &str,
+        done: PlaceRef,
+    ) -> ActionNet {
         let exec = self.place(format!("{name}.exec"));
-        let start = self.transition(format!("{name}.start [{guard}]"), &[(from, 1)], &[(exec, 1)]);
+        let start = self.transition(
+            format!("{name}.start [{guard}]"),
+            &[(from, 1)],
+            &[(exec, 1)],
+        );
         self.transition(format!("{name}.end"), &[(exec, 1)], &[(done, 1)]);
-        ActionNet { name: name.to_string(), exec, done, start }
+        ActionNet {
+            name: name.to_string(),
+            exec,
+            done,
+            start,
+        }
     }
 
     /// A call of sub-plan `name`: structurally an action whose executable is a plan.

@@ -163,8 +163,16 @@ pub fn parr_russell() -> Result<PetriNet, NetError> {
 }
 
 /// The eight neighbour atoms of Sutton's grid, clockwise from north.
-pub const NEIGHBOURS: [&str; 8] =
-    ["BlockedN", "BlockedNE", "BlockedE", "BlockedSE", "BlockedS", "BlockedSW", "BlockedW", "BlockedNW"];
+pub const NEIGHBOURS: [&str; 8] = [
+    "BlockedN",
+    "BlockedNE",
+    "BlockedE",
+    "BlockedSE",
+    "BlockedS",
+    "BlockedSW",
+    "BlockedW",
+    "BlockedNW",
+];
 
 /// Sutton's grid (thesis 6.4): eight trackers for the neighbouring cells and a
 /// choice among the moves that do not run into an obstacle (each start is
@@ -176,7 +184,10 @@ pub fn sutton() -> Result<PetriNet, NetError> {
     }
     let choose = b.initial_place("choose");
     let moved = b.place("moved");
-    for (name, blocked) in MOVES.iter().zip(["BlockedN", "BlockedS", "BlockedE", "BlockedW"]) {
+    for (name, blocked) in MOVES
+        .iter()
+        .zip(["BlockedN", "BlockedS", "BlockedE", "BlockedW"])
+    {
         b.guarded_action_into(choose, name, &format!("not {blocked}"), moved);
     }
     b.transition("[not AtGoal]", &[(moved, 1)], &[(choose, 1)]);

@@ -6,6 +6,7 @@ pub mod catalog;
 mod definition;
 mod error;
 pub mod labels;
+mod load;
 
 pub use builder::{ActionNet, PlaceRef, PlanBuilder, SensingNet, Tracker, TransitionRef};
 pub use definition::{
@@ -13,3 +14,4 @@ pub use definition::{
 };
 pub use error::PlanError;
 pub use labels::Function;
+pub use load::{LoadError, load_plan};

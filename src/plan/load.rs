@@ -1,0 +1,31 @@
+//! Loading plan files: PNML read, then labels interpreted, errors naming the file.
+
+use std::path::{Path, PathBuf};
+
+use super::{Plan, PlanError, Vocabulary};
+use crate::pnml::{self, PnmlFileError};
+
+/// A plan file that cannot be loaded; the message starts with its path.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file cannot be read or is not a valid net.
+    #[error(transparent)]
+    File(#[from] PnmlFileError),
+    /// The net is not a valid plan.
+    #[error("{path}: {source}")]
+    Plan {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, naming the element and token.
+        source: PlanError,
+    },
+}
+
+/// Reads and interprets the plan in `path` (JARP or standard PNML).
+pub fn load_plan(path: &Path, vocabulary: Vocabulary<'_>) -> Result<Plan, LoadError> {
+    let net = pnml::read_file(path)?;
+    Plan::from_net(net, vocabulary).map_err(|source| LoadError::Plan {
+        path: path.to_path_buf(),
+        source,
+    })
+}
