@@ -17,7 +17,7 @@ pub enum LoadError {
         /// The file.
         path: PathBuf,
         /// What is wrong, naming the element and token.
-        source: PlanError,
+        source: Box<PlanError>,
     },
 }
 
