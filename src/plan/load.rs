@@ -26,6 +26,6 @@ pub fn load_plan(path: &Path, vocabulary: Vocabulary<'_>) -> Result<Plan, LoadEr
     let net = pnml::read_file(path)?;
     Plan::from_net(net, vocabulary).map_err(|source| LoadError::Plan {
         path: path.to_path_buf(),
-        source,
+        source: Box::new(source),
     })
 }
