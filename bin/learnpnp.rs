@@ -1,5 +1,57 @@
-//! The `learnpnp` command line.
+//! The `learnpnp` command line: check and convert plans, run experiments,
+//! reproduce the thesis's figures. With no command it reproduces every figure
+//! into `out/` on the thesis's parameters.
 
-fn main() {
-    println!("learnpnp");
+mod experiment;
+mod inspect;
+mod reproduce;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(name = "learnpnp", version, about = "Reinforcement learning in plan space with Petri Net Plans")]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Check a plan's structure: safety, minimality, effectiveness, dead markings.
+    Check(inspect::CheckArgs),
+    /// Print a plan as Graphviz DOT.
+    Dot(inspect::DotArgs),
+    /// Convert a plan between the PNP editor's PNML and standard PNML.
+    Convert(inspect::ConvertArgs),
+    /// Run a learning experiment with the thesis's evaluation protocol.
+    Experiment(experiment::ExperimentArgs),
+    /// Reproduce figures of the thesis (all of them by default).
+    Reproduce(reproduce::ReproduceArgs),
+    /// Overlay the curves of several experiment directories in one SVG.
+    Plot(inspect::PlotArgs),
+    /// Print a saved value table as CSV.
+    Values(inspect::ValuesArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Some(Command::Check(args)) => return inspect::check(&args),
+        Some(Command::Dot(args)) => inspect::dot(&args),
+        Some(Command::Convert(args)) => inspect::convert(&args),
+        Some(Command::Experiment(args)) => experiment::run(&args),
+        Some(Command::Reproduce(args)) => reproduce::run(&args),
+        Some(Command::Plot(args)) => inspect::plot(&args),
+        Some(Command::Values(args)) => inspect::values(&args),
+        None => reproduce::run(&reproduce::ReproduceArgs::default()),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
 }

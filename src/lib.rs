@@ -4,6 +4,7 @@
 //! the executor runs the plan with the thesis's operational semantics and hands
 //! every open choice to a learner. See `docs/ARCHITECTURE.md` for the data path.
 
+pub mod atomic_file;
 pub mod condition;
 pub mod domains;
 pub mod executor;

@@ -1,9 +1,8 @@
 //! Plan files on disk: reading with the path in every error, writing atomically.
 
-use std::fs::{self, OpenOptions};
-use std::io::{self, Write};
+use std::fs;
+use std::io;
 use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::error::PnmlFileError;
 use super::{Dialect, parse, write};
@@ -30,41 +29,7 @@ pub fn read_file(path: &Path) -> Result<PetriNet, PnmlFileError> {
 /// goes to a temporary file in the same directory, which then replaces `path`.
 /// An error message names the path.
 pub fn write_file(net: &PetriNet, dialect: Dialect, path: &Path) -> io::Result<()> {
-    /// Distinguishes temporary files of concurrent writes from one process.
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-
-    let with_path = |e: io::Error| io::Error::new(e.kind(), format!("{}: {e}", path.display()));
-    let file_name = path.file_name().ok_or_else(|| {
-        io::Error::new(
-            io::ErrorKind::InvalidInput,
-            format!("{}: not a file name", path.display()),
-        )
-    })?;
-    let dir = match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir,
-        _ => Path::new("."),
-    };
-    let tmp = dir.join(format!(
-        ".{}.{}-{}.tmp",
-        file_name.to_string_lossy(),
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let text = write(net, dialect);
-    let result = OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&tmp)
-        .and_then(|mut file| {
-            file.write_all(text.as_bytes())?;
-            file.sync_all()
-        })
-        .and_then(|()| fs::rename(&tmp, path));
-    if result.is_err() {
-        // Best effort: the temporary file may not even exist.
-        let _ = fs::remove_file(&tmp);
-    }
-    result.map_err(with_path)
+    crate::atomic_file::write_atomic(path, write(net, dialect).as_bytes())
 }
 
 /// The file name up to its first '.'.

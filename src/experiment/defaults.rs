@@ -1,0 +1,256 @@
+//! The thesis's parameters as defaults, per domain and algorithm, and the
+//! overrides a user may give on the command line.
+
+use std::str::FromStr;
+
+use serde::{Deserialize, Serialize};
+
+use super::spec::{Algorithm, DomainSpec, LearnerSpec, Protocol};
+use crate::learning::{
+    Assessment, Exploration, McespConfig, Schedule, Scope, Sigma, SoSmcConfig, StepSize, Target, TdConfig, ThresholdRule,
+};
+
+/// Values of the domains' returns that serve as pessimistic and optimistic initial values.
+struct Bounds {
+    /// A return most policies get (the thesis's -4 in the 4 x 3 grid).
+    low: f64,
+    /// No policy gets more.
+    high: f64,
+}
+
+fn bounds(domain: &DomainSpec) -> Bounds {
+    match domain {
+        DomainSpec::ParrRussell { .. } => Bounds { low: -4.0, high: 1.0 },
+        DomainSpec::Sutton { config, .. } => Bounds { low: -f64::from(config.max_actions), high: 0.0 },
+        DomainSpec::PenaltyKick { config, .. } => Bounds { low: 0.0, high: config.goal_reward },
+    }
+}
+
+/// The thesis's parameters for `algorithm` in `domain` (chapter 6; where the
+/// thesis is silent, the choice documented in docs/results/RESULTS.md).
+pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec {
+    let b = bounds(domain);
+    let sutton = matches!(domain, DomainSpec::Sutton { .. });
+    let td = |lambda: f64, target: Target| TdConfig {
+        gamma: 1.0,
+        alpha: if sutton { 0.1 } else { 0.01 },
+        lambda,
+        target,
+        scope: Scope::Choices,
+        exploration: Exploration::EpsilonGreedy(if sutton {
+            Schedule::constant(0.1)
+        } else {
+            Schedule::linear(0.2, 0.0, 80_000)
+        }),
+        initial_value: if sutton { b.high } else { b.low },
+        consistent: false,
+    };
+    let sosmc = |sigma: Sigma, initial: Schedule, assessing: Schedule| SoSmcConfig {
+        gamma: 1.0,
+        initial_phase: if sutton { 0 } else { 100 },
+        sigma,
+        initial_parameter: initial,
+        assessing_parameter: assessing,
+        assessment: if sutton { Assessment::EveryN(20) } else { Assessment::Never },
+        step_size: StepSize::Constant(0.01),
+        initial_value: if sutton { b.high } else { f64::NEG_INFINITY },
+        threshold: None,
+    };
+    match algorithm {
+        Algorithm::EpsSosmc => {
+            LearnerSpec::Sosmc(sosmc(Sigma::EpsilonGreedy, Schedule::constant(0.5), Schedule::constant(0.1)))
+        }
+        Algorithm::SoftSosmc => LearnerSpec::Sosmc(sosmc(
+            Sigma::Softmax,
+            Schedule::linear(1.0, 0.05, 100),
+            Schedule::constant(if sutton { 4.0 } else { 0.05 }),
+        )),
+        Algorithm::SarsaLambda => LearnerSpec::Td(td(0.9, Target::OnPolicy)),
+        Algorithm::Sarsa0 => LearnerSpec::Td(td(0.0, Target::OnPolicy)),
+        Algorithm::QLearning => LearnerSpec::Td(td(0.0, Target::Max)),
+        Algorithm::Mcesp => LearnerSpec::Mcesp(McespConfig {
+            gamma: 1.0,
+            stage_length: 20,
+            alpha_min: 0.01,
+            initial_value: 0.0,
+        }),
+    }
+}
+
+/// A default protocol for interactive runs of `domain` (presets set the thesis's).
+pub fn default_protocol(domain: &DomainSpec) -> Protocol {
+    match domain {
+        DomainSpec::ParrRussell { .. } => {
+            Protocol { runs: 20, episodes: 1000, eval_every: 20, eval_episodes: 20, greedy_episodes: 100 }
+        }
+        DomainSpec::Sutton { .. } => {
+            Protocol { runs: 20, episodes: 4000, eval_every: 200, eval_episodes: 0, greedy_episodes: 0 }
+        }
+        DomainSpec::PenaltyKick { .. } => {
+            Protocol { runs: 20, episodes: 200, eval_every: 10, eval_episodes: 10, greedy_episodes: 10 }
+        }
+    }
+}
+
+/// How the assessing phase of SoSMC explores, as written on the command line:
+/// `never`, `per-decision`, `every:N` or `after:K`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct AssessmentArg(pub Assessment);
+
+impl FromStr for AssessmentArg {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        let number = |n: &str| n.parse::<u64>().map_err(|_| format!("'{n}' is not a whole number"));
+        Ok(AssessmentArg(match s.split_once(':') {
+            None if s == "never" => Assessment::Never,
+            None if s == "per-decision" => Assessment::PerDecision,
+            Some(("every", n)) => Assessment::EveryN(number(n)?),
+            Some(("after", k)) => Assessment::AfterK(number(k)?),
+            _ => return Err(format!("'{s}': expected never, per-decision, every:N or after:K")),
+        }))
+    }
+}
+
+/// Parses a schedule `START`, or `START:END:OVER` (a linear ramp over OVER units).
+pub fn parse_schedule(s: &str) -> Result<Schedule, String> {
+    let number = |n: &str| n.trim().parse::<f64>().map_err(|_| format!("'{n}' is not a number"));
+    let parts: Vec<&str> = s.split(':').collect();
+    match parts.as_slice() {
+        [v] => Ok(Schedule::constant(number(v)?)),
+        [start, end, over] => {
+            let over = over.trim().parse::<u64>().map_err(|_| format!("'{over}' is not a whole number"))?;
+            Ok(Schedule::linear(number(start)?, number(end)?, over))
+        }
+        _ => Err(format!("'{s}': expected VALUE or START:END:OVER")),
+    }
+}
+
+/// Parses a step size: a number, or `inverse` for 1/n.
+pub fn parse_step_size(s: &str) -> Result<StepSize, String> {
+    if s == "inverse" {
+        return Ok(StepSize::InverseCount);
+    }
+    s.parse::<f64>().map(StepSize::Constant).map_err(|_| format!("'{s}': expected a number or 'inverse'"))
+}
+
+/// Parses the threshold rule `THRESHOLD:WINDOW`.
+pub fn parse_threshold(s: &str) -> Result<ThresholdRule, String> {
+    let (t, w) = s.split_once(':').ok_or_else(|| format!("'{s}': expected THRESHOLD:WINDOW"))?;
+    Ok(ThresholdRule {
+        threshold: t.parse().map_err(|_| format!("'{t}' is not a number"))?,
+        window: w.parse().map_err(|_| format!("'{w}' is not a whole number"))?,
+    })
+}
+
+/// Parameters given on the command line; each replaces the default when set.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Overrides {
+    /// Discount per step.
+    pub gamma: Option<f64>,
+    /// Step size (TD) / constant step (SoSMC).
+    pub alpha: Option<f64>,
+    /// Trace decay.
+    pub lambda: Option<f64>,
+    /// Epsilon schedule (TD: over decisions; SoSMC: assessing phase, over episodes).
+    pub epsilon: Option<Schedule>,
+    /// Temperature schedule (switches TD to softmax; SoSMC: assessing phase).
+    pub tau: Option<Schedule>,
+    /// Greedy action selection (TD).
+    pub greedy: bool,
+    /// Initial value of unseen keys.
+    pub initial_value: Option<f64>,
+    /// SoSMC: episodes of the initial phase.
+    pub initial_phase: Option<u64>,
+    /// SoSMC: the epsilon or temperature of the initial phase.
+    pub initial_parameter: Option<Schedule>,
+    /// SoSMC: when the assessing phase explores.
+    pub assessment: Option<Assessment>,
+    /// SoSMC: step size of exploiting updates.
+    pub step_size: Option<StepSize>,
+    /// SoSMC: the threshold rule.
+    pub threshold: Option<ThresholdRule>,
+    /// MCESP: episodes per explored pair.
+    pub stage_length: Option<u64>,
+    /// MCESP: smallest step.
+    pub alpha_min: Option<f64>,
+    /// TD: consistent exploration.
+    pub consistent: bool,
+}
+
+impl Overrides {
+    /// Applies the overrides to `spec`.
+    pub fn apply(&self, spec: &mut LearnerSpec) {
+        match spec {
+            LearnerSpec::Td(c) => {
+                set(&mut c.gamma, self.gamma);
+                set(&mut c.alpha, self.alpha);
+                set(&mut c.lambda, self.lambda);
+                set(&mut c.initial_value, self.initial_value);
+                if let Some(e) = self.epsilon {
+                    c.exploration = Exploration::EpsilonGreedy(e);
+                }
+                if let Some(t) = self.tau {
+                    c.exploration = Exploration::Softmax(t);
+                }
+                if self.greedy {
+                    c.exploration = Exploration::Greedy;
+                }
+                c.consistent |= self.consistent;
+            }
+            LearnerSpec::Sosmc(c) => {
+                set(&mut c.gamma, self.gamma);
+                if let Some(a) = self.alpha {
+                    c.step_size = StepSize::Constant(a);
+                }
+                set(&mut c.step_size, self.step_size);
+                set(&mut c.initial_value, self.initial_value);
+                set(&mut c.initial_phase, self.initial_phase);
+                set(&mut c.initial_parameter, self.initial_parameter);
+                set(&mut c.assessing_parameter, self.epsilon.or(self.tau));
+                set(&mut c.assessment, self.assessment);
+                if self.threshold.is_some() {
+                    c.threshold = self.threshold;
+                }
+            }
+            LearnerSpec::Mcesp(c) => {
+                set(&mut c.gamma, self.gamma);
+                set(&mut c.initial_value, self.initial_value);
+                set(&mut c.stage_length, self.stage_length);
+                set(&mut c.alpha_min, self.alpha_min);
+            }
+        }
+    }
+}
+
+fn set<T: Copy>(slot: &mut T, value: Option<T>) {
+    if let Some(v) = value {
+        *slot = v;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_arguments() {
+        assert_eq!(parse_schedule("0.2").unwrap(), Schedule::constant(0.2));
+        assert_eq!(parse_schedule("0.2:0:80000").unwrap(), Schedule::linear(0.2, 0.0, 80000));
+        assert!(parse_schedule("0.2:0").is_err());
+        assert_eq!("every:20".parse::<AssessmentArg>().unwrap().0, Assessment::EveryN(20));
+        assert_eq!("after:5".parse::<AssessmentArg>().unwrap().0, Assessment::AfterK(5));
+        assert!("often".parse::<AssessmentArg>().is_err());
+        assert_eq!(parse_step_size("inverse").unwrap(), StepSize::InverseCount);
+        assert_eq!(parse_threshold("180:200").unwrap(), ThresholdRule { threshold: 180.0, window: 200 });
+    }
+
+    #[test]
+    fn overrides_replace_defaults() {
+        let domain = DomainSpec::ParrRussell { config: Default::default(), plan: None };
+        let mut spec = default_learner(Algorithm::SarsaLambda, &domain);
+        Overrides { alpha: Some(0.5), greedy: true, initial_value: Some(1.0), ..Overrides::default() }.apply(&mut spec);
+        let LearnerSpec::Td(c) = spec else { panic!("TD expected") };
+        assert_eq!((c.alpha, c.initial_value, c.exploration), (0.5, 1.0, Exploration::Greedy));
+    }
+}

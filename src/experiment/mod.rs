@@ -1,0 +1,10 @@
+//! Experiments: the thesis's protocol over many seeded runs, with CSV, JSON
+//! and SVG results.
+
+pub mod defaults;
+pub mod output;
+pub mod plot;
+pub mod presets;
+pub mod runner;
+pub mod spec;
+pub mod stats;

@@ -1,0 +1,158 @@
+//! Writing an experiment's results: CSV files, a JSON summary, SVG plots and
+//! the learned values of run 0.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use super::plot::{self, CurvePoint, Series};
+use super::runner::ExperimentOutput;
+use super::spec::{ExperimentError, ExperimentSpec};
+use super::stats::{Summary, summarize};
+use crate::atomic_file::write_atomic;
+use crate::learning::persist;
+
+/// The figures of `summary.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct SummaryFile {
+    /// The full configuration, seed included.
+    pub spec: ExperimentSpec,
+    /// Mean evaluation score at the last evaluation point.
+    pub final_mean: f64,
+    /// Its 95% confidence interval over runs.
+    pub final_ci95: [f64; 2],
+    /// Mean return of each run's greedy policy at the end, averaged over runs.
+    pub final_greedy_mean: f64,
+    /// Its 95% confidence interval over runs.
+    pub final_greedy_ci95: [f64; 2],
+    /// Wall-clock seconds for all runs.
+    pub wall_seconds: f64,
+    /// Episodes of every kind (learning, evaluation, greedy) executed.
+    pub total_episodes: u64,
+    /// `total_episodes / wall_seconds`.
+    pub episodes_per_second: f64,
+    /// Primitive actions per second over learning episodes.
+    pub actions_per_second: f64,
+}
+
+/// The curve: mean and 95% CI over runs at each evaluation point.
+pub fn curve(output: &ExperimentOutput) -> Vec<(u64, Summary)> {
+    output
+        .eval_points
+        .iter()
+        .enumerate()
+        .map(|(i, &episode)| {
+            let samples: Vec<f64> = output.runs.iter().filter_map(|r| r.evals.get(i).copied()).collect();
+            (episode, summarize(&samples))
+        })
+        .collect()
+}
+
+/// The summary of an experiment.
+pub fn summary(output: &ExperimentOutput) -> SummaryFile {
+    let last = curve(output).last().map(|(_, s)| *s).unwrap_or_else(|| summarize(&[]));
+    let greedy: Vec<f64> = output.runs.iter().map(|r| r.greedy).collect();
+    let greedy = summarize(&greedy);
+    let total = output.total_episodes();
+    let wall = output.wall_seconds.max(1e-9);
+    SummaryFile {
+        spec: output.spec.clone(),
+        final_mean: last.mean,
+        final_ci95: [last.ci_low, last.ci_high],
+        final_greedy_mean: greedy.mean,
+        final_greedy_ci95: [greedy.ci_low, greedy.ci_high],
+        wall_seconds: output.wall_seconds,
+        total_episodes: total,
+        episodes_per_second: total as f64 / wall,
+        actions_per_second: output.total_actions() as f64 / wall,
+    }
+}
+
+fn write_text(path: &Path, text: &str) -> Result<(), ExperimentError> {
+    write_atomic(path, text.as_bytes()).map_err(|source| ExperimentError::Io { path: path.to_path_buf(), source })
+}
+
+/// The curve as a plottable series.
+pub fn series(output: &ExperimentOutput) -> Series {
+    Series {
+        label: output.spec.label.clone(),
+        points: curve(output)
+            .into_iter()
+            .map(|(x, s)| CurvePoint { x: x as f64, mean: s.mean, low: s.ci_low, high: s.ci_high })
+            .collect(),
+    }
+}
+
+/// Writes every result file of `output` into `dir` (created if needed) and returns the summary.
+pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFile, ExperimentError> {
+    let io = |path: PathBuf| move |source| ExperimentError::Io { path, source };
+    std::fs::create_dir_all(dir).map_err(io(dir.to_path_buf()))?;
+
+    let mut text = String::from("episode,mean,ci_low,ci_high,runs\n");
+    for (episode, s) in curve(output) {
+        let _ = writeln!(text, "{episode},{},{},{},{}", s.mean, s.ci_low, s.ci_high, s.n);
+    }
+    write_text(&dir.join("curve.csv"), &text)?;
+
+    let mut text = String::from("run,episode,score,greedy\n");
+    for (run, r) in output.runs.iter().enumerate() {
+        for (episode, score) in output.eval_points.iter().zip(&r.evals) {
+            let _ = writeln!(text, "{run},{episode},{score},{}", r.greedy);
+        }
+    }
+    write_text(&dir.join("runs.csv"), &text)?;
+
+    if let Some(first) = output.runs.first() {
+        let mut text = String::from("episode,return,actions,steps,exploratory\n");
+        for e in &first.episodes {
+            let o = e.outcome;
+            let _ = writeln!(text, "{},{},{},{},{}", e.episode, o.ret, o.actions, o.steps, u8::from(o.exploratory));
+        }
+        write_text(&dir.join("episodes.csv"), &text)?;
+
+        if !first.traces.is_empty() {
+            let mut text = String::from("episode,name,value\n");
+            let mut by_name: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+            for (episode, values) in &first.traces {
+                for (name, v) in values {
+                    let _ = writeln!(text, "{episode},{name},{v}");
+                    match by_name.iter_mut().find(|(n, _)| n == name) {
+                        Some((_, points)) => points.push((*episode as f64, *v)),
+                        None => by_name.push((name.clone(), vec![(*episode as f64, *v)])),
+                    }
+                }
+            }
+            write_text(&dir.join("traces.csv"), &text)?;
+            for (_, points) in &mut by_name {
+                points.retain(|(_, v)| v.is_finite());
+            }
+            plot::plot_scatter(
+                &dir.join("traces.svg"),
+                &format!("{}: values in the initial observation (run 0)", output.spec.label),
+                "episode",
+                "value",
+                &by_name,
+            )
+            .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+        }
+
+        if let Some(values) = &first.values {
+            persist::save(&dir.join("values.bin"), values).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+        }
+    }
+
+    let summary = summary(output);
+    let json = serde_json::to_string_pretty(&summary).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+    write_text(&dir.join("summary.json"), &json)?;
+
+    plot::plot_curves(
+        &dir.join("curve.svg"),
+        &format!("{} on {}", output.spec.label, output.spec.domain.name()),
+        "learning episodes",
+        "evaluation return (mean, 95% CI)",
+        &[series(output)],
+    )
+    .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+    Ok(summary)
+}

@@ -1,0 +1,248 @@
+//! The thesis's figures as experiment presets (chapter 6), with its parameters
+//! where it gives them and documented choices where it does not
+//! (docs/results/RESULTS.md lists both).
+
+use super::defaults::default_learner;
+use super::spec::{Algorithm, DomainSpec, ExperimentSpec, LearnerSpec, Protocol};
+use crate::domains::parr_russell::ParrRussellConfig;
+use crate::domains::sutton::SuttonConfig;
+use crate::learning::{Assessment, Exploration, Schedule, Sigma};
+
+/// What a figure shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FigureKind {
+    /// Evaluation curves of several experiments, overlaid.
+    Curves,
+    /// The values of the options in the initial observation during one run.
+    Traces,
+}
+
+/// A figure of the thesis and the experiments that draw it.
+#[derive(Debug, Clone)]
+pub struct Figure {
+    /// The thesis's figure number, e.g. `6.3`.
+    pub id: &'static str,
+    /// What it shows.
+    pub title: &'static str,
+    /// What the thesis claims from it.
+    pub claim: &'static str,
+    /// Curves or value traces.
+    pub kind: FigureKind,
+    /// One experiment per curve (or per traced run).
+    pub curves: Vec<ExperimentSpec>,
+}
+
+const SEED: u64 = 2011;
+
+fn parr_russell() -> DomainSpec {
+    DomainSpec::ParrRussell { config: ParrRussellConfig::default(), plan: None }
+}
+
+fn sutton() -> DomainSpec {
+    DomainSpec::Sutton { config: SuttonConfig::default(), plan: None }
+}
+
+fn experiment(label: &str, domain: DomainSpec, algorithm: Algorithm, learner: LearnerSpec, protocol: Protocol) -> ExperimentSpec {
+    ExperimentSpec { label: label.to_string(), domain, algorithm, learner, protocol, seed: SEED }
+}
+
+fn with_td(algorithm: Algorithm, domain: &DomainSpec, edit: impl FnOnce(&mut crate::learning::TdConfig)) -> LearnerSpec {
+    let mut spec = default_learner(algorithm, domain);
+    if let LearnerSpec::Td(c) = &mut spec {
+        edit(c);
+    }
+    spec
+}
+
+fn with_sosmc(algorithm: Algorithm, domain: &DomainSpec, edit: impl FnOnce(&mut crate::learning::SoSmcConfig)) -> LearnerSpec {
+    let mut spec = default_learner(algorithm, domain);
+    if let LearnerSpec::Sosmc(c) = &mut spec {
+        edit(c);
+    }
+    spec
+}
+
+/// Figure 6.3: short term, every 20 episodes 20 frozen episodes, 200 runs.
+fn figure_6_3() -> Figure {
+    let d = parr_russell();
+    let p = Protocol { runs: 200, episodes: 1000, eval_every: 20, eval_episodes: 20, greedy_episodes: 100 };
+    Figure {
+        id: "6.3",
+        title: "Parr and Russell's grid, short term: Sarsa(0.9) and epsilon-SoSMC without exploration after the initial phase",
+        claim: "Optimistic Sarsa(0.9) converges to the optimum much faster than epsilon-greedy Sarsa(0.9); SoSMC with a 100-episode initial phase converges to the optimal policy (about 0.25) shortly after it; with 50 episodes it stabilises around 0.1",
+        kind: FigureKind::Curves,
+        curves: vec![
+            experiment("Sarsa(0.9) e-greedy", d.clone(), Algorithm::SarsaLambda, default_learner(Algorithm::SarsaLambda, &d), p),
+            experiment(
+                "Sarsa(0.9) optimistic",
+                d.clone(),
+                Algorithm::SarsaLambda,
+                with_td(Algorithm::SarsaLambda, &d, |c| {
+                    c.initial_value = 1.0;
+                    c.exploration = Exploration::Greedy;
+                }),
+                p,
+            ),
+            experiment("e-SoSMC 100", d.clone(), Algorithm::EpsSosmc, default_learner(Algorithm::EpsSosmc, &d), p),
+            experiment(
+                "e-SoSMC 50",
+                d.clone(),
+                Algorithm::EpsSosmc,
+                with_sosmc(Algorithm::EpsSosmc, &d, |c| c.initial_phase = 50),
+                p,
+            ),
+        ],
+    }
+}
+
+/// Figure 6.4: long term, exploration allowed in SoSMC's second phase.
+fn figure_6_4() -> Figure {
+    let d = parr_russell();
+    let p = Protocol { runs: 200, episodes: 10_000, eval_every: 100, eval_episodes: 20, greedy_episodes: 100 };
+    let exploring = |start: f64| {
+        with_sosmc(Algorithm::EpsSosmc, &d, |c| {
+            c.initial_phase = 50;
+            c.assessment = Assessment::PerDecision;
+            c.assessing_parameter = Schedule::linear(start, 0.01, 5000);
+        })
+    };
+    Figure {
+        id: "6.4",
+        title: "Parr and Russell's grid, long term: epsilon-SoSMC exploring in its second phase",
+        claim: "With epsilon from 0.2 (or 0.1) decaying to 0.01 over 5000 episodes after a 50-episode initial phase, SoSMC ends between Sarsa and the optimum reached with a 100-episode initial phase, rising linearly with the decay of epsilon",
+        kind: FigureKind::Curves,
+        curves: vec![
+            experiment("Sarsa(0.9) e-greedy", d.clone(), Algorithm::SarsaLambda, default_learner(Algorithm::SarsaLambda, &d), p),
+            experiment("e-SoSMC 100", d.clone(), Algorithm::EpsSosmc, default_learner(Algorithm::EpsSosmc, &d), p),
+            experiment("e-SoSMC 50, e 0.2->0.01", d.clone(), Algorithm::EpsSosmc, exploring(0.2), p),
+            experiment("e-SoSMC 50, e 0.1->0.01", d.clone(), Algorithm::EpsSosmc, exploring(0.1), p),
+        ],
+    }
+}
+
+/// Figures 6.5 - 6.9: the four values of the initial observation during one run.
+fn trace_figure(id: &'static str, title: &'static str, claim: &'static str, algorithm: Algorithm, exploration: Exploration) -> Figure {
+    let d = parr_russell();
+    let p = Protocol { runs: 1, episodes: 10_000, eval_every: 1000, eval_episodes: 20, greedy_episodes: 100 };
+    Figure {
+        id,
+        title,
+        claim,
+        kind: FigureKind::Traces,
+        curves: vec![experiment(
+            title,
+            d.clone(),
+            algorithm,
+            with_td(algorithm, &d, |c| {
+                c.exploration = exploration;
+                c.alpha = 0.01;
+            }),
+            p,
+        )],
+    }
+}
+
+/// Figure 6.10: Soft-SoSMC's values of the initial observation, one point per episode.
+fn figure_6_10() -> Figure {
+    let d = parr_russell();
+    let p = Protocol { runs: 1, episodes: 1000, eval_every: 100, eval_episodes: 20, greedy_episodes: 100 };
+    Figure {
+        id: "6.10",
+        title: "Soft-SoSMC: values of the four moves in the initial observation",
+        claim: "After the initial phase the upper bounds order the moves; in the assessing phase the averaged value of move north prevails, moves with values close to the best are tried more often, move west is never tried again",
+        kind: FigureKind::Traces,
+        curves: vec![experiment(
+            "Soft-SoSMC",
+            d.clone(),
+            Algorithm::SoftSosmc,
+            with_sosmc(Algorithm::SoftSosmc, &d, |c| {
+                c.sigma = Sigma::Softmax;
+                c.assessment = Assessment::PerDecision;
+            }),
+            p,
+        )],
+    }
+}
+
+/// Figure 6.11: Sarsa(lambda)'s values of the initial observation.
+fn figure_6_11() -> Figure {
+    let d = parr_russell();
+    let p = Protocol { runs: 1, episodes: 10_000, eval_every: 1000, eval_episodes: 20, greedy_episodes: 100 };
+    Figure {
+        id: "6.11",
+        title: "Sarsa(0.9): values of the four moves in the initial observation",
+        claim: "Sarsa(lambda) needs a scale ten times larger than SoSMC (Loch and Singh's result)",
+        kind: FigureKind::Traces,
+        curves: vec![experiment("Sarsa(0.9)", d.clone(), Algorithm::SarsaLambda, default_learner(Algorithm::SarsaLambda, &d), p)],
+    }
+}
+
+/// Figure 6.13: Sutton's grid.
+fn figure_6_13() -> Figure {
+    let d = sutton();
+    let p = Protocol { runs: 50, episodes: 10_000, eval_every: 200, eval_episodes: 0, greedy_episodes: 0 };
+    Figure {
+        id: "6.13",
+        title: "Sutton's grid: Soft-SoSMC (tau 4, optimistic, explore every 20 episodes) against Sarsa",
+        claim: "Soft-SoSMC finds on average a better policy than Sarsa in the episodes considered; Sarsa's value is slightly but significantly smaller (95% CI)",
+        kind: FigureKind::Curves,
+        curves: vec![
+            experiment("Soft-SoSMC", d.clone(), Algorithm::SoftSosmc, default_learner(Algorithm::SoftSosmc, &d), p),
+            experiment("Sarsa(0.9)", d.clone(), Algorithm::SarsaLambda, default_learner(Algorithm::SarsaLambda, &d), p),
+        ],
+    }
+}
+
+/// Every preset, in the thesis's order.
+pub fn figures() -> Vec<Figure> {
+    let eps = Exploration::EpsilonGreedy(Schedule::constant(0.1));
+    let soft = |tau: f64| Exploration::Softmax(Schedule::constant(tau));
+    vec![
+        figure_6_3(),
+        figure_6_4(),
+        trace_figure(
+            "6.5",
+            "Q-learning with epsilon-greedy exploration",
+            "Q-learning is unstable under epsilon-greedy and cycles, though the greedy action (north) is right most of the time",
+            Algorithm::QLearning,
+            eps,
+        ),
+        trace_figure(
+            "6.6",
+            "Sarsa with epsilon-greedy exploration",
+            "Sarsa is unstable under epsilon-greedy and cycles, though the greedy action (north) is right most of the time",
+            Algorithm::Sarsa0,
+            eps,
+        ),
+        trace_figure(
+            "6.7",
+            "Q-learning with softmax exploration, tau 0.01",
+            "Under softmax Q-learning is much more stable, and behaves almost like Sarsa",
+            Algorithm::QLearning,
+            soft(0.01),
+        ),
+        trace_figure(
+            "6.8",
+            "Sarsa with softmax exploration, tau 0.01",
+            "Under softmax Sarsa is much more stable, and behaves almost like Q-learning",
+            Algorithm::Sarsa0,
+            soft(0.01),
+        ),
+        trace_figure(
+            "6.9",
+            "Sarsa with softmax exploration, tau 1",
+            "With a higher temperature the equilibrium reached conveys no good behaviour",
+            Algorithm::Sarsa0,
+            soft(1.0),
+        ),
+        figure_6_10(),
+        figure_6_11(),
+        figure_6_13(),
+    ]
+}
+
+/// The preset for figure `id` (`6.3`, `fig6.3` and `6-3` all work).
+pub fn figure(id: &str) -> Option<Figure> {
+    let id = id.trim_start_matches("fig").replace('-', ".");
+    figures().into_iter().find(|f| f.id == id)
+}

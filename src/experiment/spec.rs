@@ -1,0 +1,199 @@
+//! What an experiment runs: a domain, an algorithm with its parameters, and the protocol.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use crate::domains::parr_russell::{self, ParrRussell, ParrRussellConfig};
+use crate::domains::penalty_kick::{self, PenaltyKick, PenaltyKickConfig};
+use crate::domains::sutton::{self, Sutton, SuttonConfig};
+use crate::domains::{Task, TaskError};
+use crate::learning::{Learner, Mcesp, McespConfig, SoSmc, SoSmcConfig, TdConfig, TdLearner};
+use crate::plan::{LoadError, Plan, Vocabulary, load_plan};
+use crate::rng::SimRng;
+
+/// A domain and its parameters; `plan` replaces the built-in plan with a file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "domain", rename_all = "kebab-case")]
+pub enum DomainSpec {
+    /// Parr and Russell's 4 x 3 grid.
+    ParrRussell {
+        /// Its parameters.
+        config: ParrRussellConfig,
+        /// A plan file to use instead of the thesis's plan.
+        plan: Option<PathBuf>,
+    },
+    /// Sutton's 9 x 6 grid.
+    Sutton {
+        /// Its parameters.
+        config: SuttonConfig,
+        /// A plan file to use instead of the thesis's plan.
+        plan: Option<PathBuf>,
+    },
+    /// The penalty kick.
+    PenaltyKick {
+        /// Its parameters (the variant picks the built-in plan).
+        config: PenaltyKickConfig,
+        /// A plan file to use instead of the variant's plan.
+        plan: Option<PathBuf>,
+    },
+}
+
+/// Why an experiment cannot be set up or run.
+#[derive(Debug, thiserror::Error)]
+pub enum ExperimentError {
+    /// A plan file does not load.
+    #[error(transparent)]
+    Load(#[from] LoadError),
+    /// The task fails.
+    #[error(transparent)]
+    Task(#[from] TaskError),
+    /// A parameter is out of range.
+    #[error("invalid experiment: {0}")]
+    Invalid(String),
+    /// Writing results failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
+}
+
+impl DomainSpec {
+    /// The domain's command-line name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            DomainSpec::ParrRussell { .. } => "parr-russell",
+            DomainSpec::Sutton { .. } => "sutton",
+            DomainSpec::PenaltyKick { .. } => "penalty-kick",
+        }
+    }
+
+    /// Loads the plan once for every run.
+    pub fn load_plan(&self) -> Result<Arc<Plan>, ExperimentError> {
+        let plan = match self {
+            DomainSpec::ParrRussell { plan: Some(p), .. } => load_plan(p, Vocabulary::Closed(&parr_russell::atoms()))?,
+            DomainSpec::ParrRussell { plan: None, .. } => parr_russell::default_plan()?,
+            DomainSpec::Sutton { plan: Some(p), .. } => load_plan(p, Vocabulary::Closed(&sutton::atoms()))?,
+            DomainSpec::Sutton { plan: None, .. } => sutton::default_plan()?,
+            DomainSpec::PenaltyKick { plan: Some(p), .. } => load_plan(p, Vocabulary::Open)?,
+            DomainSpec::PenaltyKick { config, plan: None } => penalty_kick::plan(config.variant)?,
+        };
+        Ok(Arc::new(plan))
+    }
+
+    /// A task for one run.
+    pub fn task(&self, plan: Arc<Plan>, learner: Box<dyn Learner>, rng: SimRng) -> Result<Box<dyn Task>, ExperimentError> {
+        Ok(match self {
+            DomainSpec::ParrRussell { config, .. } => Box::new(ParrRussell::new(*config, plan, learner, rng)?),
+            DomainSpec::Sutton { config, .. } => Box::new(Sutton::new(*config, plan, learner, rng)?),
+            DomainSpec::PenaltyKick { config, .. } => Box::new(PenaltyKick::new(*config, plan, learner)?),
+        })
+    }
+}
+
+/// The algorithms of the experiment command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Algorithm {
+    /// SoSMC with epsilon-greedy exploration.
+    EpsSosmc,
+    /// SoSMC with softmax exploration.
+    SoftSosmc,
+    /// Sarsa(lambda) with replacing traces.
+    SarsaLambda,
+    /// One-step Sarsa.
+    Sarsa0,
+    /// One-step Q-learning.
+    QLearning,
+    /// MCESP, sample-average variant.
+    Mcesp,
+}
+
+impl Algorithm {
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Algorithm::EpsSosmc => "eps-sosmc",
+            Algorithm::SoftSosmc => "soft-sosmc",
+            Algorithm::SarsaLambda => "sarsa-lambda",
+            Algorithm::Sarsa0 => "sarsa0",
+            Algorithm::QLearning => "q-learning",
+            Algorithm::Mcesp => "mcesp",
+        }
+    }
+}
+
+/// The learner's parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "learner", rename_all = "kebab-case")]
+pub enum LearnerSpec {
+    /// A SoSMC learner.
+    Sosmc(SoSmcConfig),
+    /// A TD learner (Sarsa, Q-learning).
+    Td(TdConfig),
+    /// An MCESP learner.
+    Mcesp(McespConfig),
+}
+
+impl LearnerSpec {
+    /// A learner drawing from `rng`.
+    pub fn build(&self, rng: SimRng) -> Box<dyn Learner> {
+        match self {
+            LearnerSpec::Sosmc(c) => Box::new(SoSmc::new(*c, rng)),
+            LearnerSpec::Td(c) => Box::new(TdLearner::new(*c, rng)),
+            LearnerSpec::Mcesp(c) => Box::new(Mcesp::new(*c, rng)),
+        }
+    }
+}
+
+/// The thesis's evaluation protocol: every `eval_every` learning episodes,
+/// learning pauses and `eval_episodes` episodes run with values frozen.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Protocol {
+    /// Independent runs.
+    pub runs: usize,
+    /// Learning episodes per run.
+    pub episodes: u64,
+    /// Learning episodes between evaluations.
+    pub eval_every: u64,
+    /// Episodes per evaluation.
+    pub eval_episodes: usize,
+    /// Episodes of the final greedy evaluation of each run.
+    pub greedy_episodes: usize,
+}
+
+impl Protocol {
+    /// Checks the numbers.
+    pub fn validate(&self) -> Result<(), ExperimentError> {
+        if self.runs == 0 || self.episodes == 0 || self.eval_every == 0 {
+            return Err(ExperimentError::Invalid("runs, episodes and eval-every must be positive".into()));
+        }
+        Ok(())
+    }
+
+    /// The learning episode counts after which evaluations happen (0 first).
+    pub fn eval_points(&self) -> Vec<u64> {
+        (0..=self.episodes / self.eval_every).map(|i| i * self.eval_every).collect()
+    }
+}
+
+/// One experiment: a curve of a figure.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ExperimentSpec {
+    /// A label for plots and tables.
+    pub label: String,
+    /// The domain.
+    pub domain: DomainSpec,
+    /// The algorithm's name.
+    pub algorithm: Algorithm,
+    /// Its parameters.
+    pub learner: LearnerSpec,
+    /// The protocol.
+    pub protocol: Protocol,
+    /// The base seed; run i uses a seed derived from it and i.
+    pub seed: u64,
+}
