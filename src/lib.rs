@@ -4,7 +4,9 @@
 //! the executor runs the plan with the thesis's operational semantics and hands
 //! every open choice to a learner. See `docs/ARCHITECTURE.md` for the data path.
 
+pub mod analysis;
 pub mod condition;
+pub mod dot;
 pub mod executor;
 pub mod net;
 pub mod plan;
