@@ -88,7 +88,11 @@ impl Dot<'_> {
             "  \"{}\" [shape={shape}, label=\"{}\", tooltip=\"{}\"",
             escape(&node.id),
             escape(&label),
-            escape(&format!("{}: {}", node.id, node.label)),
+            escape(&if node.label.is_empty() {
+                node.id.clone()
+            } else {
+                format!("{}: {}", node.id, node.label)
+            }),
         )?;
         let fill = if goal {
             Some("palegreen")

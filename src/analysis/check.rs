@@ -37,9 +37,7 @@ pub fn check(plan: &Plan, limit: usize) -> CheckReport {
             PlaceBound {
                 place,
                 element: Element::place(plan, place),
-                action: plan
-                    .exec_action(place)
-                    .map(|a| plan.action(a).name.clone()),
+                action: plan.exec_action(place).map(|a| plan.action(a).name.clone()),
                 bound,
             }
         })
@@ -192,7 +190,7 @@ impl Checker<'_> {
         }
         if !self.graph.is_complete() {
             return Verdict::Inconclusive(format!(
-                "{} transition(s) did not fire before {}",
+                "{} transition(s) have not fired yet, and {}",
                 never.len(),
                 self.incomplete
             ));
@@ -297,7 +295,9 @@ impl Checker<'_> {
                 let tokens = self.graph.state_tokens(s);
                 self.goal(s) == Tri::No
                     && self.fail(s) == Tri::No
-                    && !incidence.transition_ids().any(|t| enabled(incidence, tokens, t))
+                    && !incidence
+                        .transition_ids()
+                        .any(|t| enabled(incidence, tokens, t))
             })
             .collect();
         if !dead.is_empty() {

@@ -45,7 +45,10 @@ fn option_pairs(plan: &Plan, place: PlaceId) -> Vec<OptionPair> {
     pairs
 }
 
-fn choice_point<'a>(place: PlaceId, pairs: impl Iterator<Item = &'a OptionPair>) -> Option<ChoicePoint> {
+fn choice_point<'a>(
+    place: PlaceId,
+    pairs: impl Iterator<Item = &'a OptionPair>,
+) -> Option<ChoicePoint> {
     let mut options: Vec<TransitionId> = pairs.flat_map(|p| [p.first.0, p.second.0]).collect();
     options.sort_unstable();
     options.dedup();
@@ -89,7 +92,11 @@ pub fn choice_points(plan: &Plan, graph: &Reachability) -> Vec<ChoicePoint> {
                 break;
             }
         }
-        let chosen = pairs.iter().zip(&confirmed).filter(|&(_, &c)| c).map(|(p, _)| p);
+        let chosen = pairs
+            .iter()
+            .zip(&confirmed)
+            .filter(|&(_, &c)| c)
+            .map(|(p, _)| p);
         found.extend(choice_point(place, chosen));
     }
     found

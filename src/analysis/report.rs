@@ -139,6 +139,26 @@ pub enum Verdict {
     NotApplicable(String),
 }
 
+impl Verdict {
+    /// `passed`, `FAILED`, `inconclusive` or `not applicable`.
+    pub fn summary(&self) -> &'static str {
+        match self {
+            Verdict::Passed => "passed",
+            Verdict::Failed => "FAILED",
+            Verdict::Inconclusive(_) => "inconclusive",
+            Verdict::NotApplicable(_) => "not applicable",
+        }
+    }
+
+    /// Why it is inconclusive or does not apply.
+    pub fn reason(&self) -> Option<&str> {
+        match self {
+            Verdict::Passed | Verdict::Failed => None,
+            Verdict::Inconclusive(why) | Verdict::NotApplicable(why) => Some(why),
+        }
+    }
+}
+
 /// `passed`, `FAILED`, `inconclusive: why`, `not applicable: why`.
 impl fmt::Display for Verdict {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -269,9 +289,15 @@ impl fmt::Display for Failure {
                 ending_in_fail,
                 examples,
             } => {
-                write!(f, "{markings} reachable marking(s) cannot reach a goal marking")?;
+                write!(
+                    f,
+                    "{markings} reachable marking(s) cannot reach a goal marking"
+                )?;
                 if *ending_in_fail > 0 {
-                    write!(f, " ({ending_in_fail} of them can still end in a fail marking)")?;
+                    write!(
+                        f,
+                        " ({ending_in_fail} of them can still end in a fail marking)"
+                    )?;
                 }
                 write_examples(f, examples)
             }
@@ -319,7 +345,8 @@ impl fmt::Display for Note {
             ),
             Note::AboveOne { element, bound, .. } => write!(
                 f,
-                "place {element} holds up to {bound} tokens (a memory place: no action runs there)"
+                "place {element} holds up to {bound} tokens \
+                 (not an execution place: allowed, e.g. a memory place, thesis 5.5)"
             ),
             Note::NoGoal => f.write_str(
                 "the plan has no goal places: it runs until stopped, effectiveness does not apply",
@@ -396,7 +423,10 @@ impl CheckReport {
             .map(|b| format!("{} {}", b.element, b.bound))
             .collect();
         let seen = if self.complete { "" } else { " (seen so far)" };
-        write!(f, "token bounds{seen}: {safe} place(s) hold at most 1 token")?;
+        write!(
+            f,
+            "token bounds{seen}: {safe} place(s) hold at most 1 token"
+        )?;
         if !above.is_empty() {
             write!(f, "; above 1: {}", above.join(", "))?;
         }
@@ -436,10 +466,14 @@ impl fmt::Display for CheckReport {
         for (property, verdict) in &self.verdicts {
             writeln!(
                 f,
-                "{:<14} {verdict}   ({})",
+                "{:<14} {:<15}{}",
                 property.name(),
+                verdict.summary(),
                 property.meaning()
             )?;
+            if let Some(why) = verdict.reason() {
+                writeln!(f, "{:<15}({why})", "")?;
+            }
         }
         self.write_bounds(f)?;
         if !self.choice_points.is_empty() {
