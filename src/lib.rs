@@ -4,10 +4,13 @@
 //! the executor runs the plan with the thesis's operational semantics and hands
 //! every open choice to a learner. See `docs/ARCHITECTURE.md` for the data path.
 
+pub mod analysis;
 pub mod atomic_file;
 pub mod condition;
 pub mod domains;
+pub mod dot;
 pub mod executor;
+pub mod experiment;
 pub mod learning;
 pub mod net;
 pub mod plan;

@@ -1,0 +1,507 @@
+//! What `check` found, as data and as a readable report.
+
+use std::fmt;
+
+use super::count::Count;
+use crate::net::{PlaceId, TransitionId};
+use crate::plan::Plan;
+
+/// Longest firing sequence an example shows (its last transitions).
+const SHOWN_TRACE: usize = 8;
+
+/// A net element named for a reader: its file id and label.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Element {
+    /// The element id in the file (`p3`, `t7`).
+    pub id: String,
+    /// Its label (may be empty).
+    pub label: String,
+}
+
+impl Element {
+    /// Place `p` of `plan`.
+    pub fn place(plan: &Plan, p: PlaceId) -> Self {
+        let node = plan.net().place(p);
+        Element {
+            id: node.id.clone(),
+            label: node.label.clone(),
+        }
+    }
+
+    /// Transition `t` of `plan`.
+    pub fn transition(plan: &Plan, t: TransitionId) -> Self {
+        let node = plan.net().transition(t);
+        Element {
+            id: node.id.clone(),
+            label: node.label.clone(),
+        }
+    }
+
+    /// The label, or the id when the label is empty.
+    pub fn name(&self) -> &str {
+        if self.label.is_empty() {
+            &self.id
+        } else {
+            &self.label
+        }
+    }
+}
+
+/// `id 'label'`, or `id` alone when the label is empty.
+impl fmt::Display for Element {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.label.is_empty() {
+            f.write_str(&self.id)
+        } else {
+            write!(f, "{} '{}'", self.id, self.label)
+        }
+    }
+}
+
+/// An explored marking given as an example, with a shortest way to reach it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Example {
+    /// The marking, as the labels of its marked places (`*n` for n tokens, `*ω` unbounded).
+    pub marking: String,
+    /// The transitions fired from the initial marking (labels, or ids when empty).
+    pub trace: Vec<String>,
+}
+
+/// `marking (after a → b)`, the trace cut to its last transitions.
+impl fmt::Display for Example {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "[{}]", self.marking)?;
+        if self.trace.is_empty() {
+            return f.write_str(" (the initial marking)");
+        }
+        f.write_str(" after ")?;
+        let skipped = self.trace.len().saturating_sub(SHOWN_TRACE);
+        if skipped > 0 {
+            write!(f, "({skipped} earlier) … → ")?;
+        }
+        f.write_str(&self.trace[skipped..].join(" → "))
+    }
+}
+
+/// The properties a plan is checked for (thesis section 2.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Property {
+    /// No execution place holds more than one token (an action never runs twice at once).
+    Safety,
+    /// Every transition fires in some firing sequence (L1-liveness).
+    Minimality,
+    /// A goal marking is reachable from every reachable marking.
+    Effectiveness,
+    /// Every marking with no enabled transition is a goal or fail marking.
+    Deadlock,
+}
+
+impl Property {
+    /// Every property, in report order.
+    pub const ALL: [Property; 4] = [
+        Property::Safety,
+        Property::Minimality,
+        Property::Effectiveness,
+        Property::Deadlock,
+    ];
+
+    /// A short name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Property::Safety => "safety",
+            Property::Minimality => "minimality",
+            Property::Effectiveness => "effectiveness",
+            Property::Deadlock => "deadlock",
+        }
+    }
+
+    /// What holds when the property passes.
+    pub fn meaning(self) -> &'static str {
+        match self {
+            Property::Safety => "no execution place holds more than one token",
+            Property::Minimality => "every transition can fire",
+            Property::Effectiveness => "a goal marking is reachable from every reachable marking",
+            Property::Deadlock => "every dead marking is a goal or fail marking",
+        }
+    }
+}
+
+/// The outcome of one property.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Verdict {
+    /// It holds.
+    Passed,
+    /// It does not: the failures say where.
+    Failed,
+    /// The exploration cannot decide it; the text says why.
+    Inconclusive(String),
+    /// It does not apply to this plan; the text says why.
+    NotApplicable(String),
+}
+
+impl Verdict {
+    /// `passed`, `FAILED`, `inconclusive` or `not applicable`.
+    pub fn summary(&self) -> &'static str {
+        match self {
+            Verdict::Passed => "passed",
+            Verdict::Failed => "FAILED",
+            Verdict::Inconclusive(_) => "inconclusive",
+            Verdict::NotApplicable(_) => "not applicable",
+        }
+    }
+
+    /// Why it is inconclusive or does not apply.
+    pub fn reason(&self) -> Option<&str> {
+        match self {
+            Verdict::Passed | Verdict::Failed => None,
+            Verdict::Inconclusive(why) | Verdict::NotApplicable(why) => Some(why),
+        }
+    }
+}
+
+/// `passed`, `FAILED`, `inconclusive: why`, `not applicable: why`.
+impl fmt::Display for Verdict {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Verdict::Passed => f.write_str("passed"),
+            Verdict::Failed => f.write_str("FAILED"),
+            Verdict::Inconclusive(why) => write!(f, "inconclusive: {why}"),
+            Verdict::NotApplicable(why) => write!(f, "not applicable: {why}"),
+        }
+    }
+}
+
+/// The most tokens a place holds in any reachable marking.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PlaceBound {
+    /// The place.
+    pub place: PlaceId,
+    /// Its id and label.
+    pub element: Element,
+    /// The action whose execution place it is, if any.
+    pub action: Option<String>,
+    /// Its bound (0: never marked).
+    pub bound: Count,
+}
+
+/// A choice point with the names of its place and options.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ReportedChoice {
+    /// The place.
+    pub place: PlaceId,
+    /// Its id and label.
+    pub element: Element,
+    /// The transitions chosen among, with their ids and labels.
+    pub options: Vec<(TransitionId, Element)>,
+}
+
+/// A violated property, named by element ids and labels.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Failure {
+    /// An execution place can hold more than one token: its action would run
+    /// twice at once (safety).
+    UnsafeExecution {
+        /// The place.
+        place: PlaceId,
+        /// Its id and label.
+        element: Element,
+        /// The action it executes.
+        action: String,
+        /// The most tokens it can hold.
+        bound: Count,
+        /// The first explored marking with more than one token there.
+        example: Example,
+    },
+    /// A transition that fires in no firing sequence (minimality).
+    DeadTransition {
+        /// The transition.
+        transition: TransitionId,
+        /// Its id and label.
+        element: Element,
+    },
+    /// Reachable markings, not fail markings, from which no goal marking is
+    /// reachable (effectiveness).
+    NoGoalReachable {
+        /// How many explored markings.
+        markings: usize,
+        /// How many of them can still end in a fail marking.
+        ending_in_fail: usize,
+        /// A few of them, nearest to the initial marking first.
+        examples: Vec<Example>,
+    },
+    /// Reachable markings with no enabled transition that are neither goal nor
+    /// fail markings: the plan stops there for good.
+    DeadMarkings {
+        /// How many explored markings.
+        markings: usize,
+        /// A few of them, nearest to the initial marking first.
+        examples: Vec<Example>,
+    },
+}
+
+impl Failure {
+    /// The property it violates.
+    pub fn property(&self) -> Property {
+        match self {
+            Failure::UnsafeExecution { .. } => Property::Safety,
+            Failure::DeadTransition { .. } => Property::Minimality,
+            Failure::NoGoalReachable { .. } => Property::Effectiveness,
+            Failure::DeadMarkings { .. } => Property::Deadlock,
+        }
+    }
+}
+
+fn write_examples(f: &mut fmt::Formatter<'_>, examples: &[Example]) -> fmt::Result {
+    for example in examples {
+        write!(f, "\n      e.g. {example}")?;
+    }
+    Ok(())
+}
+
+/// One line (examples on the lines below), prefixed with the property.
+impl fmt::Display for Failure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: ", self.property().name())?;
+        match self {
+            Failure::UnsafeExecution {
+                element,
+                action,
+                bound,
+                example,
+                ..
+            } => {
+                let amount = match bound {
+                    Count::Finite(n) => format!("{n} tokens"),
+                    Count::Unbounded => "unboundedly many tokens".to_string(),
+                };
+                write!(
+                    f,
+                    "execution place {element} of action '{action}' can hold {amount}: \
+                     the action would run twice at once"
+                )?;
+                write_examples(f, std::slice::from_ref(example))
+            }
+            Failure::DeadTransition { element, .. } => {
+                write!(f, "transition {element} can never fire")
+            }
+            Failure::NoGoalReachable {
+                markings,
+                ending_in_fail,
+                examples,
+            } => {
+                write!(
+                    f,
+                    "{markings} reachable marking(s) cannot reach a goal marking"
+                )?;
+                if *ending_in_fail > 0 {
+                    write!(
+                        f,
+                        " ({ending_in_fail} of them can still end in a fail marking)"
+                    )?;
+                }
+                write_examples(f, examples)
+            }
+            Failure::DeadMarkings { markings, examples } => {
+                write!(
+                    f,
+                    "{markings} reachable marking(s) enable no transition and are neither goal nor fail markings"
+                )?;
+                write_examples(f, examples)
+            }
+        }
+    }
+}
+
+/// Something worth knowing that is no failure.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Note {
+    /// A place that is not an execution place holds more than one token: a
+    /// memory place recording choices, or a loop counter (thesis 5.5), which may
+    /// be unbounded by design.
+    AboveOne {
+        /// The place.
+        place: PlaceId,
+        /// Its id and label.
+        element: Element,
+        /// The most tokens it holds.
+        bound: Count,
+    },
+    /// The plan has no goal places: it runs until stopped, and effectiveness
+    /// does not apply.
+    NoGoal,
+}
+
+impl fmt::Display for Note {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Note::AboveOne {
+                element,
+                bound: Count::Unbounded,
+                ..
+            } => write!(
+                f,
+                "place {element} is unbounded: it gains tokens without limit \
+                 (by design for a loop counter, thesis 5.5)"
+            ),
+            Note::AboveOne { element, bound, .. } => write!(
+                f,
+                "place {element} holds up to {bound} tokens \
+                 (not an execution place: allowed, e.g. a memory place, thesis 5.5)"
+            ),
+            Note::NoGoal => f.write_str(
+                "the plan has no goal places: it runs until stopped, effectiveness does not apply",
+            ),
+        }
+    }
+}
+
+/// What `check` reports on a plan.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CheckReport {
+    /// The plan's name.
+    pub plan: String,
+    /// Number of places.
+    pub places: usize,
+    /// Number of transitions.
+    pub transitions: usize,
+    /// Number of explored markings (ω-markings of unbounded places count once).
+    pub markings: usize,
+    /// The marking limit of the exploration.
+    pub limit: usize,
+    /// Whether every reachable marking was explored (the limit was not hit).
+    pub complete: bool,
+    /// The token bound of every place, in place order (lower bounds when incomplete).
+    pub bounds: Vec<PlaceBound>,
+    /// The choice points met in the explored markings, in place order.
+    pub choice_points: Vec<ReportedChoice>,
+    /// The verdict of every property, in [`Property::ALL`] order.
+    pub verdicts: Vec<(Property, Verdict)>,
+    /// What is wrong, by property.
+    pub failures: Vec<Failure>,
+    /// What is worth knowing and not wrong.
+    pub notes: Vec<Note>,
+}
+
+impl CheckReport {
+    /// Whether every property passed or does not apply (an inconclusive
+    /// property, e.g. from hitting the marking limit, is no pass).
+    pub fn passed(&self) -> bool {
+        self.verdicts
+            .iter()
+            .all(|(_, v)| matches!(v, Verdict::Passed | Verdict::NotApplicable(_)))
+    }
+
+    /// The verdict on `property`.
+    pub fn verdict(&self, property: Property) -> Option<&Verdict> {
+        self.verdicts
+            .iter()
+            .find(|(p, _)| *p == property)
+            .map(|(_, v)| v)
+    }
+
+    /// Whether some place is unbounded.
+    pub fn has_unbounded(&self) -> bool {
+        self.bounds.iter().any(|b| b.bound == Count::Unbounded)
+    }
+
+    fn write_bounds(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let safe = self
+            .bounds
+            .iter()
+            .filter(|b| b.bound == Count::Finite(1))
+            .count();
+        let never: Vec<String> = self
+            .bounds
+            .iter()
+            .filter(|b| b.bound == Count::Finite(0))
+            .map(|b| b.element.to_string())
+            .collect();
+        let above: Vec<String> = self
+            .bounds
+            .iter()
+            .filter(|b| b.bound.exceeds_one())
+            .map(|b| format!("{} {}", b.element, b.bound))
+            .collect();
+        let seen = if self.complete { "" } else { " (seen so far)" };
+        write!(
+            f,
+            "token bounds{seen}: {safe} place(s) hold at most 1 token"
+        )?;
+        if !above.is_empty() {
+            write!(f, "; above 1: {}", above.join(", "))?;
+        }
+        if !never.is_empty() {
+            write!(f, "; never marked: {}", never.join(", "))?;
+        }
+        writeln!(f)
+    }
+}
+
+/// A multi-line report: summary, verdicts, bounds, choice points, failures,
+/// notes and the overall result.
+impl fmt::Display for CheckReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "plan '{}': {} places, {} transitions, {} choice point(s), {} reachable marking(s)",
+            self.plan,
+            self.places,
+            self.transitions,
+            self.choice_points.len(),
+            self.markings
+        )?;
+        if !self.complete {
+            writeln!(
+                f,
+                "  marking limit of {} reached: exploration incomplete, results partial",
+                self.limit
+            )?;
+        }
+        if self.has_unbounded() {
+            writeln!(
+                f,
+                "  unbounded places are counted as ω: markings form a coverability graph"
+            )?;
+        }
+        for (property, verdict) in &self.verdicts {
+            writeln!(
+                f,
+                "{:<14} {:<15}{}",
+                property.name(),
+                verdict.summary(),
+                property.meaning()
+            )?;
+            if let Some(why) = verdict.reason() {
+                writeln!(f, "{:<15}({why})", "")?;
+            }
+        }
+        self.write_bounds(f)?;
+        if !self.choice_points.is_empty() {
+            writeln!(f, "choice points:")?;
+            for c in &self.choice_points {
+                let options: Vec<String> = c.options.iter().map(|(_, e)| e.to_string()).collect();
+                writeln!(f, "  - {}: {}", c.element, options.join(", "))?;
+            }
+        }
+        if !self.failures.is_empty() {
+            writeln!(f, "failures:")?;
+            for failure in &self.failures {
+                writeln!(f, "  - {failure}")?;
+            }
+        }
+        if !self.notes.is_empty() {
+            writeln!(f, "notes:")?;
+            for note in &self.notes {
+                writeln!(f, "  - {note}")?;
+            }
+        }
+        let result = if self.passed() {
+            "passed"
+        } else if self.failures.is_empty() {
+            "inconclusive"
+        } else {
+            "FAILED"
+        };
+        writeln!(f, "result: {result}")
+    }
+}

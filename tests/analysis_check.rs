@@ -1,0 +1,455 @@
+//! `check`: safety, minimality, effectiveness and dead markings on small plans
+//! built in code (and raw nets malformed by design).
+
+use learnpnp::analysis::{CheckReport, Count, Failure, Note, Property, Verdict, check, explore};
+use learnpnp::net::{PetriNet, PlaceId, PlaceNode, TransitionId, TransitionNode};
+use learnpnp::plan::{Plan, PlanBuilder, Vocabulary};
+
+const LIMIT: usize = 10_000;
+
+fn build(b: PlanBuilder) -> Plan {
+    b.build(Vocabulary::Open).expect("test plan builds")
+}
+
+fn verdict(report: &CheckReport, property: Property) -> &Verdict {
+    report
+        .verdict(property)
+        .expect("every property has a verdict")
+}
+
+fn failures_of(report: &CheckReport, property: Property) -> Vec<&Failure> {
+    report
+        .failures
+        .iter()
+        .filter(|f| f.property() == property)
+        .collect()
+}
+
+/// A raw net: places `(id, label, initial)`, transitions `(id, label)`, arcs `(source, target, weight)`.
+fn raw_plan(
+    places: &[(&str, &str, u8)],
+    transitions: &[(&str, &str)],
+    arcs: &[(&str, &str, u8)],
+) -> Plan {
+    let places = places
+        .iter()
+        .map(|&(id, label, initial)| PlaceNode {
+            id: id.into(),
+            label: label.into(),
+            initial,
+            position: None,
+        })
+        .collect();
+    let transitions = transitions
+        .iter()
+        .map(|&(id, label)| TransitionNode {
+            id: id.into(),
+            label: label.into(),
+            position: None,
+        })
+        .collect();
+    let ids: Vec<String> = (0..arcs.len()).map(|i| format!("a{i}")).collect();
+    let specs: Vec<_> = arcs
+        .iter()
+        .zip(&ids)
+        .map(|(&(s, t, w), id)| (id.as_str(), s, t, w))
+        .collect();
+    let net = PetriNet::new("raw", places, transitions, &specs).expect("raw net is well formed");
+    Plan::from_net(net, Vocabulary::Open).expect("raw net is a plan")
+}
+
+/// init -> A -> B -> goal.
+fn sequence() -> Plan {
+    let mut b = PlanBuilder::new("sequence");
+    let init = b.initial_place("init");
+    let a = b.action(init, "A");
+    let goal = b.goal_place();
+    b.action_into(a.done, "B", goal);
+    build(b)
+}
+
+#[test]
+fn a_sequence_passes() {
+    let report = check(&sequence(), LIMIT);
+    assert!(report.passed(), "{report}");
+    assert!(
+        report.failures.is_empty() && report.notes.is_empty(),
+        "{report}"
+    );
+    for property in Property::ALL {
+        assert_eq!(verdict(&report, property), &Verdict::Passed, "{property:?}");
+    }
+    // init, A.exec, A's output, B.exec, goal.
+    assert_eq!(report.markings, 5);
+    assert!(report.complete);
+    assert_eq!((report.places, report.transitions), (5, 4));
+    assert!(report.choice_points.is_empty());
+    assert!(report.bounds.iter().all(|b| b.bound == Count::Finite(1)));
+    let text = report.to_string();
+    assert!(text.contains("result: passed"), "{text}");
+    assert!(
+        text.contains("plan 'sequence': 5 places, 4 transitions"),
+        "{text}"
+    );
+}
+
+#[test]
+fn the_goal_marking_is_terminal() {
+    let graph = explore(&sequence(), LIMIT);
+    let goal = graph
+        .states()
+        .find(|&s| graph.is_terminal(s))
+        .expect("the goal is reached");
+    assert!(graph.successors(goal).is_empty());
+    let trace: Vec<usize> = graph.trace(goal).iter().map(|t| t.index()).collect();
+    assert_eq!(trace, [0, 1, 2, 3]);
+    assert_eq!(graph.describe(&sequence(), goal), "goal");
+}
+
+#[test]
+fn a_fork_without_join_leaving_a_token_off_the_goal_fails_effectiveness() {
+    // The goal needs both goal places; the second branch ends in a plain place.
+    let mut b = PlanBuilder::new("forgotten_join");
+    let init = b.initial_place("init");
+    let branches = b.fork(init, 2);
+    let goal_a = b.goal_place();
+    b.action_into(branches[0], "A", goal_a);
+    b.goal_place();
+    b.action(branches[1], "B");
+    let report = check(&build(b), LIMIT);
+    assert!(!report.passed());
+    assert_eq!(verdict(&report, Property::Effectiveness), &Verdict::Failed);
+    let [
+        Failure::NoGoalReachable {
+            markings, examples, ..
+        },
+    ] = failures_of(&report, Property::Effectiveness)[..]
+    else {
+        panic!("one effectiveness failure expected: {report}");
+    };
+    assert_eq!(*markings, report.markings, "no marking can reach the goal");
+    assert_eq!(examples.len(), 3);
+    assert!(
+        examples[0].trace.is_empty(),
+        "the initial marking comes first"
+    );
+    // The branches end with tokens in a goal place and in B's output: dead.
+    assert_eq!(verdict(&report, Property::Deadlock), &Verdict::Failed);
+    let text = report.to_string();
+    assert!(text.contains("cannot reach a goal marking"), "{text}");
+    assert!(text.contains("result: FAILED"), "{text}");
+}
+
+#[test]
+fn a_dead_end_branch_fails_only_the_markings_after_it() {
+    let mut b = PlanBuilder::new("dead_end");
+    let init = b.initial_place("init");
+    let exec = b.place("look.exec");
+    b.transition("look.start", &[(init, 1)], &[(exec, 1)]);
+    let goal = b.goal_place();
+    let lost = b.place("lost");
+    b.transition("look.end [ok]", &[(exec, 1)], &[(goal, 1)]);
+    b.transition("look.end [not ok]", &[(exec, 1)], &[(lost, 1)]);
+    let report = check(&build(b), LIMIT);
+    let [
+        Failure::NoGoalReachable {
+            markings: 1,
+            examples,
+            ending_in_fail: 0,
+        },
+    ] = failures_of(&report, Property::Effectiveness)[..]
+    else {
+        panic!("only 'lost' cannot reach the goal: {report}");
+    };
+    assert_eq!(examples[0].marking, "lost");
+    assert_eq!(examples[0].trace, ["look.start", "look.end [not ok]"]);
+    let [Failure::DeadMarkings { markings: 1, .. }] = failures_of(&report, Property::Deadlock)[..]
+    else {
+        panic!("'lost' is dead: {report}");
+    };
+    assert_eq!(verdict(&report, Property::Minimality), &Verdict::Passed);
+}
+
+#[test]
+fn fail_markings_are_terminal_and_excluded() {
+    let mut b = PlanBuilder::new("with_fail");
+    let init = b.initial_place("init");
+    let exec = b.place("look.exec");
+    b.transition("look.start", &[(init, 1)], &[(exec, 1)]);
+    let goal = b.goal_place();
+    let fail = b.place("fail");
+    b.transition("look.end [ok]", &[(exec, 1)], &[(goal, 1)]);
+    b.transition("look.end [not ok]", &[(exec, 1)], &[(fail, 1)]);
+    let report = check(&build(b), LIMIT);
+    assert!(report.passed(), "{report}");
+}
+
+#[test]
+fn a_transition_whose_input_is_never_marked_fails_minimality() {
+    let mut b = PlanBuilder::new("orphan");
+    let init = b.initial_place("init");
+    let goal = b.goal_place();
+    b.action_into(init, "A", goal);
+    let orphan = b.place("orphan");
+    b.transition("never", &[(orphan, 1)], &[(goal, 1)]);
+    let report = check(&build(b), LIMIT);
+    assert_eq!(verdict(&report, Property::Minimality), &Verdict::Failed);
+    let [
+        Failure::DeadTransition {
+            transition,
+            element,
+        },
+    ] = failures_of(&report, Property::Minimality)[..]
+    else {
+        panic!("one dead transition expected: {report}");
+    };
+    assert_eq!(*transition, TransitionId::new(2));
+    assert_eq!(
+        (element.id.as_str(), element.label.as_str()),
+        ("t3", "never")
+    );
+    for property in [
+        Property::Safety,
+        Property::Effectiveness,
+        Property::Deadlock,
+    ] {
+        assert_eq!(verdict(&report, property), &Verdict::Passed, "{property:?}");
+    }
+    let text = report.to_string();
+    assert!(
+        text.contains("transition t3 'never' can never fire"),
+        "{text}"
+    );
+    assert!(text.contains("never marked: p4 'orphan'"), "{text}");
+}
+
+#[test]
+fn two_starts_into_one_execution_place_fail_safety() {
+    let mut b = PlanBuilder::new("double_start");
+    let init = b.initial_place("init");
+    let branches = b.fork(init, 2);
+    let exec = b.place("A.exec");
+    let done = b.place("done");
+    b.transition("A.start", &[(branches[0], 1)], &[(exec, 1)]);
+    b.transition("A.start", &[(branches[1], 1)], &[(exec, 1)]);
+    b.transition("A.end", &[(exec, 1)], &[(done, 1)]);
+    let goal = b.goal_place();
+    b.transition("both", &[(done, 2)], &[(goal, 1)]);
+    let report = check(&build(b), LIMIT);
+    assert!(!report.passed());
+    assert_eq!(verdict(&report, Property::Safety), &Verdict::Failed);
+    let [
+        Failure::UnsafeExecution {
+            place,
+            action,
+            bound,
+            example,
+            ..
+        },
+    ] = failures_of(&report, Property::Safety)[..]
+    else {
+        panic!("one safety failure expected: {report}");
+    };
+    assert_eq!(*place, PlaceId::new(3));
+    assert_eq!(action, "A");
+    assert_eq!(*bound, Count::Finite(2));
+    assert_eq!(example.marking, "A.exec*2");
+    assert_eq!(example.trace, ["fork", "A.start", "A.start"]);
+    // `done` also holds two tokens, by design: a note, not a failure.
+    assert!(
+        report.notes.iter().any(|n| matches!(n, Note::AboveOne { element, bound: Count::Finite(2), .. } if element.label == "done")),
+        "{report}"
+    );
+    for property in [
+        Property::Minimality,
+        Property::Effectiveness,
+        Property::Deadlock,
+    ] {
+        assert_eq!(verdict(&report, property), &Verdict::Passed, "{property:?}");
+    }
+    assert!(report.to_string().contains("would run twice at once"));
+}
+
+/// Thesis Figure 5.7: each pass of the loop adds a token to `passes`.
+#[test]
+fn the_loop_counter_is_unbounded_by_design_and_passes() {
+    let mut b = PlanBuilder::new("loop_counter");
+    let junction = b.initial_place("junction");
+    let passes = b.memory_place("passes");
+    let moved = b.place("moved");
+    b.action_into(junction, "Left", moved);
+    b.action_into(junction, "Right", moved);
+    let next = b.transition("[not atExit]", &[(moved, 1)], &[(junction, 1)]);
+    b.produce(next, passes, 1);
+    let goal = b.goal_place();
+    b.transition("[atExit]", &[(moved, 1)], &[(goal, 1)]);
+    let report = check(&build(b), LIMIT);
+    assert!(report.passed(), "{report}");
+    assert!(report.complete);
+    assert_eq!(report.bounds[1].bound, Count::Unbounded);
+    assert!(report.has_unbounded());
+    assert_eq!(
+        report.notes,
+        [Note::AboveOne {
+            place: PlaceId::new(1),
+            element: report.bounds[1].element.clone(),
+            bound: Count::Unbounded
+        }]
+    );
+    let text = report.to_string();
+    assert!(text.contains("place p2 'passes' is unbounded"), "{text}");
+    assert!(text.contains("coverability graph"), "{text}");
+    // The junction is the one choice point.
+    assert_eq!(report.choice_points.len(), 1);
+    assert_eq!(report.choice_points[0].element.label, "junction");
+}
+
+#[test]
+fn an_unbounded_place_that_is_read_leaves_effectiveness_inconclusive() {
+    // `t1` pumps tokens into `pool` forever; `t2` drains one into the goal.
+    let plan = raw_plan(
+        &[("p1", "start", 1), ("p2", "pool", 0), ("p3", "goal", 0)],
+        &[("t1", "pump"), ("t2", "drain")],
+        &[
+            ("p1", "t1", 1),
+            ("t1", "p1", 1),
+            ("t1", "p2", 1),
+            ("p2", "t2", 1),
+            ("t2", "p3", 1),
+        ],
+    );
+    let report = check(&plan, LIMIT);
+    assert!(report.complete);
+    assert_eq!(report.bounds[1].bound, Count::Unbounded);
+    let Verdict::Inconclusive(why) = verdict(&report, Property::Effectiveness) else {
+        panic!("effectiveness should be inconclusive: {report}");
+    };
+    assert!(why.contains("p2 'pool'"), "{why}");
+    assert!(!report.passed());
+    assert!(report.to_string().contains("result: inconclusive"));
+}
+
+/// Thesis Figure 5.4: forks record the choice in a memory place; joins remove
+/// the memory token before the goal.
+#[test]
+fn the_penalty_kick_memory_place_stays_one_bounded_and_passes() {
+    let mut b = PlanBuilder::new("penalty_kick_memory");
+    let start = b.initial_place("start");
+    let ready = b.place("ready");
+    let walked = b.memory_place("walked");
+    let turned = b.memory_place("turned");
+    let walk = b.action_into(start, "WalkStraight", ready);
+    b.produce(walk.start, walked, 1);
+    let turn = b.action_into(start, "Turn", ready);
+    b.produce(turn.start, turned, 1);
+    let kick = b.action(ready, "Kick");
+    let goal = b.goal_place();
+    b.transition("join", &[(kick.done, 1), (walked, 1)], &[(goal, 1)]);
+    b.transition("join", &[(kick.done, 1), (turned, 1)], &[(goal, 1)]);
+    let report = check(&build(b), LIMIT);
+    assert!(report.passed(), "{report}");
+    assert!(report.notes.is_empty(), "{report}");
+    assert_eq!(report.bounds[2].bound, Count::Finite(1));
+    assert_eq!(report.choice_points.len(), 1);
+    assert_eq!(report.choice_points[0].element.label, "start");
+}
+
+#[test]
+fn hitting_the_marking_limit_makes_passes_inconclusive() {
+    let mut b = PlanBuilder::new("long");
+    let mut at = b.initial_place("init");
+    for i in 0..10 {
+        at = b.action(at, &format!("A{i}")).done;
+    }
+    let goal = b.goal_place();
+    b.transition("finish", &[(at, 1)], &[(goal, 1)]);
+    let report = check(&build(b), 4);
+    assert!(!report.complete);
+    assert_eq!(report.markings, 4);
+    assert!(report.failures.is_empty(), "{report}");
+    for property in Property::ALL {
+        assert!(
+            matches!(verdict(&report, property), Verdict::Inconclusive(_)),
+            "{property:?}: {report}"
+        );
+    }
+    assert!(!report.passed());
+    let text = report.to_string();
+    assert!(text.contains("marking limit of 4 reached"), "{text}");
+    assert!(text.contains("effectiveness  inconclusive"), "{text}");
+    assert!(text.contains("result: inconclusive"), "{text}");
+}
+
+#[test]
+fn a_failure_found_before_the_limit_is_still_a_failure() {
+    let mut b = PlanBuilder::new("early_double_start");
+    let init = b.initial_place("init");
+    b.set_tokens(init, 2);
+    let mut at = b.action(init, "A").done;
+    for i in 0..10 {
+        at = b.action(at, &format!("B{i}")).done;
+    }
+    let report = check(&build(b), 8);
+    assert!(!report.complete);
+    assert_eq!(verdict(&report, Property::Safety), &Verdict::Failed);
+    assert!(matches!(
+        verdict(&report, Property::Effectiveness),
+        Verdict::NotApplicable(_)
+    ));
+}
+
+#[test]
+fn a_plan_without_goal_places_gets_a_note() {
+    // Runs forever: a cycle of two actions.
+    let mut b = PlanBuilder::new("forever");
+    let init = b.initial_place("init");
+    let a = b.action(init, "A");
+    b.action_into(a.done, "B", init);
+    let report = check(&build(b), LIMIT);
+    assert!(report.passed(), "{report}");
+    assert_eq!(report.notes, [Note::NoGoal]);
+    assert!(matches!(
+        verdict(&report, Property::Effectiveness),
+        Verdict::NotApplicable(_)
+    ));
+    assert!(report.to_string().contains("no goal places"));
+}
+
+#[test]
+fn overflow_beyond_255_tokens_counts_as_unbounded_without_panicking() {
+    let plan = raw_plan(
+        &[("p1", "heap", 255), ("p2", "", 0)],
+        &[("t1", "grow")],
+        &[("p1", "t1", 1), ("t1", "p1", 2)],
+    );
+    let report = check(&plan, LIMIT);
+    assert_eq!(report.bounds[0].bound, Count::Unbounded);
+    assert_eq!(report.bounds[1].bound, Count::Finite(0));
+    assert!(report.complete);
+    assert_eq!(report.markings, 2);
+    let graph = explore(&plan, LIMIT);
+    let last = graph.states().last().expect("two markings");
+    assert!(graph.marking(last).is_none() && graph.has_omega(last));
+    assert_eq!(graph.describe(&plan, last), "heap*ω");
+}
+
+#[test]
+fn an_empty_net_is_one_dead_marking() {
+    let report = check(&raw_plan(&[], &[], &[]), 0);
+    assert_eq!(report.markings, 1);
+    assert_eq!(report.limit, 1);
+    assert_eq!(verdict(&report, Property::Minimality), &Verdict::Passed);
+    assert_eq!(verdict(&report, Property::Deadlock), &Verdict::Failed);
+    assert!(
+        report
+            .to_string()
+            .contains("e.g. [-] (the initial marking)")
+    );
+}
+
+#[test]
+fn reports_are_deterministic() {
+    let a = check(&sequence(), LIMIT).to_string();
+    let b = check(&sequence(), LIMIT).to_string();
+    assert_eq!(a, b);
+}
