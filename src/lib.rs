@@ -7,6 +7,7 @@
 pub mod condition;
 pub mod domains;
 pub mod executor;
+pub mod experiment;
 pub mod learning;
 pub mod net;
 pub mod plan;

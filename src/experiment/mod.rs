@@ -1,0 +1,3 @@
+//! Experiments: statistics over independent runs and the plots of their results.
+
+pub mod stats;
