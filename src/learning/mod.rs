@@ -8,6 +8,7 @@
 
 mod mcesp;
 mod monte_carlo;
+pub mod persist;
 pub mod selection;
 mod sosmc;
 mod td;

@@ -1,0 +1,597 @@
+//! Saving and loading learned value tables, safely.
+//!
+//! A value file is a small header followed by a checksummed payload (all
+//! integers little-endian):
+//!
+//! | offset | size | content                                                   |
+//! |-------:|-----:|-----------------------------------------------------------|
+//! | 0      | 8    | magic bytes [`MAGIC`] (`LPNPVAL\0`)                       |
+//! | 8      | 4    | format version, `u32` ([`FORMAT_VERSION`])                |
+//! | 12     | 8    | payload length in bytes, `u64`                            |
+//! | 20     | 4    | CRC-32 (IEEE) of the payload, `u32`                       |
+//! | 24     | n    | payload: bincode 2 (serde, standard config) of [`SavedValues`] |
+//!
+//! The file must be exactly header plus payload long. Markings are stored as
+//! plain token vectors together with the place labels of every plan, so a file
+//! can be listed ([`write_csv`]) without the plans that produced it, and checked
+//! for consistency when it is read back.
+//!
+//! [`save`] never leaves a half-written file behind: it writes a temporary file
+//! in the same directory, syncs it and renames it over the target; the previous
+//! table, if it was a valid value file, is kept as `<path>.prev` first.
+//! [`load`] never modifies anything, and [`load_latest`] falls back to the
+//! `.prev` copy when the main file is unusable.
+
+use std::collections::HashMap;
+use std::ffi::OsString;
+use std::fs::{self, File, OpenOptions};
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use serde::{Deserialize, Serialize};
+
+use super::{StateKey, ValueTable};
+use crate::executor::PlanKey;
+use crate::net::Marking;
+use crate::plan::Plan;
+
+/// The first eight bytes of every value file.
+pub const MAGIC: [u8; 8] = *b"LPNPVAL\0";
+
+/// The format version this build writes and reads.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// Bytes before the payload: magic, version, payload length, checksum.
+pub const HEADER_LEN: usize = 24;
+
+/// A value table in a form that outlives the process: plan and place names
+/// plus every entry.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SavedValues {
+    /// The learner that produced the values (free text, e.g. `sosmc`).
+    pub algorithm: String,
+    /// The plans of the activation tree; the index is the [`PlanKey`].
+    pub plans: Vec<PlanLabels>,
+    /// Every entry of the table, in the table's id order.
+    pub entries: Vec<SavedEntry>,
+}
+
+/// The names of one plan and of its places.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PlanLabels {
+    /// The plan's name.
+    pub name: String,
+    /// One name per place, in place order: the label, or the place id when the
+    /// label is empty (as [`Plan::describe`] does).
+    pub places: Vec<String>,
+}
+
+/// One entry of a saved table.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SavedEntry {
+    /// The plan (index into [`SavedValues::plans`]).
+    pub plan: u16,
+    /// Token count of every place of that plan.
+    pub tokens: Vec<u8>,
+    /// The value; negative infinity means "no estimate yet".
+    pub value: f64,
+    /// Updates of the entry so far.
+    pub visits: u64,
+}
+
+/// Why a [`SavedValues`] does not describe a table: the entry at fault and what is wrong.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum Inconsistency {
+    /// An entry names a plan that is not listed.
+    #[error("entry {entry} refers to plan {plan}, but only {plans} plan(s) are listed")]
+    UnknownPlan {
+        /// Index of the entry.
+        entry: usize,
+        /// The plan it names.
+        plan: u16,
+        /// How many plans are listed.
+        plans: usize,
+    },
+    /// An entry's token vector does not match its plan's places.
+    #[error(
+        "entry {entry} has {found} token count(s), but plan {plan} ('{name}') has {expected} place(s)"
+    )]
+    WrongLength {
+        /// Index of the entry.
+        entry: usize,
+        /// Its plan.
+        plan: u16,
+        /// The plan's name.
+        name: String,
+        /// Places of the plan.
+        expected: usize,
+        /// Token counts in the entry.
+        found: usize,
+    },
+    /// Two entries have the same plan and marking.
+    #[error("entry {entry} repeats the marking of entry {first} (plan {plan})")]
+    Duplicate {
+        /// Index of the second entry.
+        entry: usize,
+        /// Index of the first one.
+        first: usize,
+        /// Their plan.
+        plan: u16,
+    },
+}
+
+/// A value file that cannot be saved or loaded; the message starts with its path.
+#[derive(Debug, thiserror::Error)]
+pub enum PersistError {
+    /// Reading, writing or renaming failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        source: io::Error,
+    },
+    /// The file does not start with [`MAGIC`].
+    #[error("{path}: not a learnpnp value file (bad magic bytes)")]
+    NotAValueFile {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The file was written in a format version this build does not read.
+    #[error(
+        "{path}: unsupported value file version {found} (this build reads version {supported})"
+    )]
+    UnsupportedVersion {
+        /// The file.
+        path: PathBuf,
+        /// The version in the file.
+        found: u32,
+        /// The version this build reads.
+        supported: u32,
+    },
+    /// The file is shorter than its header or than the payload it announces.
+    #[error("{path}: truncated value file ({actual} bytes, expected {expected})")]
+    Truncated {
+        /// The file.
+        path: PathBuf,
+        /// Bytes the file should have (at least).
+        expected: u64,
+        /// Bytes it has.
+        actual: u64,
+    },
+    /// The file is longer than header plus announced payload.
+    #[error("{path}: {extra} unexpected byte(s) after the payload")]
+    TrailingBytes {
+        /// The file.
+        path: PathBuf,
+        /// Bytes beyond the payload.
+        extra: u64,
+    },
+    /// The payload does not match its checksum.
+    #[error(
+        "{path}: checksum mismatch (stored {stored:#010x}, computed {computed:#010x}); the file is corrupt"
+    )]
+    Checksum {
+        /// The file.
+        path: PathBuf,
+        /// The checksum in the header.
+        stored: u32,
+        /// The checksum of the payload read.
+        computed: u32,
+    },
+    /// The payload passed its checksum but cannot be decoded.
+    #[error("{path}: undecodable payload: {source}")]
+    Decode {
+        /// The file.
+        path: PathBuf,
+        /// The decoder's error.
+        source: bincode::error::DecodeError,
+    },
+    /// The payload decodes to fewer bytes than announced.
+    #[error("{path}: undecodable payload: {unused} byte(s) left over after decoding")]
+    PayloadTrailingBytes {
+        /// The file.
+        path: PathBuf,
+        /// Payload bytes not consumed by the decoder.
+        unused: usize,
+    },
+    /// The values cannot be encoded.
+    #[error("{path}: cannot encode the values: {source}")]
+    Encode {
+        /// The file.
+        path: PathBuf,
+        /// The encoder's error.
+        source: bincode::error::EncodeError,
+    },
+    /// The payload decodes but does not describe a table (or the values to
+    /// save do not).
+    #[error("{path}: inconsistent values: {source}")]
+    Inconsistent {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        source: Inconsistency,
+    },
+}
+
+impl PlanLabels {
+    /// The names of `plan` and of its places.
+    pub fn of(plan: &Plan) -> Self {
+        PlanLabels {
+            name: plan.name().to_string(),
+            places: plan
+                .net()
+                .places()
+                .iter()
+                .map(|p| {
+                    if p.label.is_empty() {
+                        p.id.clone()
+                    } else {
+                        p.label.clone()
+                    }
+                })
+                .collect(),
+        }
+    }
+
+    /// A marking as text: the names of its marked places joined by spaces,
+    /// `name*n` for a place with `n > 1` tokens, `-` when nothing is marked.
+    /// Token counts beyond the listed places are named `#<index>`.
+    pub fn describe(&self, tokens: &[u8]) -> String {
+        let parts: Vec<String> = tokens
+            .iter()
+            .enumerate()
+            .filter(|(_, n)| **n > 0)
+            .map(|(i, &n)| {
+                let name = self
+                    .places
+                    .get(i)
+                    .cloned()
+                    .unwrap_or_else(|| format!("#{i}"));
+                if n == 1 { name } else { format!("{name}*{n}") }
+            })
+            .collect();
+        if parts.is_empty() {
+            "-".to_string()
+        } else {
+            parts.join(" ")
+        }
+    }
+}
+
+impl SavedValues {
+    /// The contents of `table`, learned by `algorithm`, over `plans` (indexed by
+    /// [`PlanKey`]: the root plan first, sub-plans in registration order).
+    ///
+    /// Nothing is checked here; [`SavedValues::validate`] (also run by [`save`])
+    /// reports keys whose plan is missing from `plans` or whose marking does not
+    /// fit the plan.
+    pub fn new(algorithm: impl Into<String>, table: &ValueTable, plans: &[&Plan]) -> Self {
+        SavedValues {
+            algorithm: algorithm.into(),
+            plans: plans.iter().map(|p| PlanLabels::of(p)).collect(),
+            entries: table
+                .entries()
+                .map(|(key, value, visits)| SavedEntry {
+                    plan: key.plan.0,
+                    tokens: key.marking.tokens().to_vec(),
+                    value,
+                    visits,
+                })
+                .collect(),
+        }
+    }
+
+    /// A table holding every entry (values and visit counts exactly as saved,
+    /// ids in entry order) whose new entries start at `initial_value`.
+    pub fn to_table(&self, initial_value: f64) -> ValueTable {
+        let mut table = ValueTable::new(initial_value);
+        for e in &self.entries {
+            table.insert(
+                StateKey {
+                    plan: PlanKey(e.plan),
+                    marking: Marking::from_tokens(e.tokens.clone()),
+                },
+                e.value,
+                e.visits,
+            );
+        }
+        table
+    }
+
+    /// Checks that every entry names a listed plan, fits its places, and that no
+    /// (plan, marking) appears twice.
+    pub fn validate(&self) -> Result<(), Inconsistency> {
+        let mut seen: HashMap<(u16, &[u8]), usize> = HashMap::with_capacity(self.entries.len());
+        for (entry, e) in self.entries.iter().enumerate() {
+            let Some(plan) = self.plans.get(usize::from(e.plan)) else {
+                return Err(Inconsistency::UnknownPlan {
+                    entry,
+                    plan: e.plan,
+                    plans: self.plans.len(),
+                });
+            };
+            if e.tokens.len() != plan.places.len() {
+                return Err(Inconsistency::WrongLength {
+                    entry,
+                    plan: e.plan,
+                    name: plan.name.clone(),
+                    expected: plan.places.len(),
+                    found: e.tokens.len(),
+                });
+            }
+            if let Some(&first) = seen.get(&(e.plan, e.tokens.as_slice())) {
+                return Err(Inconsistency::Duplicate {
+                    entry,
+                    first,
+                    plan: e.plan,
+                });
+            }
+            seen.insert((e.plan, e.tokens.as_slice()), entry);
+        }
+        Ok(())
+    }
+}
+
+/// The file kept next to `path` holding the previous valid table: `<path>.prev`.
+pub fn prev_path(path: &Path) -> PathBuf {
+    let mut name = OsString::from(path.as_os_str());
+    name.push(".prev");
+    PathBuf::from(name)
+}
+
+/// Saves `values` to `path` atomically.
+///
+/// The values are checked first ([`SavedValues::validate`]); nothing is written
+/// if they are inconsistent. If `path` already holds a valid value file, its
+/// bytes are first installed (atomically) as `<path>.prev`; an unreadable or
+/// corrupt file at `path` is simply replaced, so `.prev` keeps the last good
+/// table. The new file is then written to a temporary file in the same
+/// directory, synced, and renamed over `path`: at every moment `path` holds
+/// either the old or the new complete file.
+pub fn save(path: &Path, values: &SavedValues) -> Result<(), PersistError> {
+    values
+        .validate()
+        .map_err(|source| PersistError::Inconsistent {
+            path: path.to_path_buf(),
+            source,
+        })?;
+    let payload =
+        bincode::serde::encode_to_vec(values, bincode::config::standard()).map_err(|source| {
+            PersistError::Encode {
+                path: path.to_path_buf(),
+                source,
+            }
+        })?;
+    let mut bytes = Vec::with_capacity(HEADER_LEN + payload.len());
+    bytes.extend_from_slice(&MAGIC);
+    bytes.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+    bytes.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+    bytes.extend_from_slice(&crc32fast::hash(&payload).to_le_bytes());
+    bytes.extend_from_slice(&payload);
+
+    let previous = fs::read(path).ok().filter(|old| parse(path, old).is_ok());
+    if let Some(old) = previous {
+        let prev = prev_path(path);
+        write_atomic(&prev, &old).map_err(|source| PersistError::Io { path: prev, source })?;
+    }
+    write_atomic(path, &bytes).map_err(|source| PersistError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// Reads the value file at `path`, checking magic, version, length, checksum
+/// and consistency. Never modifies the file, and never panics, whatever it holds.
+pub fn load(path: &Path) -> Result<SavedValues, PersistError> {
+    let bytes = fs::read(path).map_err(|source| PersistError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse(path, &bytes)
+}
+
+/// Reads `path`, or, if it cannot be used (missing, unreadable or corrupt),
+/// `<path>.prev` together with the error that made `path` unusable, so callers
+/// can report the problem and continue with the last good table.
+///
+/// When `.prev` cannot be used either, the error about `path` is returned.
+pub fn load_latest(path: &Path) -> Result<(SavedValues, Option<PersistError>), PersistError> {
+    match load(path) {
+        Ok(values) => Ok((values, None)),
+        Err(error) => match load(&prev_path(path)) {
+            Ok(values) => Ok((values, Some(error))),
+            Err(_) => Err(error),
+        },
+    }
+}
+
+/// Decodes the bytes of a value file read from `path`.
+fn parse(path: &Path, bytes: &[u8]) -> Result<SavedValues, PersistError> {
+    let path_buf = || path.to_path_buf();
+    let magic_len = bytes.len().min(MAGIC.len());
+    if bytes[..magic_len] != MAGIC[..magic_len] {
+        return Err(PersistError::NotAValueFile { path: path_buf() });
+    }
+    let Some((header, rest)) = bytes.split_first_chunk::<HEADER_LEN>() else {
+        return Err(PersistError::Truncated {
+            path: path_buf(),
+            expected: HEADER_LEN as u64,
+            actual: bytes.len() as u64,
+        });
+    };
+    let (_, header) = header.split_at(MAGIC.len());
+    let (version, header) = split_u32(header);
+    let (length, header) = split_u64(header);
+    let (stored, _) = split_u32(header);
+    if version != FORMAT_VERSION {
+        return Err(PersistError::UnsupportedVersion {
+            path: path_buf(),
+            found: version,
+            supported: FORMAT_VERSION,
+        });
+    }
+    let available = rest.len() as u64;
+    if available < length {
+        return Err(PersistError::Truncated {
+            path: path_buf(),
+            expected: (HEADER_LEN as u64).saturating_add(length),
+            actual: bytes.len() as u64,
+        });
+    }
+    if available > length {
+        return Err(PersistError::TrailingBytes {
+            path: path_buf(),
+            extra: available - length,
+        });
+    }
+    let computed = crc32fast::hash(rest);
+    if computed != stored {
+        return Err(PersistError::Checksum {
+            path: path_buf(),
+            stored,
+            computed,
+        });
+    }
+    let (values, used): (SavedValues, usize) =
+        bincode::serde::decode_from_slice(rest, bincode::config::standard()).map_err(|source| {
+            PersistError::Decode {
+                path: path_buf(),
+                source,
+            }
+        })?;
+    if used != rest.len() {
+        return Err(PersistError::PayloadTrailingBytes {
+            path: path_buf(),
+            unused: rest.len().saturating_sub(used),
+        });
+    }
+    values
+        .validate()
+        .map_err(|source| PersistError::Inconsistent {
+            path: path_buf(),
+            source,
+        })?;
+    Ok(values)
+}
+
+/// Splits a little-endian `u32` off the front of a header slice of known length.
+fn split_u32(bytes: &[u8]) -> (u32, &[u8]) {
+    let mut word = [0; 4];
+    let (head, rest) = bytes.split_at(4);
+    word.copy_from_slice(head);
+    (u32::from_le_bytes(word), rest)
+}
+
+/// Splits a little-endian `u64` off the front of a header slice of known length.
+fn split_u64(bytes: &[u8]) -> (u64, &[u8]) {
+    let mut word = [0; 8];
+    let (head, rest) = bytes.split_at(8);
+    word.copy_from_slice(head);
+    (u64::from_le_bytes(word), rest)
+}
+
+/// Writes `bytes` to `path` atomically: a temporary file in the same directory
+/// is written, synced and renamed over `path` (then the directory is synced on
+/// Unix). On failure the temporary file is removed and `path` is untouched.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let Some(name) = path.file_name() else {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "the path does not name a file",
+        ));
+    };
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let mut temp_name = OsString::from(".");
+    temp_name.push(name);
+    temp_name.push(format!(
+        ".{}.{}.tmp",
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::Relaxed)
+    ));
+    let temp = dir.join(temp_name);
+    let result = (|| {
+        let mut file = OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&temp)?;
+        file.write_all(bytes)?;
+        file.sync_all()?;
+        drop(file);
+        fs::rename(&temp, path)
+    })();
+    if result.is_err() {
+        // Best effort: the temporary file may not even exist.
+        let _ = fs::remove_file(&temp);
+    }
+    result?;
+    sync_dir(dir);
+    Ok(())
+}
+
+/// Makes a rename in `dir` durable (Unix; best effort: some file systems refuse).
+fn sync_dir(dir: &Path) {
+    #[cfg(unix)]
+    if let Ok(d) = File::open(dir) {
+        let _ = d.sync_all();
+    }
+    #[cfg(not(unix))]
+    let _ = dir;
+}
+
+/// Lists `values` as CSV: `plan,marking,value,visits`, one row per entry.
+///
+/// `plan` is the plan's name, `marking` the names of its marked places (see
+/// [`PlanLabels::describe`]), `value` printed exactly (the shortest text that
+/// reads back to the same number, e.g. `0.5`, `3.0`, `1e-300`; `-inf` for no
+/// estimate), `visits` the update count.
+/// Fields with commas, quotes or line breaks are quoted. Rows are sorted by
+/// plan index, then marking text. Inconsistent values (see
+/// [`SavedValues::validate`]) are refused with [`io::ErrorKind::InvalidData`].
+pub fn write_csv(values: &SavedValues, out: &mut impl Write) -> io::Result<()> {
+    values
+        .validate()
+        .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))?;
+    let mut rows: Vec<(u16, String, &SavedEntry)> = values
+        .entries
+        .iter()
+        .map(|e| {
+            let text = values
+                .plans
+                .get(usize::from(e.plan))
+                .map_or_else(String::new, |p| p.describe(&e.tokens));
+            (e.plan, text, e)
+        })
+        .collect();
+    rows.sort_by(|a, b| (a.0, &a.1).cmp(&(b.0, &b.1)));
+    writeln!(out, "plan,marking,value,visits")?;
+    for (plan, marking, e) in rows {
+        let name = values
+            .plans
+            .get(usize::from(plan))
+            .map_or("", |p| p.name.as_str());
+        writeln!(
+            out,
+            "{},{},{:?},{}",
+            csv_field(name),
+            csv_field(&marking),
+            e.value,
+            e.visits
+        )?;
+    }
+    Ok(())
+}
+
+/// Quotes a CSV field when it holds a comma, a quote or a line break.
+fn csv_field(text: &str) -> std::borrow::Cow<'_, str> {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\"")).into()
+    } else {
+        text.into()
+    }
+}

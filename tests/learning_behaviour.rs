@@ -1,0 +1,253 @@
+//! The defining behaviour of each learner, on the thesis's domains.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use learnpnp::domains::Task;
+use learnpnp::domains::parr_russell::{self, ParrRussell, ParrRussellConfig};
+use learnpnp::domains::penalty_kick::{self, PenaltyKick, PenaltyKickConfig, Variant};
+use learnpnp::executor::{Chooser, PendingReward, PlanKey};
+use learnpnp::learning::{
+    Assessment, EpisodeMode, EpisodeStart, Exploration, Learner, Mcesp, McespConfig, Schedule, Scope, Sigma, SoSmc,
+    SoSmcConfig, StepSize, Target, TdConfig, TdLearner, ThresholdRule, ValueTable,
+};
+use learnpnp::net::Marking;
+use learnpnp::rng::{derive_seed, seeded};
+
+fn sosmc(initial_phase: u64, assessment: Assessment) -> SoSmcConfig {
+    SoSmcConfig {
+        gamma: 1.0,
+        initial_phase,
+        sigma: Sigma::EpsilonGreedy,
+        initial_parameter: Schedule::constant(0.5),
+        assessing_parameter: Schedule::constant(0.2),
+        assessment,
+        step_size: StepSize::Constant(0.01),
+        initial_value: f64::NEG_INFINITY,
+        threshold: None,
+    }
+}
+
+fn grid(learner: Box<dyn Learner>, seed: u64) -> ParrRussell {
+    let plan = Arc::new(parr_russell::default_plan().unwrap());
+    ParrRussell::new(ParrRussellConfig::default(), plan, learner, seeded(seed)).unwrap()
+}
+
+fn snapshot(table: &ValueTable) -> HashMap<(PlanKey, Marking), f64> {
+    table.entries().map(|(k, v, _)| ((k.plan, k.marking.clone()), v)).collect()
+}
+
+#[test]
+fn an_exploratory_sosmc_episode_never_lowers_a_value() {
+    let mut task = grid(Box::new(SoSmc::new(sosmc(100, Assessment::PerDecision), seeded(1))), 2);
+    let (mut exploratory, mut exploiting) = (0, 0);
+    for _ in 0..600 {
+        let before = snapshot(task.learners()[0].values());
+        let outcome = task.episode(EpisodeMode::Learn).unwrap();
+        let after = snapshot(task.learners()[0].values());
+        if outcome.exploratory {
+            exploratory += 1;
+            for (key, old) in &before {
+                assert!(after[key] >= *old, "an exploratory episode lowered {old} to {}", after[key]);
+            }
+        } else {
+            exploiting += 1;
+        }
+    }
+    // Both kinds happened, so the property was exercised (and exploiting episodes may lower).
+    assert!(exploratory > 100 && exploiting > 50, "{exploratory} exploratory, {exploiting} exploiting");
+}
+
+/// Delegates to a learner and records every choice of the current episode.
+struct Recording<L> {
+    inner: L,
+    episode: Vec<(Marking, Marking)>,
+    repeats: usize,
+}
+
+impl<L: Learner> Chooser for Recording<L> {
+    fn choose(&mut self, plan: PlanKey, state: &Marking, options: &[Marking]) -> usize {
+        let i = self.inner.choose(plan, state, options);
+        if let Some((_, earlier)) = self.episode.iter().find(|(s, _)| s == state) {
+            assert_eq!(earlier, &options[i], "a different choice at an observation already decided this episode");
+            self.repeats += 1;
+        }
+        self.episode.push((state.clone(), options[i].clone()));
+        i
+    }
+    fn transition(&mut self, plan: PlanKey, marking: &Marking, reward: f64, elapsed: u32) {
+        self.inner.transition(plan, marking, reward, elapsed);
+    }
+    fn plan_started(&mut self, plan: PlanKey, marking: &Marking) {
+        self.inner.plan_started(plan, marking);
+    }
+}
+
+impl<L: Learner> Learner for Recording<L> {
+    fn begin_episode(&mut self, start: EpisodeStart) {
+        self.episode.clear();
+        self.inner.begin_episode(start);
+    }
+    fn end_episode(&mut self, tail: PendingReward) {
+        self.inner.end_episode(tail);
+    }
+    fn exploratory(&self) -> bool {
+        self.inner.exploratory()
+    }
+    fn values(&self) -> &ValueTable {
+        self.inner.values()
+    }
+    fn values_mut(&mut self) -> &mut ValueTable {
+        self.inner.values_mut()
+    }
+}
+
+#[test]
+fn consistent_exploration_repeats_its_choice_within_an_episode() {
+    // Highly exploratory: every decision is drawn at random unless remembered.
+    let mut config = sosmc(1000, Assessment::PerDecision);
+    config.initial_parameter = Schedule::constant(1.0);
+    let learner = Recording { inner: SoSmc::new(config, seeded(3)), episode: Vec::new(), repeats: 0 };
+    let mut task = grid(Box::new(learner), 4);
+    let mut total_repeats = 0;
+    for _ in 0..200 {
+        task.episode(EpisodeMode::Learn).unwrap();
+    }
+    // The recording learner asserted on every repeat; make sure repeats happened.
+    let values = task.learners()[0].values().len();
+    assert!(values > 0);
+    for _ in 0..50 {
+        let before = task.episode(EpisodeMode::Learn).unwrap();
+        total_repeats += before.actions as usize;
+    }
+    assert!(total_repeats > 200, "episodes revisit observations many times");
+}
+
+/// Plays a synthetic episode: one choice between two options with random return.
+fn synthetic_episode(learner: &mut dyn Learner, ret: f64) {
+    learner.begin_episode(EpisodeStart::LEARN);
+    let state = Marking::from_tokens(vec![1, 0, 0]);
+    let options = [Marking::from_tokens(vec![0, 1, 0]), Marking::from_tokens(vec![0, 0, 1])];
+    learner.plan_started(PlanKey::ROOT, &state);
+    let i = learner.choose(PlanKey::ROOT, &state, &options);
+    learner.transition(PlanKey::ROOT, &options[i], 0.0, 1);
+    learner.end_episode(PendingReward { reward: ret, elapsed: 1 });
+}
+
+#[test]
+fn the_multi_agent_schedule_is_the_same_in_every_agent() {
+    // Agents with different random streams and different returns agree on which
+    // episodes explore, from the episode number alone (thesis 4.4).
+    let mut config = sosmc(30, Assessment::EveryN(7));
+    config.sigma = Sigma::Softmax;
+    let mut agents: Vec<SoSmc> = (0..3).map(|i| SoSmc::new(config, seeded(derive_seed(9, i)))).collect();
+    let mut rng = seeded(10);
+    let mut flags = vec![Vec::new(); agents.len()];
+    for _ in 0..200 {
+        for (a, agent) in agents.iter_mut().enumerate() {
+            let ret = rand::RngExt::random::<f64>(&mut rng) * (a as f64 + 1.0);
+            synthetic_episode(agent, ret);
+            flags[a].push(agent.exploratory());
+        }
+    }
+    assert_eq!(flags[0], flags[1]);
+    assert_eq!(flags[1], flags[2]);
+    let explored: Vec<usize> = flags[0].iter().enumerate().filter(|(_, f)| **f).map(|(i, _)| i).collect();
+    assert!(explored[..30].iter().eq((0..30).collect::<Vec<_>>().iter()), "the initial phase explores");
+    assert!(explored[30..].iter().all(|e| (e - 30 + 1) % 7 == 0), "then every 7th episode: {explored:?}");
+}
+
+#[test]
+fn the_threshold_rule_suspends_exploration_while_returns_are_good() {
+    let mut config = sosmc(0, Assessment::EveryN(2));
+    config.threshold = Some(ThresholdRule { threshold: 5.0, window: 10 });
+    let mut agent = SoSmc::new(config, seeded(5));
+    let mut explored = Vec::new();
+    for e in 0..120 {
+        let ret = if e < 60 { 10.0 } else { 0.0 };
+        synthetic_episode(&mut agent, ret);
+        explored.push(agent.exploratory());
+    }
+    // While good: after the window fills (20 episodes at one exploring in two), no exploration.
+    assert!(explored[25..60].iter().all(|e| !e), "{explored:?}");
+    // After returns fall below the threshold for a window, exploration resumes.
+    assert!(explored[75..].iter().any(|e| *e), "{explored:?}");
+}
+
+#[test]
+fn inverse_step_size_restarts_estimates_after_a_policy_change() {
+    let mut config = sosmc(0, Assessment::Never);
+    config.step_size = StepSize::InverseCount;
+    config.initial_value = 0.0;
+    let mut agent = SoSmc::new(config, seeded(6));
+    // Exploiting episodes average their returns exactly: 1/n.
+    for ret in [4.0, 8.0, 6.0] {
+        synthetic_episode(&mut agent, ret);
+    }
+    let values: Vec<f64> = agent.values().entries().map(|(_, v, _)| v).filter(|v| *v != 0.0).collect();
+    assert_eq!(values.len(), 1, "one option taken by the greedy policy");
+    assert!((values[0] - 6.0).abs() < 1e-12, "mean of 4, 8, 6 is 6, got {}", values[0]);
+}
+
+fn td(scope: Scope, lambda: f64) -> TdConfig {
+    TdConfig {
+        gamma: 1.0,
+        alpha: 0.1,
+        lambda,
+        target: Target::OnPolicy,
+        scope,
+        exploration: Exploration::EpsilonGreedy(Schedule::constant(0.3)),
+        initial_value: 0.0,
+        consistent: false,
+    }
+}
+
+/// Values of WalkStraight and Turn after learning the penalty kick.
+fn kick_values(variant: Variant, learner: Box<dyn Learner>) -> (f64, f64) {
+    let plan = Arc::new(penalty_kick::plan(variant).unwrap());
+    let config = PenaltyKickConfig { variant, ..Default::default() };
+    let mut task = PenaltyKick::new(config, plan, learner).unwrap();
+    for _ in 0..400 {
+        task.episode(EpisodeMode::Learn).unwrap();
+    }
+    let traced = task.traced_values();
+    (traced[0].1, traced[1].1)
+}
+
+#[test]
+fn one_step_td_on_markings_needs_memory_to_tell_the_kicks_apart() {
+    // Plain plan: both choices lead to the same Kick marking, so TD(0) on markings
+    // gives WalkStraight and Turn the same value (the average of 10 and 0).
+    let (walk, turn) = kick_values(Variant::Plain, Box::new(TdLearner::new(td(Scope::Markings, 0.0), seeded(7))));
+    assert!((walk - turn).abs() < 1.5, "plain: {walk} vs {turn}");
+    // Tree and memory-place plans make the markings differ: the values separate.
+    for variant in [Variant::Tree, Variant::Memory] {
+        let (walk, turn) = kick_values(variant, Box::new(TdLearner::new(td(Scope::Markings, 0.0), seeded(8))));
+        assert!(walk > 9.0 && turn < 1.0, "{variant:?}: {walk} vs {turn}");
+    }
+}
+
+#[test]
+fn monte_carlo_methods_tell_the_kicks_apart_in_the_plain_plan() {
+    let config = sosmc(20, Assessment::PerDecision);
+    let (walk, turn) = kick_values(Variant::Plain, Box::new(SoSmc::new(config, seeded(9))));
+    assert!(walk > 9.0 && turn < 1.0, "SoSMC: {walk} vs {turn}");
+}
+
+#[test]
+fn mcesp_improves_its_policy() {
+    let config = McespConfig { gamma: 1.0, stage_length: 10, alpha_min: 0.01, initial_value: 0.0 };
+    let mut gains = 0;
+    for seed in 0..5 {
+        let mut task = grid(Box::new(Mcesp::new(config, seeded(100 + seed))), 200 + seed);
+        let before = task.greedy_score(200).unwrap();
+        for _ in 0..3000 {
+            task.episode(EpisodeMode::Learn).unwrap();
+        }
+        let after = task.greedy_score(200).unwrap();
+        if after > before + 0.5 {
+            gains += 1;
+        }
+    }
+    assert!(gains >= 4, "MCESP improved in {gains} of 5 runs");
+}
