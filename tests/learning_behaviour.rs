@@ -69,7 +69,7 @@ impl<L: Learner> Chooser for Recording<L> {
     fn choose(&mut self, plan: PlanKey, state: &Marking, options: &[Marking]) -> usize {
         let i = self.inner.choose(plan, state, options);
         if let Some((_, earlier)) = self.episode.iter().find(|(s, _)| s == state) {
-            assert_eq!(earlier, &options[i], "a different choice at an observation already decided this episode");
+            assert_eq!(earlier, &options[i], "a different choice at an observation already decided this episode: state {state} options {options:?}");
             self.repeats += 1;
         }
         self.episode.push((state.clone(), options[i].clone()));
@@ -245,6 +245,7 @@ fn mcesp_improves_its_policy() {
             task.episode(EpisodeMode::Learn).unwrap();
         }
         let after = task.greedy_score(200).unwrap();
+        eprintln!("mcesp seed {seed}: {before} -> {after}");
         if after > before + 0.5 {
             gains += 1;
         }

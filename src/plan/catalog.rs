@@ -126,11 +126,12 @@ pub fn loop_counter() -> Result<PetriNet, NetError> {
 /// Figure 5.9: four actions in a domain of two binary variables. A separate
 /// environment-tracking part follows `x` and `y`; the procedural part has one
 /// choice among the four actions, and each observation gives its own marking.
+/// The plan begins with one step in which the trackers settle.
 pub fn environment_tracking() -> Result<PetriNet, NetError> {
     let mut b = PlanBuilder::new("environment_tracking");
     b.tracker("x");
     b.tracker("y");
-    let choose = b.initial_place("choose");
+    let choose = settle_then(&mut b, "choose");
     let acted = b.place("acted");
     for name in ["Action1", "Action2", "Action3", "Action4"] {
         b.action_into(choose, name, acted);
@@ -139,6 +140,16 @@ pub fn environment_tracking() -> Result<PetriNet, NetError> {
     let goal = b.goal_place();
     b.transition("[done]", &[(acted, 1)], &[(goal, 1)]);
     b.build_net()
+}
+
+/// The place `label`, reached from the initial place `start` by one transition:
+/// environment trackers start in their `not_` place and settle during that
+/// first step, so the first choice already sees the true observation.
+fn settle_then(b: &mut PlanBuilder, label: &str) -> super::PlaceRef {
+    let start = b.initial_place("start");
+    let place = b.place(label);
+    b.transition("begin", &[(start, 1)], &[(place, 1)]);
+    place
 }
 
 /// The four moves of the grid worlds, in plan order.
@@ -151,7 +162,7 @@ pub fn parr_russell() -> Result<PetriNet, NetError> {
     let mut b = PlanBuilder::new("parr_russell");
     b.tracker("WallLeft");
     b.tracker("WallRight");
-    let choose = b.initial_place("choose");
+    let choose = settle_then(&mut b, "choose");
     let moved = b.place("moved");
     for name in MOVES {
         b.action_into(choose, name, moved);
@@ -182,7 +193,7 @@ pub fn sutton() -> Result<PetriNet, NetError> {
     for atom in NEIGHBOURS {
         b.tracker(atom);
     }
-    let choose = b.initial_place("choose");
+    let choose = settle_then(&mut b, "choose");
     let moved = b.place("moved");
     for (name, blocked) in MOVES
         .iter()
