@@ -259,3 +259,10 @@ impl WithInterval for CurvePoint {
         CurvePoint { low, high, ..self }
     }
 }
+
+#[test]
+fn errors_can_travel_across_threads() {
+    fn thread_safe<T: std::error::Error + Send + Sync + 'static>() {}
+    thread_safe::<PlotError>();
+    thread_safe::<CsvProblem>();
+}
