@@ -284,7 +284,9 @@ impl SavedValues {
     }
 
     /// A table holding every entry (values and visit counts exactly as saved,
-    /// ids in entry order) whose new entries start at `initial_value`.
+    /// ids in entry order) whose new entries start at `initial_value`. Of
+    /// entries repeating a key (which [`SavedValues::validate`] refuses, and
+    /// [`load`] never returns) the last one wins.
     pub fn to_table(&self, initial_value: f64) -> ValueTable {
         let mut table = ValueTable::new(initial_value);
         for e in &self.entries {
