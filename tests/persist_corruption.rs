@@ -216,6 +216,11 @@ fn a_payload_that_is_not_the_format_is_undecodable() {
         &file_bytes(FORMAT_VERSION, &[0xfc, 0xff, 0xff, 0xff, 0x7f]),
     );
     assert!(matches!(err, PersistError::Decode { .. }), "{err:?}");
+    // A string length of 2^62: refused without trying to allocate it.
+    let mut huge = vec![0xfd];
+    huge.extend_from_slice(&(1u64 << 62).to_le_bytes());
+    let err = load_err(&path, &file_bytes(FORMAT_VERSION, &huge));
+    assert!(matches!(err, PersistError::Decode { .. }), "{err:?}");
     let err = load_err(&path, &file_bytes(FORMAT_VERSION, &[]));
     assert!(matches!(err, PersistError::Decode { .. }), "{err:?}");
     // A valid encoding followed by bytes the decoder does not use.
@@ -323,4 +328,11 @@ proptest! {
             prop_assert!(v.validate().is_ok());
         }
     }
+}
+
+#[test]
+fn errors_can_travel_across_threads() {
+    fn thread_safe<T: std::error::Error + Send + Sync + 'static>() {}
+    thread_safe::<PersistError>();
+    thread_safe::<Inconsistency>();
 }

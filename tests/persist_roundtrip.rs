@@ -124,6 +124,45 @@ fn an_empty_table_round_trips() {
 }
 
 #[test]
+fn large_payloads_are_within_the_decoder_limits() {
+    let dir = scratch("large");
+    let path = dir.join("large.bin");
+    // Empty names are the densest claims on the decoder (8 per encoded byte).
+    let places = 300_000;
+    let wide = SavedValues {
+        algorithm: "x".repeat(100_000),
+        plans: vec![PlanLabels {
+            name: String::new(),
+            places: vec![String::new(); places],
+        }],
+        entries: (0..20u8)
+            .map(|i| SavedEntry {
+                plan: 0,
+                tokens: {
+                    let mut t = vec![0; places];
+                    t[usize::from(i)] = 1;
+                    t
+                },
+                value: f64::from(i),
+                visits: 0,
+            })
+            .collect(),
+    };
+    save(&path, &wide).expect("save");
+    assert_eq!(load(&path).expect("load"), wide);
+
+    let root = root_plan();
+    let mut t = ValueTable::new(0.0);
+    for i in 0..200_000u32 {
+        let tokens = i.to_le_bytes();
+        t.insert(key(0, &tokens), f64::from(i), 0);
+    }
+    let many = SavedValues::new("mc", &t, &[&root]);
+    save(&path, &many).expect("save");
+    assert_eq!(load(&path).expect("load"), many);
+}
+
+#[test]
 fn a_second_save_keeps_the_previous_table() {
     let dir = scratch("prev");
     let path = dir.join("values.bin");

@@ -107,11 +107,20 @@ fn nothing_to_plot_is_an_error() {
         label: "nan".into(),
         points: vec![point(f64::NAN, 1.0), point(1.0, f64::NAN)],
     };
+    let band_only = Series {
+        label: "band only".into(),
+        points: vec![CurvePoint {
+            x: 1.0,
+            mean: f64::NAN,
+            low: 0.0,
+            high: 1.0,
+        }],
+    };
     let none = Series {
         label: "none".into(),
         points: vec![],
     };
-    let err = plot_curves(&path, "t", "x", "y", &[nan, none]).expect_err("all NaN");
+    let err = plot_curves(&path, "t", "x", "y", &[nan, band_only, none]).expect_err("all NaN");
     assert!(matches!(err, PlotError::NoFinitePoints { .. }), "{err:?}");
     let err = plot_scatter(&path, "t", "x", "y", &[]).expect_err("no series");
     assert!(matches!(err, PlotError::NoSeries { .. }), "{err:?}");
@@ -258,4 +267,11 @@ impl WithInterval for CurvePoint {
     fn with(self, low: f64, high: f64) -> Self {
         CurvePoint { low, high, ..self }
     }
+}
+
+#[test]
+fn errors_can_travel_across_threads() {
+    fn thread_safe<T: std::error::Error + Send + Sync + 'static>() {}
+    thread_safe::<PlotError>();
+    thread_safe::<CsvProblem>();
 }

@@ -143,10 +143,10 @@ const FONT: &str = "sans-serif";
 /// confidence interval, a legend and labelled axes.
 ///
 /// The x range spans the data; the y range spans every finite mean and
-/// interval end with a 5% margin. Points with a non-finite `x` or `mean` break
-/// the line; points with a non-finite `low` or `high` break the band. Fails
-/// with [`PlotError::NoSeries`] or [`PlotError::NoFinitePoints`] when there is
-/// nothing to draw.
+/// interval end with a 5% margin. Points with a non-finite `x` or `mean` are
+/// skipped and break the line; points with a non-finite `low` or `high` break
+/// the band. Fails with [`PlotError::NoSeries`] or [`PlotError::NoFinitePoints`]
+/// when there is nothing to draw.
 pub fn plot_curves(
     path: &Path,
     title: &str,
@@ -164,7 +164,7 @@ pub fn plot_curves(
     let xy: Vec<(f64, f64)> = series
         .iter()
         .flat_map(|s| &s.points)
-        .filter(|p| p.x.is_finite())
+        .filter(|p| drawn(p))
         .flat_map(|p| [(p.x, p.mean), (p.x, p.low), (p.x, p.high)])
         .filter(|(_, y)| y.is_finite())
         .collect();

@@ -284,7 +284,9 @@ impl SavedValues {
     }
 
     /// A table holding every entry (values and visit counts exactly as saved,
-    /// ids in entry order) whose new entries start at `initial_value`.
+    /// ids in entry order) whose new entries start at `initial_value`. Of
+    /// entries repeating a key (which [`SavedValues::validate`] refuses, and
+    /// [`load`] never returns) the last one wins.
     pub fn to_table(&self, initial_value: f64) -> ValueTable {
         let mut table = ValueTable::new(initial_value);
         for e in &self.entries {
@@ -349,7 +351,8 @@ pub fn prev_path(path: &Path) -> PathBuf {
 /// corrupt file at `path` is simply replaced, so `.prev` keeps the last good
 /// table. The new file is then written to a temporary file in the same
 /// directory, synced, and renamed over `path`: at every moment `path` holds
-/// either the old or the new complete file.
+/// either the old or the new complete file. If keeping `.prev` fails, the new
+/// table is not written and the error names the `.prev` file.
 pub fn save(path: &Path, values: &SavedValues) -> Result<(), PersistError> {
     values
         .validate()
@@ -454,13 +457,10 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<SavedValues, PersistError> {
             computed,
         });
     }
-    let (values, used): (SavedValues, usize) =
-        bincode::serde::decode_from_slice(rest, bincode::config::standard()).map_err(|source| {
-            PersistError::Decode {
-                path: path_buf(),
-                source,
-            }
-        })?;
+    let (values, used) = decode(rest).map_err(|source| PersistError::Decode {
+        path: path_buf(),
+        source,
+    })?;
     if used != rest.len() {
         return Err(PersistError::PayloadTrailingBytes {
             path: path_buf(),
@@ -474,6 +474,40 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<SavedValues, PersistError> {
             source,
         })?;
     Ok(values)
+}
+
+/// Decodes a payload, bounding what the decoder may allocate.
+///
+/// bincode allocates a string's bytes before reading them, so a corrupt length
+/// could ask for exabytes. Its byte limit counts every claim (a string's
+/// length, the in-memory size of every number), which for a valid payload is at
+/// most eight times its encoded size; the limit is the smallest of a few fixed
+/// tiers above that (a limit is a compile-time constant), so a bogus length
+/// fails with `LimitExceeded` instead of allocating more than a small multiple
+/// of the file. Payloads beyond 256 MiB are decoded without a limit.
+fn decode(payload: &[u8]) -> Result<(SavedValues, usize), bincode::error::DecodeError> {
+    fn limited<const LIMIT: usize>(
+        payload: &[u8],
+    ) -> Result<(SavedValues, usize), bincode::error::DecodeError> {
+        bincode::serde::decode_from_slice(
+            payload,
+            bincode::config::standard().with_limit::<LIMIT>(),
+        )
+    }
+    let claims = payload.len().saturating_mul(8).saturating_add(4096);
+    if claims <= 1 << 16 {
+        limited::<{ 1 << 16 }>(payload)
+    } else if claims <= 1 << 20 {
+        limited::<{ 1 << 20 }>(payload)
+    } else if claims <= 1 << 24 {
+        limited::<{ 1 << 24 }>(payload)
+    } else if claims <= 1 << 28 {
+        limited::<{ 1 << 28 }>(payload)
+    } else if claims <= 1 << 31 {
+        limited::<{ 1 << 31 }>(payload)
+    } else {
+        limited::<{ usize::MAX }>(payload)
+    }
 }
 
 /// Splits a little-endian `u32` off the front of a header slice of known length.
