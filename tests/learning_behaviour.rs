@@ -2,14 +2,16 @@
 
 use std::collections::HashMap;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use learnpnp::domains::Task;
 use learnpnp::domains::parr_russell::{self, ParrRussell, ParrRussellConfig};
 use learnpnp::domains::penalty_kick::{self, PenaltyKick, PenaltyKickConfig, Variant};
 use learnpnp::executor::{Chooser, PendingReward, PlanKey};
 use learnpnp::learning::{
-    Assessment, EpisodeMode, EpisodeStart, Exploration, Learner, Mcesp, McespConfig, Schedule, Scope, Sigma, SoSmc,
-    SoSmcConfig, StepSize, Target, TdConfig, TdLearner, ThresholdRule, ValueTable,
+    Assessment, EpisodeMode, EpisodeStart, Exploration, Learner, Mcesp, McespConfig, Schedule,
+    Scope, Sigma, SoSmc, SoSmcConfig, StepSize, Target, TdConfig, TdLearner, ThresholdRule,
+    ValueTable,
 };
 use learnpnp::net::Marking;
 use learnpnp::rng::{derive_seed, seeded};
@@ -34,12 +36,18 @@ fn grid(learner: Box<dyn Learner>, seed: u64) -> ParrRussell {
 }
 
 fn snapshot(table: &ValueTable) -> HashMap<(PlanKey, Marking), f64> {
-    table.entries().map(|(k, v, _)| ((k.plan, k.marking.clone()), v)).collect()
+    table
+        .entries()
+        .map(|(k, v, _)| ((k.plan, k.marking.clone()), v))
+        .collect()
 }
 
 #[test]
 fn an_exploratory_sosmc_episode_never_lowers_a_value() {
-    let mut task = grid(Box::new(SoSmc::new(sosmc(100, Assessment::PerDecision), seeded(1))), 2);
+    let mut task = grid(
+        Box::new(SoSmc::new(sosmc(100, Assessment::PerDecision), seeded(1))),
+        2,
+    );
     let (mut exploratory, mut exploiting) = (0, 0);
     for _ in 0..600 {
         let before = snapshot(task.learners()[0].values());
@@ -48,29 +56,41 @@ fn an_exploratory_sosmc_episode_never_lowers_a_value() {
         if outcome.exploratory {
             exploratory += 1;
             for (key, old) in &before {
-                assert!(after[key] >= *old, "an exploratory episode lowered {old} to {}", after[key]);
+                assert!(
+                    after[key] >= *old,
+                    "an exploratory episode lowered {old} to {}",
+                    after[key]
+                );
             }
         } else {
             exploiting += 1;
         }
     }
     // Both kinds happened, so the property was exercised (and exploiting episodes may lower).
-    assert!(exploratory > 100 && exploiting > 50, "{exploratory} exploratory, {exploiting} exploiting");
+    assert!(
+        exploratory > 100 && exploiting > 50,
+        "{exploratory} exploratory, {exploiting} exploiting"
+    );
 }
 
-/// Delegates to a learner and records every choice of the current episode.
+/// Choices that met an observation already decided in the same episode.
+static REPEATS: AtomicUsize = AtomicUsize::new(0);
+
+/// Delegates to a learner and checks every choice of the current episode.
 struct Recording<L> {
     inner: L,
     episode: Vec<(Marking, Marking)>,
-    repeats: usize,
 }
 
 impl<L: Learner> Chooser for Recording<L> {
     fn choose(&mut self, plan: PlanKey, state: &Marking, options: &[Marking]) -> usize {
         let i = self.inner.choose(plan, state, options);
         if let Some((_, earlier)) = self.episode.iter().find(|(s, _)| s == state) {
-            assert_eq!(earlier, &options[i], "a different choice at an observation already decided this episode: state {state} options {options:?}");
-            self.repeats += 1;
+            assert_eq!(
+                earlier, &options[i],
+                "a different choice at {state}, already decided this episode"
+            );
+            REPEATS.fetch_add(1, Ordering::Relaxed);
         }
         self.episode.push((state.clone(), options[i].clone()));
         i
@@ -107,31 +127,36 @@ fn consistent_exploration_repeats_its_choice_within_an_episode() {
     // Highly exploratory: every decision is drawn at random unless remembered.
     let mut config = sosmc(1000, Assessment::PerDecision);
     config.initial_parameter = Schedule::constant(1.0);
-    let learner = Recording { inner: SoSmc::new(config, seeded(3)), episode: Vec::new(), repeats: 0 };
+    let learner = Recording {
+        inner: SoSmc::new(config, seeded(3)),
+        episode: Vec::new(),
+    };
     let mut task = grid(Box::new(learner), 4);
-    let mut total_repeats = 0;
     for _ in 0..200 {
         task.episode(EpisodeMode::Learn).unwrap();
     }
-    // The recording learner asserted on every repeat; make sure repeats happened.
-    let values = task.learners()[0].values().len();
-    assert!(values > 0);
-    for _ in 0..50 {
-        let before = task.episode(EpisodeMode::Learn).unwrap();
-        total_repeats += before.actions as usize;
-    }
-    assert!(total_repeats > 200, "episodes revisit observations many times");
+    // Every repeat was checked by the recording learner; make sure there were many.
+    assert!(
+        REPEATS.load(Ordering::Relaxed) > 1000,
+        "episodes revisit observations many times"
+    );
 }
 
 /// Plays a synthetic episode: one choice between two options with random return.
 fn synthetic_episode(learner: &mut dyn Learner, ret: f64) {
     learner.begin_episode(EpisodeStart::LEARN);
     let state = Marking::from_tokens(vec![1, 0, 0]);
-    let options = [Marking::from_tokens(vec![0, 1, 0]), Marking::from_tokens(vec![0, 0, 1])];
+    let options = [
+        Marking::from_tokens(vec![0, 1, 0]),
+        Marking::from_tokens(vec![0, 0, 1]),
+    ];
     learner.plan_started(PlanKey::ROOT, &state);
     let i = learner.choose(PlanKey::ROOT, &state, &options);
     learner.transition(PlanKey::ROOT, &options[i], 0.0, 1);
-    learner.end_episode(PendingReward { reward: ret, elapsed: 1 });
+    learner.end_episode(PendingReward {
+        reward: ret,
+        elapsed: 1,
+    });
 }
 
 #[test]
@@ -140,7 +165,9 @@ fn the_multi_agent_schedule_is_the_same_in_every_agent() {
     // episodes explore, from the episode number alone (thesis 4.4).
     let mut config = sosmc(30, Assessment::EveryN(7));
     config.sigma = Sigma::Softmax;
-    let mut agents: Vec<SoSmc> = (0..3).map(|i| SoSmc::new(config, seeded(derive_seed(9, i)))).collect();
+    let mut agents: Vec<SoSmc> = (0..3)
+        .map(|i| SoSmc::new(config, seeded(derive_seed(9, i))))
+        .collect();
     let mut rng = seeded(10);
     let mut flags = vec![Vec::new(); agents.len()];
     for _ in 0..200 {
@@ -152,15 +179,29 @@ fn the_multi_agent_schedule_is_the_same_in_every_agent() {
     }
     assert_eq!(flags[0], flags[1]);
     assert_eq!(flags[1], flags[2]);
-    let explored: Vec<usize> = flags[0].iter().enumerate().filter(|(_, f)| **f).map(|(i, _)| i).collect();
-    assert!(explored[..30].iter().eq((0..30).collect::<Vec<_>>().iter()), "the initial phase explores");
-    assert!(explored[30..].iter().all(|e| (e - 30 + 1) % 7 == 0), "then every 7th episode: {explored:?}");
+    let explored: Vec<usize> = flags[0]
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| **f)
+        .map(|(i, _)| i)
+        .collect();
+    assert!(
+        explored[..30].iter().eq((0..30).collect::<Vec<_>>().iter()),
+        "the initial phase explores"
+    );
+    assert!(
+        explored[30..].iter().all(|e| (e - 30 + 1) % 7 == 0),
+        "then every 7th episode: {explored:?}"
+    );
 }
 
 #[test]
 fn the_threshold_rule_suspends_exploration_while_returns_are_good() {
     let mut config = sosmc(0, Assessment::EveryN(2));
-    config.threshold = Some(ThresholdRule { threshold: 5.0, window: 10 });
+    config.threshold = Some(ThresholdRule {
+        threshold: 5.0,
+        window: 10,
+    });
     let mut agent = SoSmc::new(config, seeded(5));
     let mut explored = Vec::new();
     for e in 0..120 {
@@ -184,9 +225,18 @@ fn inverse_step_size_restarts_estimates_after_a_policy_change() {
     for ret in [4.0, 8.0, 6.0] {
         synthetic_episode(&mut agent, ret);
     }
-    let values: Vec<f64> = agent.values().entries().map(|(_, v, _)| v).filter(|v| *v != 0.0).collect();
+    let values: Vec<f64> = agent
+        .values()
+        .entries()
+        .map(|(_, v, _)| v)
+        .filter(|v| *v != 0.0)
+        .collect();
     assert_eq!(values.len(), 1, "one option taken by the greedy policy");
-    assert!((values[0] - 6.0).abs() < 1e-12, "mean of 4, 8, 6 is 6, got {}", values[0]);
+    assert!(
+        (values[0] - 6.0).abs() < 1e-12,
+        "mean of 4, 8, 6 is 6, got {}",
+        values[0]
+    );
 }
 
 fn td(scope: Scope, lambda: f64) -> TdConfig {
@@ -205,7 +255,10 @@ fn td(scope: Scope, lambda: f64) -> TdConfig {
 /// Values of WalkStraight and Turn after learning the penalty kick.
 fn kick_values(variant: Variant, learner: Box<dyn Learner>) -> (f64, f64) {
     let plan = Arc::new(penalty_kick::plan(variant).unwrap());
-    let config = PenaltyKickConfig { variant, ..Default::default() };
+    let config = PenaltyKickConfig {
+        variant,
+        ..Default::default()
+    };
     let mut task = PenaltyKick::new(config, plan, learner).unwrap();
     for _ in 0..400 {
         task.episode(EpisodeMode::Learn).unwrap();
@@ -218,11 +271,17 @@ fn kick_values(variant: Variant, learner: Box<dyn Learner>) -> (f64, f64) {
 fn one_step_td_on_markings_needs_memory_to_tell_the_kicks_apart() {
     // Plain plan: both choices lead to the same Kick marking, so TD(0) on markings
     // gives WalkStraight and Turn the same value (the average of 10 and 0).
-    let (walk, turn) = kick_values(Variant::Plain, Box::new(TdLearner::new(td(Scope::Markings, 0.0), seeded(7))));
+    let (walk, turn) = kick_values(
+        Variant::Plain,
+        Box::new(TdLearner::new(td(Scope::Markings, 0.0), seeded(7))),
+    );
     assert!((walk - turn).abs() < 1.5, "plain: {walk} vs {turn}");
     // Tree and memory-place plans make the markings differ: the values separate.
     for variant in [Variant::Tree, Variant::Memory] {
-        let (walk, turn) = kick_values(variant, Box::new(TdLearner::new(td(Scope::Markings, 0.0), seeded(8))));
+        let (walk, turn) = kick_values(
+            variant,
+            Box::new(TdLearner::new(td(Scope::Markings, 0.0), seeded(8))),
+        );
         assert!(walk > 9.0 && turn < 1.0, "{variant:?}: {walk} vs {turn}");
     }
 }
@@ -236,17 +295,24 @@ fn monte_carlo_methods_tell_the_kicks_apart_in_the_plain_plan() {
 
 #[test]
 fn mcesp_improves_its_policy() {
-    let config = McespConfig { gamma: 1.0, stage_length: 10, alpha_min: 0.01, initial_value: 0.0 };
+    // Unevaluated options start without an estimate, so the first evaluated
+    // alternative can replace them; 4000 episodes is 400 stages of 10.
+    let config = McespConfig {
+        gamma: 1.0,
+        stage_length: 10,
+        alpha_min: 0.01,
+        initial_value: f64::NEG_INFINITY,
+    };
     let mut gains = 0;
     for seed in 0..5 {
         let mut task = grid(Box::new(Mcesp::new(config, seeded(100 + seed))), 200 + seed);
         let before = task.greedy_score(200).unwrap();
-        for _ in 0..3000 {
+        for _ in 0..4000 {
             task.episode(EpisodeMode::Learn).unwrap();
         }
         let after = task.greedy_score(200).unwrap();
-        eprintln!("mcesp seed {seed}: {before} -> {after}");
-        if after > before + 0.5 {
+        // Random consistent policies average about -2.2 and the optimum is about 0.2.
+        if after > before + 1.0 {
             gains += 1;
         }
     }

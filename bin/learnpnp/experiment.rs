@@ -137,9 +137,13 @@ impl ExperimentArgs {
                 }
                 DomainSpec::Sutton { config, plan }
             }
-            DomainName::PenaltyKick => {
-                DomainSpec::PenaltyKick { config: PenaltyKickConfig { variant: self.variant, ..Default::default() }, plan }
-            }
+            DomainName::PenaltyKick => DomainSpec::PenaltyKick {
+                config: PenaltyKickConfig {
+                    variant: self.variant,
+                    ..Default::default()
+                },
+                plan,
+            },
         }
     }
 
@@ -185,7 +189,10 @@ impl ExperimentArgs {
             protocol.greedy_episodes = v;
         }
         ExperimentSpec {
-            label: self.label.clone().unwrap_or_else(|| self.algo.name().to_string()),
+            label: self
+                .label
+                .clone()
+                .unwrap_or_else(|| self.algo.name().to_string()),
             domain,
             algorithm: self.algo,
             learner,

@@ -32,7 +32,11 @@ pub fn check(args: &CheckArgs) -> ExitCode {
     };
     let report = analysis::check(&plan, args.limit);
     print!("{report}");
-    if report.passed() { ExitCode::SUCCESS } else { ExitCode::from(1) }
+    if report.passed() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
 }
 
 #[derive(Args, Debug)]
@@ -93,9 +97,20 @@ pub fn plot(args: &PlotArgs) -> Result<()> {
     let series = args
         .dirs
         .iter()
-        .map(|dir| Ok(Series { label: label_of(dir), points: read_curve_csv(&dir.join("curve.csv"))? }))
+        .map(|dir| {
+            Ok(Series {
+                label: label_of(dir),
+                points: read_curve_csv(&dir.join("curve.csv"))?,
+            })
+        })
         .collect::<Result<Vec<_>>>()?;
-    plot_curves(&args.output, &args.title, "learning episodes", "evaluation return (mean, 95% CI)", &series)?;
+    plot_curves(
+        &args.output,
+        &args.title,
+        "learning episodes",
+        "evaluation return (mean, 95% CI)",
+        &series,
+    )?;
     Ok(())
 }
 

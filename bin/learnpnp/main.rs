@@ -11,7 +11,11 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(name = "learnpnp", version, about = "Reinforcement learning in plan space with Petri Net Plans")]
+#[command(
+    name = "learnpnp",
+    version,
+    about = "Reinforcement learning in plan space with Petri Net Plans"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -26,7 +30,7 @@ enum Command {
     /// Convert a plan between the PNP editor's PNML and standard PNML.
     Convert(inspect::ConvertArgs),
     /// Run a learning experiment with the thesis's evaluation protocol.
-    Experiment(experiment::ExperimentArgs),
+    Experiment(Box<experiment::ExperimentArgs>),
     /// Reproduce figures of the thesis (all of them by default).
     Reproduce(reproduce::ReproduceArgs),
     /// Overlay the curves of several experiment directories in one SVG.

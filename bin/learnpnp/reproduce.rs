@@ -30,14 +30,25 @@ pub struct ReproduceArgs {
 
 impl Default for ReproduceArgs {
     fn default() -> Self {
-        ReproduceArgs { figures: Vec::new(), out: PathBuf::from("out"), threads: None, runs: None }
+        ReproduceArgs {
+            figures: Vec::new(),
+            out: PathBuf::from("out"),
+            threads: None,
+            runs: None,
+        }
     }
 }
 
 fn slug(label: &str) -> String {
     let mut s: String = label
         .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '.' { c.to_ascii_lowercase() } else { '-' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '.' {
+                c.to_ascii_lowercase()
+            } else {
+                '-'
+            }
+        })
         .collect();
     while s.contains("--") {
         s = s.replace("--", "-");
@@ -66,7 +77,9 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
     if figures.is_empty() {
         bail!("nothing to reproduce");
     }
-    let mut table = String::from("| figure | curve | final mean | 95% CI | greedy mean | runs | seconds |\n|---|---|---|---|---|---|---|\n");
+    let mut table = String::from(
+        "| figure | curve | final mean | 95% CI | greedy mean | runs | seconds |\n|---|---|---|---|---|---|---|\n",
+    );
     for figure in figures {
         let dir = args.out.join(format!("fig{}", figure.id));
         println!("Figure {}: {}", figure.id, figure.title);
@@ -75,7 +88,8 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
             if let Some(runs) = args.runs {
                 spec.protocol.runs = runs;
             }
-            let output = run_experiment(&spec, threads, true).with_context(|| format!("figure {}: {}", figure.id, spec.label))?;
+            let output = run_experiment(&spec, threads, true)
+                .with_context(|| format!("figure {}: {}", figure.id, spec.label))?;
             let curve_dir = dir.join(slug(&spec.label));
             let summary = write_results(&output, &curve_dir)?;
             println!(
@@ -105,11 +119,18 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
         }
         if figure.kind == FigureKind::Curves {
             let path = dir.join("figure.svg");
-            plot_curves(&path, &format!("Figure {}: {}", figure.id, figure.title), "learning episodes", "evaluation return (mean, 95% CI)", &all)
-                .with_context(|| format!("plotting {}", path.display()))?;
+            plot_curves(
+                &path,
+                &format!("Figure {}: {}", figure.id, figure.title),
+                "learning episodes",
+                "evaluation return (mean, 95% CI)",
+                &all,
+            )
+            .with_context(|| format!("plotting {}", path.display()))?;
         }
     }
-    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
     let path = args.out.join("summary.md");
     write_atomic(&path, table.as_bytes())?;
     println!("summary table: {}", path.display());

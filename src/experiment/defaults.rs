@@ -7,7 +7,8 @@ use serde::{Deserialize, Serialize};
 
 use super::spec::{Algorithm, DomainSpec, LearnerSpec, Protocol};
 use crate::learning::{
-    Assessment, Exploration, McespConfig, Schedule, Scope, Sigma, SoSmcConfig, StepSize, Target, TdConfig, ThresholdRule,
+    Assessment, Exploration, McespConfig, Schedule, Scope, Sigma, SoSmcConfig, StepSize, Target,
+    TdConfig, ThresholdRule,
 };
 
 /// Values of the domains' returns that serve as pessimistic and optimistic initial values.
@@ -20,9 +21,18 @@ struct Bounds {
 
 fn bounds(domain: &DomainSpec) -> Bounds {
     match domain {
-        DomainSpec::ParrRussell { .. } => Bounds { low: -4.0, high: 1.0 },
-        DomainSpec::Sutton { config, .. } => Bounds { low: -f64::from(config.max_actions), high: 0.0 },
-        DomainSpec::PenaltyKick { config, .. } => Bounds { low: 0.0, high: config.goal_reward },
+        DomainSpec::ParrRussell { .. } => Bounds {
+            low: -4.0,
+            high: 1.0,
+        },
+        DomainSpec::Sutton { config, .. } => Bounds {
+            low: -f64::from(config.max_actions),
+            high: 0.0,
+        },
+        DomainSpec::PenaltyKick { config, .. } => Bounds {
+            low: 0.0,
+            high: config.goal_reward,
+        },
     }
 }
 
@@ -51,15 +61,21 @@ pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec
         sigma,
         initial_parameter: initial,
         assessing_parameter: assessing,
-        assessment: if sutton { Assessment::EveryN(20) } else { Assessment::Never },
+        assessment: if sutton {
+            Assessment::EveryN(20)
+        } else {
+            Assessment::Never
+        },
         step_size: StepSize::Constant(0.01),
         initial_value: if sutton { b.high } else { f64::NEG_INFINITY },
         threshold: None,
     };
     match algorithm {
-        Algorithm::EpsSosmc => {
-            LearnerSpec::Sosmc(sosmc(Sigma::EpsilonGreedy, Schedule::constant(0.5), Schedule::constant(0.1)))
-        }
+        Algorithm::EpsSosmc => LearnerSpec::Sosmc(sosmc(
+            Sigma::EpsilonGreedy,
+            Schedule::constant(0.5),
+            Schedule::constant(0.1),
+        )),
         Algorithm::SoftSosmc => LearnerSpec::Sosmc(sosmc(
             Sigma::Softmax,
             Schedule::linear(1.0, 0.05, 100),
@@ -70,9 +86,9 @@ pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec
         Algorithm::QLearning => LearnerSpec::Td(td(0.0, Target::Max)),
         Algorithm::Mcesp => LearnerSpec::Mcesp(McespConfig {
             gamma: 1.0,
-            stage_length: 20,
+            stage_length: 10,
             alpha_min: 0.01,
-            initial_value: 0.0,
+            initial_value: f64::NEG_INFINITY,
         }),
     }
 }
@@ -80,15 +96,27 @@ pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec
 /// A default protocol for interactive runs of `domain` (presets set the thesis's).
 pub fn default_protocol(domain: &DomainSpec) -> Protocol {
     match domain {
-        DomainSpec::ParrRussell { .. } => {
-            Protocol { runs: 20, episodes: 1000, eval_every: 20, eval_episodes: 20, greedy_episodes: 100 }
-        }
-        DomainSpec::Sutton { .. } => {
-            Protocol { runs: 20, episodes: 4000, eval_every: 200, eval_episodes: 0, greedy_episodes: 0 }
-        }
-        DomainSpec::PenaltyKick { .. } => {
-            Protocol { runs: 20, episodes: 200, eval_every: 10, eval_episodes: 10, greedy_episodes: 10 }
-        }
+        DomainSpec::ParrRussell { .. } => Protocol {
+            runs: 20,
+            episodes: 1000,
+            eval_every: 20,
+            eval_episodes: 20,
+            greedy_episodes: 100,
+        },
+        DomainSpec::Sutton { .. } => Protocol {
+            runs: 20,
+            episodes: 4000,
+            eval_every: 200,
+            eval_episodes: 0,
+            greedy_episodes: 0,
+        },
+        DomainSpec::PenaltyKick { .. } => Protocol {
+            runs: 20,
+            episodes: 200,
+            eval_every: 10,
+            eval_episodes: 10,
+            greedy_episodes: 10,
+        },
     }
 }
 
@@ -101,25 +129,39 @@ impl FromStr for AssessmentArg {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, String> {
-        let number = |n: &str| n.parse::<u64>().map_err(|_| format!("'{n}' is not a whole number"));
+        let number = |n: &str| {
+            n.parse::<u64>()
+                .map_err(|_| format!("'{n}' is not a whole number"))
+        };
         Ok(AssessmentArg(match s.split_once(':') {
             None if s == "never" => Assessment::Never,
             None if s == "per-decision" => Assessment::PerDecision,
             Some(("every", n)) => Assessment::EveryN(number(n)?),
             Some(("after", k)) => Assessment::AfterK(number(k)?),
-            _ => return Err(format!("'{s}': expected never, per-decision, every:N or after:K")),
+            _ => {
+                return Err(format!(
+                    "'{s}': expected never, per-decision, every:N or after:K"
+                ));
+            }
         }))
     }
 }
 
 /// Parses a schedule `START`, or `START:END:OVER` (a linear ramp over OVER units).
 pub fn parse_schedule(s: &str) -> Result<Schedule, String> {
-    let number = |n: &str| n.trim().parse::<f64>().map_err(|_| format!("'{n}' is not a number"));
+    let number = |n: &str| {
+        n.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("'{n}' is not a number"))
+    };
     let parts: Vec<&str> = s.split(':').collect();
     match parts.as_slice() {
         [v] => Ok(Schedule::constant(number(v)?)),
         [start, end, over] => {
-            let over = over.trim().parse::<u64>().map_err(|_| format!("'{over}' is not a whole number"))?;
+            let over = over
+                .trim()
+                .parse::<u64>()
+                .map_err(|_| format!("'{over}' is not a whole number"))?;
             Ok(Schedule::linear(number(start)?, number(end)?, over))
         }
         _ => Err(format!("'{s}': expected VALUE or START:END:OVER")),
@@ -131,15 +173,21 @@ pub fn parse_step_size(s: &str) -> Result<StepSize, String> {
     if s == "inverse" {
         return Ok(StepSize::InverseCount);
     }
-    s.parse::<f64>().map(StepSize::Constant).map_err(|_| format!("'{s}': expected a number or 'inverse'"))
+    s.parse::<f64>()
+        .map(StepSize::Constant)
+        .map_err(|_| format!("'{s}': expected a number or 'inverse'"))
 }
 
 /// Parses the threshold rule `THRESHOLD:WINDOW`.
 pub fn parse_threshold(s: &str) -> Result<ThresholdRule, String> {
-    let (t, w) = s.split_once(':').ok_or_else(|| format!("'{s}': expected THRESHOLD:WINDOW"))?;
+    let (t, w) = s
+        .split_once(':')
+        .ok_or_else(|| format!("'{s}': expected THRESHOLD:WINDOW"))?;
     Ok(ThresholdRule {
         threshold: t.parse().map_err(|_| format!("'{t}' is not a number"))?,
-        window: w.parse().map_err(|_| format!("'{w}' is not a whole number"))?,
+        window: w
+            .parse()
+            .map_err(|_| format!("'{w}' is not a whole number"))?,
     })
 }
 
@@ -236,21 +284,50 @@ mod tests {
     #[test]
     fn parses_arguments() {
         assert_eq!(parse_schedule("0.2").unwrap(), Schedule::constant(0.2));
-        assert_eq!(parse_schedule("0.2:0:80000").unwrap(), Schedule::linear(0.2, 0.0, 80000));
+        assert_eq!(
+            parse_schedule("0.2:0:80000").unwrap(),
+            Schedule::linear(0.2, 0.0, 80000)
+        );
         assert!(parse_schedule("0.2:0").is_err());
-        assert_eq!("every:20".parse::<AssessmentArg>().unwrap().0, Assessment::EveryN(20));
-        assert_eq!("after:5".parse::<AssessmentArg>().unwrap().0, Assessment::AfterK(5));
+        assert_eq!(
+            "every:20".parse::<AssessmentArg>().unwrap().0,
+            Assessment::EveryN(20)
+        );
+        assert_eq!(
+            "after:5".parse::<AssessmentArg>().unwrap().0,
+            Assessment::AfterK(5)
+        );
         assert!("often".parse::<AssessmentArg>().is_err());
         assert_eq!(parse_step_size("inverse").unwrap(), StepSize::InverseCount);
-        assert_eq!(parse_threshold("180:200").unwrap(), ThresholdRule { threshold: 180.0, window: 200 });
+        assert_eq!(
+            parse_threshold("180:200").unwrap(),
+            ThresholdRule {
+                threshold: 180.0,
+                window: 200
+            }
+        );
     }
 
     #[test]
     fn overrides_replace_defaults() {
-        let domain = DomainSpec::ParrRussell { config: Default::default(), plan: None };
+        let domain = DomainSpec::ParrRussell {
+            config: Default::default(),
+            plan: None,
+        };
         let mut spec = default_learner(Algorithm::SarsaLambda, &domain);
-        Overrides { alpha: Some(0.5), greedy: true, initial_value: Some(1.0), ..Overrides::default() }.apply(&mut spec);
-        let LearnerSpec::Td(c) = spec else { panic!("TD expected") };
-        assert_eq!((c.alpha, c.initial_value, c.exploration), (0.5, 1.0, Exploration::Greedy));
+        Overrides {
+            alpha: Some(0.5),
+            greedy: true,
+            initial_value: Some(1.0),
+            ..Overrides::default()
+        }
+        .apply(&mut spec);
+        let LearnerSpec::Td(c) = spec else {
+            panic!("TD expected")
+        };
+        assert_eq!(
+            (c.alpha, c.initial_value, c.exploration),
+            (0.5, 1.0, Exploration::Greedy)
+        );
     }
 }

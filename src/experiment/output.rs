@@ -43,7 +43,11 @@ pub fn curve(output: &ExperimentOutput) -> Vec<(u64, Summary)> {
         .iter()
         .enumerate()
         .map(|(i, &episode)| {
-            let samples: Vec<f64> = output.runs.iter().filter_map(|r| r.evals.get(i).copied()).collect();
+            let samples: Vec<f64> = output
+                .runs
+                .iter()
+                .filter_map(|r| r.evals.get(i).copied())
+                .collect();
             (episode, summarize(&samples))
         })
         .collect()
@@ -51,7 +55,10 @@ pub fn curve(output: &ExperimentOutput) -> Vec<(u64, Summary)> {
 
 /// The summary of an experiment.
 pub fn summary(output: &ExperimentOutput) -> SummaryFile {
-    let last = curve(output).last().map(|(_, s)| *s).unwrap_or_else(|| summarize(&[]));
+    let last = curve(output)
+        .last()
+        .map(|(_, s)| *s)
+        .unwrap_or_else(|| summarize(&[]));
     let greedy: Vec<f64> = output.runs.iter().map(|r| r.greedy).collect();
     let greedy = summarize(&greedy);
     let total = output.total_episodes();
@@ -70,7 +77,10 @@ pub fn summary(output: &ExperimentOutput) -> SummaryFile {
 }
 
 fn write_text(path: &Path, text: &str) -> Result<(), ExperimentError> {
-    write_atomic(path, text.as_bytes()).map_err(|source| ExperimentError::Io { path: path.to_path_buf(), source })
+    write_atomic(path, text.as_bytes()).map_err(|source| ExperimentError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 /// The curve as a plottable series.
@@ -79,19 +89,31 @@ pub fn series(output: &ExperimentOutput) -> Series {
         label: output.spec.label.clone(),
         points: curve(output)
             .into_iter()
-            .map(|(x, s)| CurvePoint { x: x as f64, mean: s.mean, low: s.ci_low, high: s.ci_high })
+            .map(|(x, s)| CurvePoint {
+                x: x as f64,
+                mean: s.mean,
+                low: s.ci_low,
+                high: s.ci_high,
+            })
             .collect(),
     }
 }
 
 /// Writes every result file of `output` into `dir` (created if needed) and returns the summary.
-pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFile, ExperimentError> {
+pub fn write_results(
+    output: &ExperimentOutput,
+    dir: &Path,
+) -> Result<SummaryFile, ExperimentError> {
     let io = |path: PathBuf| move |source| ExperimentError::Io { path, source };
     std::fs::create_dir_all(dir).map_err(io(dir.to_path_buf()))?;
 
     let mut text = String::from("episode,mean,ci_low,ci_high,runs\n");
     for (episode, s) in curve(output) {
-        let _ = writeln!(text, "{episode},{},{},{},{}", s.mean, s.ci_low, s.ci_high, s.n);
+        let _ = writeln!(
+            text,
+            "{episode},{},{},{},{}",
+            s.mean, s.ci_low, s.ci_high, s.n
+        );
     }
     write_text(&dir.join("curve.csv"), &text)?;
 
@@ -107,7 +129,15 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
         let mut text = String::from("episode,return,actions,steps,exploratory\n");
         for e in &first.episodes {
             let o = e.outcome;
-            let _ = writeln!(text, "{},{},{},{},{}", e.episode, o.ret, o.actions, o.steps, u8::from(o.exploratory));
+            let _ = writeln!(
+                text,
+                "{},{},{},{},{}",
+                e.episode,
+                o.ret,
+                o.actions,
+                o.steps,
+                u8::from(o.exploratory)
+            );
         }
         write_text(&dir.join("episodes.csv"), &text)?;
 
@@ -129,7 +159,10 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
             }
             plot::plot_scatter(
                 &dir.join("traces.svg"),
-                &format!("{}: values in the initial observation (run 0)", output.spec.label),
+                &format!(
+                    "{}: values in the initial observation (run 0)",
+                    output.spec.label
+                ),
                 "episode",
                 "value",
                 &by_name,
@@ -138,12 +171,14 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
         }
 
         if let Some(values) = &first.values {
-            persist::save(&dir.join("values.bin"), values).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+            persist::save(&dir.join("values.bin"), values)
+                .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
         }
     }
 
     let summary = summary(output);
-    let json = serde_json::to_string_pretty(&summary).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+    let json = serde_json::to_string_pretty(&summary)
+        .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
     write_text(&dir.join("summary.json"), &json)?;
 
     plot::plot_curves(

@@ -12,7 +12,7 @@ use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use crate::learning::persist::write_atomic;
+use crate::atomic_file::write_atomic;
 
 /// Width and height of every plot, in pixels.
 pub const PLOT_SIZE: (u32, u32) = (900, 560);

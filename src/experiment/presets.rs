@@ -35,18 +35,41 @@ pub struct Figure {
 const SEED: u64 = 2011;
 
 fn parr_russell() -> DomainSpec {
-    DomainSpec::ParrRussell { config: ParrRussellConfig::default(), plan: None }
+    DomainSpec::ParrRussell {
+        config: ParrRussellConfig::default(),
+        plan: None,
+    }
 }
 
 fn sutton() -> DomainSpec {
-    DomainSpec::Sutton { config: SuttonConfig::default(), plan: None }
+    DomainSpec::Sutton {
+        config: SuttonConfig::default(),
+        plan: None,
+    }
 }
 
-fn experiment(label: &str, domain: DomainSpec, algorithm: Algorithm, learner: LearnerSpec, protocol: Protocol) -> ExperimentSpec {
-    ExperimentSpec { label: label.to_string(), domain, algorithm, learner, protocol, seed: SEED }
+fn experiment(
+    label: &str,
+    domain: DomainSpec,
+    algorithm: Algorithm,
+    learner: LearnerSpec,
+    protocol: Protocol,
+) -> ExperimentSpec {
+    ExperimentSpec {
+        label: label.to_string(),
+        domain,
+        algorithm,
+        learner,
+        protocol,
+        seed: SEED,
+    }
 }
 
-fn with_td(algorithm: Algorithm, domain: &DomainSpec, edit: impl FnOnce(&mut crate::learning::TdConfig)) -> LearnerSpec {
+fn with_td(
+    algorithm: Algorithm,
+    domain: &DomainSpec,
+    edit: impl FnOnce(&mut crate::learning::TdConfig),
+) -> LearnerSpec {
     let mut spec = default_learner(algorithm, domain);
     if let LearnerSpec::Td(c) = &mut spec {
         edit(c);
@@ -54,7 +77,11 @@ fn with_td(algorithm: Algorithm, domain: &DomainSpec, edit: impl FnOnce(&mut cra
     spec
 }
 
-fn with_sosmc(algorithm: Algorithm, domain: &DomainSpec, edit: impl FnOnce(&mut crate::learning::SoSmcConfig)) -> LearnerSpec {
+fn with_sosmc(
+    algorithm: Algorithm,
+    domain: &DomainSpec,
+    edit: impl FnOnce(&mut crate::learning::SoSmcConfig),
+) -> LearnerSpec {
     let mut spec = default_learner(algorithm, domain);
     if let LearnerSpec::Sosmc(c) = &mut spec {
         edit(c);
@@ -65,14 +92,26 @@ fn with_sosmc(algorithm: Algorithm, domain: &DomainSpec, edit: impl FnOnce(&mut 
 /// Figure 6.3: short term, every 20 episodes 20 frozen episodes, 200 runs.
 fn figure_6_3() -> Figure {
     let d = parr_russell();
-    let p = Protocol { runs: 200, episodes: 1000, eval_every: 20, eval_episodes: 20, greedy_episodes: 100 };
+    let p = Protocol {
+        runs: 200,
+        episodes: 1000,
+        eval_every: 20,
+        eval_episodes: 20,
+        greedy_episodes: 100,
+    };
     Figure {
         id: "6.3",
         title: "Parr and Russell's grid, short term: Sarsa(0.9) and epsilon-SoSMC without exploration after the initial phase",
         claim: "Optimistic Sarsa(0.9) converges to the optimum much faster than epsilon-greedy Sarsa(0.9); SoSMC with a 100-episode initial phase converges to the optimal policy (about 0.25) shortly after it; with 50 episodes it stabilises around 0.1",
         kind: FigureKind::Curves,
         curves: vec![
-            experiment("Sarsa(0.9) e-greedy", d.clone(), Algorithm::SarsaLambda, default_learner(Algorithm::SarsaLambda, &d), p),
+            experiment(
+                "Sarsa(0.9) e-greedy",
+                d.clone(),
+                Algorithm::SarsaLambda,
+                default_learner(Algorithm::SarsaLambda, &d),
+                p,
+            ),
             experiment(
                 "Sarsa(0.9) optimistic",
                 d.clone(),
@@ -83,7 +122,13 @@ fn figure_6_3() -> Figure {
                 }),
                 p,
             ),
-            experiment("e-SoSMC 100", d.clone(), Algorithm::EpsSosmc, default_learner(Algorithm::EpsSosmc, &d), p),
+            experiment(
+                "e-SoSMC 100",
+                d.clone(),
+                Algorithm::EpsSosmc,
+                default_learner(Algorithm::EpsSosmc, &d),
+                p,
+            ),
             experiment(
                 "e-SoSMC 50",
                 d.clone(),
@@ -98,7 +143,13 @@ fn figure_6_3() -> Figure {
 /// Figure 6.4: long term, exploration allowed in SoSMC's second phase.
 fn figure_6_4() -> Figure {
     let d = parr_russell();
-    let p = Protocol { runs: 200, episodes: 10_000, eval_every: 100, eval_episodes: 20, greedy_episodes: 100 };
+    let p = Protocol {
+        runs: 200,
+        episodes: 10_000,
+        eval_every: 100,
+        eval_episodes: 20,
+        greedy_episodes: 100,
+    };
     let exploring = |start: f64| {
         with_sosmc(Algorithm::EpsSosmc, &d, |c| {
             c.initial_phase = 50;
@@ -112,18 +163,54 @@ fn figure_6_4() -> Figure {
         claim: "With epsilon from 0.2 (or 0.1) decaying to 0.01 over 5000 episodes after a 50-episode initial phase, SoSMC ends between Sarsa and the optimum reached with a 100-episode initial phase, rising linearly with the decay of epsilon",
         kind: FigureKind::Curves,
         curves: vec![
-            experiment("Sarsa(0.9) e-greedy", d.clone(), Algorithm::SarsaLambda, default_learner(Algorithm::SarsaLambda, &d), p),
-            experiment("e-SoSMC 100", d.clone(), Algorithm::EpsSosmc, default_learner(Algorithm::EpsSosmc, &d), p),
-            experiment("e-SoSMC 50, e 0.2->0.01", d.clone(), Algorithm::EpsSosmc, exploring(0.2), p),
-            experiment("e-SoSMC 50, e 0.1->0.01", d.clone(), Algorithm::EpsSosmc, exploring(0.1), p),
+            experiment(
+                "Sarsa(0.9) e-greedy",
+                d.clone(),
+                Algorithm::SarsaLambda,
+                default_learner(Algorithm::SarsaLambda, &d),
+                p,
+            ),
+            experiment(
+                "e-SoSMC 100",
+                d.clone(),
+                Algorithm::EpsSosmc,
+                default_learner(Algorithm::EpsSosmc, &d),
+                p,
+            ),
+            experiment(
+                "e-SoSMC 50, e 0.2->0.01",
+                d.clone(),
+                Algorithm::EpsSosmc,
+                exploring(0.2),
+                p,
+            ),
+            experiment(
+                "e-SoSMC 50, e 0.1->0.01",
+                d.clone(),
+                Algorithm::EpsSosmc,
+                exploring(0.1),
+                p,
+            ),
         ],
     }
 }
 
 /// Figures 6.5 - 6.9: the four values of the initial observation during one run.
-fn trace_figure(id: &'static str, title: &'static str, claim: &'static str, algorithm: Algorithm, exploration: Exploration) -> Figure {
+fn trace_figure(
+    id: &'static str,
+    title: &'static str,
+    claim: &'static str,
+    algorithm: Algorithm,
+    exploration: Exploration,
+) -> Figure {
     let d = parr_russell();
-    let p = Protocol { runs: 1, episodes: 10_000, eval_every: 1000, eval_episodes: 20, greedy_episodes: 100 };
+    let p = Protocol {
+        runs: 1,
+        episodes: 10_000,
+        eval_every: 1000,
+        eval_episodes: 20,
+        greedy_episodes: 100,
+    };
     Figure {
         id,
         title,
@@ -145,7 +232,13 @@ fn trace_figure(id: &'static str, title: &'static str, claim: &'static str, algo
 /// Figure 6.10: Soft-SoSMC's values of the initial observation, one point per episode.
 fn figure_6_10() -> Figure {
     let d = parr_russell();
-    let p = Protocol { runs: 1, episodes: 1000, eval_every: 100, eval_episodes: 20, greedy_episodes: 100 };
+    let p = Protocol {
+        runs: 1,
+        episodes: 1000,
+        eval_every: 100,
+        eval_episodes: 20,
+        greedy_episodes: 100,
+    };
     Figure {
         id: "6.10",
         title: "Soft-SoSMC: values of the four moves in the initial observation",
@@ -167,28 +260,58 @@ fn figure_6_10() -> Figure {
 /// Figure 6.11: Sarsa(lambda)'s values of the initial observation.
 fn figure_6_11() -> Figure {
     let d = parr_russell();
-    let p = Protocol { runs: 1, episodes: 10_000, eval_every: 1000, eval_episodes: 20, greedy_episodes: 100 };
+    let p = Protocol {
+        runs: 1,
+        episodes: 10_000,
+        eval_every: 1000,
+        eval_episodes: 20,
+        greedy_episodes: 100,
+    };
     Figure {
         id: "6.11",
         title: "Sarsa(0.9): values of the four moves in the initial observation",
         claim: "Sarsa(lambda) needs a scale ten times larger than SoSMC (Loch and Singh's result)",
         kind: FigureKind::Traces,
-        curves: vec![experiment("Sarsa(0.9)", d.clone(), Algorithm::SarsaLambda, default_learner(Algorithm::SarsaLambda, &d), p)],
+        curves: vec![experiment(
+            "Sarsa(0.9)",
+            d.clone(),
+            Algorithm::SarsaLambda,
+            default_learner(Algorithm::SarsaLambda, &d),
+            p,
+        )],
     }
 }
 
 /// Figure 6.13: Sutton's grid.
 fn figure_6_13() -> Figure {
     let d = sutton();
-    let p = Protocol { runs: 50, episodes: 10_000, eval_every: 200, eval_episodes: 0, greedy_episodes: 0 };
+    let p = Protocol {
+        runs: 50,
+        episodes: 10_000,
+        eval_every: 200,
+        eval_episodes: 0,
+        greedy_episodes: 0,
+    };
     Figure {
         id: "6.13",
         title: "Sutton's grid: Soft-SoSMC (tau 4, optimistic, explore every 20 episodes) against Sarsa",
         claim: "Soft-SoSMC finds on average a better policy than Sarsa in the episodes considered; Sarsa's value is slightly but significantly smaller (95% CI)",
         kind: FigureKind::Curves,
         curves: vec![
-            experiment("Soft-SoSMC", d.clone(), Algorithm::SoftSosmc, default_learner(Algorithm::SoftSosmc, &d), p),
-            experiment("Sarsa(0.9)", d.clone(), Algorithm::SarsaLambda, default_learner(Algorithm::SarsaLambda, &d), p),
+            experiment(
+                "Soft-SoSMC",
+                d.clone(),
+                Algorithm::SoftSosmc,
+                default_learner(Algorithm::SoftSosmc, &d),
+                p,
+            ),
+            experiment(
+                "Sarsa(0.9)",
+                d.clone(),
+                Algorithm::SarsaLambda,
+                default_learner(Algorithm::SarsaLambda, &d),
+                p,
+            ),
         ],
     }
 }

@@ -71,10 +71,17 @@ impl ExperimentOutput {
 }
 
 /// Runs one run of `spec` with the plan already loaded.
-pub fn run_one(spec: &ExperimentSpec, plan: Arc<Plan>, run: usize, mut progress: impl FnMut(u64)) -> Result<RunOutput, ExperimentError> {
+pub fn run_one(
+    spec: &ExperimentSpec,
+    plan: Arc<Plan>,
+    run: usize,
+    mut progress: impl FnMut(u64),
+) -> Result<RunOutput, ExperimentError> {
     let seed = derive_seed(spec.seed, run as u64);
     let learner = spec.learner.build(seeded(derive_seed(seed, 1)));
-    let mut task = spec.domain.task(Arc::clone(&plan), learner, seeded(derive_seed(seed, 2)))?;
+    let mut task = spec
+        .domain
+        .task(Arc::clone(&plan), learner, seeded(derive_seed(seed, 2)))?;
     let p = spec.protocol;
     let first = run == 0;
     let mut out = RunOutput {
@@ -116,14 +123,21 @@ pub fn run_one(spec: &ExperimentSpec, plan: Arc<Plan>, run: usize, mut progress:
     out.episodes_run += p.greedy_episodes as u64;
     if first {
         let plans: Vec<&Plan> = vec![plan.as_ref()];
-        out.values = task.learners().first().map(|l| SavedValues::new(spec.algorithm.name(), l.values(), &plans));
+        out.values = task
+            .learners()
+            .first()
+            .map(|l| SavedValues::new(spec.algorithm.name(), l.values(), &plans));
     }
     Ok(out)
 }
 
 /// Runs every run of `spec` on `threads` threads; a progress bar is drawn on a
 /// terminal when `progress` is set.
-pub fn run_experiment(spec: &ExperimentSpec, threads: usize, progress: bool) -> Result<ExperimentOutput, ExperimentError> {
+pub fn run_experiment(
+    spec: &ExperimentSpec,
+    threads: usize,
+    progress: bool,
+) -> Result<ExperimentOutput, ExperimentError> {
     spec.protocol.validate()?;
     let plan = spec.domain.load_plan()?;
     let start = Instant::now();
@@ -135,8 +149,10 @@ pub fn run_experiment(spec: &ExperimentSpec, threads: usize, progress: bool) -> 
     let bar = if progress && std::io::stderr().is_terminal() {
         let bar = indicatif::ProgressBar::new(spec.protocol.episodes * runs as u64);
         bar.set_style(
-            indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} episodes ({eta})")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            indicatif::ProgressStyle::with_template(
+                "{msg} [{bar:40}] {pos}/{len} episodes ({eta})",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
         bar.set_message(spec.label.clone());
         Some(bar)

@@ -75,9 +75,13 @@ impl DomainSpec {
     /// Loads the plan once for every run.
     pub fn load_plan(&self) -> Result<Arc<Plan>, ExperimentError> {
         let plan = match self {
-            DomainSpec::ParrRussell { plan: Some(p), .. } => load_plan(p, Vocabulary::Closed(&parr_russell::atoms()))?,
+            DomainSpec::ParrRussell { plan: Some(p), .. } => {
+                load_plan(p, Vocabulary::Closed(&parr_russell::atoms()))?
+            }
             DomainSpec::ParrRussell { plan: None, .. } => parr_russell::default_plan()?,
-            DomainSpec::Sutton { plan: Some(p), .. } => load_plan(p, Vocabulary::Closed(&sutton::atoms()))?,
+            DomainSpec::Sutton { plan: Some(p), .. } => {
+                load_plan(p, Vocabulary::Closed(&sutton::atoms()))?
+            }
             DomainSpec::Sutton { plan: None, .. } => sutton::default_plan()?,
             DomainSpec::PenaltyKick { plan: Some(p), .. } => load_plan(p, Vocabulary::Open)?,
             DomainSpec::PenaltyKick { config, plan: None } => penalty_kick::plan(config.variant)?,
@@ -86,11 +90,22 @@ impl DomainSpec {
     }
 
     /// A task for one run.
-    pub fn task(&self, plan: Arc<Plan>, learner: Box<dyn Learner>, rng: SimRng) -> Result<Box<dyn Task>, ExperimentError> {
+    pub fn task(
+        &self,
+        plan: Arc<Plan>,
+        learner: Box<dyn Learner>,
+        rng: SimRng,
+    ) -> Result<Box<dyn Task>, ExperimentError> {
         Ok(match self {
-            DomainSpec::ParrRussell { config, .. } => Box::new(ParrRussell::new(*config, plan, learner, rng)?),
-            DomainSpec::Sutton { config, .. } => Box::new(Sutton::new(*config, plan, learner, rng)?),
-            DomainSpec::PenaltyKick { config, .. } => Box::new(PenaltyKick::new(*config, plan, learner)?),
+            DomainSpec::ParrRussell { config, .. } => {
+                Box::new(ParrRussell::new(*config, plan, learner, rng)?)
+            }
+            DomainSpec::Sutton { config, .. } => {
+                Box::new(Sutton::new(*config, plan, learner, rng)?)
+            }
+            DomainSpec::PenaltyKick { config, .. } => {
+                Box::new(PenaltyKick::new(*config, plan, learner)?)
+            }
         })
     }
 }
@@ -170,14 +185,18 @@ impl Protocol {
     /// Checks the numbers.
     pub fn validate(&self) -> Result<(), ExperimentError> {
         if self.runs == 0 || self.episodes == 0 || self.eval_every == 0 {
-            return Err(ExperimentError::Invalid("runs, episodes and eval-every must be positive".into()));
+            return Err(ExperimentError::Invalid(
+                "runs, episodes and eval-every must be positive".into(),
+            ));
         }
         Ok(())
     }
 
     /// The learning episode counts after which evaluations happen (0 first).
     pub fn eval_points(&self) -> Vec<u64> {
-        (0..=self.episodes / self.eval_every).map(|i| i * self.eval_every).collect()
+        (0..=self.episodes / self.eval_every)
+            .map(|i| i * self.eval_every)
+            .collect()
     }
 }
 

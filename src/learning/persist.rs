@@ -24,10 +24,9 @@
 
 use std::collections::HashMap;
 use std::ffi::OsString;
-use std::fs::{self, File, OpenOptions};
+use std::fs;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use serde::{Deserialize, Serialize};
 
@@ -377,9 +376,10 @@ pub fn save(path: &Path, values: &SavedValues) -> Result<(), PersistError> {
     let previous = fs::read(path).ok().filter(|old| parse(path, old).is_ok());
     if let Some(old) = previous {
         let prev = prev_path(path);
-        write_atomic(&prev, &old).map_err(|source| PersistError::Io { path: prev, source })?;
+        crate::atomic_file::write_atomic(&prev, &old)
+            .map_err(|source| PersistError::Io { path: prev, source })?;
     }
-    write_atomic(path, &bytes).map_err(|source| PersistError::Io {
+    crate::atomic_file::write_atomic(path, &bytes).map_err(|source| PersistError::Io {
         path: path.to_path_buf(),
         source,
     })
@@ -524,58 +524,6 @@ fn split_u64(bytes: &[u8]) -> (u64, &[u8]) {
     let (head, rest) = bytes.split_at(8);
     word.copy_from_slice(head);
     (u64::from_le_bytes(word), rest)
-}
-
-/// Writes `bytes` to `path` atomically: a temporary file in the same directory
-/// is written, synced and renamed over `path` (then the directory is synced on
-/// Unix). On failure the temporary file is removed and `path` is untouched.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let Some(name) = path.file_name() else {
-        return Err(io::Error::new(
-            io::ErrorKind::InvalidInput,
-            "the path does not name a file",
-        ));
-    };
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let mut temp_name = OsString::from(".");
-    temp_name.push(name);
-    temp_name.push(format!(
-        ".{}.{}.tmp",
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let temp = dir.join(temp_name);
-    let result = (|| {
-        let mut file = OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&temp)?;
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        drop(file);
-        fs::rename(&temp, path)
-    })();
-    if result.is_err() {
-        // Best effort: the temporary file may not even exist.
-        let _ = fs::remove_file(&temp);
-    }
-    result?;
-    sync_dir(dir);
-    Ok(())
-}
-
-/// Makes a rename in `dir` durable (Unix; best effort: some file systems refuse).
-fn sync_dir(dir: &Path) {
-    #[cfg(unix)]
-    if let Ok(d) = File::open(dir) {
-        let _ = d.sync_all();
-    }
-    #[cfg(not(unix))]
-    let _ = dir;
 }
 
 /// Lists `values` as CSV: `plan,marking,value,visits`, one row per entry.

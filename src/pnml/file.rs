@@ -30,6 +30,7 @@ pub fn read_file(path: &Path) -> Result<PetriNet, PnmlFileError> {
 /// An error message names the path.
 pub fn write_file(net: &PetriNet, dialect: Dialect, path: &Path) -> io::Result<()> {
     crate::atomic_file::write_atomic(path, write(net, dialect).as_bytes())
+        .map_err(|e| io::Error::new(e.kind(), format!("{}: {e}", path.display())))
 }
 
 /// The file name up to its first '.'.
