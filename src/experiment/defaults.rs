@@ -73,7 +73,7 @@ pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec
     match algorithm {
         Algorithm::EpsSosmc => LearnerSpec::Sosmc(sosmc(
             Sigma::EpsilonGreedy,
-            Schedule::constant(0.5),
+            Schedule::constant(1.0),
             Schedule::constant(0.1),
         )),
         Algorithm::SoftSosmc => LearnerSpec::Sosmc(sosmc(
