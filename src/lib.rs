@@ -4,4 +4,5 @@
 //! the executor runs the plan with the thesis's operational semantics and hands
 //! every open choice to a learner. See `docs/ARCHITECTURE.md` for the data path.
 
+pub mod keepaway;
 pub mod rng;
