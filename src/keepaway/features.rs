@@ -3,6 +3,7 @@
 
 use super::geometry::dist_to_segment;
 use super::perception::PlayerView;
+use super::policies::DEFAULT_HOLD_THRESHOLD;
 use super::skills::pass::teammates_by_distance;
 use super::world::Side;
 use serde::{Deserialize, Serialize};
@@ -10,14 +11,15 @@ use serde::{Deserialize, Serialize};
 /// The thresholds of the three binary features.
 ///
 /// Defaults:
-/// - `closest_taker = 5 m`: the distance at which the framework's hand-coded policy
-///   stops holding unconditionally and at which its hold skill starts shielding the
-///   ball, i.e. where the keepaway framework itself considers a taker a threat;
-/// - `pass_line = 2.5 m`: a taker reaches 1 m/cycle and can kick within 1.085 m, so
-///   within about 2.5 m of the line it can reach a pass in the one or two cycles the
-///   ball takes to get past it; farther away the lane is open. It is also about
-///   the half-width of the framework's pass cone (0.3 x distance) at the middle of a
-///   typical 15-18 m pass.
+/// - `closest_taker` = [`DEFAULT_HOLD_THRESHOLD`] (3.085 m, the kickable distance
+///   plus two cycles of a taker's running): the threshold of the thesis's fixed
+///   keepers, so that their policy ("hold until a taker is closer than the
+///   threshold") can be expressed in the abstraction, as the thesis requires;
+/// - `pass_line` = 2.5 m: a taker within the kickable distance plus one to two
+///   cycles of running from the line can cut a pass; it also splits the lanes seen
+///   at the hand-coded policy's decisions into balanced groups (over 100 episodes,
+///   8896 decisions, the median distance was 1.2 m for teammate 1's lane and 3.7 m
+///   for teammate 2's; 2.5 m leaves about 35% and 60% of them open).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FeatureThresholds {
     /// Threshold on the takers' distance to a pass line (m).
@@ -30,7 +32,7 @@ impl Default for FeatureThresholds {
     fn default() -> Self {
         FeatureThresholds {
             pass_line: 2.5,
-            closest_taker: 5.0,
+            closest_taker: DEFAULT_HOLD_THRESHOLD,
         }
     }
 }

@@ -165,6 +165,12 @@ pub fn normalize_deg(deg: f64) -> f64 {
     }
 }
 
+/// `v` limited to `[lo, hi]`; unlike `f64::clamp` it never panics (with `lo > hi`
+/// or NaN bounds the result is simply `min(max(v, lo), hi)`).
+pub fn clamp(v: f64, lo: f64, hi: f64) -> f64 {
+    v.max(lo).min(hi)
+}
+
 /// Distance from `p` to the segment `a`-`b`.
 pub fn dist_to_segment(p: Vec2, a: Vec2, b: Vec2) -> f64 {
     let ab = b - a;
@@ -172,7 +178,7 @@ pub fn dist_to_segment(p: Vec2, a: Vec2, b: Vec2) -> f64 {
     if len_sq <= 0.0 {
         return p.dist(a);
     }
-    let t = ((p - a).dot(ab) / len_sq).clamp(0.0, 1.0);
+    let t = clamp((p - a).dot(ab) / len_sq, 0.0, 1.0);
     p.dist(a + ab * t)
 }
 

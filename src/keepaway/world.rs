@@ -1,7 +1,7 @@
 //! World state and the server's physics step (commands, movement, collisions).
 
 use super::command::Command;
-use super::geometry::{Vec2, normalize_deg};
+use super::geometry::{Vec2, clamp, normalize_deg};
 use super::params::ServerParams;
 use crate::rng::SimRng;
 use rand::RngExt;
@@ -164,8 +164,8 @@ impl World {
                 Command::None => {}
                 Command::Kick { power, direction } => {
                     if p.pos.dist_sq(self.ball.pos) <= kickable_sq {
-                        let power = power.clamp(params.min_power, params.max_power);
-                        let dir = direction.clamp(params.min_moment, params.max_moment);
+                        let power = clamp(power, params.min_power, params.max_power);
+                        let dir = clamp(direction, params.min_moment, params.max_moment);
                         let eff = power
                             * params.kick_power_rate
                             * kick_rate_factor(params, p.pos, p.body, self.ball.pos);
@@ -173,12 +173,12 @@ impl World {
                     }
                 }
                 Command::Dash { power } => {
-                    let power = power.clamp(params.min_power, params.max_power);
+                    let power = clamp(power, params.min_power, params.max_power);
                     accels[i] +=
                         Vec2::polar(params.effort * power * params.dash_power_rate, p.body);
                 }
                 Command::Turn { moment } => {
-                    let moment = moment.clamp(params.min_moment, params.max_moment);
+                    let moment = clamp(moment, params.min_moment, params.max_moment);
                     let factor = if noise {
                         1.0 + symmetric(rng, params.player_rand)
                     } else {

@@ -46,7 +46,8 @@ pub fn in_cone(obj: Vec2, start: Vec2, end: Vec2, width: f64) -> bool {
 pub fn grid_points(cfg: &KeepawayConfig) -> impl Iterator<Item = Vec2> {
     let r = cfg.region;
     let s = cfg.skills;
-    let n = s.get_open_grid.max(2);
+    // Bounded as in `SkillParams::validate`, so that an unvalidated value cannot stall.
+    let n = s.get_open_grid.clamp(2, 64);
     let mesh_x = r.length * (1.0 - 2.0 * s.get_open_border) / f64::from(n - 1);
     let mesh_y = r.width * (1.0 - 2.0 * s.get_open_border) / f64::from(n - 1);
     let x0 = -r.half_length() + s.get_open_border * r.length;

@@ -3,7 +3,7 @@
 
 use super::predict::kick_speed_to_travel;
 use crate::keepaway::command::Command;
-use crate::keepaway::geometry::{Vec2, normalize_deg};
+use crate::keepaway::geometry::{Vec2, clamp, normalize_deg};
 use crate::keepaway::params::KeepawayConfig;
 use crate::keepaway::perception::PlayerView;
 use crate::keepaway::world::kick_rate_factor;
@@ -32,7 +32,7 @@ fn max_kick_along(view: &PlayerView, cfg: &KeepawayConfig, rate: f64, dir: f64) 
     let speed = rate * cfg.server.max_power;
     let across = view.ball.vel.rotate(-dir).y;
     let ratio = if speed > 0.0 {
-        (across / speed).clamp(-1.0, 1.0)
+        clamp(across / speed, -1.0, 1.0)
     } else {
         0.0
     };

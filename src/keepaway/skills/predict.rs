@@ -3,7 +3,7 @@
 //! estimated cycles for a player to reach a point or the ball.
 
 use crate::keepaway::command::Command;
-use crate::keepaway::geometry::{Vec2, normalize_deg};
+use crate::keepaway::geometry::{Vec2, clamp, normalize_deg};
 use crate::keepaway::params::{KeepawayConfig, ServerParams};
 use crate::keepaway::perception::{PlayerView, SeenBall, SeenPlayer};
 use crate::keepaway::world::NUM_PLAYERS;
@@ -34,16 +34,6 @@ fn geom_sum(r: f64, n: u32) -> f64 {
     (1.0 - r.powi(i32::try_from(n).unwrap_or(i32::MAX))) / (1.0 - r)
 }
 
-/// The ball's position after `n` cycles of free rolling.
-pub fn ball_pos_after(ball: &SeenBall, n: u32, sp: &ServerParams) -> Vec2 {
-    ball.pos + ball.vel * geom_sum(sp.ball_decay, n)
-}
-
-/// Where the ball comes to rest if nobody touches it.
-pub fn ball_final_pos(ball: &SeenBall, sp: &ServerParams) -> Vec2 {
-    ball.pos + ball.vel / (1.0 - sp.ball_decay)
-}
-
 /// A player's position after `n` cycles without commands.
 pub fn rollout_pos(k: &Kinematics, n: u32, sp: &ServerParams) -> Vec2 {
     k.pos + k.vel * geom_sum(sp.player_decay, n)
@@ -61,7 +51,7 @@ pub fn after_dash(k: &Kinematics, power: f64, sp: &ServerParams) -> Kinematics {
 
 /// [`after_dash`] with the body direction as the unit vector `u`.
 fn after_dash_along(k: &Kinematics, power: f64, u: Vec2, sp: &ServerParams) -> Kinematics {
-    let power = power.clamp(sp.min_power, sp.max_power);
+    let power = clamp(power, sp.min_power, sp.max_power);
     let mut vel = k.vel + u * (power * sp.dash_power_rate * sp.effort);
     let s = vel.norm();
     if s > sp.player_speed_max {
@@ -76,7 +66,7 @@ fn after_dash_along(k: &Kinematics, power: f64, u: Vec2, sp: &ServerParams) -> K
 
 /// State after one cycle with a turn of `moment` (noise-free).
 pub fn after_turn(k: &Kinematics, moment: f64, sp: &ServerParams) -> Kinematics {
-    let moment = moment.clamp(sp.min_moment, sp.max_moment);
+    let moment = clamp(moment, sp.min_moment, sp.max_moment);
     Kinematics {
         pos: k.pos + k.vel,
         vel: k.vel * sp.player_decay,
@@ -84,19 +74,14 @@ pub fn after_turn(k: &Kinematics, moment: f64, sp: &ServerParams) -> Kinematics 
     }
 }
 
-/// State after one cycle with any command (a kick leaves the player rolling).
-pub fn after_command(k: &Kinematics, cmd: &Command, sp: &ServerParams) -> Kinematics {
-    match *cmd {
-        Command::Dash { power } => after_dash(k, power, sp),
-        Command::Turn { moment } => after_turn(k, moment, sp),
-        Command::None | Command::Kick { .. } => after_dash(k, 0.0, sp),
-    }
-}
-
 /// The moment to send to turn by `desired` degrees at `speed`, clipped to the
 /// largest moment (then the turn falls short).
 pub fn angle_for_turn(desired: f64, speed: f64, sp: &ServerParams) -> f64 {
-    (desired * (1.0 + sp.inertia_moment * speed)).clamp(sp.min_moment, sp.max_moment)
+    clamp(
+        desired * (1.0 + sp.inertia_moment * speed),
+        sp.min_moment,
+        sp.max_moment,
+    )
 }
 
 /// The dash power to cover the projection of `rel` on the body direction in
@@ -119,7 +104,7 @@ fn power_for_dash_along(rel: Vec2, u: Vec2, vel: Vec2, cycles: u32, sp: &ServerP
     if power.is_nan() {
         0.0
     } else {
-        power.clamp(sp.min_power, sp.max_power)
+        clamp(power, sp.min_power, sp.max_power)
     }
 }
 
@@ -338,7 +323,8 @@ pub fn fastest_to_ball(
     let ball = ball_to_chase(view, cfg);
     let mut ball_pos = ball.pos;
     let mut ball_vel = ball.vel;
-    let horizon = cfg.skills.intercept_horizon;
+    // Capped as in `SkillParams::validate`, so that an unvalidated value cannot stall.
+    let horizon = cfg.skills.intercept_horizon.min(1000);
     // Each candidate's state and body direction, computed once.
     let mut movers = [(usize::MAX, Kinematics::default(), Vec2::ZERO); NUM_PLAYERS];
     let mut n = 0;
