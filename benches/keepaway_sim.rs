@@ -1,8 +1,10 @@
 //! Simulated keepaway cycles per second with the fixed procedure: hand-coded
-//! keepers, framework takers, full-state vision, motion noise on.
+//! keepers, framework takers, full-state vision, motion noise on; and, for
+//! comparison, the physics and referee alone.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use learnpnp::keepaway::{BaselinePolicy, Keepaway, KeepawayConfig};
+use learnpnp::keepaway::world::NUM_PLAYERS;
+use learnpnp::keepaway::{BaselinePolicy, Command, Keepaway, KeepawayConfig, Simulator};
 use std::hint::black_box;
 
 /// Cycles simulated per benchmark iteration.
@@ -30,6 +32,25 @@ fn bench(c: &mut Criterion) {
         };
         let mut policy = BaselinePolicy::HandCoded;
         b.iter(|| black_box(run_cycles(&mut game, &mut policy, CYCLES)));
+    });
+    group.bench_function("cycles_physics_and_referee_only", |b| {
+        // The same load without the agents: every player dashes, the ball rolls.
+        let cfg = KeepawayConfig::default();
+        let mut sim = match Simulator::new(cfg, 42) {
+            Ok(s) => s,
+            Err(e) => panic!("default configuration rejected: {e}"),
+        };
+        let cmds = [Command::Dash { power: 60.0 }; NUM_PLAYERS];
+        b.iter(|| {
+            let mut ended = 0u64;
+            for _ in 0..CYCLES {
+                if sim.step(black_box(&cmds)).is_some() {
+                    ended += 1;
+                    sim.reset();
+                }
+            }
+            black_box(ended)
+        });
     });
     group.finish();
 }

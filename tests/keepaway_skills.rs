@@ -3,8 +3,11 @@
 use learnpnp::keepaway::features::{FeatureThresholds, Observation, PassLineDistances, observe};
 use learnpnp::keepaway::perception::PlayerId;
 use learnpnp::keepaway::policies::{hand_coded, threshold_policy};
-use learnpnp::keepaway::skills::get_open::{grid_points, in_cone, least_congested_point};
+use learnpnp::keepaway::skills::get_open::{
+    congestion, grid_points, in_cone, least_congested_point,
+};
 use learnpnp::keepaway::skills::pass::{PassState, teammates_by_distance};
+use learnpnp::keepaway::skills::predict::{Kinematics, cycles_to_point};
 use learnpnp::keepaway::skills::{go_to_point, hold_ball, intercept};
 use learnpnp::keepaway::state_vars::StateVars;
 use learnpnp::keepaway::world::{Ball, NUM_PLAYERS, Player};
@@ -268,6 +271,34 @@ fn get_open_avoids_blocked_lanes() {
     for (_, t) in v.opponents() {
         assert!(!in_cone(t.pos, from, p, c.skills.pass_cone_width));
     }
+    // No open grid point is less congested.
+    let open = |g: Vec2| {
+        !v.opponents()
+            .any(|(_, t)| in_cone(t.pos, from, g, c.skills.pass_cone_width))
+    };
+    let best = congestion(&v, p);
+    assert!(
+        grid_points(&c)
+            .filter(|&g| open(g))
+            .all(|g| congestion(&v, g) >= best)
+    );
+}
+
+#[test]
+fn cycles_to_reach_a_point() {
+    let c = cfg();
+    let at_rest = Kinematics {
+        pos: Vec2::ZERO,
+        vel: Vec2::ZERO,
+        body: 0.0,
+    };
+    // Within reach: 0. Straight ahead 10 m (+1.085 reach): 10 to 11 cycles at 1 m/cycle.
+    assert_eq!(cycles_to_point(&at_rest, Vec2::new(1.0, 0.0), &c), 0);
+    let ahead = cycles_to_point(&at_rest, Vec2::new(11.085, 0.0), &c);
+    assert!((10..=11).contains(&ahead), "{ahead}");
+    // Behind: one more cycle to turn first.
+    let behind = cycles_to_point(&at_rest, Vec2::new(-11.085, 0.0), &c);
+    assert_eq!(behind, ahead + 1);
 }
 
 #[test]

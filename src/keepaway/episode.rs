@@ -50,6 +50,8 @@ impl Keepaway {
     }
 
     /// Every player's command for the current state, each computed from its own view.
+    /// This updates the keepers' memories (a pass in progress), so it is meant to be
+    /// called once per cycle, as [`Keepaway::step`] does.
     pub fn commands(&mut self, policy: &mut dyn KeeperPolicy) -> [Command; NUM_PLAYERS] {
         let cfg = *self.sim.config();
         let world = *self.sim.world();

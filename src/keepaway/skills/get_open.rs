@@ -11,15 +11,24 @@ use crate::keepaway::world::Side;
 /// Congestion at `p`: the sum of `1 / distance` to every other player (oneself
 /// excluded; players exactly at `p` are skipped).
 pub fn congestion(view: &PlayerView, p: Vec2) -> f64 {
+    congestion_up_to(view, p, f64::INFINITY)
+}
+
+/// [`congestion`], abandoned (returning a value `>= bound`) as soon as the partial
+/// sum reaches `bound`.
+fn congestion_up_to(view: &PlayerView, p: Vec2, bound: f64) -> f64 {
     let me = view.me.index();
-    view.players
-        .iter()
-        .enumerate()
-        .filter(|&(i, _)| i != me)
-        .map(|(_, q)| q.pos.dist(p))
-        .filter(|&d| d > 0.0)
-        .map(|d| 1.0 / d)
-        .sum()
+    let mut c = 0.0;
+    for (i, q) in view.players.iter().enumerate() {
+        let d = q.pos.dist(p);
+        if i != me && d > 0.0 {
+            c += 1.0 / d;
+            if c >= bound {
+                break;
+            }
+        }
+    }
+    c
 }
 
 /// Whether `obj` lies in the pass cone from `start` to `end` (the framework's
@@ -64,7 +73,7 @@ pub fn least_congested_point(view: &PlayerView, cfg: &KeepawayConfig, pass_from:
     let mut best = None;
     let mut best_c = f64::INFINITY;
     for p in grid_points(cfg) {
-        let c = congestion(view, p);
+        let c = congestion_up_to(view, p, best_c);
         if c < best_c
             && !view
                 .opponents()

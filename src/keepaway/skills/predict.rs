@@ -44,13 +44,9 @@ pub fn final_pos(k: &Kinematics, sp: &ServerParams) -> Vec2 {
     k.pos + k.vel / (1.0 - sp.player_decay)
 }
 
-/// State after one cycle with a dash of `power` (noise-free).
-pub fn after_dash(k: &Kinematics, power: f64, sp: &ServerParams) -> Kinematics {
-    after_dash_along(k, power, Vec2::polar(1.0, k.body), sp)
-}
-
-/// [`after_dash`] with the body direction as the unit vector `u`.
-fn after_dash_along(k: &Kinematics, power: f64, u: Vec2, sp: &ServerParams) -> Kinematics {
+/// State after one cycle with a dash of `power` (noise-free), the body direction
+/// given as the unit vector `u`.
+fn after_dash(k: &Kinematics, power: f64, u: Vec2, sp: &ServerParams) -> Kinematics {
     let power = clamp(power, sp.min_power, sp.max_power);
     let mut vel = k.vel + u * (power * sp.dash_power_rate * sp.effort);
     let s = vel.norm();
@@ -255,7 +251,7 @@ fn cycles_to_point_along(k: &Kinematics, u: Vec2, target: Vec2, cfg: &KeepawayCo
             }
             // A braking (backward) dash while facing more than 20 degrees away.
             MoveDecision::Dash { power } if power < 0.0 && u.dot(want) < cos20 => {
-                k = after_dash_along(&k, power, u, sp);
+                k = after_dash(&k, power, u, sp);
             }
             MoveDecision::Dash { .. } => break,
         }
