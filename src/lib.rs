@@ -11,6 +11,7 @@ pub mod domains;
 pub mod dot;
 pub mod executor;
 pub mod experiment;
+pub mod keepaway;
 pub mod learning;
 pub mod net;
 pub mod plan;

@@ -1,0 +1,132 @@
+//! The keepers' fixed procedure around a pluggable decision
+//! (the framework's `KeepawayPlayer::keeper`).
+
+use super::command::Command;
+use super::episode::EpisodeOutcome;
+use super::geometry::Vec2;
+use super::params::KeepawayConfig;
+use super::perception::{PlayerId, PlayerView};
+use super::skills::intercept::intercept_at;
+use super::skills::pass::{PassState, teammates_by_distance};
+use super::skills::predict::fastest_to_ball;
+use super::skills::{get_open_from, go_to_support_point, hold_ball};
+use super::world::Side;
+use serde::{Deserialize, Serialize};
+
+/// The choice of the keeper with the ball.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum KeeperAction {
+    /// Keep the ball for one cycle.
+    Hold,
+    /// Pass to the closest teammate (Pass(1)).
+    Pass1,
+    /// Pass to the second-closest teammate (Pass(2)).
+    Pass2,
+}
+
+impl KeeperAction {
+    /// All actions, in the framework's numbering (0 hold, k pass to the k-th closest).
+    pub const ALL: [KeeperAction; 3] =
+        [KeeperAction::Hold, KeeperAction::Pass1, KeeperAction::Pass2];
+
+    /// The framework's action number.
+    pub fn index(self) -> usize {
+        match self {
+            KeeperAction::Hold => 0,
+            KeeperAction::Pass1 => 1,
+            KeeperAction::Pass2 => 2,
+        }
+    }
+
+    /// The action with the framework's number `i`, if any.
+    pub fn from_index(i: usize) -> Option<KeeperAction> {
+        KeeperAction::ALL.get(i).copied()
+    }
+}
+
+/// What a keeper without the ball, and not the fastest to it, does.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum SupportAction {
+    /// The framework's get-open behaviour.
+    #[default]
+    GetOpen,
+    /// Go to (and then wait at, facing the ball) a chosen point, as in the thesis's
+    /// multi-agent positioning experiment.
+    GoTo(Vec2),
+}
+
+/// The pluggable decisions of the keepers. One policy object serves all three
+/// keepers; the deciding keeper is `view.me`.
+pub trait KeeperPolicy {
+    /// The action of a keeper with the ball kickable, at a decision point (not in the
+    /// middle of a pass).
+    fn decide(&mut self, view: &PlayerView, cfg: &KeepawayConfig) -> KeeperAction;
+
+    /// What a supporting keeper does (default: get open).
+    fn support(&mut self, _view: &PlayerView, _cfg: &KeepawayConfig) -> SupportAction {
+        SupportAction::GetOpen
+    }
+
+    /// Called once when an episode run by [`super::episode::Keepaway`] ends.
+    fn end_episode(&mut self, _outcome: &EpisodeOutcome) {}
+}
+
+/// A keeper's memory between cycles: the pass in progress, if any.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct KeeperMemory {
+    /// The pass being kicked.
+    pub pass: Option<PassState>,
+}
+
+/// A keeper's command for this cycle:
+/// - with the ball kickable: continue the pass kicked last cycle if there is one,
+///   otherwise ask `policy` and hold the ball (one cycle, ratio 0.7) or start a pass
+///   to the k-th closest teammate;
+/// - otherwise, if this keeper is the teammate fastest to the ball (predicted
+///   interception time, ties to the lower index), intercept;
+/// - otherwise support as `policy` says (get open for a pass from where the fastest
+///   teammate will get the ball, by default).
+pub fn keeper_command(
+    view: &PlayerView,
+    cfg: &KeepawayConfig,
+    memory: &mut KeeperMemory,
+    policy: &mut dyn KeeperPolicy,
+) -> Command {
+    if view.ball_kickable(cfg) {
+        if let Some(mut pass) = memory.pass.filter(|p| p.continues(view, cfg)) {
+            let cmd = pass.kick(view, cfg);
+            memory.pass = Some(pass);
+            return cmd;
+        }
+        let mates = teammates_by_distance(view);
+        let receiver = match policy.decide(view, cfg) {
+            KeeperAction::Hold => None,
+            KeeperAction::Pass1 => PlayerId::new(mates[0]),
+            KeeperAction::Pass2 => PlayerId::new(mates[1]),
+        };
+        return match receiver {
+            Some(r) if r != view.me => {
+                let mut pass = PassState::new(r, view);
+                let cmd = pass.kick(view, cfg);
+                memory.pass = Some(pass);
+                cmd
+            }
+            _ => {
+                memory.pass = None;
+                hold_ball(view, cfg, cfg.skills.keeper_hold_ratio)
+            }
+        };
+    }
+    memory.pass = None;
+    let fastest = fastest_to_ball(view, Side::Keepers.indices(), cfg);
+    if let Some(f) = fastest.filter(|f| f.player == view.me.index()) {
+        return intercept_at(view, cfg, &f);
+    }
+    match policy.support(view, cfg) {
+        SupportAction::GetOpen => {
+            let from = fastest.map_or(view.ball.pos, |f| f.point);
+            get_open_from(view, cfg, from)
+        }
+        SupportAction::GoTo(p) => go_to_support_point(view, cfg, p),
+    }
+}

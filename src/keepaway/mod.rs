@@ -1,0 +1,44 @@
+//! Keepaway 3 vs 2: a faithful re-implementation of the RoboCup 2D Soccer Server's
+//! physics (2005-era parameters), the keepaway referee, and the keepaway player
+//! framework's skills, takers and baseline keeper policies (Stone, Sutton, Kuhlmann
+//! 2005), as used in chapter 7 of the thesis.
+//!
+//! Layers, bottom up:
+//! - [`geometry`], [`params`], [`command`]: vectors and angles (degrees), parameters,
+//!   the primitive commands;
+//! - [`world`], [`referee`], [`simulator`]: state, physics step, episode end and
+//!   reset, all randomness from one seeded generator;
+//! - [`perception`]: what each agent sees ([`perception::PlayerView`], full state or
+//!   quantised);
+//! - [`skills`], [`taker`], [`keeper`]: the framework's behaviours; the keeper with the
+//!   ball asks a pluggable [`keeper::KeeperPolicy`];
+//! - [`policies`]: random, always-hold, hand-coded and the thesis's threshold policy;
+//! - [`state_vars`], [`features`], [`positions`]: abstractions for plans and learners;
+//! - [`episode`]: running episodes.
+
+pub mod command;
+pub mod episode;
+pub mod features;
+pub mod geometry;
+pub mod keeper;
+pub mod params;
+pub mod perception;
+pub mod policies;
+pub mod positions;
+pub mod referee;
+pub mod simulator;
+pub mod skills;
+pub mod state_vars;
+pub mod taker;
+pub mod world;
+
+pub use command::Command;
+pub use episode::{EpisodeOutcome, Keepaway, run_episode};
+pub use geometry::Vec2;
+pub use keeper::{KeeperAction, KeeperPolicy, SupportAction};
+pub use params::{ConfigError, KeepawayConfig, ServerParams, SkillParams, VisionMode};
+pub use perception::{PlayerId, PlayerView, perceive};
+pub use policies::BaselinePolicy;
+pub use referee::EndReason;
+pub use simulator::Simulator;
+pub use world::World;

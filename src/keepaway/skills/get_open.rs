@@ -1,0 +1,137 @@
+//! Getting open for a pass (the framework's `getOpenForPassFromInRectangle`).
+
+use super::movement::{go_to_point, turn_body_to_point};
+use super::predict::fastest_to_ball;
+use crate::keepaway::command::Command;
+use crate::keepaway::geometry::Vec2;
+use crate::keepaway::params::KeepawayConfig;
+use crate::keepaway::perception::PlayerView;
+use crate::keepaway::world::Side;
+
+/// Congestion at `p`: the sum of `1 / distance` to every other player (oneself
+/// excluded; players exactly at `p` are skipped).
+pub fn congestion(view: &PlayerView, p: Vec2) -> f64 {
+    congestion_up_to(view, p, f64::INFINITY)
+}
+
+/// [`congestion`], abandoned (returning a value `>= bound`) as soon as the partial
+/// sum reaches `bound`.
+fn congestion_up_to(view: &PlayerView, p: Vec2, bound: f64) -> f64 {
+    let me = view.me.index();
+    let mut c = 0.0;
+    for (i, q) in view.players.iter().enumerate() {
+        let d = q.pos.dist(p);
+        if i != me && d > 0.0 {
+            c += 1.0 / d;
+            if c >= bound {
+                break;
+            }
+        }
+    }
+    c
+}
+
+/// Whether `obj` lies in the pass cone from `start` to `end` (the framework's
+/// `getNrInSetInCone`): its projection on the line lies between the two ends, its
+/// distance from the line is below `width x` the projection's distance from
+/// `start`, and it is closer to `start` than `end` is.
+pub fn in_cone(obj: Vec2, start: Vec2, end: Vec2, width: f64) -> bool {
+    let line = end - start;
+    let len_sq = line.norm_sq();
+    if len_sq <= 0.0 {
+        return false;
+    }
+    // Projection start + t * line: between the ends iff t in [0, 1].
+    let t = (obj - start).dot(line) / len_sq;
+    let proj = start + line * t;
+    (0.0..=1.0).contains(&t)
+        && proj.dist_sq(obj) < width * width * proj.dist_sq(start)
+        && start.dist_sq(obj) < len_sq
+}
+
+/// The candidate points of the get-open grid: `grid x grid` points over the region
+/// minus a `border` fraction on each side ({-7, -3.5, 0, 3.5, 7} on each axis for
+/// the defaults), x-major order.
+pub fn grid_points(cfg: &KeepawayConfig) -> impl Iterator<Item = Vec2> {
+    let r = cfg.region;
+    let s = cfg.skills;
+    // Bounded as in `SkillParams::validate`, so that an unvalidated value cannot stall.
+    let n = s.get_open_grid.clamp(2, 64);
+    let mesh_x = r.length * (1.0 - 2.0 * s.get_open_border) / f64::from(n - 1);
+    let mesh_y = r.width * (1.0 - 2.0 * s.get_open_border) / f64::from(n - 1);
+    let x0 = -r.half_length() + s.get_open_border * r.length;
+    let y0 = -r.half_width() + s.get_open_border * r.width;
+    (0..n).flat_map(move |i| {
+        (0..n).map(move |j| Vec2::new(x0 + f64::from(i) * mesh_x, y0 + f64::from(j) * mesh_y))
+    })
+}
+
+/// The least congested grid point with no opponent in the pass cone from
+/// `pass_from`; the region's centre if every point is blocked.
+pub fn least_congested_point(view: &PlayerView, cfg: &KeepawayConfig, pass_from: Vec2) -> Vec2 {
+    let width = cfg.skills.pass_cone_width;
+    let mut best = None;
+    let mut best_c = f64::INFINITY;
+    for p in grid_points(cfg) {
+        let c = congestion_up_to(view, p, best_c);
+        if c < best_c
+            && !view
+                .opponents()
+                .any(|(_, o)| in_cone(o.pos, pass_from, p, width))
+        {
+            best_c = c;
+            best = Some(p);
+        }
+    }
+    best.unwrap_or(cfg.region.centre())
+}
+
+/// Go to a supporting position `point`: within `get_open_buffer` (1.5 m) of it,
+/// turn to face the ball; otherwise [`go_to_point`].
+pub fn go_to_support_point(view: &PlayerView, cfg: &KeepawayConfig, point: Vec2) -> Command {
+    if view.own().pos.dist(point) < cfg.skills.get_open_buffer {
+        turn_body_to_point(view, cfg, view.ball.pos, 1)
+    } else {
+        go_to_point(view, cfg, point)
+    }
+}
+
+/// Get open for a pass that will start from `pass_from`.
+pub fn get_open_from(view: &PlayerView, cfg: &KeepawayConfig, pass_from: Vec2) -> Command {
+    let p = least_congested_point(view, cfg, pass_from);
+    go_to_support_point(view, cfg, p)
+}
+
+/// Get open: the pass is expected from where the teammate fastest to the ball will
+/// get it (the framework's `keeperSupport`).
+pub fn get_open(view: &PlayerView, cfg: &KeepawayConfig) -> Command {
+    let from = fastest_to_ball(view, Side::Keepers.indices(), cfg)
+        .map(|i| i.point)
+        .unwrap_or(view.ball.pos);
+    get_open_from(view, cfg, from)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_grid() {
+        let cfg = KeepawayConfig::default();
+        let pts: Vec<Vec2> = grid_points(&cfg).collect();
+        assert_eq!(pts.len(), 25);
+        assert!(pts[0].dist(Vec2::new(-7.0, -7.0)) < 1e-9);
+        assert!(pts[24].dist(Vec2::new(7.0, 7.0)) < 1e-9);
+        assert!(pts[12].dist(Vec2::ZERO) < 1e-9);
+    }
+
+    #[test]
+    fn cone() {
+        let s = Vec2::ZERO;
+        let e = Vec2::new(10.0, 0.0);
+        assert!(in_cone(Vec2::new(5.0, 1.0), s, e, 0.3));
+        assert!(!in_cone(Vec2::new(5.0, 2.0), s, e, 0.3));
+        assert!(!in_cone(Vec2::new(-1.0, 0.1), s, e, 0.3));
+        assert!(!in_cone(Vec2::new(11.0, 0.1), s, e, 0.3));
+    }
+}

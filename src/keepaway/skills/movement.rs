@@ -1,0 +1,70 @@
+//! Turning and moving: turn to a point or the ball, dash to a point, go to a point.
+
+use super::predict::{
+    Kinematics, after_turn, angle_for_turn, final_pos, power_for_dash, rollout_pos,
+};
+use crate::keepaway::command::Command;
+use crate::keepaway::geometry::{Vec2, normalize_deg};
+use crate::keepaway::params::KeepawayConfig;
+use crate::keepaway::perception::PlayerView;
+
+/// Turn the body towards `point`, seen from where one will be after `cycles`
+/// cycles of rolling (the framework's `turnBodyToPoint`); the moment compensates
+/// for the inertia at the current speed.
+pub fn turn_body_to_point(
+    view: &PlayerView,
+    cfg: &KeepawayConfig,
+    point: Vec2,
+    cycles: u32,
+) -> Command {
+    let me = Kinematics::from(view.own());
+    let from = rollout_pos(&me, cycles, &cfg.server);
+    let ang = normalize_deg((point - from).dir() - me.body);
+    Command::Turn {
+        moment: angle_for_turn(ang, me.vel.norm(), &cfg.server),
+    }
+}
+
+/// Turn the body towards where the ball will be next cycle (`turnBodyToObject`).
+pub fn turn_to_ball(view: &PlayerView, cfg: &KeepawayConfig) -> Command {
+    let next = view.ball.pos + view.ball.vel;
+    turn_body_to_point(view, cfg, next, 1)
+}
+
+/// Dash so as to cover the distance to `point` (projected on the body direction)
+/// in `cycles` cycles (`dashToPoint`).
+pub fn dash_to_point(view: &PlayerView, cfg: &KeepawayConfig, point: Vec2, cycles: u32) -> Command {
+    let me = view.own();
+    Command::Dash {
+        power: power_for_dash(point - me.pos, me.body, me.vel, cycles, &cfg.server),
+    }
+}
+
+/// Go to `point` (the framework's `moveToPos` with its defaults: no backward
+/// dashing, one-cycle dash target): if the point, seen from where one comes to rest,
+/// is within `when_to_turn_deg` (7 degrees) of the body direction, dash; otherwise
+/// simulate the turns needed: one or two, turn now (seen from two cycles ahead);
+/// more (moving too fast to turn), brake first.
+pub fn go_to_point(view: &PlayerView, cfg: &KeepawayConfig, point: Vec2) -> Command {
+    let sp = &cfg.server;
+    let when = cfg.skills.when_to_turn_deg;
+    let me = Kinematics::from(view.own());
+    let rest = final_pos(&me, sp);
+    let ang_to = (point - rest).dir();
+    let mut ang = normalize_deg(ang_to - me.body);
+    if ang.abs() < when {
+        return dash_to_point(view, cfg, point, 1);
+    }
+    let mut k = me;
+    let mut turns = 0;
+    while ang.abs() > when && turns < 5 {
+        turns += 1;
+        k = after_turn(&k, angle_for_turn(ang, k.vel.norm(), sp), sp);
+        ang = normalize_deg(ang_to - k.body);
+    }
+    if turns <= 2 {
+        turn_body_to_point(view, cfg, point, 2)
+    } else {
+        dash_to_point(view, cfg, me.pos, 1)
+    }
+}
