@@ -13,9 +13,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
     /// Distinguishes temporary files of concurrent writes from one process.
     static COUNTER: AtomicU64 = AtomicU64::new(0);
 
-    let file_name = path.file_name().ok_or_else(|| {
-        io::Error::new(io::ErrorKind::InvalidInput, "the path does not name a file")
-    })?;
+    let file_name = path
+        .file_name()
+        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "the path does not name a file"))?;
     let dir = match path.parent() {
         Some(dir) if !dir.as_os_str().is_empty() => dir,
         _ => Path::new("."),

@@ -50,9 +50,7 @@ fn escape(text: &str) -> String {
 
 /// Text safe on one comment line.
 fn comment(text: &str) -> String {
-    text.chars()
-        .map(|c| if c.is_control() { ' ' } else { c })
-        .collect()
+    text.chars().map(|c| if c.is_control() { ' ' } else { c }).collect()
 }
 
 /// The initial tokens as dots.
@@ -119,11 +117,7 @@ impl fmt::Display for Dot<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let plan = self.0;
         let net = plan.net();
-        writeln!(
-            f,
-            "// Petri Net Plan '{}' (learnpnp dot)",
-            comment(net.name())
-        )?;
+        writeln!(f, "// Petri Net Plan '{}' (learnpnp dot)", comment(net.name()))?;
         f.write_str(LEGEND)?;
         writeln!(f, "digraph \"{}\" {{", escape(net.name()))?;
         f.write_str("  rankdir=LR;\n")?;

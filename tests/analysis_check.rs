@@ -12,25 +12,15 @@ fn build(b: PlanBuilder) -> Plan {
 }
 
 fn verdict(report: &CheckReport, property: Property) -> &Verdict {
-    report
-        .verdict(property)
-        .expect("every property has a verdict")
+    report.verdict(property).expect("every property has a verdict")
 }
 
 fn failures_of(report: &CheckReport, property: Property) -> Vec<&Failure> {
-    report
-        .failures
-        .iter()
-        .filter(|f| f.property() == property)
-        .collect()
+    report.failures.iter().filter(|f| f.property() == property).collect()
 }
 
 /// A raw net: places `(id, label, initial)`, transitions `(id, label)`, arcs `(source, target, weight)`.
-fn raw_plan(
-    places: &[(&str, &str, u8)],
-    transitions: &[(&str, &str)],
-    arcs: &[(&str, &str, u8)],
-) -> Plan {
+fn raw_plan(places: &[(&str, &str, u8)], transitions: &[(&str, &str)], arcs: &[(&str, &str, u8)]) -> Plan {
     let places = places
         .iter()
         .map(|&(id, label, initial)| PlaceNode {
@@ -72,10 +62,7 @@ fn sequence() -> Plan {
 fn a_sequence_passes() {
     let report = check(&sequence(), LIMIT);
     assert!(report.passed(), "{report}");
-    assert!(
-        report.failures.is_empty() && report.notes.is_empty(),
-        "{report}"
-    );
+    assert!(report.failures.is_empty() && report.notes.is_empty(), "{report}");
     for property in Property::ALL {
         assert_eq!(verdict(&report, property), &Verdict::Passed, "{property:?}");
     }
@@ -87,10 +74,7 @@ fn a_sequence_passes() {
     assert!(report.bounds.iter().all(|b| b.bound == Count::Finite(1)));
     let text = report.to_string();
     assert!(text.contains("result: passed"), "{text}");
-    assert!(
-        text.contains("plan 'sequence': 5 places, 4 transitions"),
-        "{text}"
-    );
+    assert!(text.contains("plan 'sequence': 5 places, 4 transitions"), "{text}");
 }
 
 #[test]
@@ -119,20 +103,13 @@ fn a_fork_without_join_leaving_a_token_off_the_goal_fails_effectiveness() {
     let report = check(&build(b), LIMIT);
     assert!(!report.passed());
     assert_eq!(verdict(&report, Property::Effectiveness), &Verdict::Failed);
-    let [
-        Failure::NoGoalReachable {
-            markings, examples, ..
-        },
-    ] = failures_of(&report, Property::Effectiveness)[..]
+    let [Failure::NoGoalReachable { markings, examples, .. }] = failures_of(&report, Property::Effectiveness)[..]
     else {
         panic!("one effectiveness failure expected: {report}");
     };
     assert_eq!(*markings, report.markings, "no marking can reach the goal");
     assert_eq!(examples.len(), 3);
-    assert!(
-        examples[0].trace.is_empty(),
-        "the initial marking comes first"
-    );
+    assert!(examples[0].trace.is_empty(), "the initial marking comes first");
     // The branches end with tokens in a goal place and in B's output: dead.
     assert_eq!(verdict(&report, Property::Deadlock), &Verdict::Failed);
     let text = report.to_string();
@@ -163,8 +140,7 @@ fn a_dead_end_branch_fails_only_the_markings_after_it() {
     };
     assert_eq!(examples[0].marking, "lost");
     assert_eq!(examples[0].trace, ["look.start", "look.end [not ok]"]);
-    let [Failure::DeadMarkings { markings: 1, .. }] = failures_of(&report, Property::Deadlock)[..]
-    else {
+    let [Failure::DeadMarkings { markings: 1, .. }] = failures_of(&report, Property::Deadlock)[..] else {
         panic!("'lost' is dead: {report}");
     };
     assert_eq!(verdict(&report, Property::Minimality), &Verdict::Passed);
@@ -194,32 +170,16 @@ fn a_transition_whose_input_is_never_marked_fails_minimality() {
     b.transition("never", &[(orphan, 1)], &[(goal, 1)]);
     let report = check(&build(b), LIMIT);
     assert_eq!(verdict(&report, Property::Minimality), &Verdict::Failed);
-    let [
-        Failure::DeadTransition {
-            transition,
-            element,
-        },
-    ] = failures_of(&report, Property::Minimality)[..]
-    else {
+    let [Failure::DeadTransition { transition, element }] = failures_of(&report, Property::Minimality)[..] else {
         panic!("one dead transition expected: {report}");
     };
     assert_eq!(*transition, TransitionId::new(2));
-    assert_eq!(
-        (element.id.as_str(), element.label.as_str()),
-        ("t3", "never")
-    );
-    for property in [
-        Property::Safety,
-        Property::Effectiveness,
-        Property::Deadlock,
-    ] {
+    assert_eq!((element.id.as_str(), element.label.as_str()), ("t3", "never"));
+    for property in [Property::Safety, Property::Effectiveness, Property::Deadlock] {
         assert_eq!(verdict(&report, property), &Verdict::Passed, "{property:?}");
     }
     let text = report.to_string();
-    assert!(
-        text.contains("transition t3 'never' can never fire"),
-        "{text}"
-    );
+    assert!(text.contains("transition t3 'never' can never fire"), "{text}");
     assert!(text.contains("never marked: p4 'orphan'"), "{text}");
 }
 
@@ -257,14 +217,13 @@ fn two_starts_into_one_execution_place_fail_safety() {
     assert_eq!(example.trace, ["fork", "A.start", "A.start"]);
     // `done` also holds two tokens, by design: a note, not a failure.
     assert!(
-        report.notes.iter().any(|n| matches!(n, Note::AboveOne { element, bound: Count::Finite(2), .. } if element.label == "done")),
+        report
+            .notes
+            .iter()
+            .any(|n| matches!(n, Note::AboveOne { element, bound: Count::Finite(2), .. } if element.label == "done")),
         "{report}"
     );
-    for property in [
-        Property::Minimality,
-        Property::Effectiveness,
-        Property::Deadlock,
-    ] {
+    for property in [Property::Minimality, Property::Effectiveness, Property::Deadlock] {
         assert_eq!(verdict(&report, property), &Verdict::Passed, "{property:?}");
     }
     assert!(report.to_string().contains("would run twice at once"));
@@ -440,11 +399,7 @@ fn an_empty_net_is_one_dead_marking() {
     assert_eq!(report.limit, 1);
     assert_eq!(verdict(&report, Property::Minimality), &Verdict::Passed);
     assert_eq!(verdict(&report, Property::Deadlock), &Verdict::Failed);
-    assert!(
-        report
-            .to_string()
-            .contains("e.g. [-] (the initial marking)")
-    );
+    assert!(report.to_string().contains("e.g. [-] (the initial marking)"));
 }
 
 #[test]

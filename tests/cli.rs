@@ -52,11 +52,7 @@ fn check_exit_codes() {
     pnml::write_file(&b.build_net().unwrap(), Dialect::Jarp, &bad).unwrap();
     let fails = learnpnp(&["check", bad.to_str().unwrap()]);
     assert_eq!(fails.status.code(), Some(1), "{}", text(&fails.stdout));
-    assert!(
-        text(&fails.stdout).contains("safety"),
-        "{}",
-        text(&fails.stdout)
-    );
+    assert!(text(&fails.stdout).contains("safety"), "{}", text(&fails.stdout));
 
     let garbage = dir.join("garbage.pnml");
     std::fs::write(
@@ -88,11 +84,7 @@ fn convert_round_trips_between_dialects() {
         standard.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
-    assert!(
-        std::fs::read_to_string(&standard)
-            .unwrap()
-            .contains("<page")
-    );
+    assert!(std::fs::read_to_string(&standard).unwrap().contains("<page"));
     let out = learnpnp(&[
         "convert",
         standard.to_str().unwrap(),
@@ -114,10 +106,7 @@ fn dot_marks_choice_points() {
     let out = learnpnp(&["dot", &shipped("choice_point.pnml")]);
     assert!(out.status.success());
     let dot = text(&out.stdout);
-    assert!(
-        dot.contains("digraph") && dot.contains("doublecircle"),
-        "{dot}"
-    );
+    assert!(dot.contains("digraph") && dot.contains("doublecircle"), "{dot}");
 }
 
 #[test]

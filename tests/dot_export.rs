@@ -51,16 +51,11 @@ fn nodes_have_their_shapes_and_colours() {
     let init = line_of(&dot, "p1");
     assert!(init.contains("shape=doublecircle"), "{init}");
     assert!(init.contains("fillcolor=gold"), "{init}");
-    assert!(
-        init.contains(r#"label="the \"start\" \\ place\n●""#),
-        "{init}"
-    );
+    assert!(init.contains(r#"label="the \"start\" \\ place\n●""#), "{init}");
     // The goal place: green, bold.
     let goal = line_of(&dot, "p2");
     assert!(
-        goal.contains("shape=circle")
-            && goal.contains("fillcolor=palegreen")
-            && goal.contains("penwidth=2"),
+        goal.contains("shape=circle") && goal.contains("fillcolor=palegreen") && goal.contains("penwidth=2"),
         "{goal}"
     );
     // Execution places: filled, labelled with the action.
@@ -107,10 +102,7 @@ fn complementary_sensing_outcomes_are_no_choice_point() {
     let dot = to_dot(&b.build(Vocabulary::Open).expect("plan builds"));
     let nodes: Vec<&str> = dot.lines().filter(|l| l.contains("shape=")).collect();
     assert!(nodes.iter().all(|l| !l.contains("doublecircle")), "{dot}");
-    assert_eq!(
-        nodes.iter().filter(|l| l.contains("shape=circle")).count(),
-        3
-    );
+    assert_eq!(nodes.iter().filter(|l| l.contains("shape=circle")).count(), 3);
     assert_eq!(nodes.iter().filter(|l| l.contains("shape=box")).count(), 3);
     // Initial tokens are drawn.
     assert!(line_of(&dot, "p1").contains(r#"label="init\n●""#), "{dot}");

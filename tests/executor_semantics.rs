@@ -3,9 +3,7 @@
 use std::sync::Arc;
 
 use learnpnp::condition::{AtomId, AtomTable, BitKnowledgeBase, KnowledgeBase};
-use learnpnp::executor::{
-    Action, Chooser, ExecError, Executor, PlanKey, RandomChooser, Registry, Status, World,
-};
+use learnpnp::executor::{Action, Chooser, ExecError, Executor, PlanKey, RandomChooser, Registry, Status, World};
 use learnpnp::net::Marking;
 use learnpnp::plan::{Plan, PlanBuilder, Vocabulary};
 use learnpnp::rng::seeded;
@@ -39,11 +37,7 @@ struct Timed {
 
 impl Timed {
     fn new(name: &str) -> Self {
-        let steps = name
-            .rsplit('_')
-            .next()
-            .and_then(|n| n.parse().ok())
-            .unwrap_or(1);
+        let steps = name.rsplit('_').next().and_then(|n| n.parse().ok()).unwrap_or(1);
         Timed {
             name: name.to_string(),
             steps,
@@ -98,17 +92,11 @@ impl Chooser for Recorder {
         self.pick
     }
     fn transition(&mut self, plan: PlanKey, marking: &Marking, reward: f64, elapsed: u32) {
-        self.transitions
-            .push((plan, marking.clone(), reward, elapsed));
+        self.transitions.push((plan, marking.clone(), reward, elapsed));
     }
 }
 
-fn run(
-    exec: &mut Executor<Log>,
-    world: &mut Log,
-    chooser: &mut impl Chooser,
-    max: usize,
-) -> (Status, usize) {
+fn run(exec: &mut Executor<Log>, world: &mut Log, chooser: &mut impl Chooser, max: usize) -> (Status, usize) {
     exec.reset(world, chooser);
     for i in 1..=max {
         let s = exec.step(world, chooser).unwrap();
@@ -177,10 +165,7 @@ fn choice_offers_the_next_markings_and_follows_the_pick() {
         assert_eq!(opts.len(), 2);
         for (i, o) in opts.iter().enumerate() {
             assert_eq!(
-                o.get(plan_place(
-                    &plan,
-                    &format!("act_{}_1.exec", ["left", "right"][i])
-                )),
+                o.get(plan_place(&plan, &format!("act_{}_1.exec", ["left", "right"][i]))),
                 1
             );
             assert_eq!(o.total(), 1);
@@ -205,12 +190,7 @@ fn transitions_enabled_by_this_step_wait_for_the_next() {
     b.transition("t2", &[(mid, 1)], &[(goal, 1)]);
     let plan = Arc::new(b.build(Vocabulary::Open).unwrap());
     let mut exec = Executor::new(plan, &registry()).unwrap();
-    let (status, steps) = run(
-        &mut exec,
-        &mut Log::default(),
-        &mut RandomChooser::new(seeded(1)),
-        10,
-    );
+    let (status, steps) = run(&mut exec, &mut Log::default(), &mut RandomChooser::new(seeded(1)), 10);
     assert_eq!((status, steps), (Status::Goal, 2));
 }
 
@@ -262,12 +242,7 @@ fn guards_read_the_knowledge_base_and_sensing_takes_the_true_branch() {
             ..Log::default()
         };
         world.kb.set(AtomId(0), truth);
-        let (status, _) = run(
-            &mut exec,
-            &mut world,
-            &mut RandomChooser::new(seeded(3)),
-            10,
-        );
+        let (status, _) = run(&mut exec, &mut world, &mut RandomChooser::new(seeded(3)), 10);
         assert_eq!(status, expected);
     }
 }
@@ -294,12 +269,7 @@ fn interrupt_preempts_the_normal_end() {
     exec.step(&mut world, &mut chooser).unwrap();
     assert_eq!(
         world.lines,
-        [
-            "start act_go_5",
-            "step act_go_5",
-            "step act_go_5",
-            "interrupt act_go_5"
-        ]
+        ["start act_go_5", "step act_go_5", "step act_go_5", "interrupt act_go_5"]
     );
     assert_eq!(exec.marking().get(plan_place(&plan, "recover")), 1);
 }
@@ -310,19 +280,10 @@ fn declared_internal_conditions_are_bound_and_checked() {
     let init = b.initial_place("init");
     let go = b.action(init, "act_go_5");
     let early = b.place("early goal");
-    b.transition(
-        "act_go_5.end [act_go_5.begun]",
-        &[(go.exec, 1)],
-        &[(early, 1)],
-    );
+    b.transition("act_go_5.end [act_go_5.begun]", &[(go.exec, 1)], &[(early, 1)]);
     let plan = Arc::new(b.build(Vocabulary::Open).unwrap());
     let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();
-    let (status, steps) = run(
-        &mut exec,
-        &mut Log::default(),
-        &mut RandomChooser::new(seeded(0)),
-        20,
-    );
+    let (status, steps) = run(&mut exec, &mut Log::default(), &mut RandomChooser::new(seeded(0)), 20);
     assert_eq!((status, steps), (Status::Goal, 2));
 
     let mut b = PlanBuilder::new("undeclared");

@@ -41,15 +41,9 @@ fn baseline_durations() {
     report("random", &full, &BaselinePolicy::random);
     report("always hold", &full, &|_| BaselinePolicy::AlwaysHold);
     report("hand-coded", &full, &|_| BaselinePolicy::HandCoded);
-    report("threshold (default)", &full, &|_| {
-        BaselinePolicy::threshold()
-    });
-    report("hand-coded, quantised", &quantised, &|_| {
-        BaselinePolicy::HandCoded
-    });
-    report("threshold, quantised", &quantised, &|_| {
-        BaselinePolicy::threshold()
-    });
+    report("threshold (default)", &full, &|_| BaselinePolicy::threshold());
+    report("hand-coded, quantised", &quantised, &|_| BaselinePolicy::HandCoded);
+    report("threshold, quantised", &quantised, &|_| BaselinePolicy::threshold());
 }
 
 #[test]

@@ -4,8 +4,8 @@ use learnpnp::keepaway::perception::PlayerId;
 use learnpnp::keepaway::positions::PositioningPoint;
 use learnpnp::keepaway::world::Side;
 use learnpnp::keepaway::{
-    BaselinePolicy, EndReason, EpisodeOutcome, Keepaway, KeepawayConfig, KeeperAction,
-    KeeperPolicy, PlayerView, SupportAction, VisionMode, World, run_episode,
+    BaselinePolicy, EndReason, EpisodeOutcome, Keepaway, KeepawayConfig, KeeperAction, KeeperPolicy, PlayerView,
+    SupportAction, VisionMode, World, run_episode,
 };
 
 fn trace(seed: u64, cfg: KeepawayConfig) -> (Vec<World>, EpisodeOutcome) {
@@ -64,9 +64,7 @@ fn mean_seconds(cfg: &KeepawayConfig, episodes: u64, make: impl Fn(u64) -> Basel
     let mut total = 0.0;
     for seed in 0..episodes {
         let mut p = make(seed);
-        total += run_episode(cfg, 1000 + seed, &mut p)
-            .expect("valid config")
-            .seconds;
+        total += run_episode(cfg, 1000 + seed, &mut p).expect("valid config").seconds;
     }
     total / episodes as f64
 }
@@ -80,15 +78,9 @@ fn hand_coded_keepers_beat_random_ones() {
     let hand = mean_seconds(&cfg, 30, |_| BaselinePolicy::HandCoded);
     let random = mean_seconds(&cfg, 30, BaselinePolicy::random);
     let hold = mean_seconds(&cfg, 30, |_| BaselinePolicy::AlwaysHold);
-    assert!(
-        hand > 1.5 * random,
-        "hand-coded {hand:.2} s, random {random:.2} s"
-    );
+    assert!(hand > 1.5 * random, "hand-coded {hand:.2} s, random {random:.2} s");
     assert!(random > 3.0 && random < 10.0, "random {random:.2} s");
-    assert!(
-        hold < random,
-        "always hold {hold:.2} s, random {random:.2} s"
-    );
+    assert!(hold < random, "always hold {hold:.2} s, random {random:.2} s");
 }
 
 /// Counts the decisions and the supporting calls; sends supporters to the corners.
@@ -169,8 +161,7 @@ fn supporters_reach_their_points() {
     let mut near = false;
     for _ in 0..60 {
         let w = *game.simulator().world();
-        near |= (0..3)
-            .any(|k| w.players[k].pos.norm() < 1.6 && w.players[k].pos.dist(w.ball.pos) > 3.0);
+        near |= (0..3).any(|k| w.players[k].pos.norm() < 1.6 && w.players[k].pos.dist(w.ball.pos) > 3.0);
         if game.step(&mut Park).is_some() {
             break;
         }

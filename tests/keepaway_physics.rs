@@ -95,8 +95,7 @@ fn kick_effective_power_depends_on_distance_and_angle() {
     };
     step(&mut w, &cmds);
     let dist_ball = 0.8 - sp.player_size - sp.ball_size;
-    let eff =
-        50.0 * sp.kick_power_rate * (1.0 - 0.25 * 0.5 - 0.25 * dist_ball / sp.kickable_margin);
+    let eff = 50.0 * sp.kick_power_rate * (1.0 - 0.25 * 0.5 - 0.25 * dist_ball / sp.kickable_margin);
     let moved = w.ball.pos;
     assert!(
         (moved.norm() - eff).abs() < 1e-9,
@@ -127,11 +126,7 @@ fn turns_shrink_with_speed() {
     w.players[3].vel = Vec2::new(1.0, 0.0);
     cmds[3] = Command::Turn { moment: 180.0 };
     step(&mut w, &cmds);
-    assert!(
-        (w.players[3].body - 30.0).abs() < 1e-9,
-        "{}",
-        w.players[3].body
-    );
+    assert!((w.players[3].body - 30.0).abs() < 1e-9, "{}", w.players[3].body);
 
     // Moments beyond 180 are clipped.
     let mut w = spread_world();
@@ -169,10 +164,7 @@ fn motion_noise_is_bounded_per_axis() {
         w.physics_step(&NONE, &sp, true, &mut rng);
         // Moved by the velocity plus at most ball_rand x |v| on each axis.
         let d = w.ball.pos - Vec2::new(2.0, 0.0);
-        assert!(
-            d.x.abs() <= 0.1 + 1e-12 && d.y.abs() <= 0.1 + 1e-12,
-            "{d:?}"
-        );
+        assert!(d.x.abs() <= 0.1 + 1e-12 && d.y.abs() <= 0.1 + 1e-12, "{d:?}");
     }
 }
 

@@ -8,8 +8,7 @@ use learnpnp::keepaway::state_vars::StateVars;
 use learnpnp::keepaway::taker::taker_command;
 use learnpnp::keepaway::world::NUM_PLAYERS;
 use learnpnp::keepaway::{
-    BaselinePolicy, Command, KeepawayConfig, PlayerView, Simulator, Vec2, VisionMode, World,
-    perceive,
+    BaselinePolicy, Command, KeepawayConfig, PlayerView, Simulator, Vec2, VisionMode, World, perceive,
 };
 use proptest::prelude::*;
 

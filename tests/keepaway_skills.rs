@@ -3,9 +3,7 @@
 use learnpnp::keepaway::features::{FeatureThresholds, Observation, PassLineDistances, observe};
 use learnpnp::keepaway::perception::PlayerId;
 use learnpnp::keepaway::policies::{hand_coded, threshold_policy};
-use learnpnp::keepaway::skills::get_open::{
-    congestion, grid_points, in_cone, least_congested_point,
-};
+use learnpnp::keepaway::skills::get_open::{congestion, grid_points, in_cone, least_congested_point};
 use learnpnp::keepaway::skills::pass::{PassState, teammates_by_distance};
 use learnpnp::keepaway::skills::predict::{Kinematics, cycles_to_point};
 use learnpnp::keepaway::skills::{go_to_point, hold_ball, intercept};
@@ -212,10 +210,7 @@ fn pass_reaches_the_receiver() {
         sim.step(&[Command::None; NUM_PLAYERS]);
     }
     assert!(best < 1.085, "ball passed {best:.2} m from the receiver");
-    assert!(
-        (0.6..=1.8).contains(&speed_there),
-        "arrival speed {speed_there:.2}"
-    );
+    assert!((0.6..=1.8).contains(&speed_there), "arrival speed {speed_there:.2}");
 }
 
 #[test]
@@ -277,11 +272,7 @@ fn get_open_avoids_blocked_lanes() {
             .any(|(_, t)| in_cone(t.pos, from, g, c.skills.pass_cone_width))
     };
     let best = congestion(&v, p);
-    assert!(
-        grid_points(&c)
-            .filter(|&g| open(g))
-            .all(|g| congestion(&v, g) >= best)
-    );
+    assert!(grid_points(&c).filter(|&g| open(g)).all(|g| congestion(&v, g) >= best));
 }
 
 #[test]
@@ -318,8 +309,7 @@ fn views_serialise_and_reject_bad_ids() {
         bincode::serde::decode_from_slice(&bytes, bincode::config::standard()).expect("decode");
     assert_eq!(back, cmd);
     let bad = bincode::serde::encode_to_vec(7u8, bincode::config::standard()).expect("encode");
-    let r: Result<(PlayerId, usize), _> =
-        bincode::serde::decode_from_slice(&bad, bincode::config::standard());
+    let r: Result<(PlayerId, usize), _> = bincode::serde::decode_from_slice(&bad, bincode::config::standard());
     assert!(r.is_err());
 }
 

@@ -9,9 +9,8 @@ use learnpnp::domains::parr_russell::{self, ParrRussell, ParrRussellConfig};
 use learnpnp::domains::penalty_kick::{self, PenaltyKick, PenaltyKickConfig, Variant};
 use learnpnp::executor::{Chooser, PendingReward, PlanKey};
 use learnpnp::learning::{
-    Assessment, EpisodeMode, EpisodeStart, Exploration, Learner, Mcesp, McespConfig, Schedule,
-    Scope, Sigma, SoSmc, SoSmcConfig, StepSize, Target, TdConfig, TdLearner, ThresholdRule,
-    ValueTable,
+    Assessment, EpisodeMode, EpisodeStart, Exploration, Learner, Mcesp, McespConfig, Schedule, Scope, Sigma, SoSmc,
+    SoSmcConfig, StepSize, Target, TdConfig, TdLearner, ThresholdRule, ValueTable,
 };
 use learnpnp::net::Marking;
 use learnpnp::rng::{derive_seed, seeded};
@@ -44,10 +43,7 @@ fn snapshot(table: &ValueTable) -> HashMap<(PlanKey, Marking), f64> {
 
 #[test]
 fn an_exploratory_sosmc_episode_never_lowers_a_value() {
-    let mut task = grid(
-        Box::new(SoSmc::new(sosmc(100, Assessment::PerDecision), seeded(1))),
-        2,
-    );
+    let mut task = grid(Box::new(SoSmc::new(sosmc(100, Assessment::PerDecision), seeded(1))), 2);
     let (mut exploratory, mut exploiting) = (0, 0);
     for _ in 0..600 {
         let before = snapshot(task.learners()[0].values());
@@ -146,10 +142,7 @@ fn consistent_exploration_repeats_its_choice_within_an_episode() {
 fn synthetic_episode(learner: &mut dyn Learner, ret: f64) {
     learner.begin_episode(EpisodeStart::LEARN);
     let state = Marking::from_tokens(vec![1, 0, 0]);
-    let options = [
-        Marking::from_tokens(vec![0, 1, 0]),
-        Marking::from_tokens(vec![0, 0, 1]),
-    ];
+    let options = [Marking::from_tokens(vec![0, 1, 0]), Marking::from_tokens(vec![0, 0, 1])];
     learner.plan_started(PlanKey::ROOT, &state);
     let i = learner.choose(PlanKey::ROOT, &state, &options);
     learner.transition(PlanKey::ROOT, &options[i], 0.0, 1);
@@ -165,9 +158,7 @@ fn the_multi_agent_schedule_is_the_same_in_every_agent() {
     // episodes explore, from the episode number alone (thesis 4.4).
     let mut config = sosmc(30, Assessment::EveryN(7));
     config.sigma = Sigma::Softmax;
-    let mut agents: Vec<SoSmc> = (0..3)
-        .map(|i| SoSmc::new(config, seeded(derive_seed(9, i))))
-        .collect();
+    let mut agents: Vec<SoSmc> = (0..3).map(|i| SoSmc::new(config, seeded(derive_seed(9, i)))).collect();
     let mut rng = seeded(10);
     let mut flags = vec![Vec::new(); agents.len()];
     for _ in 0..200 {
@@ -278,10 +269,7 @@ fn one_step_td_on_markings_needs_memory_to_tell_the_kicks_apart() {
     assert!((walk - turn).abs() < 1.5, "plain: {walk} vs {turn}");
     // Tree and memory-place plans make the markings differ: the values separate.
     for variant in [Variant::Tree, Variant::Memory] {
-        let (walk, turn) = kick_values(
-            variant,
-            Box::new(TdLearner::new(td(Scope::Markings, 0.0), seeded(8))),
-        );
+        let (walk, turn) = kick_values(variant, Box::new(TdLearner::new(td(Scope::Markings, 0.0), seeded(8))));
         assert!(walk > 9.0 && turn < 1.0, "{variant:?}: {walk} vs {turn}");
     }
 }

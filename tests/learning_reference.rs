@@ -9,8 +9,7 @@ use std::sync::Arc;
 use learnpnp::condition::{AtomId, KnowledgeBase};
 use learnpnp::executor::{Action, Executor, PlanKey, Registry, World};
 use learnpnp::learning::{
-    EpisodeStart, Exploration, Learner, MonteCarlo, MonteCarloConfig, Schedule, Scope, Target,
-    TdConfig, TdLearner,
+    EpisodeStart, Exploration, Learner, MonteCarlo, MonteCarloConfig, Schedule, Scope, Target, TdConfig, TdLearner,
 };
 use learnpnp::net::{Marking, PetriNet, PlaceNode, TransitionNode};
 use learnpnp::plan::{Plan, Vocabulary};
@@ -121,11 +120,7 @@ fn train(learner: &mut dyn Learner) {
                 break;
             }
         }
-        assert_eq!(
-            exec.marking().total(),
-            0,
-            "the episode ends with an empty marking"
-        );
+        assert_eq!(exec.marking().total(), 0, "the episode ends with an empty marking");
         learner.end_episode(exec.take_pending());
     }
 }
@@ -133,9 +128,7 @@ fn train(learner: &mut dyn Learner) {
 fn value(learner: &dyn Learner, place: usize) -> f64 {
     let mut tokens = vec![0; 5];
     tokens[place - 1] = 1;
-    learner
-        .values()
-        .value_of(PlanKey::ROOT, &Marking::from_tokens(tokens))
+    learner.values().value_of(PlanKey::ROOT, &Marking::from_tokens(tokens))
 }
 
 fn td(lambda: f64, target: Target) -> TdLearner {
@@ -199,8 +192,5 @@ fn q_learning_matches_the_reference() {
     train(&mut l);
     assert_reference_values(&l, "Q-learning");
     let v1 = value(&l, 1);
-    assert!(
-        (v1 - 3.2).abs() < 0.01,
-        "Q-learning: V(p1) = {v1}, expected 3.2"
-    );
+    assert!((v1 - 3.2).abs() < 0.01, "Q-learning: V(p1) = {v1}, expected 3.2");
 }

@@ -5,8 +5,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use learnpnp::learning::persist::{
-    FORMAT_VERSION, HEADER_LEN, Inconsistency, MAGIC, PersistError, PlanLabels, SavedEntry,
-    SavedValues, load, save,
+    FORMAT_VERSION, HEADER_LEN, Inconsistency, MAGIC, PersistError, PlanLabels, SavedEntry, SavedValues, load, save,
 };
 use proptest::prelude::*;
 
@@ -60,8 +59,7 @@ fn file_bytes(version: u32, payload: &[u8]) -> Vec<u8> {
 
 /// The bytes of a value file holding `values`, with no consistency check.
 fn encoded(values: &SavedValues) -> Vec<u8> {
-    let payload =
-        bincode::serde::encode_to_vec(values, bincode::config::standard()).expect("encode");
+    let payload = bincode::serde::encode_to_vec(values, bincode::config::standard()).expect("encode");
     file_bytes(FORMAT_VERSION, &payload)
 }
 
@@ -70,11 +68,7 @@ fn encoded(values: &SavedValues) -> Vec<u8> {
 fn load_err(path: &Path, bytes: &[u8]) -> PersistError {
     fs::write(path, bytes).expect("write");
     let err = load(path).expect_err("damaged file loads");
-    assert_eq!(
-        fs::read(path).expect("read back"),
-        bytes,
-        "load modified the file"
-    );
+    assert_eq!(fs::read(path).expect("read back"), bytes, "load modified the file");
     let message = err.to_string();
     assert!(
         message.starts_with(&path.display().to_string()),
@@ -102,10 +96,7 @@ fn a_flipped_payload_byte_fails_the_checksum() {
             let mut bytes = good.clone();
             bytes[at] ^= bit;
             let err = load_err(&path, &bytes);
-            assert!(
-                matches!(err, PersistError::Checksum { .. }),
-                "byte {at}: {err:?}"
-            );
+            assert!(matches!(err, PersistError::Checksum { .. }), "byte {at}: {err:?}");
         }
     }
     // A damaged checksum field is caught the same way.
@@ -133,16 +124,10 @@ fn a_truncated_file_is_reported_as_truncated() {
         good.len() - 1,
     ] {
         let err = load_err(&path, &good[..cut]);
-        let expected = if cut < HEADER_LEN {
-            HEADER_LEN as u64
-        } else {
-            full
-        };
+        let expected = if cut < HEADER_LEN { HEADER_LEN as u64 } else { full };
         match err {
             PersistError::Truncated {
-                expected: e,
-                actual,
-                ..
+                expected: e, actual, ..
             } => {
                 assert_eq!(e, expected, "cut at {cut}");
                 assert_eq!(actual, cut as u64, "cut at {cut}");
@@ -159,10 +144,7 @@ fn extra_bytes_after_the_payload_are_refused() {
     let mut bytes = encoded(&values());
     bytes.extend_from_slice(b"xx");
     let err = load_err(&path, &bytes);
-    assert!(
-        matches!(err, PersistError::TrailingBytes { extra: 2, .. }),
-        "{err:?}"
-    );
+    assert!(matches!(err, PersistError::TrailingBytes { extra: 2, .. }), "{err:?}");
 }
 
 #[test]
@@ -171,17 +153,10 @@ fn a_file_without_the_magic_bytes_is_not_a_value_file() {
     let path = dir.join("v.bin");
     let mut bytes = encoded(&values());
     bytes[0] = b'X';
-    for damaged in [
-        &bytes[..],
-        b"hello",
-        b"\x89PNG\r\n\x1a\n0000000000000000000000000",
-    ] {
+    for damaged in [&bytes[..], b"hello", b"\x89PNG\r\n\x1a\n0000000000000000000000000"] {
         let err = load_err(&path, damaged);
         assert!(matches!(err, PersistError::NotAValueFile { .. }), "{err:?}");
-        assert!(
-            err.to_string().contains("not a learnpnp value file"),
-            "{err}"
-        );
+        assert!(err.to_string().contains("not a learnpnp value file"), "{err}");
     }
 }
 
@@ -211,10 +186,7 @@ fn a_payload_that_is_not_the_format_is_undecodable() {
     let dir = scratch("decode");
     let path = dir.join("v.bin");
     // A string length far beyond the payload.
-    let err = load_err(
-        &path,
-        &file_bytes(FORMAT_VERSION, &[0xfc, 0xff, 0xff, 0xff, 0x7f]),
-    );
+    let err = load_err(&path, &file_bytes(FORMAT_VERSION, &[0xfc, 0xff, 0xff, 0xff, 0x7f]));
     assert!(matches!(err, PersistError::Decode { .. }), "{err:?}");
     // A string length of 2^62: refused without trying to allocate it.
     let mut huge = vec![0xfd];
@@ -224,8 +196,7 @@ fn a_payload_that_is_not_the_format_is_undecodable() {
     let err = load_err(&path, &file_bytes(FORMAT_VERSION, &[]));
     assert!(matches!(err, PersistError::Decode { .. }), "{err:?}");
     // A valid encoding followed by bytes the decoder does not use.
-    let mut payload =
-        bincode::serde::encode_to_vec(values(), bincode::config::standard()).expect("encode");
+    let mut payload = bincode::serde::encode_to_vec(values(), bincode::config::standard()).expect("encode");
     payload.push(0);
     let err = load_err(&path, &file_bytes(FORMAT_VERSION, &payload));
     assert!(

@@ -5,8 +5,7 @@ use std::path::PathBuf;
 
 use learnpnp::executor::PlanKey;
 use learnpnp::learning::persist::{
-    PersistError, PlanLabels, SavedEntry, SavedValues, load, load_latest, prev_path, save,
-    write_csv,
+    PersistError, PlanLabels, SavedEntry, SavedValues, load, load_latest, prev_path, save, write_csv,
 };
 use learnpnp::learning::{StateKey, ValueTable};
 use learnpnp::net::{Marking, PetriNet, PlaceNode};
@@ -38,12 +37,7 @@ fn plan(name: &str, places: &[(&str, &str)]) -> Plan {
 fn root_plan() -> Plan {
     plan(
         "root",
-        &[
-            ("p1", "start"),
-            ("p2", "goto.exec"),
-            ("p3", ""),
-            ("p4", "done goal"),
-        ],
+        &[("p1", "start"), ("p2", "goto.exec"), ("p3", ""), ("p4", "done goal")],
     )
 }
 
@@ -71,9 +65,7 @@ fn table() -> ValueTable {
 
 /// Every entry of a table with its value's bits, in id order.
 fn contents(t: &ValueTable) -> Vec<(StateKey, u64, u64)> {
-    t.entries()
-        .map(|(k, v, n)| (k.clone(), v.to_bits(), n))
-        .collect()
+    t.entries().map(|(k, v, n)| (k.clone(), v.to_bits(), n)).collect()
 }
 
 #[test]
@@ -206,10 +198,7 @@ fn a_corrupt_main_file_falls_back_to_prev_and_is_never_kept_as_prev() {
     fs::write(&path, &bytes).expect("corrupt");
     let (values, problem) = load_latest(&path).expect("fallback");
     assert_eq!(values, first);
-    assert!(
-        matches!(problem, Some(PersistError::Checksum { .. })),
-        "{problem:?}"
-    );
+    assert!(matches!(problem, Some(PersistError::Checksum { .. })), "{problem:?}");
     assert_eq!(fs::read(&path).expect("untouched"), bytes);
 
     // Saving over a corrupt file does not replace the good `.prev` with it.
@@ -230,10 +219,7 @@ fn a_missing_main_file_falls_back_to_prev() {
     fs::remove_file(&path).expect("remove");
     let (values, problem) = load_latest(&path).expect("fallback");
     assert_eq!(values, saved);
-    assert!(
-        matches!(problem, Some(PersistError::Io { .. })),
-        "{problem:?}"
-    );
+    assert!(matches!(problem, Some(PersistError::Io { .. })), "{problem:?}");
 }
 
 #[test]

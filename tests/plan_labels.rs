@@ -4,11 +4,7 @@ use learnpnp::condition::{AtomRef, AtomTable, Condition};
 use learnpnp::net::{PetriNet, PlaceNode, TransitionNode};
 use learnpnp::plan::{Function, InternalKind, Plan, PlanError, Vocabulary, catalog};
 
-fn net(
-    places: &[(&str, &str, u8)],
-    transitions: &[(&str, &str)],
-    arcs: &[(&str, &str)],
-) -> PetriNet {
+fn net(places: &[(&str, &str, u8)], transitions: &[(&str, &str)], arcs: &[(&str, &str)]) -> PetriNet {
     let ps = places
         .iter()
         .map(|(id, label, m)| PlaceNode {
@@ -38,11 +34,7 @@ fn net(
 /// init -> t1 -> goto.exec -> t2 -> done
 fn action_net(start_label: &str, end_label: &str) -> PetriNet {
     net(
-        &[
-            ("p1", "init", 1),
-            ("p2", "goto.exec", 0),
-            ("p3", "done goal", 0),
-        ],
+        &[("p1", "init", 1), ("p2", "goto.exec", 0), ("p3", "done goal", 0)],
         &[("t1", start_label), ("t2", end_label)],
         &[("p1", "t1"), ("t1", "p2"), ("p2", "t2"), ("t2", "p3")],
     )
@@ -68,32 +60,17 @@ fn explicit_and_bare_functions_bind_to_the_action() {
         let Condition::Atom(AtomRef::Internal(i)) = t(1).guard else {
             panic!("implicit wait expected")
         };
-        assert_eq!(
-            plan.internal_conditions()[i as usize].kind,
-            InternalKind::Finished
-        );
+        assert_eq!(plan.internal_conditions()[i as usize].kind, InternalKind::Finished);
         assert_eq!(plan.goal().len(), 1);
     }
 }
 
 #[test]
 fn an_explicit_guard_replaces_the_implicit_wait() {
-    let plan = load(action_net(
-        "goto.start",
-        "goto.end [and arrived (not goto.failed)]",
-    ))
-    .unwrap();
+    let plan = load(action_net("goto.start", "goto.end [and arrived (not goto.failed)]")).unwrap();
     let t = plan.transition(learnpnp::net::TransitionId::new(1));
-    assert_eq!(
-        t.explicit_guard.as_deref(),
-        Some("and arrived (not goto.failed)")
-    );
-    let names: Vec<String> = t
-        .guard
-        .atoms()
-        .into_iter()
-        .map(|a| plan.atom_name(a))
-        .collect();
+    assert_eq!(t.explicit_guard.as_deref(), Some("and arrived (not goto.failed)"));
+    let names: Vec<String> = t.guard.atoms().into_iter().map(|a| plan.atom_name(a)).collect();
     assert_eq!(names, ["arrived", "goto.failed"]);
 }
 
@@ -111,34 +88,10 @@ fn transition_label_errors_name_the_transition_and_token() {
             "goto.strat",
             "unknown transition function",
         ),
-        (
-            "goto.start",
-            "fly.end",
-            "t2",
-            "fly.end",
-            "no execution place",
-        ),
-        (
-            "goto.start",
-            "goto.end [a] [b]",
-            "t2",
-            "[b]",
-            "at most one guard",
-        ),
-        (
-            "goto.start",
-            "goto.end [a",
-            "t2",
-            "goto.end [a",
-            "unbalanced",
-        ),
-        (
-            "end",
-            "goto.end",
-            "t1",
-            "end",
-            "no adjacent execution place",
-        ),
+        ("goto.start", "fly.end", "t2", "fly.end", "no execution place"),
+        ("goto.start", "goto.end [a] [b]", "t2", "[b]", "at most one guard"),
+        ("goto.start", "goto.end [a", "t2", "goto.end [a", "unbalanced"),
+        ("end", "goto.end", "t1", "end", "no adjacent execution place"),
         (
             "goto.start",
             "goto.end [fly.finished]",
@@ -202,24 +155,14 @@ fn unknown_atoms_are_refused_against_a_domain() {
     )
     .unwrap();
     let t = plan.transition(learnpnp::net::TransitionId::new(1));
-    assert_eq!(
-        t.guard.atoms(),
-        [AtomRef::Fact(atoms.get("blocked").unwrap())]
-    );
+    assert_eq!(t.guard.atoms(), [AtomRef::Fact(atoms.get("blocked").unwrap())]);
 }
 
 #[test]
 fn agent_prefix_and_parameters_stay_in_the_action_name() {
     let n = net(
-        &[
-            ("p1", "init", 1),
-            ("p2", "r1#gotopose_6_2_0.exec", 0),
-            ("p3", "", 0),
-        ],
-        &[
-            ("t1", "r1#gotopose_6_2_0.start"),
-            ("t2", "r1#gotopose_6_2_0.end"),
-        ],
+        &[("p1", "init", 1), ("p2", "r1#gotopose_6_2_0.exec", 0), ("p3", "", 0)],
+        &[("t1", "r1#gotopose_6_2_0.start"), ("t2", "r1#gotopose_6_2_0.end")],
         &[("p1", "t1"), ("t1", "p2"), ("p2", "t2"), ("t2", "p3")],
     );
     let plan = load(n).unwrap();

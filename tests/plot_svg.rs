@@ -47,14 +47,7 @@ fn two_curves_have_title_axes_and_legend() {
     let dir = scratch("curves");
     let path = dir.join("curves.svg");
     let series = [curve("SoSMC", -10.0), curve("Sarsa & TD(λ)", -12.0)];
-    plot_curves(
-        &path,
-        "Penalty kick",
-        "episode",
-        "reward per episode",
-        &series,
-    )
-    .expect("plot");
+    plot_curves(&path, "Penalty kick", "episode", "reward per episode", &series).expect("plot");
     let svg = fs::read_to_string(&path).expect("svg");
     assert!(svg.starts_with("<svg"), "{}", &svg[..svg.len().min(80)]);
     assert!(svg.contains("width=\"900\"") && svg.contains("height=\"560\""));
@@ -124,8 +117,7 @@ fn nothing_to_plot_is_an_error() {
     assert!(matches!(err, PlotError::NoFinitePoints { .. }), "{err:?}");
     let err = plot_scatter(&path, "t", "x", "y", &[]).expect_err("no series");
     assert!(matches!(err, PlotError::NoSeries { .. }), "{err:?}");
-    let err = plot_scatter(&path, "t", "x", "y", &[("a".into(), vec![(f64::NAN, 0.0)])])
-        .expect_err("all NaN");
+    let err = plot_scatter(&path, "t", "x", "y", &[("a".into(), vec![(f64::NAN, 0.0)])]).expect_err("all NaN");
     assert!(matches!(err, PlotError::NoFinitePoints { .. }), "{err:?}");
     assert!(!path.exists());
 }
@@ -147,22 +139,9 @@ fn scatter_of_action_values() {
             (name.to_string(), points)
         })
         .collect();
-    plot_scatter(
-        &path,
-        "Values in the initial observation",
-        "episode",
-        "value",
-        &series,
-    )
-    .expect("plot");
+    plot_scatter(&path, "Values in the initial observation", "episode", "value", &series).expect("plot");
     let svg = fs::read_to_string(&path).expect("svg");
-    for text in [
-        "Values in the initial observation",
-        "episode",
-        "value",
-        "left",
-        "wait",
-    ] {
+    for text in ["Values in the initial observation", "episode", "value", "left", "wait"] {
         assert!(svg.contains(text), "missing {text}");
     }
     assert!(svg.matches("<circle").count() >= 800);
@@ -202,10 +181,7 @@ fn columns_are_found_by_name() {
     let dir = scratch("columns");
     let path = dir.join("curve.csv");
     fs::write(&path, "runs,ci_high,ci_low,mean,episode\n5,3,1,2,7\n").expect("write");
-    assert_eq!(
-        read_curve_csv(&path).expect("read"),
-        [point(7.0, 2.0).with(1.0, 3.0)]
-    );
+    assert_eq!(read_curve_csv(&path).expect("read"), [point(7.0, 2.0).with(1.0, 3.0)]);
 }
 
 #[test]
@@ -240,14 +216,9 @@ fn bad_curve_files_name_file_and_line() {
         fs::write(&path, text).expect("write");
         let err = read_curve_csv(&path).expect_err("bad file");
         let message = err.to_string();
-        assert!(
-            message.contains(&format!("curve.csv, line {line}:")),
-            "{message}"
-        );
+        assert!(message.contains(&format!("curve.csv, line {line}:")), "{message}");
         match err {
-            PlotError::Csv {
-                line: l, source, ..
-            } => {
+            PlotError::Csv { line: l, source, .. } => {
                 assert_eq!(l, line);
                 assert_eq!(source, problem);
             }

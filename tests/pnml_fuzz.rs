@@ -16,9 +16,7 @@ use proptest::test_runner::FileFailurePersistence;
 fn config(cases: u32) -> ProptestConfig {
     ProptestConfig {
         cases,
-        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource(
-            "proptest-regressions",
-        ))),
+        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
         ..ProptestConfig::default()
     }
 }
@@ -44,13 +42,7 @@ fn net() -> impl Strategy<Value = PetriNet> {
     let places = prop::collection::vec((text(), text(), any::<u8>(), position()), 0..6);
     let transitions = prop::collection::vec((text(), text(), position()), 0..6);
     let arcs = prop::collection::vec(
-        (
-            any::<Index>(),
-            any::<Index>(),
-            any::<bool>(),
-            1u8..=255,
-            text(),
-        ),
+        (any::<Index>(), any::<Index>(), any::<bool>(), 1u8..=255, text()),
         0..12,
     );
     (text(), places, transitions, arcs).prop_map(|(name, places, transitions, arcs)| {
@@ -101,10 +93,8 @@ static SEEDS: LazyLock<Vec<String>> = LazyLock::new(|| {
         .map(|e| std::fs::read_to_string(e.expect("fixture").path()).expect("fixture text"))
         .collect();
     seeds.sort();
-    let net = pnml::read_file(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/pnml/fetch_choice.pnml"),
-    )
-    .expect("valid fixture");
+    let net = pnml::read_file(&Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/pnml/fetch_choice.pnml"))
+        .expect("valid fixture");
     seeds.push(pnml::write(&net, Dialect::Jarp));
     seeds.push(pnml::write(&net, Dialect::Standard));
     seeds
@@ -252,10 +242,7 @@ fn leaf() -> impl Strategy<Value = String> {
             prop::sample::select(TEXTS)
         )
             .prop_map(|(tag, text)| format!("<{tag}>{text}</{tag}>")),
-        (
-            prop::sample::select(COORDINATES),
-            prop::sample::select(COORDINATES)
-        )
+        (prop::sample::select(COORDINATES), prop::sample::select(COORDINATES))
             .prop_map(|(x, y)| format!("<position x=\"{x}\" y=\"{y}\"/>")),
     ]
 }
@@ -271,10 +258,7 @@ fn field() -> impl Strategy<Value = String> {
         "text",
         "other",
     ][..];
-    (
-        prop::sample::select(tags),
-        prop::collection::vec(leaf(), 0..3),
-    )
+    (prop::sample::select(tags), prop::collection::vec(leaf(), 0..3))
         .prop_map(|(tag, children)| format!("<{tag}>{}</{tag}>", children.concat()))
 }
 
@@ -298,8 +282,7 @@ fn item() -> impl Strategy<Value = String> {
             format!("<{tag}{id}{source}{target}>{}</{tag}>", fields.concat())
         });
     node.prop_recursive(3, 24, 4, |inner| {
-        prop::collection::vec(inner, 0..4)
-            .prop_map(|items| format!("<page id=\"g\">{}</page>", items.concat()))
+        prop::collection::vec(inner, 0..4).prop_map(|items| format!("<page id=\"g\">{}</page>", items.concat()))
     })
 }
 

@@ -26,9 +26,7 @@ fn ids<T>(items: &[T], id: impl Fn(&T) -> &str) -> Vec<&str> {
 
 /// A JARP net with the given body (no plan name comment).
 fn jarp(body: &str) -> String {
-    format!(
-        "<?xml version=\"1.0\"?>\n<pnml>\n<net id=\"n1\" type=\"PTNet\">\n{body}\n</net>\n</pnml>\n"
-    )
+    format!("<?xml version=\"1.0\"?>\n<pnml>\n<net id=\"n1\" type=\"PTNet\">\n{body}\n</net>\n</pnml>\n")
 }
 
 fn parse_err(text: &str) -> PnmlError {
@@ -40,11 +38,7 @@ fn parse_err(text: &str) -> PnmlError {
 #[test]
 fn reads_a_hand_written_jarp_plan() {
     let net = pnml::read_file(&fixture("fetch_choice.pnml")).unwrap();
-    assert_eq!(
-        net.name(),
-        "fetch_choice",
-        "from the PLAN NAME comment, trimmed"
-    );
+    assert_eq!(net.name(), "fetch_choice", "from the PLAN NAME comment, trimmed");
     assert_eq!(ids(net.places(), |p| &p.id), ["p1", "p2", "p3", "p4", "p5"]);
     assert_eq!(ids(net.transitions(), |t| &t.id), ["t1", "t2", "t3"]);
     assert_eq!(
@@ -61,32 +55,15 @@ fn reads_a_hand_written_jarp_plan() {
     );
     assert_eq!(net.places_labelled("goto_door.exec").count(), 2);
     let initial: Vec<u8> = net.places().iter().map(|p| p.initial).collect();
-    assert_eq!(
-        initial,
-        [1, 0, 0, 0, 2],
-        "Default,N counts N; absent counts 0"
-    );
-    assert_eq!(
-        net.places()[0].position,
-        Some(Position { x: 40.0, y: 120.0 })
-    );
-    assert_eq!(
-        net.places()[1].position,
-        Some(Position { x: 160.5, y: 60.0 })
-    );
+    assert_eq!(initial, [1, 0, 0, 0, 2], "Default,N counts N; absent counts 0");
+    assert_eq!(net.places()[0].position, Some(Position { x: 40.0, y: 120.0 }));
+    assert_eq!(net.places()[1].position, Some(Position { x: 160.5, y: 60.0 }));
     assert_eq!(net.places()[2].position, None);
 
     assert_eq!(net.transitions()[0].label, "goto_door.start [free && near]");
-    assert_eq!(
-        net.transitions()[0].position,
-        Some(Position { x: 100.0, y: 60.0 })
-    );
+    assert_eq!(net.transitions()[0].position, Some(Position { x: 100.0, y: 60.0 }));
     let weights: Vec<u8> = net.arcs().iter().map(|a| a.weight).collect();
-    assert_eq!(
-        weights,
-        [1, 1, 1, 1, 1, 2, 1],
-        "absent inscription weighs 1"
-    );
+    assert_eq!(weights, [1, 1, 1, 1, 1, 2, 1], "absent inscription weighs 1");
     assert_eq!(net.node_id(net.arcs()[3].source), "t2");
     assert!(matches!(net.arcs()[3].target, NodeRef::Place(_)));
 }
@@ -129,24 +106,12 @@ fn reads_standard_pnml_with_nested_pages() {
     );
     assert_eq!(ids(net.transitions(), |t| &t.id), ["go", "stop"]);
     assert_eq!(ids(net.arcs(), |a| &a.id), ["e3", "e1", "e2", "e4"]);
-    assert_eq!(
-        ids(net.places(), |p| &p.label),
-        ["init", "patrol.exec", "goal"]
-    );
+    assert_eq!(ids(net.places(), |p| &p.label), ["init", "patrol.exec", "goal"]);
     assert_eq!(net.transitions()[1].label, "patrol.end [at <home>]");
     assert_eq!(net.places()[0].initial, 3);
     assert_eq!(net.places()[1].initial, 0);
-    assert_eq!(
-        net.places()[0].position,
-        Some(Position {
-            x: -12.25,
-            y: 300.0
-        })
-    );
-    assert_eq!(
-        net.transitions()[0].position,
-        Some(Position { x: 50.0, y: 300.0 })
-    );
+    assert_eq!(net.places()[0].position, Some(Position { x: -12.25, y: 300.0 }));
+    assert_eq!(net.transitions()[0].position, Some(Position { x: 50.0, y: 300.0 }));
     let weights: Vec<u8> = net.arcs().iter().map(|a| a.weight).collect();
     assert_eq!(weights, [1, 2, 1, 1]);
 }
@@ -195,20 +160,12 @@ fn matches_prefixed_namespaced_elements_by_local_name() {
 #[test]
 fn malformed_xml_names_line_and_column() {
     let err = parse_err("<pnml>\n<net id=\"n1\">\n  <place id=\"p1\">\n</net>\n</pnml>");
-    let PnmlError::Xml {
-        line,
-        column,
-        message,
-    } = &err
-    else {
+    let PnmlError::Xml { line, column, message } = &err else {
         panic!("expected an XML error, got {err}");
     };
     assert_eq!((*line, *column), (4, 1), "{err}");
     assert!(message.contains("'place'"), "{err}");
-    assert!(
-        !message.contains("4:1"),
-        "the position is given once: {err}"
-    );
+    assert!(!message.contains("4:1"), "the position is given once: {err}");
     assert!(err.to_string().contains("line 4, column"), "{err}");
     assert!(matches!(parse_err(""), PnmlError::Xml { .. }));
     assert!(matches!(parse_err("<pnml>"), PnmlError::Xml { .. }));
@@ -253,10 +210,7 @@ fn rejects_nodes_without_id() {
     let err = parse_err(&jarp(
         "<place id=\"p\"/><transition id=\"t\"/><arc source=\"p\" target=\"t\"/>",
     ));
-    assert!(
-        matches!(err, PnmlError::MissingId { element: "arc", .. }),
-        "{err}"
-    );
+    assert!(matches!(err, PnmlError::MissingId { element: "arc", .. }), "{err}");
 }
 
 #[test]
@@ -287,9 +241,7 @@ fn bad_initial_markings_name_the_place_and_the_token() {
         let err = parse_err(&text);
         let message = err.to_string();
         assert!(
-            message.starts_with(&format!(
-                "place 'p3': initial marking '{token}' is not a token count"
-            )),
+            message.starts_with(&format!("place 'p3': initial marking '{token}' is not a token count")),
             "{value:?}: {message}"
         );
     }
@@ -315,9 +267,8 @@ fn bad_inscriptions_name_the_arc_and_the_token() {
             }
         );
         assert!(
-            err.to_string().starts_with(&format!(
-                "arc 'a9': inscription '{value}' is not a token count"
-            )),
+            err.to_string()
+                .starts_with(&format!("arc 'a9': inscription '{value}' is not a token count")),
             "{err}"
         );
     }
@@ -385,8 +336,7 @@ fn file_errors_start_with_the_path() {
     let err = pnml::read_file(&missing).unwrap_err();
     assert!(matches!(err, PnmlFileError::Io { .. }), "{err}");
     assert!(
-        err.to_string()
-            .starts_with(&format!("{}: ", missing.display())),
+        err.to_string().starts_with(&format!("{}: ", missing.display())),
         "{err}"
     );
 }
@@ -395,10 +345,9 @@ fn file_errors_start_with_the_path() {
 fn reads_latin1_files() {
     let dir = temp_dir("latin1");
     let path = dir.join("caf.pnml");
-    let mut bytes =
-        b"<?xml version=\"1.0\" encoding=\"ISO-8859-1\"?>\n<pnml><net id=\"n\" type=\"PTNet\">\
+    let mut bytes = b"<?xml version=\"1.0\" encoding=\"ISO-8859-1\"?>\n<pnml><net id=\"n\" type=\"PTNet\">\
           <place id=\"p1\"><name><value>caf"
-            .to_vec();
+        .to_vec();
     bytes.extend_from_slice(b"\xe9.exec</value></name></place></net></pnml>");
     fs::write(&path, bytes).unwrap();
     let net = pnml::read_file(&path).unwrap();
@@ -432,11 +381,7 @@ fn sample_net() -> PetriNet {
             place("c1", "", 0, None),
         ],
         vec![
-            transition(
-                "t1",
-                "[and a b] a<b>.start",
-                Some(Position { x: 3.0, y: 4.0 }),
-            ),
+            transition("t1", "[and a b] a<b>.start", Some(Position { x: 3.0, y: 4.0 })),
             transition("net1", "ünïcødé ✓ 🤖", None),
         ],
         &[
@@ -455,8 +400,7 @@ fn round_trips_in_both_dialects() {
     let net = sample_net();
     for dialect in [Dialect::Jarp, Dialect::Standard] {
         let text = pnml::write(&net, dialect);
-        let back =
-            pnml::parse(&text, "fallback").unwrap_or_else(|e| panic!("{dialect}: {e}\n{text}"));
+        let back = pnml::parse(&text, "fallback").unwrap_or_else(|e| panic!("{dialect}: {e}\n{text}"));
         assert_eq!(back, net, "{dialect}:\n{text}");
     }
 }
@@ -532,15 +476,8 @@ fn write_file_replaces_the_file_atomically() {
         pnml::write_file(&net, dialect, &path).unwrap();
         assert_eq!(pnml::read_file(&path).unwrap(), net, "{dialect}");
     }
-    let entries: Vec<_> = fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name())
-        .collect();
-    assert_eq!(
-        entries,
-        ["plan.v1.pnml"],
-        "no temporary file is left behind"
-    );
+    let entries: Vec<_> = fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(entries, ["plan.v1.pnml"], "no temporary file is left behind");
 
     let err = pnml::write_file(&net, Dialect::Jarp, &dir.join("missing/plan.pnml")).unwrap_err();
     assert!(err.to_string().contains("missing/plan.pnml"), "{err}");

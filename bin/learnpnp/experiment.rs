@@ -189,10 +189,7 @@ impl ExperimentArgs {
             protocol.greedy_episodes = v;
         }
         ExperimentSpec {
-            label: self
-                .label
-                .clone()
-                .unwrap_or_else(|| self.algo.name().to_string()),
+            label: self.label.clone().unwrap_or_else(|| self.algo.name().to_string()),
             domain,
             algorithm: self.algo,
             learner,

@@ -129,8 +129,7 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
             .with_context(|| format!("plotting {}", path.display()))?;
         }
     }
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
+    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
     let path = args.out.join("summary.md");
     write_atomic(&path, table.as_bytes())?;
     println!("summary table: {}", path.display());

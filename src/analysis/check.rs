@@ -16,9 +16,7 @@
 use super::choice::choice_points;
 use super::count::{self, OMEGA, Tri};
 use super::reachability::{Reachability, StateId, enabled, explore};
-use super::report::{
-    CheckReport, Element, Example, Failure, Note, PlaceBound, Property, ReportedChoice, Verdict,
-};
+use super::report::{CheckReport, Element, Example, Failure, Note, PlaceBound, Property, ReportedChoice, Verdict};
 use crate::net::{PlaceId, TransitionId};
 use crate::plan::Plan;
 
@@ -54,10 +52,7 @@ pub fn check(plan: &Plan, limit: usize) -> CheckReport {
         incomplete: &incomplete,
     };
     let verdicts = vec![
-        (
-            Property::Safety,
-            checker.safety(&bounds, &mut failures, &mut notes),
-        ),
+        (Property::Safety, checker.safety(&bounds, &mut failures, &mut notes)),
         (Property::Minimality, checker.minimality(&mut failures)),
         (
             Property::Effectiveness,
@@ -70,11 +65,7 @@ pub fn check(plan: &Plan, limit: usize) -> CheckReport {
         .map(|c| ReportedChoice {
             place: c.place,
             element: Element::place(plan, c.place),
-            options: c
-                .options
-                .iter()
-                .map(|&t| (t, Element::transition(plan, t)))
-                .collect(),
+            options: c.options.iter().map(|&t| (t, Element::transition(plan, t))).collect(),
         })
         .collect();
     CheckReport {
@@ -112,11 +103,7 @@ impl Checker<'_> {
     }
 
     fn examples(&self, states: &[StateId]) -> Vec<Example> {
-        states
-            .iter()
-            .take(MAX_EXAMPLES)
-            .map(|&s| self.example(s))
-            .collect()
+        states.iter().take(MAX_EXAMPLES).map(|&s| self.example(s)).collect()
     }
 
     fn goal(&self, s: StateId) -> Tri {
@@ -138,12 +125,7 @@ impl Checker<'_> {
         }
     }
 
-    fn safety(
-        &self,
-        bounds: &[PlaceBound],
-        failures: &mut Vec<Failure>,
-        notes: &mut Vec<Note>,
-    ) -> Verdict {
+    fn safety(&self, bounds: &[PlaceBound], failures: &mut Vec<Failure>, notes: &mut Vec<Note>) -> Verdict {
         let mut found = false;
         for b in bounds.iter().filter(|b| b.bound.exceeds_one()) {
             let Some(action) = &b.action else {
@@ -233,8 +215,7 @@ impl Checker<'_> {
             return Verdict::NotApplicable("the plan has no goal places".to_string());
         }
         // Unexplored continuations might reach a goal: count them as able to.
-        let may_reach_goal =
-            self.reaching(|s| self.goal(s) != Tri::No || !self.graph.is_expanded(s));
+        let may_reach_goal = self.reaching(|s| self.goal(s) != Tri::No || !self.graph.is_expanded(s));
         let stuck: Vec<StateId> = self
             .graph
             .states()
@@ -269,13 +250,7 @@ impl Checker<'_> {
     /// An unbounded place whose count matters: an input of some transition, or a
     /// goal or fail place. Counters that are only written leave effectiveness exact.
     fn read_unbounded_place(&self) -> Option<PlaceId> {
-        let marking_place = |p: PlaceId| {
-            self.plan
-                .goal()
-                .iter()
-                .chain(self.plan.fail())
-                .any(|&(q, _)| q == p)
-        };
+        let marking_place = |p: PlaceId| self.plan.goal().iter().chain(self.plan.fail()).any(|&(q, _)| q == p);
         let places = self.plan.incidence().place_count();
         (0..places).map(PlaceId::new).find(|&p| {
             (!self.plan.incidence().consumers(p).is_empty() || marking_place(p))
@@ -295,9 +270,7 @@ impl Checker<'_> {
                 let tokens = self.graph.state_tokens(s);
                 self.goal(s) == Tri::No
                     && self.fail(s) == Tri::No
-                    && !incidence
-                        .transition_ids()
-                        .any(|t| enabled(incidence, tokens, t))
+                    && !incidence.transition_ids().any(|t| enabled(incidence, tokens, t))
             })
             .collect();
         if !dead.is_empty() {

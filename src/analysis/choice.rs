@@ -33,10 +33,7 @@ fn option_pairs(plan: &Plan, place: PlaceId) -> Vec<OptionPair> {
     let mut pairs = Vec::new();
     for (i, &first) in consumers.iter().enumerate() {
         for &second in &consumers[i + 1..] {
-            let guards = [
-                &plan.transition(first.0).guard,
-                &plan.transition(second.0).guard,
-            ];
+            let guards = [&plan.transition(first.0).guard, &plan.transition(second.0).guard];
             if jointly_satisfiable(&guards) {
                 pairs.push(OptionPair { first, second });
             }
@@ -45,10 +42,7 @@ fn option_pairs(plan: &Plan, place: PlaceId) -> Vec<OptionPair> {
     pairs
 }
 
-fn choice_point<'a>(
-    place: PlaceId,
-    pairs: impl Iterator<Item = &'a OptionPair>,
-) -> Option<ChoicePoint> {
+fn choice_point<'a>(place: PlaceId, pairs: impl Iterator<Item = &'a OptionPair>) -> Option<ChoicePoint> {
     let mut options: Vec<TransitionId> = pairs.flat_map(|p| [p.first.0, p.second.0]).collect();
     options.sort_unstable();
     options.dedup();
@@ -92,11 +86,7 @@ pub fn choice_points(plan: &Plan, graph: &Reachability) -> Vec<ChoicePoint> {
                 break;
             }
         }
-        let chosen = pairs
-            .iter()
-            .zip(&confirmed)
-            .filter(|&(_, &c)| c)
-            .map(|(p, _)| p);
+        let chosen = pairs.iter().zip(&confirmed).filter(|&(_, &c)| c).map(|(p, _)| p);
         found.extend(choice_point(place, chosen));
     }
     found

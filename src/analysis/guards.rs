@@ -51,9 +51,7 @@ mod tests {
         assert!(jointly_satisfiable(&[&atom(0), &atom(1)]));
         assert!(jointly_satisfiable(&[&Condition::True, &Condition::True]));
         let both = Condition::And(vec![atom(0), atom(1)].into_boxed_slice());
-        let neither = Condition::Not(Box::new(Condition::Or(
-            vec![atom(0), atom(1)].into_boxed_slice(),
-        )));
+        let neither = Condition::Not(Box::new(Condition::Or(vec![atom(0), atom(1)].into_boxed_slice())));
         assert!(!jointly_satisfiable(&[&both, &neither]));
         assert!(!jointly_satisfiable(&[&both, &not(atom(1))]));
     }

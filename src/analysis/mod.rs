@@ -21,6 +21,4 @@ pub use choice::{ChoicePoint, choice_points, structural_choice_points};
 pub use count::Count;
 pub use guards::{MAX_GUARD_ATOMS, jointly_satisfiable};
 pub use reachability::{DEFAULT_LIMIT, Reachability, StateId, explore};
-pub use report::{
-    CheckReport, Element, Example, Failure, Note, PlaceBound, Property, ReportedChoice, Verdict,
-};
+pub use report::{CheckReport, Element, Example, Failure, Note, PlaceBound, Property, ReportedChoice, Verdict};

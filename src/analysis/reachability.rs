@@ -64,12 +64,7 @@ pub fn explore(plan: &Plan, limit: usize) -> Reachability {
         limit: limit.max(1),
     };
     let mut index: FxHashMap<Box<[u16]>, StateId> = FxHashMap::default();
-    let initial: Vec<u16> = plan
-        .initial_marking()
-        .tokens()
-        .iter()
-        .map(|&t| u16::from(t))
-        .collect();
+    let initial: Vec<u16> = plan.initial_marking().tokens().iter().map(|&t| u16::from(t)).collect();
     graph.push(plan, &initial, None, &mut index);
 
     let mut current = vec![0u16; places];
@@ -150,10 +145,8 @@ impl Reachability {
         self.tokens.extend_from_slice(tokens);
         self.totals.push(weighted_total(tokens));
         self.parent.push(parent);
-        self.terminal.push(
-            count::matches(plan.goal(), tokens) == Tri::Yes
-                || count::matches(plan.fail(), tokens) == Tri::Yes,
-        );
+        self.terminal
+            .push(count::matches(plan.goal(), tokens) == Tri::Yes || count::matches(plan.fail(), tokens) == Tri::Yes);
         index.insert(tokens.into(), id);
         id
     }
@@ -240,10 +233,7 @@ impl Reachability {
     /// The transitions enabled in `s` and the states they lead to (empty for a
     /// terminal or unexpanded state).
     pub fn successors(&self, s: StateId) -> &[(TransitionId, StateId)] {
-        match (
-            self.edge_start.get(s.index()),
-            self.edge_start.get(s.index() + 1),
-        ) {
+        match (self.edge_start.get(s.index()), self.edge_start.get(s.index() + 1)) {
             (Some(&start), Some(&end)) => &self.edges[start..end],
             _ => &[],
         }

@@ -39,11 +39,7 @@ impl Element {
 
     /// The label, or the id when the label is empty.
     pub fn name(&self) -> &str {
-        if self.label.is_empty() {
-            &self.id
-        } else {
-            &self.label
-        }
+        if self.label.is_empty() { &self.id } else { &self.label }
     }
 }
 
@@ -289,15 +285,9 @@ impl fmt::Display for Failure {
                 ending_in_fail,
                 examples,
             } => {
-                write!(
-                    f,
-                    "{markings} reachable marking(s) cannot reach a goal marking"
-                )?;
+                write!(f, "{markings} reachable marking(s) cannot reach a goal marking")?;
                 if *ending_in_fail > 0 {
-                    write!(
-                        f,
-                        " ({ending_in_fail} of them can still end in a fail marking)"
-                    )?;
+                    write!(f, " ({ending_in_fail} of them can still end in a fail marking)")?;
                 }
                 write_examples(f, examples)
             }
@@ -348,9 +338,9 @@ impl fmt::Display for Note {
                 "place {element} holds up to {bound} tokens \
                  (not an execution place: allowed, e.g. a memory place, thesis 5.5)"
             ),
-            Note::NoGoal => f.write_str(
-                "the plan has no goal places: it runs until stopped, effectiveness does not apply",
-            ),
+            Note::NoGoal => {
+                f.write_str("the plan has no goal places: it runs until stopped, effectiveness does not apply")
+            }
         }
     }
 }
@@ -393,10 +383,7 @@ impl CheckReport {
 
     /// The verdict on `property`.
     pub fn verdict(&self, property: Property) -> Option<&Verdict> {
-        self.verdicts
-            .iter()
-            .find(|(p, _)| *p == property)
-            .map(|(_, v)| v)
+        self.verdicts.iter().find(|(p, _)| *p == property).map(|(_, v)| v)
     }
 
     /// Whether some place is unbounded.
@@ -405,11 +392,7 @@ impl CheckReport {
     }
 
     fn write_bounds(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let safe = self
-            .bounds
-            .iter()
-            .filter(|b| b.bound == Count::Finite(1))
-            .count();
+        let safe = self.bounds.iter().filter(|b| b.bound == Count::Finite(1)).count();
         let never: Vec<String> = self
             .bounds
             .iter()
@@ -423,10 +406,7 @@ impl CheckReport {
             .map(|b| format!("{} {}", b.element, b.bound))
             .collect();
         let seen = if self.complete { "" } else { " (seen so far)" };
-        write!(
-            f,
-            "token bounds{seen}: {safe} place(s) hold at most 1 token"
-        )?;
+        write!(f, "token bounds{seen}: {safe} place(s) hold at most 1 token")?;
         if !above.is_empty() {
             write!(f, "; above 1: {}", above.join(", "))?;
         }

@@ -29,24 +29,13 @@ pub enum Condition {
 
 impl Condition {
     /// Compiles `expr`, resolving each atom name with `resolve`.
-    pub fn compile<E>(
-        expr: &Expr,
-        resolve: &mut impl FnMut(&str) -> Result<AtomRef, E>,
-    ) -> Result<Self, E> {
+    pub fn compile<E>(expr: &Expr, resolve: &mut impl FnMut(&str) -> Result<AtomRef, E>) -> Result<Self, E> {
         Ok(match expr {
             Expr::True => Condition::True,
             Expr::Atom(a) => Condition::Atom(resolve(a)?),
             Expr::Not(e) => Condition::Not(Box::new(Self::compile(e, resolve)?)),
-            Expr::And(es) => Condition::And(
-                es.iter()
-                    .map(|e| Self::compile(e, resolve))
-                    .collect::<Result<_, E>>()?,
-            ),
-            Expr::Or(es) => Condition::Or(
-                es.iter()
-                    .map(|e| Self::compile(e, resolve))
-                    .collect::<Result<_, E>>()?,
-            ),
+            Expr::And(es) => Condition::And(es.iter().map(|e| Self::compile(e, resolve)).collect::<Result<_, E>>()?),
+            Expr::Or(es) => Condition::Or(es.iter().map(|e| Self::compile(e, resolve)).collect::<Result<_, E>>()?),
         })
     }
 
@@ -94,13 +83,12 @@ mod tests {
         let expr = parse_condition("or (and a b) (not c)").unwrap();
         let names = ["a", "b", "c"];
         let cond = Condition::compile(&expr, &mut |n: &str| -> Result<AtomRef, ()> {
-            Ok(AtomRef::Fact(AtomId(
-                names.iter().position(|x| *x == n).unwrap() as u32,
-            )))
+            Ok(AtomRef::Fact(
+                AtomId(names.iter().position(|x| *x == n).unwrap() as u32),
+            ))
         })
         .unwrap();
-        let truth =
-            |bits: [bool; 3]| move |a: AtomRef| matches!(a, AtomRef::Fact(id) if bits[id.index()]);
+        let truth = |bits: [bool; 3]| move |a: AtomRef| matches!(a, AtomRef::Fact(id) if bits[id.index()]);
         assert!(cond.eval(&truth([true, true, true])));
         assert!(!cond.eval(&truth([true, false, true])));
         assert!(cond.eval(&truth([false, false, false])));

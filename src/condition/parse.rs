@@ -213,12 +213,8 @@ impl<'a> Parser<'a> {
                     let (t, end) = self.peek();
                     match (op, operands.len()) {
                         ("not", 1) => Ok(Expr::Not(Box::new(operands.remove(0)))),
-                        ("not", _) => {
-                            Err(self.error("'not' takes exactly one operand", Token::Word(w), o))
-                        }
-                        (_, n) if n < 2 => {
-                            Err(self.error(&format!("'{op}' needs at least two operands"), t, end))
-                        }
+                        ("not", _) => Err(self.error("'not' takes exactly one operand", Token::Word(w), o)),
+                        (_, n) if n < 2 => Err(self.error(&format!("'{op}' needs at least two operands"), t, end)),
                         ("and", _) => Ok(Expr::And(operands)),
                         _ => Ok(Expr::Or(operands)),
                     }
@@ -240,10 +236,7 @@ pub fn parse_condition(text: &str) -> Result<Expr, ConditionError> {
     }
     let wrapped = format!("({text})");
     let mut parser = Parser {
-        lexer: Lexer {
-            text: &wrapped,
-            pos: 0,
-        },
+        lexer: Lexer { text: &wrapped, pos: 0 },
         peeked: None,
         original: text,
         shift: 1,
@@ -267,10 +260,7 @@ mod tests {
     fn parses_the_grammar() {
         assert_eq!(parse_condition("").unwrap(), Expr::True);
         assert_eq!(parse_condition("ballSeen").unwrap(), atom("ballSeen"));
-        assert_eq!(
-            parse_condition("not a").unwrap(),
-            Expr::Not(Box::new(atom("a")))
-        );
+        assert_eq!(parse_condition("not a").unwrap(), Expr::Not(Box::new(atom("a"))));
         assert_eq!(
             parse_condition("and a b c").unwrap(),
             Expr::And(vec![atom("a"), atom("b"), atom("c")])
@@ -283,10 +273,7 @@ mod tests {
             ])
         );
         assert_eq!(parse_condition("(a)").unwrap(), atom("a"));
-        assert_eq!(
-            parse_condition("robot#near{1,2}").unwrap(),
-            atom("robot#near{1,2}")
-        );
+        assert_eq!(parse_condition("robot#near{1,2}").unwrap(), atom("robot#near{1,2}"));
     }
 
     #[test]
@@ -316,13 +303,7 @@ mod tests {
 
     #[test]
     fn guard_text_round_trips() {
-        for text in [
-            "a",
-            "not a",
-            "and a b",
-            "or (not a) (and b c) d",
-            "not (or a b)",
-        ] {
+        for text in ["a", "not a", "and a b", "or (not a) (and b c) d", "not (or a b)"] {
             let e = parse_condition(text).unwrap();
             assert_eq!(parse_condition(&e.to_guard_text()).unwrap(), e, "{text}");
         }

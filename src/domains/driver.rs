@@ -47,11 +47,7 @@ pub struct PlanAgent<W> {
 
 impl<W: World> PlanAgent<W> {
     /// Instantiates `plan` from `registry` with `learner` choosing.
-    pub fn new(
-        plan: Arc<Plan>,
-        registry: &Registry<W>,
-        learner: Box<dyn Learner>,
-    ) -> Result<Self, TaskError> {
+    pub fn new(plan: Arc<Plan>, registry: &Registry<W>, learner: Box<dyn Learner>) -> Result<Self, TaskError> {
         Ok(PlanAgent {
             executor: Executor::new(plan, registry)?,
             learner,
@@ -97,14 +93,14 @@ impl<W: World> PlanAgent<W> {
 pub fn marking_with(plan: &Plan, labels: &[&str]) -> Result<Marking, TaskError> {
     let mut m = Marking::empty(plan.net().places().len());
     for label in labels {
-        let place =
-            plan.net()
-                .places_labelled(label)
-                .next()
-                .ok_or_else(|| TaskError::MissingPlace {
-                    plan: plan.name().to_string(),
-                    label: label.to_string(),
-                })?;
+        let place = plan
+            .net()
+            .places_labelled(label)
+            .next()
+            .ok_or_else(|| TaskError::MissingPlace {
+                plan: plan.name().to_string(),
+                label: label.to_string(),
+            })?;
         m.set(place, 1);
     }
     Ok(m)

@@ -17,12 +17,7 @@ pub enum Direction {
 
 impl Direction {
     /// All four, in the order the plans list them.
-    pub const ALL: [Direction; 4] = [
-        Direction::North,
-        Direction::South,
-        Direction::East,
-        Direction::West,
-    ];
+    pub const ALL: [Direction; 4] = [Direction::North, Direction::South, Direction::East, Direction::West];
 
     /// The action name in the plans (`MoveNorth`, ...).
     pub fn action_name(self) -> &'static str {
@@ -59,10 +54,7 @@ pub struct Move {
 impl Move {
     /// The move in `direction`.
     pub fn new(direction: Direction) -> Self {
-        Move {
-            direction,
-            done: false,
-        }
+        Move { direction, done: false }
     }
 }
 

@@ -37,11 +37,7 @@ pub trait Task: Send {
     fn learners(&self) -> Vec<&dyn Learner>;
 }
 
-fn mean_return<T: Task + ?Sized>(
-    task: &mut T,
-    mode: EpisodeMode,
-    episodes: usize,
-) -> Result<f64, TaskError> {
+fn mean_return<T: Task + ?Sized>(task: &mut T, mode: EpisodeMode, episodes: usize) -> Result<f64, TaskError> {
     let mut total = 0.0;
     for _ in 0..episodes {
         total += task.episode(mode)?.ret;

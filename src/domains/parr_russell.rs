@@ -192,10 +192,7 @@ impl ParrRussell {
         let mut traced = Vec::new();
         // The initial observation: a wall west only.
         for name in catalog::MOVES {
-            if let Ok(m) = marking_with(
-                &plan,
-                &["WallLeft", "not_WallRight", &format!("{name}.exec")],
-            ) {
+            if let Ok(m) = marking_with(&plan, &["WallLeft", "not_WallRight", &format!("{name}.exec")]) {
                 traced.push((
                     name.to_string(),
                     StateKey {

@@ -17,9 +17,7 @@ use crate::net::{NetError, PetriNet};
 use crate::plan::{Plan, Vocabulary, catalog};
 
 /// Which plan drives the kick.
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, clap::ValueEnum,
-)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
 pub enum Variant {
     /// Figure 3.6: both choices lead to one Kick marking.
     Plain,
@@ -45,10 +43,7 @@ impl Variant {
                 ("WalkStraight", vec!["WalkStraight.exec", "walked"]),
                 ("Turn", vec!["Turn.exec", "turned"]),
             ],
-            _ => [
-                ("WalkStraight", vec!["WalkStraight.exec"]),
-                ("Turn", vec!["Turn.exec"]),
-            ],
+            _ => [("WalkStraight", vec!["WalkStraight.exec"]), ("Turn", vec!["Turn.exec"])],
         }
     }
 }
@@ -187,11 +182,7 @@ pub struct PenaltyKick {
 
 impl PenaltyKick {
     /// A run of `plan` with `learner`.
-    pub fn new(
-        config: PenaltyKickConfig,
-        plan: Arc<Plan>,
-        learner: Box<dyn Learner>,
-    ) -> Result<Self, TaskError> {
+    pub fn new(config: PenaltyKickConfig, plan: Arc<Plan>, learner: Box<dyn Learner>) -> Result<Self, TaskError> {
         let agent = PlanAgent::new(Arc::clone(&plan), &registry(), learner)?;
         let traced = config
             .variant
@@ -214,11 +205,7 @@ impl PenaltyKick {
             miss_timeout: config.miss_timeout,
             ..Pitch::default()
         };
-        Ok(PenaltyKick {
-            agent,
-            pitch,
-            traced,
-        })
+        Ok(PenaltyKick { agent, pitch, traced })
     }
 }
 

@@ -55,16 +55,7 @@ pub fn start_cells() -> Vec<(i8, i8)> {
 }
 
 /// Neighbour offsets clockwise from north, matching [`catalog::NEIGHBOURS`].
-const OFFSETS: [(i8, i8); 8] = [
-    (-1, 0),
-    (-1, 1),
-    (0, 1),
-    (1, 1),
-    (1, 0),
-    (1, -1),
-    (0, -1),
-    (-1, -1),
-];
+const OFFSETS: [(i8, i8); 8] = [(-1, 0), (-1, 1), (0, 1), (1, 1), (1, 0), (1, -1), (0, -1), (-1, -1)];
 
 /// The observation of `cell`: one bit per neighbour, set when blocked.
 pub fn observe(cell: (i8, i8)) -> u8 {

@@ -7,9 +7,7 @@ use crate::rng::SimRng;
 
 /// Identifies the plan a marking belongs to: 0 is the root plan, sub-plans
 /// follow in the order they were registered. Value tables key on it.
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
-)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
 pub struct PlanKey(pub u16);
 
 impl PlanKey {

@@ -9,10 +9,24 @@ pub(crate) struct ConflictScratch {
     capacity: Vec<u16>,
     conflicting: Vec<TransitionId>,
     current: Vec<TransitionId>,
-    /// The alternatives found: each is a set of conflicting transitions to fire.
-    pub sets: Vec<Vec<TransitionId>>,
+    /// The alternatives found, flattened: set i is `members[bounds[i].0..bounds[i].1]`.
+    members: Vec<TransitionId>,
+    bounds: Vec<(usize, usize)>,
     /// Executable transitions that conflict with nothing: they fire in every alternative.
     pub free: Vec<TransitionId>,
+}
+
+impl ConflictScratch {
+    /// Number of alternatives found by the last [`enumerate`].
+    pub fn len(&self) -> usize {
+        self.bounds.len()
+    }
+
+    /// Alternative `i`: the conflicting transitions it fires.
+    pub fn set(&self, i: usize) -> &[TransitionId] {
+        let (a, b) = self.bounds[i];
+        &self.members[a..b]
+    }
 }
 
 /// Whether some place is asked for more tokens than it holds by `executable` together.
@@ -78,19 +92,20 @@ pub(crate) fn enumerate(
         }
     }
     scratch.capacity.clear();
-    scratch
-        .capacity
-        .extend(marking.tokens().iter().map(|&t| u16::from(t)));
-    scratch.sets.clear();
+    scratch.capacity.extend(marking.tokens().iter().map(|&t| u16::from(t)));
+    scratch.members.clear();
+    scratch.bounds.clear();
     scratch.current.clear();
     let ConflictScratch {
         capacity,
         conflicting,
         current,
-        sets,
+        members,
+        bounds,
         ..
     } = scratch;
-    search(incidence, conflicting, 0, capacity, current, sets, limit)
+    let mut found = Found { members, bounds, limit };
+    search(incidence, conflicting, 0, capacity, current, &mut found)
 }
 
 fn fits(incidence: &Incidence, capacity: &[u16], t: TransitionId) -> bool {
@@ -111,24 +126,34 @@ fn take(incidence: &Incidence, capacity: &mut [u16], t: TransitionId, sign: bool
     }
 }
 
+/// Where the search puts the maximal sets it finds.
+struct Found<'a> {
+    members: &'a mut Vec<TransitionId>,
+    bounds: &'a mut Vec<(usize, usize)>,
+    limit: usize,
+}
+
+/// Depth-first over include/exclude of each conflicting transition; a leaf is
+/// kept when no excluded transition still fits (maximality).
 fn search(
     incidence: &Incidence,
     items: &[TransitionId],
     i: usize,
     capacity: &mut [u16],
     current: &mut Vec<TransitionId>,
-    sets: &mut Vec<Vec<TransitionId>>,
-    limit: usize,
+    found: &mut Found<'_>,
 ) -> bool {
     if i == items.len() {
         let maximal = items
             .iter()
             .all(|t| current.contains(t) || !fits(incidence, capacity, *t));
         if maximal {
-            if sets.len() >= limit {
+            if found.bounds.len() >= found.limit {
                 return false;
             }
-            sets.push(current.clone());
+            let start = found.members.len();
+            found.members.extend_from_slice(current);
+            found.bounds.push((start, found.members.len()));
         }
         return true;
     }
@@ -136,14 +161,14 @@ fn search(
     if fits(incidence, capacity, t) {
         take(incidence, capacity, t, true);
         current.push(t);
-        let ok = search(incidence, items, i + 1, capacity, current, sets, limit);
+        let ok = search(incidence, items, i + 1, capacity, current, found);
         current.pop();
         take(incidence, capacity, t, false);
         if !ok {
             return false;
         }
     }
-    search(incidence, items, i + 1, capacity, current, sets, limit)
+    search(incidence, items, i + 1, capacity, current, found)
 }
 
 #[cfg(test)]
@@ -151,11 +176,7 @@ mod tests {
     use super::*;
     use crate::net::{PetriNet, PlaceNode, TransitionNode};
 
-    fn net(
-        places: &[(&str, u8)],
-        transitions: &[&str],
-        arcs: &[(&str, &str, u8)],
-    ) -> (Incidence, Marking) {
+    fn net(places: &[(&str, u8)], transitions: &[&str], arcs: &[(&str, &str, u8)]) -> (Incidence, Marking) {
         let ps = places
             .iter()
             .map(|(id, m)| PlaceNode {
@@ -183,6 +204,10 @@ mod tests {
         (Incidence::new(&n), n.initial_marking())
     }
 
+    fn sets(s: &ConflictScratch) -> Vec<Vec<TransitionId>> {
+        (0..s.len()).map(|i| s.set(i).to_vec()).collect()
+    }
+
     fn t(i: usize) -> TransitionId {
         TransitionId::new(i)
     }
@@ -193,19 +218,14 @@ mod tests {
         let (inc, m) = net(
             &[("p0", 1), ("p1", 1)],
             &["t0", "t1", "t2", "t3"],
-            &[
-                ("p0", "t0", 1),
-                ("p0", "t1", 1),
-                ("p0", "t2", 1),
-                ("p1", "t3", 1),
-            ],
+            &[("p0", "t0", 1), ("p0", "t1", 1), ("p0", "t2", 1), ("p1", "t3", 1)],
         );
         let exec = [t(0), t(1), t(2), t(3)];
         let mut s = ConflictScratch::default();
         assert!(has_conflict(&inc, &m, &exec, &mut s));
         assert!(enumerate(&inc, &m, &exec, &mut s, 100));
         assert_eq!(s.free, vec![t(3)]);
-        assert_eq!(s.sets, vec![vec![t(0)], vec![t(1)], vec![t(2)]]);
+        assert_eq!(sets(&s), vec![vec![t(0)], vec![t(1)], vec![t(2)]]);
     }
 
     #[test]
@@ -217,10 +237,7 @@ mod tests {
         );
         let mut s = ConflictScratch::default();
         assert!(enumerate(&inc, &m, &[t(0), t(1), t(2)], &mut s, 100));
-        assert_eq!(
-            s.sets,
-            vec![vec![t(0), t(1)], vec![t(0), t(2)], vec![t(1), t(2)]]
-        );
+        assert_eq!(sets(&s), vec![vec![t(0), t(1)], vec![t(0), t(2)], vec![t(1), t(2)]]);
     }
 
     #[test]
@@ -233,17 +250,13 @@ mod tests {
         );
         let mut s = ConflictScratch::default();
         assert!(enumerate(&inc, &m, &[t(0), t(1), t(2)], &mut s, 100));
-        assert_eq!(s.sets, vec![vec![t(0)], vec![t(1), t(2)]]);
+        assert_eq!(sets(&s), vec![vec![t(0)], vec![t(1), t(2)]]);
         assert!(!enumerate(&inc, &m, &[t(0), t(1), t(2)], &mut s, 1));
     }
 
     #[test]
     fn no_conflict_when_tokens_suffice() {
-        let (inc, m) = net(
-            &[("p0", 2)],
-            &["t0", "t1"],
-            &[("p0", "t0", 1), ("p0", "t1", 1)],
-        );
+        let (inc, m) = net(&[("p0", 2)], &["t0", "t1"], &[("p0", "t0", 1), ("p0", "t1", 1)]);
         let mut s = ConflictScratch::default();
         assert!(!has_conflict(&inc, &m, &[t(0), t(1)], &mut s));
     }

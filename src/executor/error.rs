@@ -12,9 +12,7 @@ pub enum ExecError {
         action: String,
     },
     /// A guard asks an action for a condition it does not declare.
-    #[error(
-        "plan '{plan}': action '{action}' declares no internal condition '{condition}' (it declares: {declared})"
-    )]
+    #[error("plan '{plan}': action '{action}' declares no internal condition '{condition}' (it declares: {declared})")]
     UndeclaredCondition {
         /// The plan.
         plan: String,

@@ -111,18 +111,20 @@ impl<W: World> PlanInstance<W> {
                 InternalKind::Failed => Binding::Failed(a),
                 InternalKind::Declared(name) => {
                     let declared = declared_lists[a].as_deref().unwrap_or(&[]);
-                    let index = declared.iter().position(|d| d == name).ok_or_else(|| {
-                        ExecError::UndeclaredCondition {
-                            plan: plan.name().to_string(),
-                            action: plan.action(cond.action).name.clone(),
-                            condition: name.clone(),
-                            declared: if declared.is_empty() {
-                                "nothing".to_string()
-                            } else {
-                                declared.join(", ")
-                            },
-                        }
-                    })?;
+                    let index =
+                        declared
+                            .iter()
+                            .position(|d| d == name)
+                            .ok_or_else(|| ExecError::UndeclaredCondition {
+                                plan: plan.name().to_string(),
+                                action: plan.action(cond.action).name.clone(),
+                                condition: name.clone(),
+                                declared: if declared.is_empty() {
+                                    "nothing".to_string()
+                                } else {
+                                    declared.join(", ")
+                                },
+                            })?;
                     Binding::Declared(a, index)
                 }
             });
@@ -223,9 +225,7 @@ impl<W: World> PlanInstance<W> {
     /// (ending, interrupting or failing a plan does the same to its sub-tree).
     fn propagate(&mut self, world: &mut W, function: Function) {
         let Self {
-            active,
-            executables,
-            ..
+            active, executables, ..
         } = self;
         for a in active.iter() {
             match &mut executables[a] {
@@ -246,9 +246,7 @@ impl<W: World> PlanInstance<W> {
     pub(crate) fn act(&mut self, world: &mut W) {
         self.fresh = false;
         let Self {
-            active,
-            executables,
-            ..
+            active, executables, ..
         } = self;
         for a in active.iter() {
             match &mut executables[a] {
@@ -264,9 +262,7 @@ impl<W: World> PlanInstance<W> {
         self.pending_reward += reward;
         self.elapsed += 1;
         let Self {
-            active,
-            executables,
-            ..
+            active, executables, ..
         } = self;
         for a in active.iter() {
             if let Executable::Plan(p) = &mut executables[a] {
@@ -297,11 +293,7 @@ impl<W: World> PlanInstance<W> {
     /// Fires this step's executable transitions (asking `chooser` on conflicts),
     /// then lets running sub-plans fire theirs: a higher plan's transitions,
     /// interrupts included, take effect before those of the plans below it.
-    pub(crate) fn fire<C: Chooser + ?Sized>(
-        &mut self,
-        world: &mut W,
-        chooser: &mut C,
-    ) -> Result<(), ExecError> {
+    pub(crate) fn fire<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) -> Result<(), ExecError> {
         if self.status != Status::Running {
             return Ok(());
         }
@@ -347,22 +339,17 @@ impl<W: World> PlanInstance<W> {
         let mut chosen = std::mem::take(&mut self.chosen);
         chosen.clear();
         if conflict::has_conflict(incidence, &self.marking, executable, &mut self.conflicts) {
-            if !conflict::enumerate(
-                incidence,
-                &self.marking,
-                executable,
-                &mut self.conflicts,
-                MAX_OPTIONS,
-            ) {
+            if !conflict::enumerate(incidence, &self.marking, executable, &mut self.conflicts, MAX_OPTIONS) {
                 self.chosen = chosen;
                 return Err(ExecError::TooManyOptions {
                     plan: self.plan.name().to_string(),
                     limit: MAX_OPTIONS,
                 });
             }
-            let count = self.conflicts.sets.len();
+            let count = self.conflicts.len();
             self.options.truncate(count);
-            for (i, set) in self.conflicts.sets.iter().enumerate() {
+            for i in 0..count {
+                let set = self.conflicts.set(i);
                 if i < self.options.len() {
                     self.options[i].clone_from(&self.marking);
                 } else {
@@ -370,12 +357,10 @@ impl<W: World> PlanInstance<W> {
                 }
                 let next = &mut self.options[i];
                 for &t in self.conflicts.free.iter().chain(set) {
-                    incidence
-                        .fire(next, t)
-                        .map_err(|e| ExecError::TokenOverflow {
-                            plan: self.plan.name().to_string(),
-                            place: self.plan.net().place(PlaceId::new(e.place)).id.clone(),
-                        })?;
+                    incidence.fire(next, t).map_err(|e| ExecError::TokenOverflow {
+                        plan: self.plan.name().to_string(),
+                        place: self.plan.net().place(PlaceId::new(e.place)).id.clone(),
+                    })?;
                 }
             }
             let index = chooser.choose(self.key, &self.marking, &self.options);
@@ -388,7 +373,7 @@ impl<W: World> PlanInstance<W> {
                 });
             }
             chosen.extend_from_slice(&self.conflicts.free);
-            chosen.extend_from_slice(&self.conflicts.sets[index]);
+            chosen.extend_from_slice(self.conflicts.set(index));
         } else {
             chosen.extend_from_slice(executable);
         }

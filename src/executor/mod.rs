@@ -65,11 +65,7 @@ impl<W: World> Executor<W> {
     }
 
     /// One execution step (see the module documentation).
-    pub fn step<C: Chooser + ?Sized>(
-        &mut self,
-        world: &mut W,
-        chooser: &mut C,
-    ) -> Result<Status, ExecError> {
+    pub fn step<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) -> Result<Status, ExecError> {
         if self.root.status != Status::Running {
             return Ok(self.root.status);
         }

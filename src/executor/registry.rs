@@ -106,10 +106,7 @@ impl<W> Registry<W> {
             self.families
                 .iter()
                 .find(|(prefix, _)| {
-                    name == prefix
-                        || name
-                            .strip_prefix(prefix.as_str())
-                            .is_some_and(|r| r.starts_with('_'))
+                    name == prefix || name.strip_prefix(prefix.as_str()).is_some_and(|r| r.starts_with('_'))
                 })
                 .map(|(_, p)| p)
         })
@@ -118,9 +115,7 @@ impl<W> Registry<W> {
     /// How `name` is executed, if anything provides it.
     pub(crate) fn resolve(&self, name: &str) -> Option<Entry<'_, W>> {
         let base = name.split_once('#').map(|(_, b)| b);
-        let primitive = self
-            .primitive(name)
-            .or_else(|| base.and_then(|b| self.primitive(b)));
+        let primitive = self.primitive(name).or_else(|| base.and_then(|b| self.primitive(b)));
         if let Some(p) = primitive {
             return Some(Entry::Primitive {
                 declared: &p.declared,

@@ -7,8 +7,8 @@ use serde::{Deserialize, Serialize};
 
 use super::spec::{Algorithm, DomainSpec, LearnerSpec, Protocol};
 use crate::learning::{
-    Assessment, Exploration, McespConfig, Schedule, Scope, Sigma, SoSmcConfig, StepSize, Target,
-    TdConfig, ThresholdRule,
+    Assessment, Exploration, McespConfig, Schedule, Scope, Sigma, SoSmcConfig, StepSize, Target, TdConfig,
+    ThresholdRule,
 };
 
 /// Values of the domains' returns that serve as pessimistic and optimistic initial values.
@@ -21,10 +21,7 @@ struct Bounds {
 
 fn bounds(domain: &DomainSpec) -> Bounds {
     match domain {
-        DomainSpec::ParrRussell { .. } => Bounds {
-            low: -4.0,
-            high: 1.0,
-        },
+        DomainSpec::ParrRussell { .. } => Bounds { low: -4.0, high: 1.0 },
         DomainSpec::Sutton { config, .. } => Bounds {
             low: -f64::from(config.max_actions),
             high: 0.0,
@@ -129,19 +126,14 @@ impl FromStr for AssessmentArg {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, String> {
-        let number = |n: &str| {
-            n.parse::<u64>()
-                .map_err(|_| format!("'{n}' is not a whole number"))
-        };
+        let number = |n: &str| n.parse::<u64>().map_err(|_| format!("'{n}' is not a whole number"));
         Ok(AssessmentArg(match s.split_once(':') {
             None if s == "never" => Assessment::Never,
             None if s == "per-decision" => Assessment::PerDecision,
             Some(("every", n)) => Assessment::EveryN(number(n)?),
             Some(("after", k)) => Assessment::AfterK(number(k)?),
             _ => {
-                return Err(format!(
-                    "'{s}': expected never, per-decision, every:N or after:K"
-                ));
+                return Err(format!("'{s}': expected never, per-decision, every:N or after:K"));
             }
         }))
     }
@@ -149,11 +141,7 @@ impl FromStr for AssessmentArg {
 
 /// Parses a schedule `START`, or `START:END:OVER` (a linear ramp over OVER units).
 pub fn parse_schedule(s: &str) -> Result<Schedule, String> {
-    let number = |n: &str| {
-        n.trim()
-            .parse::<f64>()
-            .map_err(|_| format!("'{n}' is not a number"))
-    };
+    let number = |n: &str| n.trim().parse::<f64>().map_err(|_| format!("'{n}' is not a number"));
     let parts: Vec<&str> = s.split(':').collect();
     match parts.as_slice() {
         [v] => Ok(Schedule::constant(number(v)?)),
@@ -185,9 +173,7 @@ pub fn parse_threshold(s: &str) -> Result<ThresholdRule, String> {
         .ok_or_else(|| format!("'{s}': expected THRESHOLD:WINDOW"))?;
     Ok(ThresholdRule {
         threshold: t.parse().map_err(|_| format!("'{t}' is not a number"))?,
-        window: w
-            .parse()
-            .map_err(|_| format!("'{w}' is not a whole number"))?,
+        window: w.parse().map_err(|_| format!("'{w}' is not a whole number"))?,
     })
 }
 
@@ -289,14 +275,8 @@ mod tests {
             Schedule::linear(0.2, 0.0, 80000)
         );
         assert!(parse_schedule("0.2:0").is_err());
-        assert_eq!(
-            "every:20".parse::<AssessmentArg>().unwrap().0,
-            Assessment::EveryN(20)
-        );
-        assert_eq!(
-            "after:5".parse::<AssessmentArg>().unwrap().0,
-            Assessment::AfterK(5)
-        );
+        assert_eq!("every:20".parse::<AssessmentArg>().unwrap().0, Assessment::EveryN(20));
+        assert_eq!("after:5".parse::<AssessmentArg>().unwrap().0, Assessment::AfterK(5));
         assert!("often".parse::<AssessmentArg>().is_err());
         assert_eq!(parse_step_size("inverse").unwrap(), StepSize::InverseCount);
         assert_eq!(

@@ -43,11 +43,7 @@ pub fn curve(output: &ExperimentOutput) -> Vec<(u64, Summary)> {
         .iter()
         .enumerate()
         .map(|(i, &episode)| {
-            let samples: Vec<f64> = output
-                .runs
-                .iter()
-                .filter_map(|r| r.evals.get(i).copied())
-                .collect();
+            let samples: Vec<f64> = output.runs.iter().filter_map(|r| r.evals.get(i).copied()).collect();
             (episode, summarize(&samples))
         })
         .collect()
@@ -55,10 +51,7 @@ pub fn curve(output: &ExperimentOutput) -> Vec<(u64, Summary)> {
 
 /// The summary of an experiment.
 pub fn summary(output: &ExperimentOutput) -> SummaryFile {
-    let last = curve(output)
-        .last()
-        .map(|(_, s)| *s)
-        .unwrap_or_else(|| summarize(&[]));
+    let last = curve(output).last().map(|(_, s)| *s).unwrap_or_else(|| summarize(&[]));
     let greedy: Vec<f64> = output.runs.iter().map(|r| r.greedy).collect();
     let greedy = summarize(&greedy);
     let total = output.total_episodes();
@@ -100,20 +93,13 @@ pub fn series(output: &ExperimentOutput) -> Series {
 }
 
 /// Writes every result file of `output` into `dir` (created if needed) and returns the summary.
-pub fn write_results(
-    output: &ExperimentOutput,
-    dir: &Path,
-) -> Result<SummaryFile, ExperimentError> {
+pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFile, ExperimentError> {
     let io = |path: PathBuf| move |source| ExperimentError::Io { path, source };
     std::fs::create_dir_all(dir).map_err(io(dir.to_path_buf()))?;
 
     let mut text = String::from("episode,mean,ci_low,ci_high,runs\n");
     for (episode, s) in curve(output) {
-        let _ = writeln!(
-            text,
-            "{episode},{},{},{},{}",
-            s.mean, s.ci_low, s.ci_high, s.n
-        );
+        let _ = writeln!(text, "{episode},{},{},{},{}", s.mean, s.ci_low, s.ci_high, s.n);
     }
     write_text(&dir.join("curve.csv"), &text)?;
 
@@ -159,10 +145,7 @@ pub fn write_results(
             }
             plot::plot_scatter(
                 &dir.join("traces.svg"),
-                &format!(
-                    "{}: values in the initial observation (run 0)",
-                    output.spec.label
-                ),
+                &format!("{}: values in the initial observation (run 0)", output.spec.label),
                 "episode",
                 "value",
                 &by_name,
@@ -171,14 +154,12 @@ pub fn write_results(
         }
 
         if let Some(values) = &first.values {
-            persist::save(&dir.join("values.bin"), values)
-                .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+            persist::save(&dir.join("values.bin"), values).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
         }
     }
 
     let summary = summary(output);
-    let json = serde_json::to_string_pretty(&summary)
-        .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+    let json = serde_json::to_string_pretty(&summary).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
     write_text(&dir.join("summary.json"), &json)?;
 
     plot::plot_curves(

@@ -147,13 +147,7 @@ const FONT: &str = "sans-serif";
 /// skipped and break the line; points with a non-finite `low` or `high` break
 /// the band. Fails with [`PlotError::NoSeries`] or [`PlotError::NoFinitePoints`]
 /// when there is nothing to draw.
-pub fn plot_curves(
-    path: &Path,
-    title: &str,
-    x_label: &str,
-    y_label: &str,
-    series: &[Series],
-) -> Result<(), PlotError> {
+pub fn plot_curves(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[Series]) -> Result<(), PlotError> {
     if series.is_empty() {
         return Err(PlotError::NoSeries {
             path: path.to_path_buf(),
@@ -177,16 +171,11 @@ pub fn plot_curves(
         let mut chart = frame.chart(root, title, x_label, y_label)?;
         for (i, s) in series.iter().enumerate() {
             let band = colour(i).mix(0.2).filled();
-            chart.draw_series(
-                s.points
-                    .split(|p| !banded(p))
-                    .filter(|run| run.len() > 1)
-                    .map(|run| {
-                        let upper = run.iter().map(|p| (p.x, p.high));
-                        let lower = run.iter().rev().map(|p| (p.x, p.low));
-                        Polygon::new(upper.chain(lower).collect::<Vec<_>>(), band)
-                    }),
-            )?;
+            chart.draw_series(s.points.split(|p| !banded(p)).filter(|run| run.len() > 1).map(|run| {
+                let upper = run.iter().map(|p| (p.x, p.high));
+                let lower = run.iter().rev().map(|p| (p.x, p.low));
+                Polygon::new(upper.chain(lower).collect::<Vec<_>>(), band)
+            }))?;
         }
         for (i, s) in series.iter().enumerate() {
             let line = colour(i).stroke_width(2);
@@ -198,9 +187,11 @@ pub fn plot_curves(
                     .map(|p| Circle::new((p.x, p.mean), 2, line.filled())),
             )?;
             chart
-                .draw_series(runs.iter().filter(|run| run.len() > 1).map(|run| {
-                    PathElement::new(run.iter().map(|p| (p.x, p.mean)).collect::<Vec<_>>(), line)
-                }))?
+                .draw_series(
+                    runs.iter()
+                        .filter(|run| run.len() > 1)
+                        .map(|run| PathElement::new(run.iter().map(|p| (p.x, p.mean)).collect::<Vec<_>>(), line)),
+                )?
                 .label(s.label.as_str())
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], line));
         }
@@ -243,13 +234,7 @@ pub fn plot_scatter(
         for (i, (label, points)) in series.iter().enumerate() {
             let dot = colour(i).mix(0.75).filled();
             chart
-                .draw_series(
-                    points
-                        .iter()
-                        .copied()
-                        .filter(finite)
-                        .map(|p| Circle::new(p, 2, dot)),
-                )?
+                .draw_series(points.iter().copied().filter(finite).map(|p| Circle::new(p, 2, dot)))?
                 .label(label.as_str())
                 .legend(move |(x, y)| Circle::new((x + 12, y), 4, colour(i).filled()));
         }

@@ -75,13 +75,9 @@ impl DomainSpec {
     /// Loads the plan once for every run.
     pub fn load_plan(&self) -> Result<Arc<Plan>, ExperimentError> {
         let plan = match self {
-            DomainSpec::ParrRussell { plan: Some(p), .. } => {
-                load_plan(p, Vocabulary::Closed(&parr_russell::atoms()))?
-            }
+            DomainSpec::ParrRussell { plan: Some(p), .. } => load_plan(p, Vocabulary::Closed(&parr_russell::atoms()))?,
             DomainSpec::ParrRussell { plan: None, .. } => parr_russell::default_plan()?,
-            DomainSpec::Sutton { plan: Some(p), .. } => {
-                load_plan(p, Vocabulary::Closed(&sutton::atoms()))?
-            }
+            DomainSpec::Sutton { plan: Some(p), .. } => load_plan(p, Vocabulary::Closed(&sutton::atoms()))?,
             DomainSpec::Sutton { plan: None, .. } => sutton::default_plan()?,
             DomainSpec::PenaltyKick { plan: Some(p), .. } => load_plan(p, Vocabulary::Open)?,
             DomainSpec::PenaltyKick { config, plan: None } => penalty_kick::plan(config.variant)?,
@@ -97,15 +93,9 @@ impl DomainSpec {
         rng: SimRng,
     ) -> Result<Box<dyn Task>, ExperimentError> {
         Ok(match self {
-            DomainSpec::ParrRussell { config, .. } => {
-                Box::new(ParrRussell::new(*config, plan, learner, rng)?)
-            }
-            DomainSpec::Sutton { config, .. } => {
-                Box::new(Sutton::new(*config, plan, learner, rng)?)
-            }
-            DomainSpec::PenaltyKick { config, .. } => {
-                Box::new(PenaltyKick::new(*config, plan, learner)?)
-            }
+            DomainSpec::ParrRussell { config, .. } => Box::new(ParrRussell::new(*config, plan, learner, rng)?),
+            DomainSpec::Sutton { config, .. } => Box::new(Sutton::new(*config, plan, learner, rng)?),
+            DomainSpec::PenaltyKick { config, .. } => Box::new(PenaltyKick::new(*config, plan, learner)?),
         })
     }
 }

@@ -101,9 +101,7 @@ impl Observation {
 
     /// Index in `0..8`: bit 0 lane 1 open, bit 1 lane 2 open, bit 2 taker far.
     pub fn index(self) -> usize {
-        usize::from(self.lane1_open)
-            | usize::from(self.lane2_open) << 1
-            | usize::from(self.taker_far) << 2
+        usize::from(self.lane1_open) | usize::from(self.lane2_open) << 1 | usize::from(self.taker_far) << 2
     }
 
     /// The observation with index `i`, if `i < 8`.

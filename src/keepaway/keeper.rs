@@ -26,8 +26,7 @@ pub enum KeeperAction {
 
 impl KeeperAction {
     /// All actions, in the framework's numbering (0 hold, k pass to the k-th closest).
-    pub const ALL: [KeeperAction; 3] =
-        [KeeperAction::Hold, KeeperAction::Pass1, KeeperAction::Pass2];
+    pub const ALL: [KeeperAction; 3] = [KeeperAction::Hold, KeeperAction::Pass1, KeeperAction::Pass2];
 
     /// The framework's action number.
     pub fn index(self) -> usize {

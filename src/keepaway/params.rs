@@ -64,11 +64,7 @@ fn open_unit(name: &'static str, v: f64) -> Result<(), ConfigError> {
     if v > 0.0 && v < 1.0 {
         Ok(())
     } else {
-        Err(ConfigError::OutOfRange {
-            name,
-            lo: 0.0,
-            hi: 1.0,
-        })
+        Err(ConfigError::OutOfRange { name, lo: 0.0, hi: 1.0 })
     }
 }
 

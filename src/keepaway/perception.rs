@@ -38,9 +38,7 @@ impl From<PlayerId> for u8 {
 impl PlayerId {
     /// The id of global index `i`, if it is in range.
     pub fn new(i: usize) -> Option<PlayerId> {
-        u8::try_from(i)
-            .ok()
-            .and_then(|i| PlayerId::try_from(i).ok())
+        u8::try_from(i).ok().and_then(|i| PlayerId::try_from(i).ok())
     }
 
     /// Keeper `k` (`0..3`), if in range.
@@ -128,10 +126,7 @@ impl PlayerView {
 
     /// Opponents, with their global indices.
     pub fn opponents(&self) -> impl Iterator<Item = (usize, &SeenPlayer)> {
-        self.side()
-            .opponent()
-            .indices()
-            .map(move |i| (i, &self.players[i]))
+        self.side().opponent().indices().map(move |i| (i, &self.players[i]))
     }
 
     /// Whether the ball is within one's kickable distance.

@@ -63,10 +63,7 @@ pub fn hand_coded(s: &StateVars) -> KeeperAction {
     }
     let mut best = KeeperAction::Hold;
     let mut best_score = 90.0;
-    for (i, action) in [KeeperAction::Pass1, KeeperAction::Pass2]
-        .into_iter()
-        .enumerate()
-    {
+    for (i, action) in [KeeperAction::Pass1, KeeperAction::Pass2].into_iter().enumerate() {
         let score = 4.0 * s.min_d_k_t[i] + s.min_ang_k_t[i];
         if score > best_score {
             best = action;
@@ -91,15 +88,13 @@ impl KeeperPolicy for BaselinePolicy {
     fn decide(&mut self, view: &PlayerView, _cfg: &KeepawayConfig) -> KeeperAction {
         match self {
             BaselinePolicy::Random(rng) => {
-                KeeperAction::from_index(rng.random_range(0..KeeperAction::ALL.len()))
-                    .unwrap_or(KeeperAction::Hold)
+                KeeperAction::from_index(rng.random_range(0..KeeperAction::ALL.len())).unwrap_or(KeeperAction::Hold)
             }
             BaselinePolicy::AlwaysHold => KeeperAction::Hold,
-            BaselinePolicy::HandCoded => {
-                StateVars::from_view(view).map_or(KeeperAction::Hold, |s| hand_coded(&s))
+            BaselinePolicy::HandCoded => StateVars::from_view(view).map_or(KeeperAction::Hold, |s| hand_coded(&s)),
+            BaselinePolicy::Threshold { threshold } => {
+                PassLineDistances::from_view(view).map_or(KeeperAction::Hold, |d| threshold_policy(&d, *threshold))
             }
-            BaselinePolicy::Threshold { threshold } => PassLineDistances::from_view(view)
-                .map_or(KeeperAction::Hold, |d| threshold_policy(&d, *threshold)),
         }
     }
 }

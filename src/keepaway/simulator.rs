@@ -55,12 +55,8 @@ impl Simulator {
         if self.ended.is_some() {
             return self.ended;
         }
-        self.world.physics_step(
-            commands,
-            &self.cfg.server,
-            self.cfg.motion_noise,
-            &mut self.rng,
-        );
+        self.world
+            .physics_step(commands, &self.cfg.server, self.cfg.motion_noise, &mut self.rng);
         self.ended = self.referee.check(&self.world, &self.cfg);
         self.ended
     }

@@ -43,12 +43,7 @@ impl StateVars {
         let ball = view.ball.pos;
         let mut keepers = [0usize, 1, 2];
         // K1: closest to the ball (ties to the lower index).
-        keepers.sort_by(|&a, &b| {
-            pos(a)
-                .dist(ball)
-                .total_cmp(&pos(b).dist(ball))
-                .then(a.cmp(&b))
-        });
+        keepers.sort_by(|&a, &b| pos(a).dist(ball).total_cmp(&pos(b).dist(ball)).then(a.cmp(&b)));
         let k1 = pos(keepers[0]);
         let mut rest = [keepers[1], keepers[2]];
         rest.sort_by(|&a, &b| pos(a).dist(k1).total_cmp(&pos(b).dist(k1)).then(a.cmp(&b)));
@@ -56,12 +51,7 @@ impl StateVars {
         let t0 = Side::Takers.indices().start;
         let mut takers = [t0, t0 + 1];
         takers.sort_by(|&a, &b| pos(a).dist(k1).total_cmp(&pos(b).dist(k1)).then(a.cmp(&b)));
-        let min_over_takers = |f: &dyn Fn(Vec2) -> f64| {
-            takers
-                .iter()
-                .map(|&t| f(pos(t)))
-                .fold(f64::INFINITY, f64::min)
-        };
+        let min_over_takers = |f: &dyn Fn(Vec2) -> f64| takers.iter().map(|&t| f(pos(t))).fold(f64::INFINITY, f64::min);
         let k = [pos(rest[0]), pos(rest[1])];
         Some(StateVars {
             keepers,
@@ -71,10 +61,7 @@ impl StateVars {
             d_k1_t: [k1.dist(pos(takers[0])), k1.dist(pos(takers[1]))],
             d_k_c: [k[0].dist(c), k[1].dist(c)],
             d_t_c: [pos(takers[0]).dist(c), pos(takers[1]).dist(c)],
-            min_d_k_t: [
-                min_over_takers(&|t| k[0].dist(t)),
-                min_over_takers(&|t| k[1].dist(t)),
-            ],
+            min_d_k_t: [min_over_takers(&|t| k[0].dist(t)), min_over_takers(&|t| k[1].dist(t))],
             min_ang_k_t: [
                 min_over_takers(&|t| angle_at(k1, k[0], t)),
                 min_over_takers(&|t| angle_at(k1, k[1], t)),

@@ -26,11 +26,7 @@ pub enum Side {
 impl Side {
     /// The side of the player with global index `i` (indices past the keepers are takers).
     pub fn of(i: usize) -> Side {
-        if i < NUM_KEEPERS {
-            Side::Keepers
-        } else {
-            Side::Takers
-        }
+        if i < NUM_KEEPERS { Side::Keepers } else { Side::Takers }
     }
 
     /// Global player indices of this side.
@@ -113,11 +109,7 @@ fn integrate(
 ) {
     if accel.x != 0.0 || accel.y != 0.0 {
         let a = accel.norm();
-        let accel = if a > accel_max {
-            accel * (accel_max / a)
-        } else {
-            accel
-        };
+        let accel = if a > accel_max { accel * (accel_max / a) } else { accel };
         *vel += accel;
         let s = vel.norm();
         if s > speed_max {
@@ -166,16 +158,14 @@ impl World {
                     if p.pos.dist_sq(self.ball.pos) <= kickable_sq {
                         let power = clamp(power, params.min_power, params.max_power);
                         let dir = clamp(direction, params.min_moment, params.max_moment);
-                        let eff = power
-                            * params.kick_power_rate
-                            * kick_rate_factor(params, p.pos, p.body, self.ball.pos);
+                        let eff =
+                            power * params.kick_power_rate * kick_rate_factor(params, p.pos, p.body, self.ball.pos);
                         ball_accel += Vec2::polar(eff, p.body + dir);
                     }
                 }
                 Command::Dash { power } => {
                     let power = clamp(power, params.min_power, params.max_power);
-                    accels[i] +=
-                        Vec2::polar(params.effort * power * params.dash_power_rate, p.body);
+                    accels[i] += Vec2::polar(params.effort * power * params.dash_power_rate, p.body);
                 }
                 Command::Turn { moment } => {
                     let moment = clamp(moment, params.min_moment, params.max_moment);
@@ -249,11 +239,7 @@ impl World {
             }
         };
         let pos_of = |w: &World, slot: usize| {
-            if slot == 0 {
-                w.ball.pos
-            } else {
-                w.players[slot - 1].pos
-            }
+            if slot == 0 { w.ball.pos } else { w.players[slot - 1].pos }
         };
         // Ball against each player, then every pair of players (the server's order).
         let mut pairs = [(0usize, 0usize); NUM_PLAYERS + NUM_PLAYERS * (NUM_PLAYERS - 1) / 2];

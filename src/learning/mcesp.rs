@@ -134,8 +134,7 @@ impl Chooser for Mcesp {
                 }
                 (None, Some(p)) => p,
                 (None, None) => {
-                    let g =
-                        selection::greedy(&self.option_values, &mut self.rng, &mut self.scratch);
+                    let g = selection::greedy(&self.option_values, &mut self.rng, &mut self.scratch);
                     if self.learning {
                         self.policy.insert(obs, self.ids[g]);
                     }
@@ -161,8 +160,7 @@ impl Learner for Mcesp {
         self.learning = start.learning();
         self.greedy = start.greedy();
         self.explored = false;
-        if self.learning && self.episode > 0 && self.episode % self.config.stage_length.max(1) == 0
-        {
+        if self.learning && self.episode > 0 && self.episode % self.config.stage_length.max(1) == 0 {
             self.end_stage();
         }
     }
@@ -186,8 +184,7 @@ impl Learner for Mcesp {
                         counted = true;
                     }
                     let alpha = (1.0 / f64::from(self.stage_count)).max(self.config.alpha_min);
-                    self.values
-                        .set(id, blend(self.values.value(id), sample, alpha));
+                    self.values.set(id, blend(self.values.value(id), sample, alpha));
                     self.values.visit(id);
                 }
             }

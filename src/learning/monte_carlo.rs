@@ -65,12 +65,7 @@ impl Chooser for MonteCarlo {
         } else {
             self.config.exploration.at(self.decisions)
         };
-        let i = selection::select(
-            strategy,
-            &self.option_values,
-            &mut self.rng,
-            &mut self.scratch,
-        );
+        let i = selection::select(strategy, &self.option_values, &mut self.rng, &mut self.scratch);
         self.left_greedy |= !selection::is_greedy(&self.option_values, i);
         if self.learning {
             self.decisions += 1;

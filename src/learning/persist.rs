@@ -93,9 +93,7 @@ pub enum Inconsistency {
         plans: usize,
     },
     /// An entry's token vector does not match its plan's places.
-    #[error(
-        "entry {entry} has {found} token count(s), but plan {plan} ('{name}') has {expected} place(s)"
-    )]
+    #[error("entry {entry} has {found} token count(s), but plan {plan} ('{name}') has {expected} place(s)")]
     WrongLength {
         /// Index of the entry.
         entry: usize,
@@ -138,9 +136,7 @@ pub enum PersistError {
         path: PathBuf,
     },
     /// The file was written in a format version this build does not read.
-    #[error(
-        "{path}: unsupported value file version {found} (this build reads version {supported})"
-    )]
+    #[error("{path}: unsupported value file version {found} (this build reads version {supported})")]
     UnsupportedVersion {
         /// The file.
         path: PathBuf,
@@ -168,9 +164,7 @@ pub enum PersistError {
         extra: u64,
     },
     /// The payload does not match its checksum.
-    #[error(
-        "{path}: checksum mismatch (stored {stored:#010x}, computed {computed:#010x}); the file is corrupt"
-    )]
+    #[error("{path}: checksum mismatch (stored {stored:#010x}, computed {computed:#010x}); the file is corrupt")]
     Checksum {
         /// The file.
         path: PathBuf,
@@ -243,11 +237,7 @@ impl PlanLabels {
             .enumerate()
             .filter(|(_, n)| **n > 0)
             .map(|(i, &n)| {
-                let name = self
-                    .places
-                    .get(i)
-                    .cloned()
-                    .unwrap_or_else(|| format!("#{i}"));
+                let name = self.places.get(i).cloned().unwrap_or_else(|| format!("#{i}"));
                 if n == 1 { name } else { format!("{name}*{n}") }
             })
             .collect();
@@ -353,18 +343,14 @@ pub fn prev_path(path: &Path) -> PathBuf {
 /// either the old or the new complete file. If keeping `.prev` fails, the new
 /// table is not written and the error names the `.prev` file.
 pub fn save(path: &Path, values: &SavedValues) -> Result<(), PersistError> {
-    values
-        .validate()
-        .map_err(|source| PersistError::Inconsistent {
+    values.validate().map_err(|source| PersistError::Inconsistent {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let payload =
+        bincode::serde::encode_to_vec(values, bincode::config::standard()).map_err(|source| PersistError::Encode {
             path: path.to_path_buf(),
             source,
-        })?;
-    let payload =
-        bincode::serde::encode_to_vec(values, bincode::config::standard()).map_err(|source| {
-            PersistError::Encode {
-                path: path.to_path_buf(),
-                source,
-            }
         })?;
     let mut bytes = Vec::with_capacity(HEADER_LEN + payload.len());
     bytes.extend_from_slice(&MAGIC);
@@ -376,8 +362,7 @@ pub fn save(path: &Path, values: &SavedValues) -> Result<(), PersistError> {
     let previous = fs::read(path).ok().filter(|old| parse(path, old).is_ok());
     if let Some(old) = previous {
         let prev = prev_path(path);
-        crate::atomic_file::write_atomic(&prev, &old)
-            .map_err(|source| PersistError::Io { path: prev, source })?;
+        crate::atomic_file::write_atomic(&prev, &old).map_err(|source| PersistError::Io { path: prev, source })?;
     }
     crate::atomic_file::write_atomic(path, &bytes).map_err(|source| PersistError::Io {
         path: path.to_path_buf(),
@@ -467,12 +452,10 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<SavedValues, PersistError> {
             unused: rest.len().saturating_sub(used),
         });
     }
-    values
-        .validate()
-        .map_err(|source| PersistError::Inconsistent {
-            path: path_buf(),
-            source,
-        })?;
+    values.validate().map_err(|source| PersistError::Inconsistent {
+        path: path_buf(),
+        source,
+    })?;
     Ok(values)
 }
 
@@ -486,13 +469,8 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<SavedValues, PersistError> {
 /// fails with `LimitExceeded` instead of allocating more than a small multiple
 /// of the file. Payloads beyond 256 MiB are decoded without a limit.
 fn decode(payload: &[u8]) -> Result<(SavedValues, usize), bincode::error::DecodeError> {
-    fn limited<const LIMIT: usize>(
-        payload: &[u8],
-    ) -> Result<(SavedValues, usize), bincode::error::DecodeError> {
-        bincode::serde::decode_from_slice(
-            payload,
-            bincode::config::standard().with_limit::<LIMIT>(),
-        )
+    fn limited<const LIMIT: usize>(payload: &[u8]) -> Result<(SavedValues, usize), bincode::error::DecodeError> {
+        bincode::serde::decode_from_slice(payload, bincode::config::standard().with_limit::<LIMIT>())
     }
     let claims = payload.len().saturating_mul(8).saturating_add(4096);
     if claims <= 1 << 16 {
@@ -553,10 +531,7 @@ pub fn write_csv(values: &SavedValues, out: &mut impl Write) -> io::Result<()> {
     rows.sort_by(|a, b| (a.0, &a.1).cmp(&(b.0, &b.1)));
     writeln!(out, "plan,marking,value,visits")?;
     for (plan, marking, e) in rows {
-        let name = values
-            .plans
-            .get(usize::from(plan))
-            .map_or("", |p| p.name.as_str());
+        let name = values.plans.get(usize::from(plan)).map_or("", |p| p.name.as_str());
         writeln!(
             out,
             "{},{},{:?},{}",

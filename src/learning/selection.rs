@@ -105,12 +105,7 @@ pub fn is_greedy(values: &[f64], index: usize) -> bool {
 }
 
 /// Draws an index by `strategy`.
-pub fn select(
-    strategy: Strategy,
-    values: &[f64],
-    rng: &mut SimRng,
-    scratch: &mut Vec<usize>,
-) -> usize {
+pub fn select(strategy: Strategy, values: &[f64], rng: &mut SimRng, scratch: &mut Vec<usize>) -> usize {
     match strategy {
         Strategy::Greedy => greedy(values, rng, scratch),
         Strategy::EpsilonGreedy(eps) => {
@@ -195,14 +190,7 @@ mod tests {
         let mut scratch = Vec::new();
         let n = 4000;
         let off = (0..n)
-            .filter(|_| {
-                select(
-                    Strategy::EpsilonGreedy(0.4),
-                    &[5.0, 0.0],
-                    &mut rng,
-                    &mut scratch,
-                ) == 1
-            })
+            .filter(|_| select(Strategy::EpsilonGreedy(0.4), &[5.0, 0.0], &mut rng, &mut scratch) == 1)
             .count();
         // Off-greedy with probability eps / 2 = 0.2.
         let p = off as f64 / n as f64;

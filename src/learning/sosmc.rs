@@ -168,11 +168,7 @@ impl SoSmc {
             return Kind::Initial;
         }
         if let Some(explore) = forced {
-            return if explore {
-                Kind::Explore
-            } else {
-                Kind::Exploit
-            };
+            return if explore { Kind::Explore } else { Kind::Exploit };
         }
         if self.suspended {
             return Kind::Exploit;
@@ -248,22 +244,13 @@ impl Chooser for SoSmc {
             Some(i) => i,
             None => {
                 let i = match self.kind {
-                    Kind::Exploit => {
-                        selection::greedy(&self.option_values, &mut self.rng, &mut self.scratch)
+                    Kind::Exploit => selection::greedy(&self.option_values, &mut self.rng, &mut self.scratch),
+                    Kind::Initial | Kind::Explore => {
+                        selection::select(self.strategy(), &self.option_values, &mut self.rng, &mut self.scratch)
                     }
-                    Kind::Initial | Kind::Explore => selection::select(
-                        self.strategy(),
-                        &self.option_values,
-                        &mut self.rng,
-                        &mut self.scratch,
-                    ),
                     Kind::PerDecision => {
-                        let i = selection::select(
-                            self.strategy(),
-                            &self.option_values,
-                            &mut self.rng,
-                            &mut self.scratch,
-                        );
+                        let i =
+                            selection::select(self.strategy(), &self.option_values, &mut self.rng, &mut self.scratch);
                         self.left_greedy |= !selection::is_greedy(&self.option_values, i);
                         i
                     }

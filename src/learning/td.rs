@@ -107,14 +107,7 @@ impl TdLearner {
 
     /// Moves `prev` toward `target`, spreading the error along the traces,
     /// which then decay by `decay`.
-    fn update(
-        values: &mut ValueTable,
-        alpha: f64,
-        level: &mut Level,
-        prev: KeyId,
-        target: f64,
-        decay: f64,
-    ) {
+    fn update(values: &mut ValueTable, alpha: f64, level: &mut Level, prev: KeyId, target: f64, decay: f64) {
         let old = values.value(prev);
         if !old.is_finite() {
             values.set(prev, target);
@@ -162,12 +155,7 @@ impl Chooser for TdLearner {
             } else {
                 self.config.exploration.at(self.decisions)
             };
-            let i = selection::select(
-                strategy,
-                &self.option_values,
-                &mut self.rng,
-                &mut self.scratch,
-            );
+            let i = selection::select(strategy, &self.option_values, &mut self.rng, &mut self.scratch);
             self.left_greedy |= !selection::is_greedy(&self.option_values, i);
             if let Some(o) = obs {
                 self.memory.insert(o, self.ids[i]);
@@ -177,11 +165,7 @@ impl Chooser for TdLearner {
         if self.learning {
             self.decisions += 1;
         }
-        let best = self
-            .option_values
-            .iter()
-            .copied()
-            .fold(f64::NEG_INFINITY, f64::max);
+        let best = self.option_values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         let lvl = level(&mut self.levels, plan);
         if self.config.scope == Scope::Markings && lvl.prev.is_none() {
             lvl.prev = Some(self.values.intern(plan, state));

@@ -110,11 +110,7 @@ impl Trajectory {
 /// gamma^steps (1 when gamma is 1).
 #[inline]
 pub fn discount(gamma: f64, steps: u32) -> f64 {
-    if gamma == 1.0 {
-        1.0
-    } else {
-        gamma.powi(steps as i32)
-    }
+    if gamma == 1.0 { 1.0 } else { gamma.powi(steps as i32) }
 }
 
 #[cfg(test)]

@@ -101,8 +101,7 @@ impl ValueTable {
 
     /// The value of a key, or the initial value if unknown.
     pub fn value_of(&self, plan: PlanKey, marking: &Marking) -> f64 {
-        self.find(plan, marking)
-            .map_or(self.initial, |id| self.value(id))
+        self.find(plan, marking).map_or(self.initial, |id| self.value(id))
     }
 
     /// Sets the value of an id.

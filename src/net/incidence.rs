@@ -82,9 +82,7 @@ impl Incidence {
     /// Whether `t` has enough tokens in every input place (guards aside).
     #[inline]
     pub fn is_enabled(&self, marking: &Marking, t: TransitionId) -> bool {
-        self.inputs(t)
-            .iter()
-            .all(|a| marking.get(a.place) >= a.weight)
+        self.inputs(t).iter().all(|a| marking.get(a.place) >= a.weight)
     }
 
     /// Fires `t` in place: removes its input tokens, adds its output tokens.

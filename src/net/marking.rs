@@ -60,9 +60,7 @@ impl Marking {
     #[inline]
     pub fn add(&mut self, place: PlaceId, tokens: u8) -> Result<(), TokenOverflow> {
         let slot = &mut self.0[place.index()];
-        *slot = slot.checked_add(tokens).ok_or(TokenOverflow {
-            place: place.index(),
-        })?;
+        *slot = slot.checked_add(tokens).ok_or(TokenOverflow { place: place.index() })?;
         Ok(())
     }
 

@@ -10,7 +10,4 @@ mod petri_net;
 
 pub use incidence::{Arc, Incidence};
 pub use marking::{Marking, TokenOverflow};
-pub use petri_net::{
-    ArcNode, NetError, NodeRef, PetriNet, PlaceId, PlaceNode, Position, TransitionId,
-    TransitionNode,
-};
+pub use petri_net::{ArcNode, NetError, NodeRef, PetriNet, PlaceId, PlaceNode, Position, TransitionId, TransitionNode};

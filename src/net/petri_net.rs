@@ -168,10 +168,7 @@ impl PetriNet {
     ) -> Result<Self, NetError> {
         let mut nodes: HashMap<&str, NodeRef> = HashMap::new();
         for (i, p) in places.iter().enumerate() {
-            if nodes
-                .insert(p.id.as_str(), NodeRef::Place(PlaceId::new(i)))
-                .is_some()
-            {
+            if nodes.insert(p.id.as_str(), NodeRef::Place(PlaceId::new(i))).is_some() {
                 return Err(NetError::DuplicateId { id: p.id.clone() });
             }
         }
@@ -191,14 +188,11 @@ impl PetriNet {
                 return Err(NetError::DuplicateId { id: id.to_string() });
             }
             let lookup = |end: &'static str, node: &str| {
-                nodes
-                    .get(node)
-                    .copied()
-                    .ok_or_else(|| NetError::DanglingArc {
-                        arc: id.to_string(),
-                        end,
-                        node: node.to_string(),
-                    })
+                nodes.get(node).copied().ok_or_else(|| NetError::DanglingArc {
+                    arc: id.to_string(),
+                    end,
+                    node: node.to_string(),
+                })
             };
             let s = lookup("source", source)?;
             let t = lookup("target", target)?;
@@ -216,9 +210,7 @@ impl PetriNet {
                 });
             }
             if weight == 0 {
-                return Err(NetError::ZeroWeight {
-                    arc: id.to_string(),
-                });
+                return Err(NetError::ZeroWeight { arc: id.to_string() });
             }
             if !pairs.insert((s, t)) {
                 return Err(NetError::RepeatedArc {
@@ -323,13 +315,7 @@ mod tests {
 
     #[test]
     fn rejects_place_to_place_arc() {
-        let err = PetriNet::new(
-            "n",
-            vec![place("p1"), place("p2")],
-            vec![],
-            &[("a1", "p1", "p2", 1)],
-        )
-        .unwrap_err();
+        let err = PetriNet::new("n", vec![place("p1"), place("p2")], vec![], &[("a1", "p1", "p2", 1)]).unwrap_err();
         assert!(
             matches!(err, NetError::SameKindArc { ref arc, .. } if arc == "a1"),
             "{err}"
@@ -339,13 +325,7 @@ mod tests {
 
     #[test]
     fn rejects_dangling_and_duplicate() {
-        let err = PetriNet::new(
-            "n",
-            vec![place("p1")],
-            vec![transition("t1")],
-            &[("a1", "p1", "t9", 1)],
-        )
-        .unwrap_err();
+        let err = PetriNet::new("n", vec![place("p1")], vec![transition("t1")], &[("a1", "p1", "t9", 1)]).unwrap_err();
         assert!(err.to_string().contains("t9"), "{err}");
         let err = PetriNet::new("n", vec![place("x")], vec![transition("x")], &[]).unwrap_err();
         assert_eq!(err, NetError::DuplicateId { id: "x".into() });

@@ -128,23 +128,15 @@ impl PlanBuilder {
     /// Adds an arc from `p` into `t` with weight `w`.
     pub fn consume(&mut self, t: TransitionRef, p: PlaceRef, w: u8) {
         let id = format!("a{}", self.arcs.len() + 1);
-        self.arcs.push((
-            id,
-            self.places[p.0].id.clone(),
-            self.transitions[t.0].id.clone(),
-            w,
-        ));
+        self.arcs
+            .push((id, self.places[p.0].id.clone(), self.transitions[t.0].id.clone(), w));
     }
 
     /// Adds an arc from `t` into `p` with weight `w` (e.g. a memory token).
     pub fn produce(&mut self, t: TransitionRef, p: PlaceRef, w: u8) {
         let id = format!("a{}", self.arcs.len() + 1);
-        self.arcs.push((
-            id,
-            self.transitions[t.0].id.clone(),
-            self.places[p.0].id.clone(),
-            w,
-        ));
+        self.arcs
+            .push((id, self.transitions[t.0].id.clone(), self.places[p.0].id.clone(), w));
     }
 
     /// Ordinary action `name` started from `from`; ends (waiting for `name.finished`) into a new place.
@@ -167,19 +159,9 @@ impl PlanBuilder {
     }
 
     /// Action `name` from `from` into `done` whose start also needs `guard` (guard syntax).
-    pub fn guarded_action_into(
-        &mut self,
-        from: PlaceRef,
-        name: &str,
-        guard: &str,
-        done: PlaceRef,
-    ) -> ActionNet {
+    pub fn guarded_action_into(&mut self, from: PlaceRef, name: &str, guard: &str, done: PlaceRef) -> ActionNet {
         let exec = self.place(format!("{name}.exec"));
-        let start = self.transition(
-            format!("{name}.start [{guard}]"),
-            &[(from, 1)],
-            &[(exec, 1)],
-        );
+        let start = self.transition(format!("{name}.start [{guard}]"), &[(from, 1)], &[(exec, 1)]);
         self.transition(format!("{name}.end"), &[(exec, 1)], &[(done, 1)]);
         ActionNet {
             name: name.to_string(),
@@ -228,12 +210,7 @@ impl PlanBuilder {
 
     /// Interrupt: leaves the execution of `action` for `to` when `condition`
     /// (guard syntax) holds.
-    pub fn interrupt(
-        &mut self,
-        action: &ActionNet,
-        condition: &str,
-        to: PlaceRef,
-    ) -> TransitionRef {
+    pub fn interrupt(&mut self, action: &ActionNet, condition: &str, to: PlaceRef) -> TransitionRef {
         let label = format!("{}.interrupt [{condition}]", action.name);
         self.transition(label, &[(action.exec, 1)], &[(to, 1)])
     }
@@ -268,12 +245,10 @@ impl PlanBuilder {
     fn layout(&mut self) {
         let node_count = self.places.len() + self.transitions.len();
         let index_of = |id: &str, places: &[PlaceNode], transitions: &[TransitionNode]| {
-            places.iter().position(|p| p.id == id).or_else(|| {
-                transitions
-                    .iter()
-                    .position(|t| t.id == id)
-                    .map(|i| places.len() + i)
-            })
+            places
+                .iter()
+                .position(|p| p.id == id)
+                .or_else(|| transitions.iter().position(|t| t.id == id).map(|i| places.len() + i))
         };
         let mut successors = vec![Vec::new(); node_count];
         for (_, s, t, _) in &self.arcs {
@@ -305,11 +280,7 @@ impl PlanBuilder {
             match (next_root..node_count).find(|&i| layer[i] == usize::MAX) {
                 Some(i) => {
                     next_root = i;
-                    layer[i] = layer
-                        .iter()
-                        .filter(|&&l| l != usize::MAX)
-                        .max()
-                        .map_or(0, |m| m + 1);
+                    layer[i] = layer.iter().filter(|&&l| l != usize::MAX).max().map_or(0, |m| m + 1);
                     queue.push_back(i);
                 }
                 None => break,

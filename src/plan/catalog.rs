@@ -195,10 +195,7 @@ pub fn sutton() -> Result<PetriNet, NetError> {
     }
     let choose = settle_then(&mut b, "choose");
     let moved = b.place("moved");
-    for (name, blocked) in MOVES
-        .iter()
-        .zip(["BlockedN", "BlockedS", "BlockedE", "BlockedW"])
-    {
+    for (name, blocked) in MOVES.iter().zip(["BlockedN", "BlockedS", "BlockedE", "BlockedW"]) {
         b.guarded_action_into(choose, name, &format!("not {blocked}"), moved);
     }
     b.transition("[not AtGoal]", &[(moved, 1)], &[(choose, 1)]);

@@ -154,18 +154,15 @@ impl Plan {
                 token: token.to_string(),
                 reason: reason.to_string(),
             };
-            let tokens = transition_tokens(&node.label)
-                .ok_or_else(|| label_error(&node.label, "unbalanced brackets"))?;
+            let tokens =
+                transition_tokens(&node.label).ok_or_else(|| label_error(&node.label, "unbalanced brackets"))?;
             let mut guard_text: Option<&str> = None;
             let mut calls = Vec::new();
             for token in tokens {
                 match token {
                     TransitionToken::Guard(g) => {
                         if guard_text.replace(g).is_some() {
-                            return Err(label_error(
-                                &format!("[{g}]"),
-                                "a transition has at most one guard",
-                            ));
+                            return Err(label_error(&format!("[{g}]"), "a transition has at most one guard"));
                         }
                     }
                     TransitionToken::Call(name, function) => {
@@ -178,12 +175,7 @@ impl Plan {
                         calls.push(Call { function, action });
                     }
                     TransitionToken::BareCall(function) => {
-                        let adjacent = adjacent_actions(
-                            &incidence,
-                            &place_action,
-                            tid,
-                            function.binds_output(),
-                        );
+                        let adjacent = adjacent_actions(&incidence, &place_action, tid, function.binds_output());
                         if adjacent.is_empty() {
                             return Err(label_error(
                                 function.as_str(),
@@ -344,11 +336,7 @@ impl Plan {
                 } else {
                     &place.label
                 };
-                if n == 1 {
-                    name.clone()
-                } else {
-                    format!("{name}*{n}")
-                }
+                if n == 1 { name.clone() } else { format!("{name}*{n}") }
             })
             .collect();
         if parts.is_empty() {
@@ -371,10 +359,7 @@ fn adjacent_actions(
     } else {
         incidence.inputs(t)
     };
-    let mut found: Vec<ActionId> = arcs
-        .iter()
-        .filter_map(|a| place_action[a.place.index()])
-        .collect();
+    let mut found: Vec<ActionId> = arcs.iter().filter_map(|a| place_action[a.place.index()]).collect();
     found.sort_unstable();
     found.dedup();
     found
@@ -398,19 +383,16 @@ fn resolve_atom(
 ) -> Result<AtomRef, String> {
     if atom.matches('.').count() == 1 {
         let (name, cond) = atom.split_once('.').unwrap_or((atom, ""));
-        let action = *actions.get(name).ok_or_else(|| {
-            format!("internal condition of '{name}', which no execution place names")
-        })?;
+        let action = *actions
+            .get(name)
+            .ok_or_else(|| format!("internal condition of '{name}', which no execution place names"))?;
         let kind = match cond {
             "finished" => InternalKind::Finished,
             "failed" => InternalKind::Failed,
             "" => return Err("empty internal condition".to_string()),
             other => InternalKind::Declared(other.to_string()),
         };
-        return Ok(intern_internal(
-            internal,
-            InternalCondition { action, kind },
-        ));
+        return Ok(intern_internal(internal, InternalCondition { action, kind }));
     }
     match vocabulary {
         Vocabulary::Open => Ok(AtomRef::Fact(atoms.intern(atom))),
@@ -431,15 +413,7 @@ fn implicit_wait(calls: &[Call], internal: &mut Vec<InternalCondition>) -> Condi
                 Function::Fail => Some(InternalKind::Failed),
                 _ => None,
             }
-            .map(|kind| {
-                Condition::Atom(intern_internal(
-                    internal,
-                    InternalCondition {
-                        action: c.action,
-                        kind,
-                    },
-                ))
-            })
+            .map(|kind| Condition::Atom(intern_internal(internal, InternalCondition { action: c.action, kind })))
         })
         .collect();
     match waits.len() {

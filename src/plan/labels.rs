@@ -105,10 +105,7 @@ pub fn parse_place_label(label: &str) -> Result<PlaceLabel, LabelError> {
     for token in tokens {
         if let Some(name) = exec_name(token) {
             if name.is_empty() {
-                return Err(label_error(
-                    token,
-                    "an execution place needs an action name",
-                ));
+                return Err(label_error(token, "an execution place needs an action name"));
             }
             if out.exec.replace(name.to_string()).is_some() {
                 return Err(label_error(token, "a second execution token"));
@@ -234,10 +231,7 @@ mod tests {
     fn place_labels() {
         let l = parse_place_label("gotopose_6_2_0.exec").unwrap();
         assert_eq!(l.exec.as_deref(), Some("gotopose_6_2_0"));
-        assert_eq!(
-            parse_place_label("ex.kick").unwrap().exec.as_deref(),
-            Some("kick")
-        );
+        assert_eq!(parse_place_label("ex.kick").unwrap().exec.as_deref(), Some("kick"));
         assert_eq!(
             parse_place_label("r1#kick.ex").unwrap().exec.as_deref(),
             Some("r1#kick")

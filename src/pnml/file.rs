@@ -35,19 +35,13 @@ pub fn write_file(net: &PetriNet, dialect: Dialect, path: &Path) -> io::Result<(
 
 /// The file name up to its first '.'.
 fn fallback_name(path: &Path) -> String {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy())
-        .unwrap_or_default();
-    name.split_once('.')
-        .map_or(name.as_ref(), |(stem, _)| stem)
-        .to_string()
+    let name = path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default();
+    name.split_once('.').map_or(name.as_ref(), |(stem, _)| stem).to_string()
 }
 
 /// UTF-8 if valid, ISO-8859-1 otherwise (every byte is a code point there).
 fn decode(bytes: Vec<u8>) -> String {
-    String::from_utf8(bytes)
-        .unwrap_or_else(|e| e.into_bytes().into_iter().map(char::from).collect())
+    String::from_utf8(bytes).unwrap_or_else(|e| e.into_bytes().into_iter().map(char::from).collect())
 }
 
 #[cfg(test)]

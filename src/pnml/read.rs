@@ -39,10 +39,7 @@ pub fn parse(text: &str, fallback_name: &str) -> Result<PetriNet, PnmlError> {
         PnmlError::Xml {
             line: pos.row,
             column: pos.col,
-            message: message
-                .strip_suffix(&suffix)
-                .unwrap_or(&message)
-                .to_string(),
+            message: message.strip_suffix(&suffix).unwrap_or(&message).to_string(),
         }
     })?;
     let root = doc.root_element();
@@ -72,13 +69,12 @@ pub fn parse(text: &str, fallback_name: &str) -> Result<PetriNet, PnmlError> {
             "page" => stack.push(node.children()),
             "place" => {
                 let id = id_of(&doc, node, "place")?;
-                let initial =
-                    count(node, "initialMarking", 0).map_err(|text| PnmlError::BadCount {
-                        element: "place",
-                        id: id.clone(),
-                        field: "initial marking",
-                        text,
-                    })?;
+                let initial = count(node, "initialMarking", 0).map_err(|text| PnmlError::BadCount {
+                    element: "place",
+                    id: id.clone(),
+                    field: "initial marking",
+                    text,
+                })?;
                 places.push(PlaceNode {
                     label: label(node),
                     initial,
@@ -96,10 +92,7 @@ pub fn parse(text: &str, fallback_name: &str) -> Result<PetriNet, PnmlError> {
                 let end = |end: &'static str| {
                     node.attribute(end)
                         .map(str::to_string)
-                        .ok_or_else(|| PnmlError::MissingEnd {
-                            arc: id.clone(),
-                            end,
-                        })
+                        .ok_or_else(|| PnmlError::MissingEnd { arc: id.clone(), end })
                 };
                 let source = end("source")?;
                 let target = end("target")?;
@@ -128,9 +121,7 @@ pub fn parse(text: &str, fallback_name: &str) -> Result<PetriNet, PnmlError> {
         .unwrap_or_else(|| fallback_name.to_string());
     let specs: Vec<_> = arcs
         .iter()
-        .map(|(id, source, target, weight)| {
-            (id.as_str(), source.as_str(), target.as_str(), *weight)
-        })
+        .map(|(id, source, target, weight)| (id.as_str(), source.as_str(), target.as_str(), *weight))
         .collect();
     Ok(PetriNet::new(name, places, transitions, &specs)?)
 }
@@ -139,19 +130,10 @@ pub fn parse(text: &str, fallback_name: &str) -> Result<PetriNet, PnmlError> {
 /// type, or puts anything in a page; JARP otherwise.
 fn detect(root: Node, net: Node) -> Dialect {
     const PNML_ORG: &str = "http://www.pnml.org/";
-    let standard = root
-        .tag_name()
-        .namespace()
-        .is_some_and(|ns| ns.starts_with(PNML_ORG))
-        || net
-            .attribute("type")
-            .is_some_and(|t| t.trim().starts_with(PNML_ORG))
+    let standard = root.tag_name().namespace().is_some_and(|ns| ns.starts_with(PNML_ORG))
+        || net.attribute("type").is_some_and(|t| t.trim().starts_with(PNML_ORG))
         || child(net, "page").is_some();
-    if standard {
-        Dialect::Standard
-    } else {
-        Dialect::Jarp
-    }
+    if standard { Dialect::Standard } else { Dialect::Jarp }
 }
 
 /// Whether `node` is an element with this local name.
@@ -206,9 +188,7 @@ fn count(node: Node, field: &str, default: u8) -> Result<u8, String> {
     let Some(text) = child(node, field).and_then(value_of) else {
         return Ok(default);
     };
-    let tail = text
-        .rsplit_once(',')
-        .map_or(text.as_str(), |(_, tail)| tail);
+    let tail = text.rsplit_once(',').map_or(text.as_str(), |(_, tail)| tail);
     tail.trim().parse().map_err(|_| text.trim().to_string())
 }
 
@@ -270,18 +250,13 @@ mod tests {
             detect(root, child(root, "net").unwrap())
         };
         assert_eq!(dialect("<pnml><net type='PTNet'/></pnml>"), Dialect::Jarp);
-        assert_eq!(
-            dialect("<pnml><net><page id='g'/></net></pnml>"),
-            Dialect::Standard
-        );
+        assert_eq!(dialect("<pnml><net><page id='g'/></net></pnml>"), Dialect::Standard);
         assert_eq!(
             dialect("<pnml xmlns='http://www.pnml.org/version-2009/grammar/pnml'><net/></pnml>"),
             Dialect::Standard
         );
         assert_eq!(
-            dialect(
-                "<pnml><net type='http://www.pnml.org/version-2009/grammar/pnmlcoremodel'/></pnml>"
-            ),
+            dialect("<pnml><net type='http://www.pnml.org/version-2009/grammar/pnmlcoremodel'/></pnml>"),
             Dialect::Standard
         );
     }

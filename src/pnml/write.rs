@@ -54,12 +54,7 @@ fn write_jarp(w: &mut XmlWriter, net: &PetriNet, ids: &mut FreshIds) {
         attribute(w, "id", &place.id);
         jarp_graphics(w, place.position, (32, 32));
         named(w, "name", "value", &place.label);
-        named(
-            w,
-            "initialMarking",
-            "value",
-            &format!("Default,{}", place.initial),
-        );
+        named(w, "initialMarking", "value", &format!("Default,{}", place.initial));
         w.end_element();
     }
     for transition in net.transitions() {
@@ -74,22 +69,12 @@ fn write_jarp(w: &mut XmlWriter, net: &PetriNet, ids: &mut FreshIds) {
         attribute(w, "id", &arc.id);
         attribute(w, "source", net.node_id(arc.source));
         attribute(w, "target", net.node_id(arc.target));
-        named(
-            w,
-            "inscription",
-            "value",
-            &format!("Default,{}", arc.weight),
-        );
+        named(w, "inscription", "value", &format!("Default,{}", arc.weight));
         w.end_element();
     }
     w.start_element("comment");
     attribute(w, "id", &ids.fresh("c1"));
-    named(
-        w,
-        "text",
-        "value",
-        &format!("{PLAN_NAME_PREFIX} {}", net.name()),
-    );
+    named(w, "text", "value", &format!("{PLAN_NAME_PREFIX} {}", net.name()));
     w.end_element();
     w.end_element();
     w.end_element();
@@ -248,14 +233,8 @@ mod tests {
 
     #[test]
     fn escapes_markup_and_line_ends() {
-        assert_eq!(
-            escape("a<b>&\"'\r\n\t", false),
-            "a&lt;b&gt;&amp;\"'&#13;\n\t"
-        );
-        assert_eq!(
-            escape("a<b>&\"'\r\n\t", true),
-            "a&lt;b&gt;&amp;&quot;'&#13;&#10;&#9;"
-        );
+        assert_eq!(escape("a<b>&\"'\r\n\t", false), "a&lt;b&gt;&amp;\"'&#13;\n\t");
+        assert_eq!(escape("a<b>&\"'\r\n\t", true), "a&lt;b&gt;&amp;&quot;'&#13;&#10;&#9;");
         assert_eq!(escape("x\u{1}y\u{FFFF}", false), "x\u{FFFD}y\u{FFFD}");
     }
 }

@@ -44,9 +44,7 @@ pub fn in_cone(obj: Vec2, start: Vec2, end: Vec2, width: f64) -> bool {
     // Projection start + t * line: between the ends iff t in [0, 1].
     let t = (obj - start).dot(line) / len_sq;
     let proj = start + line * t;
-    (0.0..=1.0).contains(&t)
-        && proj.dist_sq(obj) < width * width * proj.dist_sq(start)
-        && start.dist_sq(obj) < len_sq
+    (0.0..=1.0).contains(&t) && proj.dist_sq(obj) < width * width * proj.dist_sq(start) && start.dist_sq(obj) < len_sq
 }
 
 /// The candidate points of the get-open grid: `grid x grid` points over the region
@@ -61,9 +59,7 @@ pub fn grid_points(cfg: &KeepawayConfig) -> impl Iterator<Item = Vec2> {
     let mesh_y = r.width * (1.0 - 2.0 * s.get_open_border) / f64::from(n - 1);
     let x0 = -r.half_length() + s.get_open_border * r.length;
     let y0 = -r.half_width() + s.get_open_border * r.width;
-    (0..n).flat_map(move |i| {
-        (0..n).map(move |j| Vec2::new(x0 + f64::from(i) * mesh_x, y0 + f64::from(j) * mesh_y))
-    })
+    (0..n).flat_map(move |i| (0..n).map(move |j| Vec2::new(x0 + f64::from(i) * mesh_x, y0 + f64::from(j) * mesh_y)))
 }
 
 /// The least congested grid point with no opponent in the pass cone from
@@ -74,11 +70,7 @@ pub fn least_congested_point(view: &PlayerView, cfg: &KeepawayConfig, pass_from:
     let mut best_c = f64::INFINITY;
     for p in grid_points(cfg) {
         let c = congestion_up_to(view, p, best_c);
-        if c < best_c
-            && !view
-                .opponents()
-                .any(|(_, o)| in_cone(o.pos, pass_from, p, width))
-        {
+        if c < best_c && !view.opponents().any(|(_, o)| in_cone(o.pos, pass_from, p, width)) {
             best_c = c;
             best = Some(p);
         }

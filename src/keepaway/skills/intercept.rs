@@ -1,9 +1,7 @@
 //! Intercepting the ball.
 
 use super::movement::turn_to_ball;
-use super::predict::{
-    Interception, Kinematics, fastest_to_ball, move_command_towards, rollout_pos,
-};
+use super::predict::{Interception, Kinematics, fastest_to_ball, move_command_towards, rollout_pos};
 use crate::keepaway::command::Command;
 use crate::keepaway::params::KeepawayConfig;
 use crate::keepaway::perception::PlayerView;

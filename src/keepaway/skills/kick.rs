@@ -42,11 +42,7 @@ fn max_kick_along(view: &PlayerView, cfg: &KeepawayConfig, rate: f64, dir: f64) 
 /// Kick so that the ball's velocity becomes `vel_des` (`accelerateBallToVelocity`);
 /// if that needs more than one kick can give, kick at full power so that the ball at
 /// least moves along `vel_des`.
-pub fn accelerate_ball_to_velocity(
-    view: &PlayerView,
-    cfg: &KeepawayConfig,
-    vel_des: Vec2,
-) -> Command {
+pub fn accelerate_ball_to_velocity(view: &PlayerView, cfg: &KeepawayConfig, vel_des: Vec2) -> Command {
     let sp = &cfg.server;
     let rate = kick_rate(view, cfg);
     if rate <= 0.0 {
@@ -91,12 +87,7 @@ pub fn freeze_ball(view: &PlayerView, cfg: &KeepawayConfig) -> Command {
 /// `player_size + ball_size + ratio x kickable_margin` from where one will be next
 /// cycle (`kickBallCloseToBody`); if one kick cannot do it and the ball is moving,
 /// stop it instead.
-pub fn kick_ball_close_to_body(
-    view: &PlayerView,
-    cfg: &KeepawayConfig,
-    ang_rel: f64,
-    ratio: f64,
-) -> Command {
+pub fn kick_ball_close_to_body(view: &PlayerView, cfg: &KeepawayConfig, ang_rel: f64, ratio: f64) -> Command {
     let sp = &cfg.server;
     let me = view.own();
     let dist = sp.player_size + sp.ball_size + sp.kickable_margin * ratio;

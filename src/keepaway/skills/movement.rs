@@ -1,8 +1,6 @@
 //! Turning and moving: turn to a point or the ball, dash to a point, go to a point.
 
-use super::predict::{
-    Kinematics, after_turn, angle_for_turn, final_pos, power_for_dash, rollout_pos,
-};
+use super::predict::{Kinematics, after_turn, angle_for_turn, final_pos, power_for_dash, rollout_pos};
 use crate::keepaway::command::Command;
 use crate::keepaway::geometry::{Vec2, normalize_deg};
 use crate::keepaway::params::KeepawayConfig;
@@ -11,12 +9,7 @@ use crate::keepaway::perception::PlayerView;
 /// Turn the body towards `point`, seen from where one will be after `cycles`
 /// cycles of rolling (the framework's `turnBodyToPoint`); the moment compensates
 /// for the inertia at the current speed.
-pub fn turn_body_to_point(
-    view: &PlayerView,
-    cfg: &KeepawayConfig,
-    point: Vec2,
-    cycles: u32,
-) -> Command {
+pub fn turn_body_to_point(view: &PlayerView, cfg: &KeepawayConfig, point: Vec2, cycles: u32) -> Command {
     let me = Kinematics::from(view.own());
     let from = rollout_pos(&me, cycles, &cfg.server);
     let ang = normalize_deg((point - from).dir() - me.body);

@@ -113,11 +113,7 @@ pub fn kick_speed_to_travel(dist: f64, end_speed: f64, sp: &ServerParams) -> f64
     }
     let r = 1.0 / sp.ball_decay;
     let temp = dist * (r - 1.0) / end_speed + 1.0;
-    let steps = if temp <= 0.0 {
-        -1.0
-    } else {
-        temp.ln() / r.ln()
-    };
+    let steps = if temp <= 0.0 { -1.0 } else { temp.ln() / r.ln() };
     end_speed * r.powf(steps.round_ties_even())
 }
 
@@ -130,13 +126,7 @@ pub fn kick_speed_to_travel(dist: f64, end_speed: f64, sp: &ServerParams) -> f64
 ///
 /// Decision: the framework's extra "turn around and run backwards" special case
 /// for targets just behind is not reproduced.
-pub fn move_command_towards(
-    k: &Kinematics,
-    target: Vec2,
-    cycles: u32,
-    dist_back: f64,
-    sp: &ServerParams,
-) -> Command {
+pub fn move_command_towards(k: &Kinematics, target: Vec2, cycles: u32, dist_back: f64, sp: &ServerParams) -> Command {
     let u = Vec2::polar(1.0, k.body);
     match move_decision(k, u, target, cycles, dist_back, sp) {
         MoveDecision::Turn { from } => Command::Turn {
@@ -275,9 +265,7 @@ fn cycles_to_point_along(k: &Kinematics, u: Vec2, target: Vec2, cfg: &KeepawayCo
 /// for ever, which contradicts every published keepaway result.
 pub fn ball_to_chase(view: &PlayerView, cfg: &KeepawayConfig) -> SeenBall {
     let reach = cfg.server.kickable_distance();
-    let controlled = view
-        .opponents()
-        .any(|(_, o)| o.pos.dist(view.ball.pos) <= reach);
+    let controlled = view.opponents().any(|(_, o)| o.pos.dist(view.ball.pos) <= reach);
     if controlled {
         SeenBall {
             pos: view.ball.pos,
