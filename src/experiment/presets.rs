@@ -221,8 +221,11 @@ fn trace_figure(
             d.clone(),
             algorithm,
             with_td(algorithm, &d, |c| {
+                // Not given by the thesis: a step and initial values at which
+                // the one-step methods show their equilibria within the run.
                 c.exploration = exploration;
-                c.alpha = 0.01;
+                c.alpha = 0.1;
+                c.initial_value = 0.0;
             }),
             p,
         )],
@@ -287,7 +290,7 @@ fn figure_6_13() -> Figure {
     let d = sutton();
     let p = Protocol {
         runs: 50,
-        episodes: 10_000,
+        episodes: 40_000,
         eval_every: 200,
         eval_episodes: 0,
         greedy_episodes: 0,

@@ -119,17 +119,23 @@ pub fn select(strategy: Strategy, values: &[f64], rng: &mut SimRng, scratch: &mu
     }
 }
 
-/// A softmax draw; values of negative infinity get no weight unless all are,
-/// and a temperature of zero is greedy.
+/// A softmax draw. An option without an estimate (negative infinity) weighs
+/// like the best estimated option: its upper bound is unknown, so it is as
+/// promising as anything seen (SoSMC's initial phase must reach every pair).
+/// With no estimate at all the draw is uniform; a temperature of zero is greedy.
 fn softmax(values: &[f64], tau: f64, rng: &mut SimRng, scratch: &mut Vec<usize>) -> usize {
-    let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    if !max.is_finite() || tau <= 0.0 {
+    let max = values.iter().copied().filter(|v| v.is_finite()).fold(f64::NEG_INFINITY, f64::max);
+    if !max.is_finite() {
+        return rng.random_range(0..values.len());
+    }
+    if tau <= 0.0 {
         return greedy(values, rng, scratch);
     }
-    let total: f64 = values.iter().map(|v| ((v - max) / tau).exp()).sum();
+    let weight = |v: f64| if v.is_finite() { ((v - max) / tau).exp() } else { 1.0 };
+    let total: f64 = values.iter().map(|&v| weight(v)).sum();
     let mut draw = rng.random::<f64>() * total;
-    for (i, v) in values.iter().enumerate() {
-        draw -= ((v - max) / tau).exp();
+    for (i, &v) in values.iter().enumerate() {
+        draw -= weight(v);
         if draw <= 0.0 {
             return i;
         }
@@ -166,22 +172,25 @@ mod tests {
     }
 
     #[test]
-    fn softmax_prefers_higher_values_and_skips_missing_estimates() {
+    fn softmax_prefers_higher_values_and_weighs_missing_estimates_as_the_best() {
         let mut rng = seeded(2);
         let mut scratch = Vec::new();
         let mut seen = [0; 3];
-        for _ in 0..2000 {
-            seen[select(
-                Strategy::Softmax(1.0),
-                &[0.0, 1.0, f64::NEG_INFINITY],
-                &mut rng,
-                &mut scratch,
-            )] += 1;
+        let n = 4000;
+        for _ in 0..n {
+            seen[select(Strategy::Softmax(1.0), &[0.0, 1.0, f64::NEG_INFINITY], &mut rng, &mut scratch)] += 1;
         }
-        assert_eq!(seen[2], 0);
-        // P(1) = e / (1 + e) = 0.731
-        let p = seen[1] as f64 / 2000.0;
-        assert!((p - 0.731).abs() < 0.04, "{p}");
+        // Weights 1/e, 1, 1: P(1) = P(2) = e / (1 + 2e) = 0.422.
+        for i in [1, 2] {
+            let p = seen[i] as f64 / n as f64;
+            assert!((p - 0.422).abs() < 0.03, "{i}: {p}");
+        }
+        // No estimate at all: uniform.
+        let mut uniform = [0; 2];
+        for _ in 0..n {
+            uniform[select(Strategy::Softmax(0.1), &[f64::NEG_INFINITY; 2], &mut rng, &mut scratch)] += 1;
+        }
+        assert!((uniform[0] as f64 / n as f64 - 0.5).abs() < 0.03);
     }
 
     #[test]
