@@ -2,8 +2,9 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
+use learnpnp::domains::keepaway::{FixedPolicy, KeepawayDomainConfig, KeepawayMode};
 use learnpnp::domains::parr_russell::ParrRussellConfig;
 use learnpnp::domains::penalty_kick::{PenaltyKickConfig, Variant};
 use learnpnp::domains::sutton::SuttonConfig;
@@ -13,6 +14,7 @@ use learnpnp::experiment::defaults::{
 use learnpnp::experiment::output::write_results;
 use learnpnp::experiment::runner::run_experiment;
 use learnpnp::experiment::spec::{Algorithm, DomainSpec, ExperimentSpec};
+use learnpnp::keepaway::params::VisionMode;
 use learnpnp::learning::{Schedule, StepSize, ThresholdRule};
 
 /// The domains of the experiment command.
@@ -24,6 +26,21 @@ pub enum DomainName {
     Sutton,
     /// The penalty kick.
     PenaltyKick,
+    /// Keepaway 3 vs 2, one keeper learning the pass decision (thesis 7.2).
+    KeepawayPass,
+    /// Keepaway 3 vs 2, every keeper learning where to stand (thesis 7.3).
+    KeepawayPosition,
+    /// Keepaway 3 vs 2 with a fixed policy (`--policy`); nothing learns.
+    KeepawayFixed,
+}
+
+/// What Keepaway agents perceive.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum VisionArg {
+    /// Noise-free full state.
+    FullState,
+    /// The server's quantised vision.
+    Quantised,
 }
 
 #[derive(Args, Debug)]
@@ -31,9 +48,9 @@ pub struct ExperimentArgs {
     /// The domain.
     #[arg(value_enum)]
     domain: DomainName,
-    /// The learning algorithm.
+    /// The learning algorithm (not needed for keepaway-fixed).
     #[arg(long, value_enum)]
-    algo: Algorithm,
+    algo: Option<Algorithm>,
     /// Independent runs (default: the domain's).
     #[arg(long)]
     runs: Option<usize>,
@@ -71,6 +88,21 @@ pub struct ExperimentArgs {
     /// Penalty kick plan variant.
     #[arg(long, value_enum, default_value = "plain")]
     variant: Variant,
+    /// Keepaway: the keepers' policy for keepaway-fixed.
+    #[arg(long, value_enum, default_value = "handcoded")]
+    policy: FixedPolicy,
+    /// Keepaway: what the agents perceive.
+    #[arg(long, value_enum, default_value = "full-state")]
+    vision: VisionArg,
+    /// Keepaway: distance (m) at which the threshold policy passes.
+    #[arg(long)]
+    hold_threshold: Option<f64>,
+    /// Keepaway: threshold (m) of the takers' distance to a pass line.
+    #[arg(long)]
+    lane_threshold: Option<f64>,
+    /// Keepaway: threshold (m) of the closest taker's distance.
+    #[arg(long)]
+    taker_threshold: Option<f64>,
 
     /// Discount per executor step.
     #[arg(long)]
@@ -144,6 +176,27 @@ impl ExperimentArgs {
                 },
                 plan,
             },
+            DomainName::KeepawayPass | DomainName::KeepawayPosition | DomainName::KeepawayFixed => {
+                let mut config = KeepawayDomainConfig::for_mode(match self.domain {
+                    DomainName::KeepawayPass => KeepawayMode::Pass,
+                    DomainName::KeepawayPosition => KeepawayMode::Position,
+                    _ => KeepawayMode::Fixed(self.policy),
+                });
+                config.vision = match self.vision {
+                    VisionArg::FullState => VisionMode::FullState,
+                    VisionArg::Quantised => VisionMode::Quantised,
+                };
+                if let Some(t) = self.hold_threshold {
+                    config.hold_threshold = t;
+                }
+                if let Some(t) = self.lane_threshold {
+                    config.thresholds.pass_line = t;
+                }
+                if let Some(t) = self.taker_threshold {
+                    config.thresholds.closest_taker = t;
+                }
+                DomainSpec::Keepaway { config, plan }
+            }
         }
     }
 
@@ -168,9 +221,14 @@ impl ExperimentArgs {
     }
 
     /// The experiment these arguments describe.
-    pub fn spec(&self) -> ExperimentSpec {
+    pub fn spec(&self) -> Result<ExperimentSpec> {
         let domain = self.domain();
-        let mut learner = defaults::default_learner(self.algo, &domain);
+        let algo = match (self.algo, self.domain) {
+            (Some(a), _) => a,
+            (None, DomainName::KeepawayFixed) => Algorithm::Random,
+            (None, _) => bail!("--algo is needed for {}", domain.name()),
+        };
+        let mut learner = defaults::default_learner(algo, &domain);
         self.overrides().apply(&mut learner);
         let mut protocol = defaults::default_protocol(&domain);
         if let Some(v) = self.runs {
@@ -188,14 +246,25 @@ impl ExperimentArgs {
         if let Some(v) = self.greedy_episodes {
             protocol.greedy_episodes = v;
         }
-        ExperimentSpec {
-            label: self.label.clone().unwrap_or_else(|| self.algo.name().to_string()),
+        let label = match domain {
+            DomainSpec::Keepaway {
+                config:
+                    KeepawayDomainConfig {
+                        mode: KeepawayMode::Fixed(p),
+                        ..
+                    },
+                ..
+            } => format!("{p:?}").to_lowercase(),
+            _ => algo.name().to_string(),
+        };
+        Ok(ExperimentSpec {
+            label: self.label.clone().unwrap_or(label),
             domain,
-            algorithm: self.algo,
+            algorithm: algo,
             learner,
             protocol,
             seed: self.seed,
-        }
+        })
     }
 }
 
@@ -205,7 +274,7 @@ pub fn default_threads() -> usize {
 }
 
 pub fn run(args: &ExperimentArgs) -> Result<()> {
-    let spec = args.spec();
+    let spec = args.spec()?;
     let threads = args.threads.unwrap_or_else(default_threads);
     let output = run_experiment(&spec, threads, true).context("experiment failed")?;
     let summary = write_results(&output, &args.out).context("writing results")?;

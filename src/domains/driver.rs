@@ -16,6 +16,9 @@ pub enum TaskError {
     /// The plan does not load.
     #[error(transparent)]
     Plan(#[from] PlanError),
+    /// A domain's parameters are invalid.
+    #[error("invalid domain parameters: {0}")]
+    Invalid(String),
     /// A plan lacks a place a domain needs.
     #[error("plan '{plan}' has no place labelled '{label}'")]
     MissingPlace {

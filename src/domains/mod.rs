@@ -6,6 +6,7 @@
 
 mod driver;
 pub mod grid;
+pub mod keepaway;
 pub mod parr_russell;
 pub mod penalty_kick;
 pub mod sutton;

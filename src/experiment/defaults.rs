@@ -6,6 +6,7 @@ use std::str::FromStr;
 use serde::{Deserialize, Serialize};
 
 use super::spec::{Algorithm, DomainSpec, LearnerSpec, Protocol};
+use crate::domains::keepaway::KeepawayMode;
 use crate::learning::{
     Assessment, Exploration, McespConfig, Schedule, Scope, Sigma, SoSmcConfig, StepSize, Target, TdConfig,
     ThresholdRule,
@@ -30,12 +31,74 @@ fn bounds(domain: &DomainSpec) -> Bounds {
             low: 0.0,
             high: config.goal_reward,
         },
+        DomainSpec::Keepaway { .. } => Bounds { low: 0.0, high: 60.0 },
+    }
+}
+
+/// Keepaway's defaults (thesis chapter 7; choices documented in RESULTS.md).
+/// Returns are episode durations in seconds.
+fn keepaway_learner(algorithm: Algorithm, mode: KeepawayMode) -> LearnerSpec {
+    let position = mode == KeepawayMode::Position;
+    let sosmc = |sigma: Sigma, initial: Schedule, assessing: Schedule| SoSmcConfig {
+        gamma: 1.0,
+        initial_phase: 100,
+        sigma,
+        initial_parameter: initial,
+        assessing_parameter: assessing,
+        // Exploration from the episode number alone, so that agents agree (4.4).
+        assessment: Assessment::EveryN(20),
+        step_size: StepSize::Constant(0.05),
+        initial_value: f64::NEG_INFINITY,
+        threshold: Some(ThresholdRule {
+            threshold: 18.0,
+            window: 200,
+        }),
+    };
+    let td = |lambda: f64, target: Target| TdConfig {
+        gamma: 1.0,
+        alpha: if position { 0.1 } else { 0.125 },
+        lambda,
+        target,
+        scope: Scope::Choices,
+        exploration: Exploration::EpsilonGreedy(if position {
+            // One decision per episode: 4500 decisions are 4500 episodes.
+            Schedule::linear(0.2, 0.0, 4500)
+        } else {
+            Schedule::constant(0.01)
+        }),
+        initial_value: 0.0,
+        consistent: false,
+    };
+    match algorithm {
+        Algorithm::EpsSosmc => LearnerSpec::Sosmc(sosmc(
+            Sigma::EpsilonGreedy,
+            Schedule::constant(1.0),
+            Schedule::constant(0.1),
+        )),
+        Algorithm::SoftSosmc => LearnerSpec::Sosmc(sosmc(
+            Sigma::Softmax,
+            Schedule::linear(5.0, 3.0, 100),
+            Schedule::constant(3.0),
+        )),
+        Algorithm::SarsaLambda => LearnerSpec::Td(td(0.9, Target::OnPolicy)),
+        Algorithm::Sarsa0 => LearnerSpec::Td(td(0.0, Target::OnPolicy)),
+        Algorithm::QLearning => LearnerSpec::Td(td(0.0, Target::Max)),
+        Algorithm::Mcesp => LearnerSpec::Mcesp(McespConfig {
+            gamma: 1.0,
+            stage_length: 10,
+            alpha_min: 0.01,
+            initial_value: f64::NEG_INFINITY,
+        }),
+        Algorithm::Random => LearnerSpec::Random,
     }
 }
 
 /// The thesis's parameters for `algorithm` in `domain` (chapter 6; where the
 /// thesis is silent, the choice documented in docs/results/RESULTS.md).
 pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec {
+    if let DomainSpec::Keepaway { config, .. } = domain {
+        return keepaway_learner(algorithm, config.mode);
+    }
     let b = bounds(domain);
     let sutton = matches!(domain, DomainSpec::Sutton { .. });
     let td = |lambda: f64, target: Target| TdConfig {
@@ -87,6 +150,7 @@ pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec
             alpha_min: 0.01,
             initial_value: f64::NEG_INFINITY,
         }),
+        Algorithm::Random => LearnerSpec::Random,
     }
 }
 
@@ -106,6 +170,13 @@ pub fn default_protocol(domain: &DomainSpec) -> Protocol {
             eval_every: 200,
             eval_episodes: 0,
             greedy_episodes: 0,
+        },
+        DomainSpec::Keepaway { .. } => Protocol {
+            runs: 4,
+            episodes: 1000,
+            eval_every: 100,
+            eval_episodes: 20,
+            greedy_episodes: 50,
         },
         DomainSpec::PenaltyKick { .. } => Protocol {
             runs: 20,
@@ -253,6 +324,7 @@ impl Overrides {
                 set(&mut c.stage_length, self.stage_length);
                 set(&mut c.alpha_min, self.alpha_min);
             }
+            LearnerSpec::Random => {}
         }
     }
 }

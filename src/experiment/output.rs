@@ -32,8 +32,11 @@ pub struct SummaryFile {
     pub total_episodes: u64,
     /// `total_episodes / wall_seconds`.
     pub episodes_per_second: f64,
-    /// Primitive actions per second over learning episodes.
+    /// Primitive actions (moves, cycles) per second over learning episodes.
     pub actions_per_second: f64,
+    /// Keepaway: simulated cycles per second over learning episodes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cycles_per_second: Option<f64>,
 }
 
 /// The curve: mean and 95% CI over runs at each evaluation point.
@@ -66,6 +69,8 @@ pub fn summary(output: &ExperimentOutput) -> SummaryFile {
         total_episodes: total,
         episodes_per_second: total as f64 / wall,
         actions_per_second: output.total_actions() as f64 / wall,
+        cycles_per_second: matches!(output.spec.domain, crate::experiment::spec::DomainSpec::Keepaway { .. })
+            .then(|| output.total_actions() as f64 / wall),
     }
 }
 
@@ -153,8 +158,13 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
             .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
         }
 
-        if let Some(values) = &first.values {
-            persist::save(&dir.join("values.bin"), values).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+        for (agent, values) in first.values.iter().enumerate() {
+            let name = if agent == 0 {
+                "values.bin".to_string()
+            } else {
+                format!("values-agent{}.bin", agent + 1)
+            };
+            persist::save(&dir.join(name), values).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
         }
     }
 

@@ -37,8 +37,8 @@ pub struct RunOutput {
     pub episodes: Vec<EpisodeRecord>,
     /// Traced values after every learning episode (run 0 only).
     pub traces: Vec<(u64, Vec<(String, f64)>)>,
-    /// The learned values at the end (run 0 only).
-    pub values: Option<SavedValues>,
+    /// The learned values of each learning agent at the end (run 0 only).
+    pub values: Vec<SavedValues>,
     /// Episodes of every kind this run executed.
     pub episodes_run: u64,
     /// Primitive actions (moves, cycles) over those episodes.
@@ -73,15 +73,19 @@ impl ExperimentOutput {
 /// Runs one run of `spec` with the plan already loaded.
 pub fn run_one(
     spec: &ExperimentSpec,
-    plan: Arc<Plan>,
+    plan: Option<Arc<Plan>>,
     run: usize,
     mut progress: impl FnMut(u64),
 ) -> Result<RunOutput, ExperimentError> {
     let seed = derive_seed(spec.seed, run as u64);
-    let learner = spec.learner.build(seeded(derive_seed(seed, 1)));
+    // Agent 0 draws from stream 1; further agents from streams 100 + i.
+    let mut learner = |agent: usize| {
+        let stream = if agent == 0 { 1 } else { 100 + agent as u64 };
+        spec.learner.build(seeded(derive_seed(seed, stream)))
+    };
     let mut task = spec
         .domain
-        .task(Arc::clone(&plan), learner, seeded(derive_seed(seed, 2)))?;
+        .task(plan.clone(), &mut learner, seeded(derive_seed(seed, 2)))?;
     let p = spec.protocol;
     let first = run == 0;
     let mut out = RunOutput {
@@ -89,7 +93,7 @@ pub fn run_one(
         greedy: 0.0,
         episodes: Vec::new(),
         traces: Vec::new(),
-        values: None,
+        values: Vec::new(),
         episodes_run: 0,
         actions: 0,
     };
@@ -122,11 +126,12 @@ pub fn run_one(
     out.greedy = task.greedy_score(p.greedy_episodes)?;
     out.episodes_run += p.greedy_episodes as u64;
     if first {
-        let plans: Vec<&Plan> = vec![plan.as_ref()];
+        let plans: Vec<&Plan> = plan.as_deref().into_iter().collect();
         out.values = task
             .learners()
-            .first()
-            .map(|l| SavedValues::new(spec.algorithm.name(), l.values(), &plans));
+            .iter()
+            .map(|l| SavedValues::new(spec.algorithm.name(), l.values(), &plans))
+            .collect();
     }
     Ok(out)
 }
@@ -161,14 +166,14 @@ pub fn run_experiment(
     let mut failure = None;
     std::thread::scope(|scope| {
         for _ in 0..threads {
-            let (tx, ptx, next, plan) = (tx.clone(), ptx.clone(), &next, Arc::clone(&plan));
+            let (tx, ptx, next, plan) = (tx.clone(), ptx.clone(), &next, plan.clone());
             scope.spawn(move || {
                 loop {
                     let run = next.fetch_add(1, Ordering::Relaxed);
                     if run >= runs {
                         break;
                     }
-                    let result = run_one(spec, Arc::clone(&plan), run, |n| {
+                    let result = run_one(spec, plan.clone(), run, |n| {
                         let _ = ptx.send(n);
                     });
                     let failed = result.is_err();

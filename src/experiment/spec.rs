@@ -5,11 +5,12 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
+use crate::domains::keepaway::{self, KeepawayDomainConfig, KeepawayMode, KeepawayTask};
 use crate::domains::parr_russell::{self, ParrRussell, ParrRussellConfig};
 use crate::domains::penalty_kick::{self, PenaltyKick, PenaltyKickConfig};
 use crate::domains::sutton::{self, Sutton, SuttonConfig};
 use crate::domains::{Task, TaskError};
-use crate::learning::{Learner, Mcesp, McespConfig, SoSmc, SoSmcConfig, TdConfig, TdLearner};
+use crate::learning::{Learner, Mcesp, McespConfig, RandomLearner, SoSmc, SoSmcConfig, TdConfig, TdLearner};
 use crate::plan::{LoadError, Plan, Vocabulary, load_plan};
 use crate::rng::SimRng;
 
@@ -36,6 +37,13 @@ pub enum DomainSpec {
         /// Its parameters (the variant picks the built-in plan).
         config: PenaltyKickConfig,
         /// A plan file to use instead of the variant's plan.
+        plan: Option<PathBuf>,
+    },
+    /// Keepaway 3 vs 2.
+    Keepaway {
+        /// Who learns, and the abstraction's thresholds.
+        config: KeepawayDomainConfig,
+        /// A plan file for the learning keepers instead of the thesis's plan.
         plan: Option<PathBuf>,
     },
 }
@@ -69,12 +77,22 @@ impl DomainSpec {
             DomainSpec::ParrRussell { .. } => "parr-russell",
             DomainSpec::Sutton { .. } => "sutton",
             DomainSpec::PenaltyKick { .. } => "penalty-kick",
+            DomainSpec::Keepaway { config, .. } => match config.mode {
+                KeepawayMode::Pass => "keepaway-pass",
+                KeepawayMode::Position => "keepaway-position",
+                KeepawayMode::Fixed(_) => "keepaway-fixed",
+            },
         }
     }
 
-    /// Loads the plan once for every run.
-    pub fn load_plan(&self) -> Result<Arc<Plan>, ExperimentError> {
+    /// Loads the plan once for every run (none for fixed Keepaway policies).
+    pub fn load_plan(&self) -> Result<Option<Arc<Plan>>, ExperimentError> {
         let plan = match self {
+            DomainSpec::Keepaway { plan: Some(p), .. } => load_plan(p, Vocabulary::Closed(&keepaway::atoms()))?,
+            DomainSpec::Keepaway { config, plan: None } => match config.default_plan()? {
+                Some(plan) => plan,
+                None => return Ok(None),
+            },
             DomainSpec::ParrRussell { plan: Some(p), .. } => load_plan(p, Vocabulary::Closed(&parr_russell::atoms()))?,
             DomainSpec::ParrRussell { plan: None, .. } => parr_russell::default_plan()?,
             DomainSpec::Sutton { plan: Some(p), .. } => load_plan(p, Vocabulary::Closed(&sutton::atoms()))?,
@@ -82,20 +100,31 @@ impl DomainSpec {
             DomainSpec::PenaltyKick { plan: Some(p), .. } => load_plan(p, Vocabulary::Open)?,
             DomainSpec::PenaltyKick { config, plan: None } => penalty_kick::plan(config.variant)?,
         };
-        Ok(Arc::new(plan))
+        Ok(Some(Arc::new(plan)))
     }
 
-    /// A task for one run.
+    /// A task for one run; `learner` makes the learner of agent i.
     pub fn task(
         &self,
-        plan: Arc<Plan>,
-        learner: Box<dyn Learner>,
+        plan: Option<Arc<Plan>>,
+        learner: &mut dyn FnMut(usize) -> Box<dyn Learner>,
         rng: SimRng,
     ) -> Result<Box<dyn Task>, ExperimentError> {
+        let needs_plan = || ExperimentError::Invalid(format!("{} needs a plan", self.name()));
         Ok(match self {
-            DomainSpec::ParrRussell { config, .. } => Box::new(ParrRussell::new(*config, plan, learner, rng)?),
-            DomainSpec::Sutton { config, .. } => Box::new(Sutton::new(*config, plan, learner, rng)?),
-            DomainSpec::PenaltyKick { config, .. } => Box::new(PenaltyKick::new(*config, plan, learner)?),
+            DomainSpec::Keepaway { config, .. } => Box::new(KeepawayTask::new(*config, plan, learner, rng)?),
+            DomainSpec::ParrRussell { config, .. } => Box::new(ParrRussell::new(
+                *config,
+                plan.ok_or_else(needs_plan)?,
+                learner(0),
+                rng,
+            )?),
+            DomainSpec::Sutton { config, .. } => {
+                Box::new(Sutton::new(*config, plan.ok_or_else(needs_plan)?, learner(0), rng)?)
+            }
+            DomainSpec::PenaltyKick { config, .. } => {
+                Box::new(PenaltyKick::new(*config, plan.ok_or_else(needs_plan)?, learner(0))?)
+            }
         })
     }
 }
@@ -116,6 +145,8 @@ pub enum Algorithm {
     QLearning,
     /// MCESP, sample-average variant.
     Mcesp,
+    /// Uniform random choices, no learning (a baseline).
+    Random,
 }
 
 impl Algorithm {
@@ -128,6 +159,7 @@ impl Algorithm {
             Algorithm::Sarsa0 => "sarsa0",
             Algorithm::QLearning => "q-learning",
             Algorithm::Mcesp => "mcesp",
+            Algorithm::Random => "random",
         }
     }
 }
@@ -142,6 +174,8 @@ pub enum LearnerSpec {
     Td(TdConfig),
     /// An MCESP learner.
     Mcesp(McespConfig),
+    /// Uniform random choices.
+    Random,
 }
 
 impl LearnerSpec {
@@ -151,6 +185,7 @@ impl LearnerSpec {
             LearnerSpec::Sosmc(c) => Box::new(SoSmc::new(*c, rng)),
             LearnerSpec::Td(c) => Box::new(TdLearner::new(*c, rng)),
             LearnerSpec::Mcesp(c) => Box::new(Mcesp::new(*c, rng)),
+            LearnerSpec::Random => Box::new(RandomLearner::new(rng)),
         }
     }
 }

@@ -9,6 +9,7 @@
 mod mcesp;
 mod monte_carlo;
 pub mod persist;
+mod random;
 pub mod selection;
 mod sosmc;
 mod td;
@@ -17,6 +18,7 @@ mod values;
 
 pub use mcesp::{Mcesp, McespConfig};
 pub use monte_carlo::{MonteCarlo, MonteCarloConfig};
+pub use random::RandomLearner;
 pub use selection::{Exploration, Schedule, Strategy};
 pub use sosmc::{Assessment, Sigma, SoSmc, SoSmcConfig, StepSize, ThresholdRule};
 pub use td::{Scope, Target, TdConfig, TdLearner};

@@ -124,7 +124,11 @@ pub fn select(strategy: Strategy, values: &[f64], rng: &mut SimRng, scratch: &mu
 /// promising as anything seen (SoSMC's initial phase must reach every pair).
 /// With no estimate at all the draw is uniform; a temperature of zero is greedy.
 fn softmax(values: &[f64], tau: f64, rng: &mut SimRng, scratch: &mut Vec<usize>) -> usize {
-    let max = values.iter().copied().filter(|v| v.is_finite()).fold(f64::NEG_INFINITY, f64::max);
+    let max = values
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(f64::NEG_INFINITY, f64::max);
     if !max.is_finite() {
         return rng.random_range(0..values.len());
     }
@@ -178,7 +182,12 @@ mod tests {
         let mut seen = [0; 3];
         let n = 4000;
         for _ in 0..n {
-            seen[select(Strategy::Softmax(1.0), &[0.0, 1.0, f64::NEG_INFINITY], &mut rng, &mut scratch)] += 1;
+            seen[select(
+                Strategy::Softmax(1.0),
+                &[0.0, 1.0, f64::NEG_INFINITY],
+                &mut rng,
+                &mut scratch,
+            )] += 1;
         }
         // Weights 1/e, 1, 1: P(1) = P(2) = e / (1 + 2e) = 0.422.
         for i in [1, 2] {

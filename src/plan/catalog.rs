@@ -19,6 +19,8 @@ pub fn all() -> Result<Vec<(&'static str, PetriNet)>, NetError> {
         ("environment_tracking", environment_tracking()?),
         ("parr_russell", parr_russell()?),
         ("sutton", sutton()?),
+        ("keepaway_pass", keepaway_pass()?),
+        ("keepaway_position", keepaway_position()?),
     ])
 }
 
@@ -201,5 +203,73 @@ pub fn sutton() -> Result<PetriNet, NetError> {
     b.transition("[not AtGoal]", &[(moved, 1)], &[(choose, 1)]);
     let goal = b.goal_place();
     b.transition("[AtGoal]", &[(moved, 1)], &[(goal, 1)]);
+    b.build_net()
+}
+
+/// The procedural part of thesis Figure 7.2 around `decide`: with the ball,
+/// `ball` is marked; otherwise the keeper fastest to the ball intercepts and
+/// the others support (through `support`). Every action ends back in `decide`.
+fn keeper_procedure(b: &mut PlanBuilder, decide: super::PlaceRef, ball: super::PlaceRef, support: super::PlaceRef) {
+    b.transition("[HasBall]", &[(decide, 1)], &[(ball, 1)]);
+    let chase = b.place("chase");
+    b.transition("[and (not HasBall) Fastest]", &[(decide, 1)], &[(chase, 1)]);
+    b.action_into(chase, "Intercept", decide);
+    b.transition("[and (not HasBall) (not Fastest)]", &[(decide, 1)], &[(support, 1)]);
+}
+
+/// The keeper decisions of the pass plan, in plan order.
+pub const KEEPER_DECISIONS: [&str; 3] = ["Hold", "Pass1", "Pass2"];
+
+/// Keepaway, learning the pass decision (thesis 7.2): the procedural part of
+/// Figure 7.2 with a choice among Hold, Pass1 and Pass2 when the keeper has the
+/// ball, and an environment-tracking part for the three binary features (the
+/// lanes to the two teammates and the closest taker: 8 observations).
+pub fn keepaway_pass() -> Result<PetriNet, NetError> {
+    let mut b = PlanBuilder::new("keepaway_pass");
+    for atom in ["Lane1Open", "Lane2Open", "TakerFar"] {
+        b.tracker(atom);
+    }
+    let decide = settle_then(&mut b, "decide");
+    let ball = b.place("ball");
+    let support = b.place("support");
+    keeper_procedure(&mut b, decide, ball, support);
+    for name in KEEPER_DECISIONS {
+        b.action_into(ball, name, decide);
+    }
+    b.action_into(support, "GetOpen", decide);
+    b.build_net()
+}
+
+/// The nine positioning points of thesis Figure 7.4, in plan order.
+pub const POSITIONS: [&str; 9] = [
+    "Corner1", "Corner2", "Corner3", "Corner4", "Centre", "Middle1", "Middle2", "Middle3", "Middle4",
+];
+
+/// Keepaway, learning where to stand (thesis 7.3): at the start of an episode
+/// the keeper chooses one of nine points, recorded by a token in a memory
+/// place `at<point>` (no state information); whenever it supports it goes to
+/// that point. With the ball it follows the thesis's simple policy: hold while
+/// the closest taker is far, else pass to the teammate with the safest lane.
+pub fn keepaway_position() -> Result<PetriNet, NetError> {
+    let mut b = PlanBuilder::new("keepaway_position");
+    let start = b.initial_place("start");
+    let decide = b.place("decide");
+    let ball = b.place("ball");
+    let support = b.place("support");
+    for point in POSITIONS {
+        let at = b.memory_place(format!("at{point}"));
+        b.transition(format!("choose{point}"), &[(start, 1)], &[(at, 1), (decide, 1)]);
+        let name = format!("GoTo{point}");
+        let exec = b.place(format!("{name}.exec"));
+        b.transition(format!("{name}.start"), &[(support, 1), (at, 1)], &[(exec, 1), (at, 1)]);
+        b.transition(format!("{name}.end"), &[(exec, 1)], &[(decide, 1)]);
+    }
+    keeper_procedure(&mut b, decide, ball, support);
+    let hold_exec = b.place("Hold.exec");
+    b.transition("Hold.start [TakerFar]", &[(ball, 1)], &[(hold_exec, 1)]);
+    b.transition("Hold.end", &[(hold_exec, 1)], &[(decide, 1)]);
+    let pass_exec = b.place("PassSafest.exec");
+    b.transition("PassSafest.start [not TakerFar]", &[(ball, 1)], &[(pass_exec, 1)]);
+    b.transition("PassSafest.end", &[(pass_exec, 1)], &[(decide, 1)]);
     b.build_net()
 }

@@ -1,0 +1,16 @@
+//! Keepaway 3 vs 2 with plan-driven keepers (thesis chapter 7).
+//!
+//! The simulator (`crate::keepaway`) knows nothing of plans: each cycle a keeper
+//! gets its own `PlayerView`, its plan steps until an action issues the cycle's
+//! primitive command, and the simulator steps. The reward is the time elapsed,
+//! so an episode's return is its duration in seconds.
+
+mod actions;
+mod agent;
+mod task;
+mod world;
+
+pub use actions::{decision_name, goto_name, registry};
+pub use agent::{MAX_STEPS_PER_CYCLE, PlanKeeper};
+pub use task::{FixedPolicy, KeepawayDomainConfig, KeepawayMode, KeepawayTask, POSITIONING_TAKER_THRESHOLD};
+pub use world::{ATOMS, KeeperWorld, atoms};
