@@ -31,10 +31,12 @@ fn shipped_files_match_the_catalog() {
 }
 
 #[test]
-fn shipped_files_load_as_plans() {
+fn shipped_files_load_and_pass_the_checks() {
     for (stem, _) in catalog::all().expect("catalog builds") {
         let path = plans_dir().join(format!("{stem}.pnml"));
         let plan = load_plan(&path, Vocabulary::Open).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(plan.name(), stem);
+        let report = learnpnp::analysis::check(&plan, learnpnp::analysis::DEFAULT_LIMIT);
+        assert!(report.passed(), "{}: {report}", path.display());
     }
 }

@@ -4,6 +4,7 @@
 
 use super::defaults::default_learner;
 use super::spec::{Algorithm, DomainSpec, ExperimentSpec, LearnerSpec, Protocol};
+use crate::domains::keepaway::{FixedPolicy, KeepawayDomainConfig, KeepawayMode};
 use crate::domains::parr_russell::ParrRussellConfig;
 use crate::domains::sutton::SuttonConfig;
 use crate::learning::{Assessment, Exploration, Schedule, Sigma};
@@ -319,6 +320,146 @@ fn figure_6_13() -> Figure {
     }
 }
 
+fn keepaway(mode: KeepawayMode) -> DomainSpec {
+    DomainSpec::Keepaway {
+        config: KeepawayDomainConfig::for_mode(mode),
+        plan: None,
+    }
+}
+
+/// Figure 7.3: one keeper learns the pass decision, two follow the threshold policy.
+fn figure_7_3() -> Figure {
+    let d = keepaway(KeepawayMode::Pass);
+    let p = Protocol {
+        runs: 20,
+        episodes: 10_000,
+        eval_every: 250,
+        eval_episodes: 20,
+        greedy_episodes: 50,
+    };
+    Figure {
+        id: "7.3",
+        title: "Keepaway, single agent learning the pass decision: Sarsa(0.9) against Soft-SoSMC",
+        claim: "Sarsa(0.9) only learns to hold the ball about 9 s; Soft-SoSMC (100-episode initial phase, 18 s threshold over 200 exploiting episodes) reaches 16 s within 1000 episodes and about 20 s by 5000; the hand-coded policy measures about 16 s",
+        kind: FigureKind::Curves,
+        curves: vec![
+            experiment(
+                "Sarsa(0.9)",
+                d.clone(),
+                Algorithm::SarsaLambda,
+                default_learner(Algorithm::SarsaLambda, &d),
+                p,
+            ),
+            experiment(
+                "Soft-SoSMC",
+                d.clone(),
+                Algorithm::SoftSosmc,
+                default_learner(Algorithm::SoftSosmc, &d),
+                p,
+            ),
+        ],
+    }
+}
+
+/// Figure 7.5: every keeper learns where to stand.
+fn figure_7_5() -> Figure {
+    let d = keepaway(KeepawayMode::Position);
+    let p = Protocol {
+        runs: 20,
+        episodes: 6000,
+        eval_every: 250,
+        eval_episodes: 20,
+        greedy_episodes: 50,
+    };
+    Figure {
+        id: "7.5",
+        title: "Keepaway, multi-agent learning of positioning: Sarsa (epsilon 0.2 to 0 over 4500 episodes) against Soft-SoSMC",
+        claim: "Sarsa improves the keepers' behaviour up to 14.7 +/- 0.35 s; Soft-SoSMC improves it quite above the 18 s threshold",
+        kind: FigureKind::Curves,
+        curves: vec![
+            experiment(
+                "Sarsa(0.9)",
+                d.clone(),
+                Algorithm::SarsaLambda,
+                default_learner(Algorithm::SarsaLambda, &d),
+                p,
+            ),
+            experiment(
+                "Soft-SoSMC",
+                d.clone(),
+                Algorithm::SoftSosmc,
+                default_learner(Algorithm::SoftSosmc, &d),
+                p,
+            ),
+        ],
+    }
+}
+
+/// Figure 7.6: the value of every position of every keeper during one run.
+fn figure_7_6() -> Figure {
+    let d = keepaway(KeepawayMode::Position);
+    let p = Protocol {
+        runs: 1,
+        episodes: 5000,
+        eval_every: 500,
+        eval_episodes: 20,
+        greedy_episodes: 50,
+    };
+    Figure {
+        id: "7.6",
+        title: "Keepaway positioning: the value of each point for each keeper during one run of Soft-SoSMC",
+        claim: "The second keeper settles on corner 2 (top right); the first and third alternate between corner 3 (bottom right) and middle point 1 (left), never taking the same one",
+        kind: FigureKind::Traces,
+        curves: vec![experiment(
+            "Soft-SoSMC",
+            d.clone(),
+            Algorithm::SoftSosmc,
+            default_learner(Algorithm::SoftSosmc, &d),
+            p,
+        )],
+    }
+}
+
+/// The fixed keeper policies of chapter 7, for the RESULTS table.
+fn keepaway_baselines() -> Figure {
+    let p = Protocol {
+        runs: 20,
+        episodes: 50,
+        eval_every: 50,
+        eval_episodes: 50,
+        greedy_episodes: 0,
+    };
+    let curve = |label: &str, policy: FixedPolicy| {
+        experiment(
+            label,
+            keepaway(KeepawayMode::Fixed(policy)),
+            Algorithm::Random,
+            LearnerSpec::Random,
+            p,
+        )
+    };
+    Figure {
+        id: "7.baselines",
+        title: "Keepaway: mean episode duration of the fixed keeper policies",
+        claim: "The framework's hand-coded policy measures about 16 s on the thesis's system; the thesis's simple threshold policy, played by all keepers, beats the best published results",
+        kind: FigureKind::Curves,
+        curves: vec![
+            curve("random", FixedPolicy::Random),
+            curve("always hold", FixedPolicy::AlwaysHold),
+            curve("hand-coded", FixedPolicy::Handcoded),
+            curve("threshold", FixedPolicy::Threshold),
+            {
+                // The same policy passing at 5 m (the framework's hold radius), as
+                // the positioning experiment's ball holder does.
+                let mut config = KeepawayDomainConfig::for_mode(KeepawayMode::Fixed(FixedPolicy::Threshold));
+                config.hold_threshold = crate::domains::keepaway::POSITIONING_TAKER_THRESHOLD;
+                let d = DomainSpec::Keepaway { config, plan: None };
+                experiment("threshold 5 m", d, Algorithm::Random, LearnerSpec::Random, p)
+            },
+        ],
+    }
+}
+
 /// Every preset, in the thesis's order.
 pub fn figures() -> Vec<Figure> {
     let eps = Exploration::EpsilonGreedy(Schedule::constant(0.1));
@@ -364,10 +505,15 @@ pub fn figures() -> Vec<Figure> {
         figure_6_10(),
         figure_6_11(),
         figure_6_13(),
+        keepaway_baselines(),
+        figure_7_3(),
+        figure_7_5(),
+        figure_7_6(),
     ]
 }
 
-/// The preset for figure `id` (`6.3`, `fig6.3` and `6-3` all work).
+/// The preset for figure `id` (`6.3`, `fig6.3` and `6-3` all work;
+/// `7.baselines` lists the fixed keepaway policies).
 pub fn figure(id: &str) -> Option<Figure> {
     let id = id.trim_start_matches("fig").replace('-', ".");
     figures().into_iter().find(|f| f.id == id)

@@ -240,6 +240,11 @@ impl KeepawayTask {
     pub fn config(&self) -> &KeepawayDomainConfig {
         &self.config
     }
+
+    /// Cycles in which a plan-driven keeper issued no command, over the run.
+    pub fn idle_cycles(&self) -> u64 {
+        self.keepers.iter().map(PlanKeeper::idle_cycles).sum()
+    }
 }
 
 impl Task for KeepawayTask {
