@@ -148,14 +148,32 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
             for (_, points) in &mut by_name {
                 points.retain(|(_, v)| v.is_finite());
             }
-            plot::plot_scatter(
-                &dir.join("traces.svg"),
-                &format!("{}: values in the initial observation (run 0)", output.spec.label),
-                "episode",
-                "value",
-                &by_name,
-            )
-            .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+            // Names `agent/option` get one plot per agent (`traces-agent.svg`).
+            let mut groups: Vec<(Option<String>, Vec<(String, Vec<(f64, f64)>)>)> = Vec::new();
+            for (name, points) in by_name {
+                let (group, label) = match name.split_once('/') {
+                    Some((g, l)) => (Some(g.to_string()), l.to_string()),
+                    None => (None, name),
+                };
+                match groups.iter_mut().find(|(g, _)| *g == group) {
+                    Some((_, series)) => series.push((label, points)),
+                    None => groups.push((group, vec![(label, points)])),
+                }
+            }
+            for (group, series) in &groups {
+                let (file, title) = match group {
+                    Some(g) => (
+                        format!("traces-{g}.svg"),
+                        format!("{}: values of {g}'s options (run 0)", output.spec.label),
+                    ),
+                    None => (
+                        "traces.svg".to_string(),
+                        format!("{}: values of the traced options (run 0)", output.spec.label),
+                    ),
+                };
+                plot::plot_scatter(&dir.join(file), &title, "episode", "value", series)
+                    .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+            }
         }
 
         for (agent, values) in first.values.iter().enumerate() {
