@@ -182,6 +182,44 @@ fn an_experiment_writes_its_results_and_replays_with_its_seed() {
         "{csv}"
     );
 
+    // A later experiment can start from the learned table; one learned on
+    // another plan is refused.
+    let resumed = dir.join("resumed");
+    let values_file = a.join("values.bin");
+    let o = learnpnp(&[
+        "experiment",
+        "parr-russell",
+        "--algo",
+        "eps-sosmc",
+        "--runs",
+        "2",
+        "--episodes",
+        "50",
+        "--eval-every",
+        "50",
+        "--initial-values",
+        values_file.to_str().unwrap(),
+        "--out",
+        resumed.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let o = learnpnp(&[
+        "experiment",
+        "sutton",
+        "--algo",
+        "eps-sosmc",
+        "--runs",
+        "1",
+        "--episodes",
+        "10",
+        "--initial-values",
+        values_file.to_str().unwrap(),
+        "--out",
+        dir.join("wrong").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o.stderr).contains("another plan"), "{}", text(&o.stderr));
+
     let svg = dir.join("both.svg");
     let plot = learnpnp(&[
         "plot",

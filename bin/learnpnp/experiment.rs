@@ -66,6 +66,10 @@ pub struct ExperimentArgs {
     /// Episodes of each run's final greedy evaluation.
     #[arg(long)]
     greedy_episodes: Option<usize>,
+    /// Record run 0's traced values every N learning episodes (0: never;
+    /// default: about a thousand points).
+    #[arg(long)]
+    trace_every: Option<u64>,
     /// Base seed (run i uses a seed derived from it and i).
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -79,6 +83,10 @@ pub struct ExperimentArgs {
     #[arg(long)]
     label: Option<String>,
 
+    /// Start every run from these saved value tables (values.bin, then
+    /// values-agent2.bin, ... for several learning agents) instead of the initial value.
+    #[arg(long, num_args = 1..)]
+    initial_values: Vec<PathBuf>,
     /// Use this plan file instead of the domain's built-in plan.
     #[arg(long)]
     plan: Option<PathBuf>,
@@ -246,6 +254,9 @@ impl ExperimentArgs {
         if let Some(v) = self.greedy_episodes {
             protocol.greedy_episodes = v;
         }
+        if self.trace_every.is_some() {
+            protocol.trace_every = self.trace_every;
+        }
         let label = match domain {
             DomainSpec::Keepaway {
                 config:
@@ -264,6 +275,7 @@ impl ExperimentArgs {
             learner,
             protocol,
             seed: self.seed,
+            initial_values: self.initial_values.clone(),
         })
     }
 }

@@ -163,6 +163,7 @@ pub fn default_protocol(domain: &DomainSpec) -> Protocol {
             eval_every: 20,
             eval_episodes: 20,
             greedy_episodes: 100,
+            trace_every: None,
         },
         DomainSpec::Sutton { .. } => Protocol {
             runs: 20,
@@ -170,6 +171,7 @@ pub fn default_protocol(domain: &DomainSpec) -> Protocol {
             eval_every: 200,
             eval_episodes: 0,
             greedy_episodes: 0,
+            trace_every: None,
         },
         DomainSpec::Keepaway { .. } => Protocol {
             runs: 4,
@@ -177,6 +179,7 @@ pub fn default_protocol(domain: &DomainSpec) -> Protocol {
             eval_every: 100,
             eval_episodes: 20,
             greedy_episodes: 50,
+            trace_every: None,
         },
         DomainSpec::PenaltyKick { .. } => Protocol {
             runs: 20,
@@ -184,6 +187,7 @@ pub fn default_protocol(domain: &DomainSpec) -> Protocol {
             eval_every: 10,
             eval_episodes: 10,
             greedy_episodes: 10,
+            trace_every: None,
         },
     }
 }

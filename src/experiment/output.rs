@@ -13,6 +13,9 @@ use super::stats::{Summary, summarize};
 use crate::atomic_file::write_atomic;
 use crate::learning::persist;
 
+/// One named series of (episode, value) points.
+type Scatter = (String, Vec<(f64, f64)>);
+
 /// The figures of `summary.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct SummaryFile {
@@ -134,7 +137,7 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
 
         if !first.traces.is_empty() {
             let mut text = String::from("episode,name,value\n");
-            let mut by_name: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+            let mut by_name: Vec<Scatter> = Vec::new();
             for (episode, values) in &first.traces {
                 for (name, v) in values {
                     let _ = writeln!(text, "{episode},{name},{v}");
@@ -149,7 +152,7 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
                 points.retain(|(_, v)| v.is_finite());
             }
             // Names `agent/option` get one plot per agent (`traces-agent.svg`).
-            let mut groups: Vec<(Option<String>, Vec<(String, Vec<(f64, f64)>)>)> = Vec::new();
+            let mut groups: Vec<(Option<String>, Vec<Scatter>)> = Vec::new();
             for (name, points) in by_name {
                 let (group, label) = match name.split_once('/') {
                     Some((g, l)) => (Some(g.to_string()), l.to_string()),

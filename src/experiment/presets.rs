@@ -63,6 +63,7 @@ fn experiment(
         learner,
         protocol,
         seed: SEED,
+        initial_values: Vec::new(),
     }
 }
 
@@ -99,6 +100,7 @@ fn figure_6_3() -> Figure {
         eval_every: 20,
         eval_episodes: 20,
         greedy_episodes: 100,
+        trace_every: Some(0),
     };
     Figure {
         id: "6.3",
@@ -150,6 +152,7 @@ fn figure_6_4() -> Figure {
         eval_every: 100,
         eval_episodes: 20,
         greedy_episodes: 100,
+        trace_every: Some(0),
     };
     let exploring = |start: f64| {
         with_sosmc(Algorithm::EpsSosmc, &d, |c| {
@@ -211,6 +214,7 @@ fn trace_figure(
         eval_every: 1000,
         eval_episodes: 20,
         greedy_episodes: 100,
+        trace_every: None,
     };
     Figure {
         id,
@@ -242,6 +246,7 @@ fn figure_6_10() -> Figure {
         eval_every: 100,
         eval_episodes: 20,
         greedy_episodes: 100,
+        trace_every: Some(1),
     };
     Figure {
         id: "6.10",
@@ -270,6 +275,7 @@ fn figure_6_11() -> Figure {
         eval_every: 1000,
         eval_episodes: 20,
         greedy_episodes: 100,
+        trace_every: None,
     };
     Figure {
         id: "6.11",
@@ -295,6 +301,7 @@ fn figure_6_13() -> Figure {
         eval_every: 200,
         eval_episodes: 0,
         greedy_episodes: 0,
+        trace_every: Some(0),
     };
     Figure {
         id: "6.13",
@@ -336,6 +343,7 @@ fn figure_7_3() -> Figure {
         eval_every: 250,
         eval_episodes: 20,
         greedy_episodes: 50,
+        trace_every: Some(0),
     };
     Figure {
         id: "7.3",
@@ -370,6 +378,7 @@ fn figure_7_5() -> Figure {
         eval_every: 250,
         eval_episodes: 20,
         greedy_episodes: 50,
+        trace_every: Some(0),
     };
     Figure {
         id: "7.5",
@@ -404,6 +413,7 @@ fn figure_7_6() -> Figure {
         eval_every: 500,
         eval_episodes: 20,
         greedy_episodes: 50,
+        trace_every: Some(10),
     };
     Figure {
         id: "7.6",
@@ -428,6 +438,7 @@ fn keepaway_baselines() -> Figure {
         eval_every: 50,
         eval_episodes: 50,
         greedy_episodes: 0,
+        trace_every: Some(0),
     };
     let curve = |label: &str, policy: FixedPolicy| {
         experiment(

@@ -74,6 +74,7 @@ impl ExperimentOutput {
 pub fn run_one(
     spec: &ExperimentSpec,
     plan: Option<Arc<Plan>>,
+    initial: &[SavedValues],
     run: usize,
     mut progress: impl FnMut(u64),
 ) -> Result<RunOutput, ExperimentError> {
@@ -81,7 +82,12 @@ pub fn run_one(
     // Agent 0 draws from stream 1; further agents from streams 100 + i.
     let mut learner = |agent: usize| {
         let stream = if agent == 0 { 1 } else { 100 + agent as u64 };
-        spec.learner.build(seeded(derive_seed(seed, stream)))
+        let mut learner = spec.learner.build(seeded(derive_seed(seed, stream)));
+        if let Some(saved) = initial.get(agent) {
+            let start = saved.to_table(learner.values().initial_value());
+            *learner.values_mut() = start;
+        }
+        learner
     };
     let mut task = spec
         .domain
@@ -107,6 +113,8 @@ pub fn run_one(
         out.actions += u64::from(outcome.actions);
         if first {
             out.episodes.push(EpisodeRecord { episode, outcome });
+        }
+        if first && p.trace_interval() > 0 && episode % p.trace_interval() == 0 {
             let traced = task.traced_values();
             if !traced.is_empty() {
                 out.traces.push((episode, traced));
@@ -145,6 +153,7 @@ pub fn run_experiment(
 ) -> Result<ExperimentOutput, ExperimentError> {
     spec.protocol.validate()?;
     let plan = spec.domain.load_plan()?;
+    let initial = spec.load_initial_values(plan.as_deref())?;
     let start = Instant::now();
     let runs = spec.protocol.runs;
     let next = AtomicUsize::new(0);
@@ -166,14 +175,14 @@ pub fn run_experiment(
     let mut failure = None;
     std::thread::scope(|scope| {
         for _ in 0..threads {
-            let (tx, ptx, next, plan) = (tx.clone(), ptx.clone(), &next, plan.clone());
+            let (tx, ptx, next, plan, initial) = (tx.clone(), ptx.clone(), &next, plan.clone(), &initial);
             scope.spawn(move || {
                 loop {
                     let run = next.fetch_add(1, Ordering::Relaxed);
                     if run >= runs {
                         break;
                     }
-                    let result = run_one(spec, plan.clone(), run, |n| {
+                    let result = run_one(spec, plan.clone(), &initial, run, |n| {
                         let _ = ptx.send(n);
                     });
                     let failed = result.is_err();

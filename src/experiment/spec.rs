@@ -10,6 +10,7 @@ use crate::domains::parr_russell::{self, ParrRussell, ParrRussellConfig};
 use crate::domains::penalty_kick::{self, PenaltyKick, PenaltyKickConfig};
 use crate::domains::sutton::{self, Sutton, SuttonConfig};
 use crate::domains::{Task, TaskError};
+use crate::learning::persist::{self, PlanLabels, SavedValues};
 use crate::learning::{Learner, Mcesp, McespConfig, RandomLearner, SoSmc, SoSmcConfig, TdConfig, TdLearner};
 use crate::plan::{LoadError, Plan, Vocabulary, load_plan};
 use crate::rng::SimRng;
@@ -204,9 +205,18 @@ pub struct Protocol {
     pub eval_episodes: usize,
     /// Episodes of the final greedy evaluation of each run.
     pub greedy_episodes: usize,
+    /// Record the traced values of run 0 every this many learning episodes
+    /// (0: never); `None` picks about a thousand points over the run.
+    #[serde(default)]
+    pub trace_every: Option<u64>,
 }
 
 impl Protocol {
+    /// Learning episodes between two recordings of the traced values (0: none).
+    pub fn trace_interval(&self) -> u64 {
+        self.trace_every.unwrap_or((self.episodes / 1000).max(1))
+    }
+
     /// Checks the numbers.
     pub fn validate(&self) -> Result<(), ExperimentError> {
         if self.runs == 0 || self.episodes == 0 || self.eval_every == 0 {
@@ -240,4 +250,37 @@ pub struct ExperimentSpec {
     pub protocol: Protocol,
     /// The base seed; run i uses a seed derived from it and i.
     pub seed: u64,
+    /// Value tables every run starts from (one per learning agent, as an
+    /// experiment saves them), instead of the initial value.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub initial_values: Vec<PathBuf>,
+}
+
+impl ExperimentSpec {
+    /// Loads the starting tables, checking each was learned on this plan.
+    /// A corrupt file is reported and its previous good version used.
+    pub fn load_initial_values(&self, plan: Option<&Plan>) -> Result<Vec<SavedValues>, ExperimentError> {
+        let mut tables = Vec::new();
+        for path in &self.initial_values {
+            let (saved, problem) = persist::load_latest(path).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+            if let Some(problem) = problem {
+                eprintln!("warning: {problem}; using {}", persist::prev_path(path).display());
+            }
+            let expected: Vec<PlanLabels> = plan.map(PlanLabels::of).into_iter().collect();
+            if saved.plans != expected {
+                return Err(ExperimentError::Invalid(format!(
+                    "{}: the values were learned on another plan ({})",
+                    path.display(),
+                    saved
+                        .plans
+                        .iter()
+                        .map(|p| p.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )));
+            }
+            tables.push(saved);
+        }
+        Ok(tables)
+    }
 }
