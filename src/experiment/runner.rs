@@ -182,7 +182,7 @@ pub fn run_experiment(
                     if run >= runs {
                         break;
                     }
-                    let result = run_one(spec, plan.clone(), &initial, run, |n| {
+                    let result = run_one(spec, plan.clone(), initial, run, |n| {
                         let _ = ptx.send(n);
                     });
                     let failed = result.is_err();
