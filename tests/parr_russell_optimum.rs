@@ -176,6 +176,7 @@ fn eps_sosmc_converges_to_the_optimal_policy_in_most_runs() {
         optimal += usize::from((value - best).abs() < 1e-9);
         top_two += usize::from(value >= second - 1e-9);
     }
+    eprintln!("{optimal} of {runs} runs end in the optimal policy, {top_two} in one of the two best");
     // Measured over 200 runs (RUNS=200): 45% of runs end in the optimal policy and
     // 84% in one of the two best. With 12 runs, at least 2 optimal and at least 7
     // in the top two each fail with probability below 0.01 at those rates.
