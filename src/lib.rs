@@ -4,6 +4,8 @@
 //! the executor runs the plan with the thesis's operational semantics and hands
 //! every open choice to a learner. See `docs/ARCHITECTURE.md` for the data path.
 
+#![deny(missing_docs)]
+
 pub mod analysis;
 pub mod atomic_file;
 pub mod condition;

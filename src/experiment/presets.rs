@@ -308,23 +308,19 @@ fn figure_6_13() -> Figure {
         title: "Sutton's grid: Soft-SoSMC (tau 4, optimistic, explore every 20 episodes) against Sarsa",
         claim: "Soft-SoSMC finds on average a better policy than Sarsa in the episodes considered; Sarsa's value is slightly but significantly smaller (95% CI)",
         kind: FigureKind::Curves,
-        curves: vec![
-            experiment(
-                "Soft-SoSMC",
-                d.clone(),
-                Algorithm::SoftSosmc,
-                default_learner(Algorithm::SoftSosmc, &d),
-                p,
-            ),
-            experiment(
-                "Sarsa(0.9)",
-                d.clone(),
-                Algorithm::SarsaLambda,
-                default_learner(Algorithm::SarsaLambda, &d),
-                p,
-            ),
-        ],
+        curves: sarsa_against_sosmc(&d, p),
     }
+}
+
+/// Sarsa(0.9) against Soft-SoSMC in `d`, each with the domain's defaults.
+fn sarsa_against_sosmc(d: &DomainSpec, p: Protocol) -> Vec<ExperimentSpec> {
+    [
+        ("Sarsa(0.9)", Algorithm::SarsaLambda),
+        ("Soft-SoSMC", Algorithm::SoftSosmc),
+    ]
+    .into_iter()
+    .map(|(label, algorithm)| experiment(label, d.clone(), algorithm, default_learner(algorithm, d), p))
+    .collect()
 }
 
 fn keepaway(mode: KeepawayMode) -> DomainSpec {
@@ -350,22 +346,7 @@ fn figure_7_3() -> Figure {
         title: "Keepaway, single agent learning the pass decision: Sarsa(0.9) against Soft-SoSMC",
         claim: "Sarsa(0.9) only learns to hold the ball about 9 s; Soft-SoSMC (100-episode initial phase, 18 s threshold over 200 exploiting episodes) reaches 16 s within 1000 episodes and about 20 s by 5000; the hand-coded policy measures about 16 s",
         kind: FigureKind::Curves,
-        curves: vec![
-            experiment(
-                "Sarsa(0.9)",
-                d.clone(),
-                Algorithm::SarsaLambda,
-                default_learner(Algorithm::SarsaLambda, &d),
-                p,
-            ),
-            experiment(
-                "Soft-SoSMC",
-                d.clone(),
-                Algorithm::SoftSosmc,
-                default_learner(Algorithm::SoftSosmc, &d),
-                p,
-            ),
-        ],
+        curves: sarsa_against_sosmc(&d, p),
     }
 }
 
@@ -385,22 +366,7 @@ fn figure_7_5() -> Figure {
         title: "Keepaway, multi-agent learning of positioning: Sarsa (epsilon 0.2 to 0 over 4500 episodes) against Soft-SoSMC",
         claim: "Sarsa improves the keepers' behaviour up to 14.7 +/- 0.35 s; Soft-SoSMC improves it quite above the 18 s threshold",
         kind: FigureKind::Curves,
-        curves: vec![
-            experiment(
-                "Sarsa(0.9)",
-                d.clone(),
-                Algorithm::SarsaLambda,
-                default_learner(Algorithm::SarsaLambda, &d),
-                p,
-            ),
-            experiment(
-                "Soft-SoSMC",
-                d.clone(),
-                Algorithm::SoftSosmc,
-                default_learner(Algorithm::SoftSosmc, &d),
-                p,
-            ),
-        ],
+        curves: sarsa_against_sosmc(&d, p),
     }
 }
 

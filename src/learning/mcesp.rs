@@ -103,13 +103,8 @@ impl Mcesp {
 impl Chooser for Mcesp {
     fn choose(&mut self, plan: PlanKey, state: &Marking, options: &[Marking]) -> usize {
         let obs = self.observations.intern(plan, state);
-        self.ids.clear();
-        self.option_values.clear();
-        for m in options {
-            let id = self.values.intern(plan, m);
-            self.ids.push(id);
-            self.option_values.push(self.values.value(id));
-        }
+        self.values
+            .intern_options(plan, options, &mut self.ids, &mut self.option_values);
         if self.seen.len() <= obs as usize {
             self.seen.resize(obs as usize + 1, false);
         }

@@ -229,13 +229,8 @@ impl SoSmc {
 impl Chooser for SoSmc {
     fn choose(&mut self, plan: PlanKey, state: &Marking, options: &[Marking]) -> usize {
         let obs = self.observations.intern(plan, state);
-        self.ids.clear();
-        self.option_values.clear();
-        for m in options {
-            let id = self.values.intern(plan, m);
-            self.ids.push(id);
-            self.option_values.push(self.values.value(id));
-        }
+        self.values
+            .intern_options(plan, options, &mut self.ids, &mut self.option_values);
         let remembered = self
             .memory
             .get(&obs)

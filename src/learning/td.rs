@@ -134,13 +134,8 @@ impl TdLearner {
 
 impl Chooser for TdLearner {
     fn choose(&mut self, plan: PlanKey, state: &Marking, options: &[Marking]) -> usize {
-        self.ids.clear();
-        self.option_values.clear();
-        for m in options {
-            let id = self.values.intern(plan, m);
-            self.ids.push(id);
-            self.option_values.push(self.values.value(id));
-        }
+        self.values
+            .intern_options(plan, options, &mut self.ids, &mut self.option_values);
         let obs = if self.config.consistent {
             Some(self.observations.intern(plan, state))
         } else {

@@ -74,6 +74,18 @@ impl ValueTable {
         )
     }
 
+    /// The ids and values of a choice's options (next markings of `plan`),
+    /// interning the new ones, into reusable buffers.
+    pub fn intern_options(&mut self, plan: PlanKey, options: &[Marking], ids: &mut Vec<KeyId>, values: &mut Vec<f64>) {
+        ids.clear();
+        values.clear();
+        for m in options {
+            let id = self.intern(plan, m);
+            ids.push(id);
+            values.push(self.value(id));
+        }
+    }
+
     /// Adds a key with a value and visit count (replacing an existing value).
     pub fn insert(&mut self, key: StateKey, value: f64, visits: u64) -> KeyId {
         let plan = usize::from(key.plan.0);
