@@ -147,21 +147,18 @@ impl PlanBuilder {
 
     /// Ordinary action `name` from `from` ending into `done` (sequence by place merging).
     pub fn action_into(&mut self, from: PlaceRef, name: &str, done: PlaceRef) -> ActionNet {
-        let exec = self.place(format!("{name}.exec"));
-        let start = self.transition(format!("{name}.start"), &[(from, 1)], &[(exec, 1)]);
-        self.transition(format!("{name}.end"), &[(exec, 1)], &[(done, 1)]);
-        ActionNet {
-            name: name.to_string(),
-            exec,
-            done,
-            start,
-        }
+        self.action_with_start(from, name, format!("{name}.start"), done)
     }
 
     /// Action `name` from `from` into `done` whose start also needs `guard` (guard syntax).
     pub fn guarded_action_into(&mut self, from: PlaceRef, name: &str, guard: &str, done: PlaceRef) -> ActionNet {
+        self.action_with_start(from, name, format!("{name}.start [{guard}]"), done)
+    }
+
+    /// Start transition `start_label` from `from`, execution place, end into `done`.
+    fn action_with_start(&mut self, from: PlaceRef, name: &str, start_label: String, done: PlaceRef) -> ActionNet {
         let exec = self.place(format!("{name}.exec"));
-        let start = self.transition(format!("{name}.start [{guard}]"), &[(from, 1)], &[(exec, 1)]);
+        let start = self.transition(start_label, &[(from, 1)], &[(exec, 1)]);
         self.transition(format!("{name}.end"), &[(exec, 1)], &[(done, 1)]);
         ActionNet {
             name: name.to_string(),
