@@ -2,282 +2,25 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result, bail};
-use clap::{Args, ValueEnum};
-use learnpnp::domains::keepaway::{FixedPolicy, KeepawayDomainConfig, KeepawayMode};
-use learnpnp::domains::parr_russell::ParrRussellConfig;
-use learnpnp::domains::penalty_kick::{PenaltyKickConfig, Variant};
-use learnpnp::domains::sutton::SuttonConfig;
-use learnpnp::experiment::defaults::{
-    self, AssessmentArg, Overrides, parse_schedule, parse_step_size, parse_threshold,
-};
+use anyhow::{Context, Result};
+use clap::Args;
+use learnpnp::experiment::args::{DomainName, ExperimentOptions};
 use learnpnp::experiment::output::write_results;
 use learnpnp::experiment::runner::run_experiment;
-use learnpnp::experiment::spec::{Algorithm, DomainSpec, ExperimentSpec};
-use learnpnp::keepaway::params::VisionMode;
-use learnpnp::learning::{Schedule, StepSize, ThresholdRule};
-
-/// The domains of the experiment command.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum DomainName {
-    /// Parr and Russell's 4 x 3 grid.
-    ParrRussell,
-    /// Sutton's 9 x 6 grid.
-    Sutton,
-    /// The penalty kick.
-    PenaltyKick,
-    /// Keepaway 3 vs 2, one keeper learning the pass decision (thesis 7.2).
-    KeepawayPass,
-    /// Keepaway 3 vs 2, every keeper learning where to stand (thesis 7.3).
-    KeepawayPosition,
-    /// Keepaway 3 vs 2 with a fixed policy (`--policy`); nothing learns.
-    KeepawayFixed,
-}
-
-/// What Keepaway agents perceive.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum VisionArg {
-    /// Noise-free full state.
-    FullState,
-    /// The server's quantised vision.
-    Quantised,
-}
 
 #[derive(Args, Debug)]
 pub struct ExperimentArgs {
     /// The domain.
     #[arg(value_enum)]
     domain: DomainName,
-    /// The learning algorithm (not needed for keepaway-fixed).
-    #[arg(long, value_enum)]
-    algo: Option<Algorithm>,
-    /// Independent runs (default: the domain's).
-    #[arg(long)]
-    runs: Option<usize>,
-    /// Learning episodes per run.
-    #[arg(long)]
-    episodes: Option<u64>,
-    /// Learning episodes between evaluations.
-    #[arg(long)]
-    eval_every: Option<u64>,
-    /// Episodes per evaluation (values frozen, behaviour as while learning).
-    #[arg(long)]
-    eval_episodes: Option<usize>,
-    /// Episodes of each run's final greedy evaluation.
-    #[arg(long)]
-    greedy_episodes: Option<usize>,
-    /// Record run 0's traced values every N learning episodes (0: never;
-    /// default: about a thousand points).
-    #[arg(long)]
-    trace_every: Option<u64>,
-    /// Base seed (run i uses a seed derived from it and i).
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
+    #[command(flatten)]
+    options: ExperimentOptions,
     /// Output directory.
     #[arg(long, default_value = "out/experiment")]
     out: PathBuf,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
-    /// A label for plots (default: the algorithm).
-    #[arg(long)]
-    label: Option<String>,
-
-    /// Start every run from these saved value tables (values.bin, then
-    /// values-agent2.bin, ... for several learning agents) instead of the initial value.
-    #[arg(long, num_args = 1..)]
-    initial_values: Vec<PathBuf>,
-    /// Use this plan file instead of the domain's built-in plan.
-    #[arg(long)]
-    plan: Option<PathBuf>,
-    /// Actions after which an episode is cut (grid worlds).
-    #[arg(long)]
-    max_actions: Option<u32>,
-    /// Penalty kick plan variant.
-    #[arg(long, value_enum, default_value = "plain")]
-    variant: Variant,
-    /// Keepaway: the keepers' policy for keepaway-fixed.
-    #[arg(long, value_enum, default_value = "handcoded")]
-    policy: FixedPolicy,
-    /// Keepaway: what the agents perceive.
-    #[arg(long, value_enum, default_value = "full-state")]
-    vision: VisionArg,
-    /// Keepaway: distance (m) at which the threshold policy passes.
-    #[arg(long)]
-    hold_threshold: Option<f64>,
-    /// Keepaway: threshold (m) of the takers' distance to a pass line.
-    #[arg(long)]
-    lane_threshold: Option<f64>,
-    /// Keepaway: threshold (m) of the closest taker's distance.
-    #[arg(long)]
-    taker_threshold: Option<f64>,
-
-    /// Discount per executor step.
-    #[arg(long)]
-    gamma: Option<f64>,
-    /// Step size.
-    #[arg(long)]
-    alpha: Option<f64>,
-    /// Eligibility trace decay.
-    #[arg(long)]
-    lambda: Option<f64>,
-    /// Epsilon: VALUE or START:END:OVER (TD: over decisions; SoSMC: assessing episodes).
-    #[arg(long, value_parser = parse_schedule)]
-    epsilon: Option<Schedule>,
-    /// Softmax temperature: VALUE or START:END:OVER.
-    #[arg(long, value_parser = parse_schedule)]
-    tau: Option<Schedule>,
-    /// Act greedily (TD; with an optimistic --initial-value).
-    #[arg(long)]
-    greedy: bool,
-    /// Value of unseen markings (a number, or -inf).
-    #[arg(long, allow_hyphen_values = true)]
-    initial_value: Option<f64>,
-    /// SoSMC: episodes of the initial exploratory phase.
-    #[arg(long)]
-    initial_phase: Option<u64>,
-    /// SoSMC: epsilon or temperature of the initial phase (VALUE or START:END:OVER).
-    #[arg(long, value_parser = parse_schedule)]
-    initial_parameter: Option<Schedule>,
-    /// SoSMC: exploration in the assessing phase: never, per-decision, every:N, after:K.
-    #[arg(long)]
-    assess: Option<AssessmentArg>,
-    /// SoSMC: step size of exploiting updates: a number or 'inverse' (1/n).
-    #[arg(long, value_parser = parse_step_size)]
-    step_size: Option<StepSize>,
-    /// SoSMC: suspend exploration while the mean of the last WINDOW exploiting returns is at least THRESHOLD.
-    #[arg(long, value_parser = parse_threshold, value_name = "THRESHOLD:WINDOW")]
-    threshold: Option<ThresholdRule>,
-    /// MCESP: episodes per explored pair.
-    #[arg(long)]
-    stage_length: Option<u64>,
-    /// MCESP: smallest step size.
-    #[arg(long)]
-    alpha_min: Option<f64>,
-    /// TD: repeat the first decision at an observation within an episode.
-    #[arg(long)]
-    consistent: bool,
-}
-
-impl ExperimentArgs {
-    fn domain(&self) -> DomainSpec {
-        let plan = self.plan.clone();
-        match self.domain {
-            DomainName::ParrRussell => {
-                let mut config = ParrRussellConfig::default();
-                if let Some(m) = self.max_actions {
-                    config.max_actions = m;
-                }
-                DomainSpec::ParrRussell { config, plan }
-            }
-            DomainName::Sutton => {
-                let mut config = SuttonConfig::default();
-                if let Some(m) = self.max_actions {
-                    config.max_actions = m;
-                }
-                DomainSpec::Sutton { config, plan }
-            }
-            DomainName::PenaltyKick => DomainSpec::PenaltyKick {
-                config: PenaltyKickConfig {
-                    variant: self.variant,
-                    ..Default::default()
-                },
-                plan,
-            },
-            DomainName::KeepawayPass | DomainName::KeepawayPosition | DomainName::KeepawayFixed => {
-                let mut config = KeepawayDomainConfig::for_mode(match self.domain {
-                    DomainName::KeepawayPass => KeepawayMode::Pass,
-                    DomainName::KeepawayPosition => KeepawayMode::Position,
-                    _ => KeepawayMode::Fixed(self.policy),
-                });
-                config.vision = match self.vision {
-                    VisionArg::FullState => VisionMode::FullState,
-                    VisionArg::Quantised => VisionMode::Quantised,
-                };
-                if let Some(t) = self.hold_threshold {
-                    config.hold_threshold = t;
-                }
-                if let Some(t) = self.lane_threshold {
-                    config.thresholds.pass_line = t;
-                }
-                if let Some(t) = self.taker_threshold {
-                    config.thresholds.closest_taker = t;
-                }
-                DomainSpec::Keepaway { config, plan }
-            }
-        }
-    }
-
-    fn overrides(&self) -> Overrides {
-        Overrides {
-            gamma: self.gamma,
-            alpha: self.alpha,
-            lambda: self.lambda,
-            epsilon: self.epsilon,
-            tau: self.tau,
-            greedy: self.greedy,
-            initial_value: self.initial_value,
-            initial_phase: self.initial_phase,
-            initial_parameter: self.initial_parameter,
-            assessment: self.assess.map(|a| a.0),
-            step_size: self.step_size,
-            threshold: self.threshold,
-            stage_length: self.stage_length,
-            alpha_min: self.alpha_min,
-            consistent: self.consistent,
-        }
-    }
-
-    /// The experiment these arguments describe.
-    pub fn spec(&self) -> Result<ExperimentSpec> {
-        let domain = self.domain();
-        let algo = match (self.algo, self.domain) {
-            (Some(a), _) => a,
-            (None, DomainName::KeepawayFixed) => Algorithm::Random,
-            (None, _) => bail!("--algo is needed for {}", domain.name()),
-        };
-        let mut learner = defaults::default_learner(algo, &domain);
-        self.overrides().apply(&mut learner);
-        let mut protocol = defaults::default_protocol(&domain);
-        if let Some(v) = self.runs {
-            protocol.runs = v;
-        }
-        if let Some(v) = self.episodes {
-            protocol.episodes = v;
-        }
-        if let Some(v) = self.eval_every {
-            protocol.eval_every = v;
-        }
-        if let Some(v) = self.eval_episodes {
-            protocol.eval_episodes = v;
-        }
-        if let Some(v) = self.greedy_episodes {
-            protocol.greedy_episodes = v;
-        }
-        if self.trace_every.is_some() {
-            protocol.trace_every = self.trace_every;
-        }
-        let label = match domain {
-            DomainSpec::Keepaway {
-                config:
-                    KeepawayDomainConfig {
-                        mode: KeepawayMode::Fixed(p),
-                        ..
-                    },
-                ..
-            } => format!("{p:?}").to_lowercase(),
-            _ => algo.name().to_string(),
-        };
-        Ok(ExperimentSpec {
-            label: self.label.clone().unwrap_or(label),
-            domain,
-            algorithm: algo,
-            learner,
-            protocol,
-            seed: self.seed,
-            initial_values: self.initial_values.clone(),
-        })
-    }
 }
 
 /// The default worker count: every core.
@@ -286,7 +29,7 @@ pub fn default_threads() -> usize {
 }
 
 pub fn run(args: &ExperimentArgs) -> Result<()> {
-    let spec = args.spec()?;
+    let spec = args.options.spec(args.domain)?;
     let threads = args.threads.unwrap_or_else(default_threads);
     let output = run_experiment(&spec, threads, true).context("experiment failed")?;
     let summary = write_results(&output, &args.out).context("writing results")?;

@@ -1,6 +1,7 @@
 //! Experiments: the thesis's protocol over many seeded runs, with CSV, JSON
 //! and SVG results.
 
+pub mod args;
 pub mod defaults;
 pub mod output;
 pub mod plot;

@@ -1,0 +1,279 @@
+//! The flags of `learnpnp experiment` (and of the multi-process supervisor):
+//! a domain, an algorithm with its parameters, and the protocol, turned into
+//! an [`ExperimentSpec`].
+
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+
+use super::defaults::{self, AssessmentArg, Overrides, parse_schedule, parse_step_size, parse_threshold};
+use super::spec::{Algorithm, DomainSpec, ExperimentError, ExperimentSpec};
+use crate::domains::keepaway::{FixedPolicy, KeepawayDomainConfig, KeepawayMode};
+use crate::domains::parr_russell::ParrRussellConfig;
+use crate::domains::penalty_kick::{PenaltyKickConfig, Variant};
+use crate::domains::sutton::SuttonConfig;
+use crate::keepaway::params::VisionMode;
+use crate::learning::{Schedule, StepSize, ThresholdRule};
+
+/// The domains of the experiment command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum DomainName {
+    /// Parr and Russell's 4 x 3 grid.
+    ParrRussell,
+    /// Sutton's 9 x 6 grid.
+    Sutton,
+    /// The penalty kick.
+    PenaltyKick,
+    /// Keepaway 3 vs 2, one keeper learning the pass decision (thesis 7.2).
+    KeepawayPass,
+    /// Keepaway 3 vs 2, every keeper learning where to stand (thesis 7.3).
+    KeepawayPosition,
+    /// Keepaway 3 vs 2 with a fixed policy (`--policy`); nothing learns.
+    KeepawayFixed,
+}
+
+/// What Keepaway agents perceive.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum VisionArg {
+    /// Noise-free full state.
+    FullState,
+    /// The server's quantised vision.
+    Quantised,
+}
+
+/// Every flag of `learnpnp experiment` but the domain and where results go:
+/// the algorithm, its parameters, the protocol and the domain's options.
+/// The multi-process supervisor takes the same flags.
+#[derive(Args, Debug, Clone)]
+pub struct ExperimentOptions {
+    /// The learning algorithm (not needed for keepaway-fixed).
+    #[arg(long, value_enum)]
+    algo: Option<Algorithm>,
+    /// Independent runs (default: the domain's).
+    #[arg(long)]
+    runs: Option<usize>,
+    /// Learning episodes per run.
+    #[arg(long)]
+    episodes: Option<u64>,
+    /// Learning episodes between evaluations.
+    #[arg(long)]
+    eval_every: Option<u64>,
+    /// Episodes per evaluation (values frozen, behaviour as while learning).
+    #[arg(long)]
+    eval_episodes: Option<usize>,
+    /// Episodes of each run's final greedy evaluation.
+    #[arg(long)]
+    greedy_episodes: Option<usize>,
+    /// Record run 0's traced values every N learning episodes (0: never;
+    /// default: about a thousand points).
+    #[arg(long)]
+    trace_every: Option<u64>,
+    /// Base seed (run i uses a seed derived from it and i).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// A label for plots (default: the algorithm).
+    #[arg(long)]
+    label: Option<String>,
+
+    /// Start every run from these saved value tables (values.bin, then
+    /// values-agent2.bin, ... for several learning agents) instead of the initial value.
+    #[arg(long, num_args = 1..)]
+    initial_values: Vec<PathBuf>,
+    /// Use this plan file instead of the domain's built-in plan.
+    #[arg(long)]
+    plan: Option<PathBuf>,
+    /// Actions after which an episode is cut (grid worlds).
+    #[arg(long)]
+    max_actions: Option<u32>,
+    /// Penalty kick plan variant.
+    #[arg(long, value_enum, default_value = "plain")]
+    variant: Variant,
+    /// Keepaway: the keepers' policy for keepaway-fixed.
+    #[arg(long, value_enum, default_value = "handcoded")]
+    policy: FixedPolicy,
+    /// Keepaway: what the agents perceive.
+    #[arg(long, value_enum, default_value = "full-state")]
+    vision: VisionArg,
+    /// Keepaway: distance (m) at which the threshold policy passes.
+    #[arg(long)]
+    hold_threshold: Option<f64>,
+    /// Keepaway: threshold (m) of the takers' distance to a pass line.
+    #[arg(long)]
+    lane_threshold: Option<f64>,
+    /// Keepaway: threshold (m) of the closest taker's distance.
+    #[arg(long)]
+    taker_threshold: Option<f64>,
+
+    /// Discount per executor step.
+    #[arg(long)]
+    gamma: Option<f64>,
+    /// Step size.
+    #[arg(long)]
+    alpha: Option<f64>,
+    /// Eligibility trace decay.
+    #[arg(long)]
+    lambda: Option<f64>,
+    /// Epsilon: VALUE or START:END:OVER (TD: over decisions; SoSMC: assessing episodes).
+    #[arg(long, value_parser = parse_schedule)]
+    epsilon: Option<Schedule>,
+    /// Softmax temperature: VALUE or START:END:OVER.
+    #[arg(long, value_parser = parse_schedule)]
+    tau: Option<Schedule>,
+    /// Act greedily (TD; with an optimistic --initial-value).
+    #[arg(long)]
+    greedy: bool,
+    /// Value of unseen markings (a number, or -inf).
+    #[arg(long, allow_hyphen_values = true)]
+    initial_value: Option<f64>,
+    /// SoSMC: episodes of the initial exploratory phase.
+    #[arg(long)]
+    initial_phase: Option<u64>,
+    /// SoSMC: epsilon or temperature of the initial phase (VALUE or START:END:OVER).
+    #[arg(long, value_parser = parse_schedule)]
+    initial_parameter: Option<Schedule>,
+    /// SoSMC: exploration in the assessing phase: never, per-decision, every:N, after:K.
+    #[arg(long)]
+    assess: Option<AssessmentArg>,
+    /// SoSMC: step size of exploiting updates: a number or 'inverse' (1/n).
+    #[arg(long, value_parser = parse_step_size)]
+    step_size: Option<StepSize>,
+    /// SoSMC: suspend exploration while the mean of the last WINDOW exploiting returns is at least THRESHOLD.
+    #[arg(long, value_parser = parse_threshold, value_name = "THRESHOLD:WINDOW")]
+    threshold: Option<ThresholdRule>,
+    /// MCESP: episodes per explored pair.
+    #[arg(long)]
+    stage_length: Option<u64>,
+    /// MCESP: smallest step size.
+    #[arg(long)]
+    alpha_min: Option<f64>,
+    /// TD: repeat the first decision at an observation within an episode.
+    #[arg(long)]
+    consistent: bool,
+}
+
+impl ExperimentOptions {
+    /// The domain `name` with these options.
+    pub fn domain(&self, name: DomainName) -> DomainSpec {
+        let plan = self.plan.clone();
+        match name {
+            DomainName::ParrRussell => {
+                let mut config = ParrRussellConfig::default();
+                if let Some(m) = self.max_actions {
+                    config.max_actions = m;
+                }
+                DomainSpec::ParrRussell { config, plan }
+            }
+            DomainName::Sutton => {
+                let mut config = SuttonConfig::default();
+                if let Some(m) = self.max_actions {
+                    config.max_actions = m;
+                }
+                DomainSpec::Sutton { config, plan }
+            }
+            DomainName::PenaltyKick => DomainSpec::PenaltyKick {
+                config: PenaltyKickConfig {
+                    variant: self.variant,
+                    ..Default::default()
+                },
+                plan,
+            },
+            DomainName::KeepawayPass | DomainName::KeepawayPosition | DomainName::KeepawayFixed => {
+                let mut config = KeepawayDomainConfig::for_mode(match name {
+                    DomainName::KeepawayPass => KeepawayMode::Pass,
+                    DomainName::KeepawayPosition => KeepawayMode::Position,
+                    _ => KeepawayMode::Fixed(self.policy),
+                });
+                config.vision = match self.vision {
+                    VisionArg::FullState => VisionMode::FullState,
+                    VisionArg::Quantised => VisionMode::Quantised,
+                };
+                if let Some(t) = self.hold_threshold {
+                    config.hold_threshold = t;
+                }
+                if let Some(t) = self.lane_threshold {
+                    config.thresholds.pass_line = t;
+                }
+                if let Some(t) = self.taker_threshold {
+                    config.thresholds.closest_taker = t;
+                }
+                DomainSpec::Keepaway { config, plan }
+            }
+        }
+    }
+
+    fn overrides(&self) -> Overrides {
+        Overrides {
+            gamma: self.gamma,
+            alpha: self.alpha,
+            lambda: self.lambda,
+            epsilon: self.epsilon,
+            tau: self.tau,
+            greedy: self.greedy,
+            initial_value: self.initial_value,
+            initial_phase: self.initial_phase,
+            initial_parameter: self.initial_parameter,
+            assessment: self.assess.map(|a| a.0),
+            step_size: self.step_size,
+            threshold: self.threshold,
+            stage_length: self.stage_length,
+            alpha_min: self.alpha_min,
+            consistent: self.consistent,
+        }
+    }
+
+    /// The experiment these options describe in domain `name`.
+    pub fn spec(&self, name: DomainName) -> Result<ExperimentSpec, ExperimentError> {
+        let domain = self.domain(name);
+        let algo = match (self.algo, name) {
+            (Some(a), _) => a,
+            (None, DomainName::KeepawayFixed) => Algorithm::Random,
+            (None, _) => {
+                return Err(ExperimentError::Invalid(format!(
+                    "--algo is needed for {}",
+                    domain.name()
+                )));
+            }
+        };
+        let mut learner = defaults::default_learner(algo, &domain);
+        self.overrides().apply(&mut learner);
+        let mut protocol = defaults::default_protocol(&domain);
+        if let Some(v) = self.runs {
+            protocol.runs = v;
+        }
+        if let Some(v) = self.episodes {
+            protocol.episodes = v;
+        }
+        if let Some(v) = self.eval_every {
+            protocol.eval_every = v;
+        }
+        if let Some(v) = self.eval_episodes {
+            protocol.eval_episodes = v;
+        }
+        if let Some(v) = self.greedy_episodes {
+            protocol.greedy_episodes = v;
+        }
+        if self.trace_every.is_some() {
+            protocol.trace_every = self.trace_every;
+        }
+        let label = match domain {
+            DomainSpec::Keepaway {
+                config:
+                    KeepawayDomainConfig {
+                        mode: KeepawayMode::Fixed(p),
+                        ..
+                    },
+                ..
+            } => format!("{p:?}").to_lowercase(),
+            _ => algo.name().to_string(),
+        };
+        Ok(ExperimentSpec {
+            label: self.label.clone().unwrap_or(label),
+            domain,
+            algorithm: algo,
+            learner,
+            protocol,
+            seed: self.seed,
+            initial_values: self.initial_values.clone(),
+        })
+    }
+}
