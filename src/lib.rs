@@ -18,4 +18,5 @@ pub mod learning;
 pub mod net;
 pub mod plan;
 pub mod pnml;
+pub mod result_dir;
 pub mod rng;

@@ -7,6 +7,7 @@ use clap::Args;
 use learnpnp::experiment::args::{DomainName, ExperimentOptions};
 use learnpnp::experiment::output::write_results;
 use learnpnp::experiment::runner::run_experiment;
+use learnpnp::result_dir::ResultDir;
 
 #[derive(Args, Debug)]
 pub struct ExperimentArgs {
@@ -30,9 +31,11 @@ pub fn default_threads() -> usize {
 
 pub fn run(args: &ExperimentArgs) -> Result<()> {
     let spec = args.options.spec(args.domain)?;
+    // Checked and locked before any work.
+    let mut dir = ResultDir::open(&args.out)?;
     let threads = args.threads.unwrap_or_else(default_threads);
     let output = run_experiment(&spec, threads, true).context("experiment failed")?;
-    let summary = write_results(&output, &args.out).context("writing results")?;
+    let summary = write_results(&output, &mut dir).context("writing results")?;
     println!(
         "{} on {}: final mean {:.4} (95% CI {:.4} .. {:.4}), greedy {:.4}; {} runs in {:.2} s, {:.0} episodes/s; results in {}",
         spec.label,

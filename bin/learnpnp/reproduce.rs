@@ -10,6 +10,7 @@ use learnpnp::experiment::output::{series, write_results};
 use learnpnp::experiment::plot::plot_curves;
 use learnpnp::experiment::presets::{self, Figure, FigureKind};
 use learnpnp::experiment::runner::run_experiment;
+use learnpnp::result_dir::ResultDir;
 
 use super::experiment::default_threads;
 
@@ -77,21 +78,30 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
     if figures.is_empty() {
         bail!("nothing to reproduce");
     }
-    let mut table = String::from(
-        "| figure | curve | final mean | 95% CI | greedy mean | runs | seconds |\n|---|---|---|---|---|---|---|\n",
-    );
+    // Every result directory is checked and locked before any work.
+    let mut plans = Vec::new();
     for figure in figures {
         let dir = args.out.join(format!("fig{}", figure.id));
-        println!("Figure {}: {}", figure.id, figure.title);
-        let mut all = Vec::new();
+        let mut curves = Vec::new();
         for mut spec in figure.curves.clone() {
             if let Some(runs) = args.runs {
                 spec.protocol.runs = runs;
             }
+            let curve_dir = ResultDir::open(dir.join(slug(&spec.label)))?;
+            curves.push((spec, curve_dir));
+        }
+        plans.push((figure, dir, curves));
+    }
+    let mut table = String::from(
+        "| figure | curve | final mean | 95% CI | greedy mean | runs | seconds |\n|---|---|---|---|---|---|---|\n",
+    );
+    for (figure, dir, curves) in plans {
+        println!("Figure {}: {}", figure.id, figure.title);
+        let mut all = Vec::new();
+        for (spec, mut curve_dir) in curves {
             let output = run_experiment(&spec, threads, true)
                 .with_context(|| format!("figure {}: {}", figure.id, spec.label))?;
-            let curve_dir = dir.join(slug(&spec.label));
-            let summary = write_results(&output, &curve_dir)?;
+            let summary = write_results(&output, &mut curve_dir)?;
             println!(
                 "  {:<28} final {:>9.4} [{:.4}, {:.4}]  greedy {:>9.4}  {:>4} runs {:>7.2} s  {:>9.0} episodes/s",
                 spec.label,

@@ -13,6 +13,7 @@ use crate::domains::{Task, TaskError};
 use crate::learning::persist::{self, PlanLabels, SavedValues};
 use crate::learning::{Learner, Mcesp, McespConfig, RandomLearner, SoSmc, SoSmcConfig, TdConfig, TdLearner};
 use crate::plan::{LoadError, Plan, Vocabulary, load_plan};
+use crate::result_dir::ResultDirError;
 use crate::rng::SimRng;
 
 /// A domain and its parameters; `plan` replaces the built-in plan with a file.
@@ -61,14 +62,9 @@ pub enum ExperimentError {
     /// A parameter is out of range.
     #[error("invalid experiment: {0}")]
     Invalid(String),
-    /// Writing results failed.
-    #[error("{path}: {source}")]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The error.
-        source: std::io::Error,
-    },
+    /// The result directory cannot be used.
+    #[error(transparent)]
+    ResultDir(#[from] ResultDirError),
 }
 
 impl DomainSpec {

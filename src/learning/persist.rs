@@ -343,6 +343,22 @@ pub fn prev_path(path: &Path) -> PathBuf {
 /// either the old or the new complete file. If keeping `.prev` fails, the new
 /// table is not written and the error names the `.prev` file.
 pub fn save(path: &Path, values: &SavedValues) -> Result<(), PersistError> {
+    let bytes = encode(path, values)?;
+    let previous = fs::read(path).ok().filter(|old| parse(path, old).is_ok());
+    if let Some(old) = previous {
+        let prev = prev_path(path);
+        crate::atomic_file::write_atomic(&prev, &old).map_err(|source| PersistError::Io { path: prev, source })?;
+    }
+    crate::atomic_file::write_atomic(path, &bytes).map_err(|source| PersistError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// The bytes of a value file holding `values` (for writers that place the
+/// file themselves, such as a result directory); `path` names the file in
+/// errors. The values are checked first ([`SavedValues::validate`]).
+pub fn encode(path: &Path, values: &SavedValues) -> Result<Vec<u8>, PersistError> {
     values.validate().map_err(|source| PersistError::Inconsistent {
         path: path.to_path_buf(),
         source,
@@ -358,16 +374,7 @@ pub fn save(path: &Path, values: &SavedValues) -> Result<(), PersistError> {
     bytes.extend_from_slice(&(payload.len() as u64).to_le_bytes());
     bytes.extend_from_slice(&crc32fast::hash(&payload).to_le_bytes());
     bytes.extend_from_slice(&payload);
-
-    let previous = fs::read(path).ok().filter(|old| parse(path, old).is_ok());
-    if let Some(old) = previous {
-        let prev = prev_path(path);
-        crate::atomic_file::write_atomic(&prev, &old).map_err(|source| PersistError::Io { path: prev, source })?;
-    }
-    crate::atomic_file::write_atomic(path, &bytes).map_err(|source| PersistError::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+    Ok(bytes)
 }
 
 /// Reads the value file at `path`, checking magic, version, length, checksum
