@@ -280,6 +280,11 @@ impl ResultDir {
         {
             return Err(ResultDirError::NotADirectory { path: target });
         }
+        if let Some(file) = parent.ancestors().find(|a| a.is_file()) {
+            return Err(ResultDirError::NotADirectory {
+                path: file.to_path_buf(),
+            });
+        }
         fs::create_dir_all(&parent).map_err(io_error(&parent, "create the directory"))?;
         let lock_path = parent.join(format!(".{name}.lock"));
         let lock = acquire(&target, &lock_path)?;
