@@ -13,6 +13,7 @@ pub mod domains;
 pub mod dot;
 pub mod executor;
 pub mod experiment;
+pub mod interrupt;
 pub mod keepaway;
 pub mod learning;
 pub mod net;

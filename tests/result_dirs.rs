@@ -121,10 +121,10 @@ fn unusable_output_directories_are_refused_before_any_work() {
     let foreign = dir.join("documents");
     std::fs::create_dir(&foreign).expect("mkdir");
     std::fs::write(foreign.join("notes.txt"), "precious").expect("write");
-    // Ten billion episodes: these would never end if the check came after the work.
+    // A billion episodes per run: these would not end if the check came after the work.
     let mut targets = vec![
         (file.clone(), "not a directory"),
-        (file.join("below"), "a-file"),
+        (file.join("below"), "a-file: exists and is not a directory"),
         (foreign.clone(), "does not hold learnpnp results"),
     ];
     if cfg!(target_os = "linux") {
@@ -143,7 +143,7 @@ fn unusable_output_directories_are_refused_before_any_work() {
         }
     }
     for (target, expected) in targets {
-        let out = learnpnp(&as_strs(&experiment_args(&target, 1, 10_000_000_000)));
+        let out = learnpnp(&as_strs(&experiment_args(&target, 1, 1_000_000_000)));
         let err = text(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{}: {err}", target.display());
         assert!(err.contains(expected), "{}: {err}", target.display());
@@ -219,5 +219,96 @@ fn kills_at_any_moment_never_leave_a_mix_of_two_runs() {
     let o = learnpnp(&as_strs(&experiment_args(&out, 2, 200)));
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert_eq!(which_set(&out, &references), 2);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Learning flags of an experiment long enough to be interrupted.
+fn long_experiment(out: &Path, seed: &str, resume: bool) -> Vec<String> {
+    let mut args: Vec<String> = [
+        "experiment",
+        "parr-russell",
+        "--algo",
+        "eps-sosmc",
+        "--runs",
+        "24",
+        "--episodes",
+        "2000",
+        "--eval-every",
+        "100",
+        "--threads",
+        "2",
+        "--seed",
+        seed,
+        "--out",
+        out.to_str().expect("utf-8 path"),
+    ]
+    .map(String::from)
+    .to_vec();
+    if resume {
+        args.push("--resume".into());
+    }
+    args
+}
+
+#[cfg(unix)]
+#[test]
+fn a_terminated_experiment_keeps_its_runs_and_resumes_to_the_same_numbers() {
+    let dir = temp_dir("sigterm");
+    let reference = dir.join("reference");
+    let start = Instant::now();
+    let o = learnpnp(&as_strs(&long_experiment(&reference, "5", false)));
+    let duration = start.elapsed();
+    assert!(o.status.success(), "{}", text(&o.stderr));
+
+    let out = dir.join("run");
+    let child = spawn(&as_strs(&long_experiment(&out, "5", false)));
+    // The lock exists once the handlers are installed and the work begins.
+    wait_for(&dir.join(".run.lock"));
+    std::thread::sleep(duration * 2 / 5);
+    let pid = libc::pid_t::try_from(child.id()).expect("a pid");
+    // SAFETY: sending a signal to our own child process.
+    assert_eq!(unsafe { libc::kill(pid, libc::SIGTERM) }, 0);
+    let interrupted = child.wait_with_output().expect("wait");
+    let err = text(&interrupted.stderr);
+    match interrupted.status.code() {
+        Some(143) if out.exists() => {
+            assert!(err.contains("partial result") && err.contains("--resume"), "{err}");
+            let summary: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("summary"))
+                    .expect("json");
+            assert_eq!(summary["complete"], false);
+            let kept = summary["runs_completed"].as_u64().expect("a count");
+            assert!((1..24).contains(&kept), "{kept} runs kept");
+            let runs = std::fs::read_to_string(out.join("runs.csv")).expect("runs.csv");
+            assert_eq!(
+                runs.lines().count() as u64,
+                1 + kept * 21,
+                "21 evaluations per kept run"
+            );
+        }
+        Some(143) => assert!(err.contains("before any run completed"), "{err}"),
+        // The machine was fast enough to finish first.
+        Some(0) => {}
+        other => panic!("exit status {other:?}: {err}"),
+    }
+
+    // Resuming with other parameters is refused, and changes nothing.
+    if out.exists() {
+        let o = learnpnp(&as_strs(&long_experiment(&out, "6", true)));
+        assert_eq!(o.status.code(), Some(2));
+        assert!(text(&o.stderr).contains("another experiment"), "{}", text(&o.stderr));
+    }
+    let o = learnpnp(&as_strs(&long_experiment(&out, "5", true)));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    for file in RESULT_FILES.iter().chain(&["curve.csv"]) {
+        assert_eq!(
+            std::fs::read(out.join(file)).expect("present"),
+            std::fs::read(reference.join(file)).expect("present"),
+            "{file}: the resumed experiment differs from the uninterrupted one"
+        );
+    }
+    let o = learnpnp(&as_strs(&long_experiment(&out, "5", true)));
+    assert!(o.status.success());
+    assert!(text(&o.stdout).contains("nothing to do"), "{}", text(&o.stdout));
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,5 +1,6 @@
 //! Commands that inspect files: check, dot, convert, plot, values.
 
+use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -8,6 +9,7 @@ use clap::Args;
 use learnpnp::analysis;
 use learnpnp::dot::to_dot;
 use learnpnp::experiment::plot::{Series, plot_curves, read_curve_csv};
+use learnpnp::experiment::ranges::CountRange;
 use learnpnp::learning::persist;
 use learnpnp::plan::{Vocabulary, load_plan};
 use learnpnp::pnml::{self, Dialect};
@@ -16,8 +18,8 @@ use learnpnp::pnml::{self, Dialect};
 pub struct CheckArgs {
     /// The plan file (PNML).
     plan: PathBuf,
-    /// Most reachable markings to explore.
-    #[arg(long, default_value_t = 100_000)]
+    /// Most reachable markings to explore (at least 1).
+    #[arg(long, allow_hyphen_values = true, default_value_t = analysis::DEFAULT_LIMIT, value_parser = |s: &str| CountRange::new(1, u64::MAX).parse_usize(s))]
     limit: usize,
 }
 
@@ -31,11 +33,13 @@ pub fn check(args: &CheckArgs) -> ExitCode {
         }
     };
     let report = analysis::check(&plan, args.limit);
-    print!("{report}");
-    if report.passed() {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(1)
+    match write!(std::io::stdout().lock(), "{report}") {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+        _ if report.passed() => ExitCode::SUCCESS,
+        _ => ExitCode::from(1),
     }
 }
 
@@ -47,7 +51,7 @@ pub struct DotArgs {
 
 pub fn dot(args: &DotArgs) -> Result<()> {
     let plan = load_plan(&args.plan, Vocabulary::Open)?;
-    print!("{}", to_dot(&plan));
+    write!(std::io::stdout().lock(), "{}", to_dot(&plan))?;
     Ok(())
 }
 

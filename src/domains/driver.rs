@@ -30,7 +30,7 @@ pub enum TaskError {
 }
 
 /// What one episode earned.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct EpisodeOutcome {
     /// Undiscounted sum of rewards.
     pub ret: f64,

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use super::checkpoint;
 use super::plot::{self, CurvePoint, Series};
 use super::runner::ExperimentOutput;
 use super::spec::{ExperimentError, ExperimentSpec};
@@ -41,6 +42,11 @@ pub struct SummaryFile {
     /// Keepaway: simulated cycles per second over learning episodes.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cycles_per_second: Option<f64>,
+    /// Whether every planned run completed; false for an interrupted
+    /// experiment, whose figures are over the runs it completed.
+    pub complete: bool,
+    /// The runs the figures are over.
+    pub runs_completed: usize,
 }
 
 /// The curve: mean and 95% CI over runs at each evaluation point.
@@ -75,6 +81,8 @@ pub fn summary(output: &ExperimentOutput) -> SummaryFile {
         actions_per_second: output.total_actions() as f64 / wall,
         cycles_per_second: matches!(output.spec.domain, crate::experiment::spec::DomainSpec::Keepaway { .. })
             .then(|| output.total_actions() as f64 / wall),
+        complete: output.is_complete(),
+        runs_completed: output.runs.len(),
     }
 }
 
@@ -95,11 +103,20 @@ pub fn series(output: &ExperimentOutput) -> Series {
 }
 
 /// Writes every result file of `output` into `dir` as one set (see
-/// [`crate::result_dir`]: the previous set is replaced whole) and returns the summary.
+/// [`crate::result_dir`]: the previous set is replaced whole) and returns the
+/// summary. The output of an interrupted experiment is written as a partial
+/// result: its figures are over the completed runs, `summary.json` says
+/// `"complete": false`, and [`checkpoint::CHECKPOINT`] keeps the runs for `--resume`.
 pub fn write_results(output: &ExperimentOutput, dir: &mut ResultDir) -> Result<SummaryFile, ExperimentError> {
     let mut files = dir.writer()?;
     let summary = stage_results(output, &mut files)?;
-    files.commit(Progress::complete(output.runs.len() as u64))?;
+    if !output.is_complete() {
+        files.add_bytes(checkpoint::CHECKPOINT, &checkpoint::encode(output)?)?;
+    }
+    files.commit(Progress {
+        completed: output.runs.len() as u64,
+        planned: output.spec.protocol.runs as u64,
+    })?;
     Ok(summary)
 }
 
@@ -112,14 +129,14 @@ fn stage_results(output: &ExperimentOutput, files: &mut ResultWriter<'_>) -> Res
     files.add_text("curve.csv", &text)?;
 
     let mut text = String::from("run,episode,score,greedy\n");
-    for (run, r) in output.runs.iter().enumerate() {
+    for r in &output.runs {
         for (episode, score) in output.eval_points.iter().zip(&r.evals) {
-            let _ = writeln!(text, "{run},{episode},{score},{}", r.greedy);
+            let _ = writeln!(text, "{},{episode},{score},{}", r.run, r.greedy);
         }
     }
     files.add_text("runs.csv", &text)?;
 
-    if let Some(first) = output.runs.first() {
+    if let Some(first) = output.first_run() {
         let mut text = String::from("episode,return,actions,steps,exploratory\n");
         for e in &first.episodes {
             let o = e.outcome;
