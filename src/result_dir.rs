@@ -33,6 +33,11 @@
 //!   `--resume`). Readers that need finished results check
 //!   [`Manifest::complete`].
 //!
+//! - **Work files.** [`ResultWriter::scratch_dir`] gives a directory inside
+//!   the set for files written while the work runs (logs, state of child
+//!   processes): published with the set, cleaned with the staging directory
+//!   if the work never completes.
+//!
 //! ```no_run
 //! use learnpnp::result_dir::{Progress, ResultDir};
 //!
@@ -76,6 +81,10 @@ pub struct Manifest {
     pub runs_planned: u64,
     /// Every file of the set (the manifest aside), in the order written.
     pub files: Vec<String>,
+    /// Directories written during the work ([`ResultWriter::scratch_dir`]),
+    /// published with the set; their files are not listed one by one.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub dirs: Vec<String>,
 }
 
 /// How far the work whose results are committed went.
@@ -343,6 +352,12 @@ impl ResultDir {
                 ),
             });
         }
+        if let Some(missing) = manifest.dirs.iter().find(|d| !self.target.join(d).is_dir()) {
+            return Err(ResultDirError::BadManifest {
+                path: self.target.join(missing),
+                reason: format!("listed in {MANIFEST} but missing"),
+            });
+        }
         if let Some(missing) = manifest.files.iter().find(|f| !self.target.join(f).is_file()) {
             return Err(ResultDirError::BadManifest {
                 path: self.target.join(missing),
@@ -382,6 +397,7 @@ impl ResultDir {
             dir: self,
             staging,
             files: Vec::new(),
+            dirs: Vec::new(),
             committed: false,
         })
     }
@@ -506,12 +522,14 @@ pub struct ResultWriter<'a> {
     dir: &'a mut ResultDir,
     staging: PathBuf,
     files: Vec<String>,
+    dirs: Vec<String>,
     committed: bool,
 }
 
 impl ResultWriter<'_> {
-    /// Checks a file name and records it: a relative path of plain names, none
-    /// hidden, not the manifest, not given before.
+    /// Checks a name for the set: a relative path of plain names, none
+    /// hidden, not the manifest, not overlapping one given before. Returns
+    /// its path in the staging directory, parent directories created.
     fn claim(&mut self, name: &str) -> Result<PathBuf, ResultDirError> {
         let bad = |reason| ResultDirError::BadName {
             dir: self.dir.target.clone(),
@@ -529,21 +547,24 @@ impl ResultWriter<'_> {
         if name == MANIFEST {
             return Err(bad("the manifest is written by the commit"));
         }
-        if self.files.iter().any(|f| f == name) {
-            return Err(bad("it was already added"));
+        let taken =
+            |other: &String| other == name || Path::new(other).starts_with(path) || path.starts_with(Path::new(other));
+        if self.files.iter().chain(&self.dirs).any(taken) {
+            return Err(bad("it was already added, or overlaps a file or directory added"));
         }
         let full = self.staging.join(path);
         if let Some(sub) = full.parent() {
             fs::create_dir_all(sub).map_err(io_error(sub, "create the directory"))?;
         }
-        self.files.push(name.to_string());
         Ok(full)
     }
 
     /// Adds file `name` (e.g. `curve.csv`, or `latency/ping.hgrm`) with these bytes.
     pub fn add_bytes(&mut self, name: &str, bytes: &[u8]) -> Result<(), ResultDirError> {
         let path = self.claim(name)?;
-        fs::write(&path, bytes).map_err(io_error(&path, "write"))
+        fs::write(&path, bytes).map_err(io_error(&path, "write"))?;
+        self.files.push(name.to_string());
+        Ok(())
     }
 
     /// Adds file `name` with this text.
@@ -554,7 +575,21 @@ impl ResultWriter<'_> {
     /// Reserves file `name` and returns the path to write it to, for libraries
     /// that write files themselves; the file must exist when the set is committed.
     pub fn path_for(&mut self, name: &str) -> Result<PathBuf, ResultDirError> {
-        self.claim(name)
+        let path = self.claim(name)?;
+        self.files.push(name.to_string());
+        Ok(path)
+    }
+
+    /// Creates directory `name` in the set and returns its path, for files
+    /// the work writes as it goes (logs, per-run state of child processes). It
+    /// is published with the set and listed in the manifest as a directory;
+    /// until then it lives in the hidden staging directory, so the files of
+    /// work that never completes are cleaned with it.
+    pub fn scratch_dir(&mut self, name: &str) -> Result<PathBuf, ResultDirError> {
+        let path = self.claim(name)?;
+        fs::create_dir_all(&path).map_err(io_error(&path, "create the directory"))?;
+        self.dirs.push(name.to_string());
+        Ok(path)
     }
 
     /// The files added so far, in order.
@@ -591,6 +626,7 @@ impl ResultWriter<'_> {
             runs_completed: progress.completed,
             runs_planned: progress.planned,
             files: self.files.clone(),
+            dirs: self.dirs.clone(),
         };
         let path = self.staging.join(MANIFEST);
         let text = serde_json::to_string_pretty(&manifest).map_err(|e| ResultDirError::BadManifest {
@@ -907,6 +943,10 @@ mod tests {
         }
         w.add_text("sub/ok.csv", "x").unwrap();
         assert!(w.add_text("sub/ok.csv", "y").is_err(), "twice");
+        let logs = w.scratch_dir("logs").unwrap();
+        assert!(logs.is_dir());
+        assert!(w.add_text("logs/a.txt", "y").is_err(), "inside a scratch directory");
+        assert!(w.scratch_dir("sub").is_err(), "over a file's directory");
         w.path_for("plot.svg").unwrap();
         let err = w.commit(Progress::complete(1)).unwrap_err();
         assert!(
@@ -926,6 +966,8 @@ mod tests {
         w.add_bytes("state.bin", &[1, 2, 3]).unwrap();
         let path = w.path_for("plot.svg").unwrap();
         fs::write(path, "<svg/>").unwrap();
+        let work = w.scratch_dir("runs").unwrap();
+        fs::write(work.join("run-0.log"), "started").unwrap();
         let written = w
             .commit(Progress {
                 completed: 3,
@@ -939,6 +981,11 @@ mod tests {
         assert!(!m.complete);
         assert_eq!((m.runs_completed, m.runs_planned), (3, 10));
         assert_eq!(m.files, ["state.bin", "plot.svg"]);
+        assert_eq!(m.dirs, ["runs"]);
+        assert_eq!(
+            fs::read_to_string(dir.path().join("runs/run-0.log")).unwrap(),
+            "started"
+        );
         assert_eq!(dir.read("state.bin").unwrap(), [1, 2, 3]);
         assert!(dir.read("other.bin").is_err());
         // A listed file that went missing makes the manifest untrustworthy.

@@ -27,6 +27,12 @@ pub enum TaskError {
         /// The label looked for.
         label: String,
     },
+    /// The run was asked to stop before it ended.
+    #[error("the run was stopped before it ended")]
+    Stopped,
+    /// Keepers in other processes cannot be reached.
+    #[error("keeper processes: {0}")]
+    Remote(String),
 }
 
 /// What one episode earned.

@@ -110,6 +110,8 @@ pub fn series(output: &ExperimentOutput) -> Series {
 pub fn write_results(output: &ExperimentOutput, dir: &mut ResultDir) -> Result<SummaryFile, ExperimentError> {
     let mut files = dir.writer()?;
     let summary = stage_results(output, &mut files)?;
+    let json = serde_json::to_string_pretty(&summary).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+    files.add_text("summary.json", &json)?;
     if !output.is_complete() {
         files.add_bytes(checkpoint::CHECKPOINT, &checkpoint::encode(output)?)?;
     }
@@ -120,8 +122,11 @@ pub fn write_results(output: &ExperimentOutput, dir: &mut ResultDir) -> Result<S
     Ok(summary)
 }
 
-/// Writes every result file of `output` into `files`, not yet committed.
-fn stage_results(output: &ExperimentOutput, files: &mut ResultWriter<'_>) -> Result<SummaryFile, ExperimentError> {
+/// Writes every result file of `output` but `summary.json` into `files`
+/// (nothing is committed) and returns the summary: [`write_results`] writes it
+/// as `summary.json`, a caller with a summary of its own (the multi-process
+/// supervisor) embeds it there.
+pub fn stage_results(output: &ExperimentOutput, files: &mut ResultWriter<'_>) -> Result<SummaryFile, ExperimentError> {
     let mut text = String::from("episode,mean,ci_low,ci_high,runs\n");
     for (episode, s) in curve(output) {
         let _ = writeln!(text, "{episode},{},{},{},{}", s.mean, s.ci_low, s.ci_high, s.n);
@@ -208,10 +213,6 @@ fn stage_results(output: &ExperimentOutput, files: &mut ResultWriter<'_>) -> Res
         }
     }
 
-    let summary = summary(output);
-    let json = serde_json::to_string_pretty(&summary).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
-    files.add_text("summary.json", &json)?;
-
     plot::plot_curves(
         &files.path_for("curve.svg")?,
         &format!("{} on {}", output.spec.label, output.spec.domain.name()),
@@ -220,5 +221,5 @@ fn stage_results(output: &ExperimentOutput, files: &mut ResultWriter<'_>) -> Res
         &[series(output)],
     )
     .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
-    Ok(summary)
+    Ok(summary(output))
 }

@@ -6,7 +6,6 @@
 //! it identifies the thesis's observation-action pair, while plans that lead to
 //! the same marking deliberately share one value (see docs/ARCHITECTURE.md).
 
-pub mod infinite_value;
 mod mcesp;
 mod monte_carlo;
 pub mod persist;

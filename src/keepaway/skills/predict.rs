@@ -334,14 +334,14 @@ pub fn fastest_to_ball(
                 best = Some((j, c));
             }
         }
-        if let Some((player, c)) = best {
-            if c <= i {
-                return Some(Interception {
-                    player,
-                    cycles: i,
-                    point: ball_pos,
-                });
-            }
+        if let Some((player, c)) = best
+            && c <= i
+        {
+            return Some(Interception {
+                player,
+                cycles: i,
+                point: ball_pos,
+            });
         }
         if i < horizon {
             ball_pos += ball_vel;
