@@ -322,49 +322,9 @@ impl ResultDir {
         &self.target
     }
 
-    /// What the target holds now: nothing, a result set (its manifest, checked
-    /// against the files present), or results of a version without manifests.
-    /// A directory holding other things reads as [`Contents::Empty`] only if
-    /// it is empty; `open` refuses the others.
+    /// What the target holds now (see [`contents`]).
     pub fn contents(&self) -> Result<Contents, ResultDirError> {
-        let manifest_path = self.target.join(MANIFEST);
-        let text = match fs::read_to_string(&manifest_path) {
-            Ok(text) => text,
-            Err(e) if e.kind() == io::ErrorKind::NotFound => {
-                return Ok(if self.target.join(LEGACY_MARKER).is_file() {
-                    Contents::Legacy
-                } else {
-                    Contents::Empty
-                });
-            }
-            Err(e) => return Err(io_error(&manifest_path, "read the manifest")(e)),
-        };
-        let manifest: Manifest = serde_json::from_str(&text).map_err(|e| ResultDirError::BadManifest {
-            path: manifest_path.clone(),
-            reason: format!("not a result manifest: {e}"),
-        })?;
-        if manifest.format != MANIFEST_FORMAT {
-            return Err(ResultDirError::BadManifest {
-                path: manifest_path,
-                reason: format!(
-                    "manifest format {} (this build reads format {MANIFEST_FORMAT})",
-                    manifest.format
-                ),
-            });
-        }
-        if let Some(missing) = manifest.dirs.iter().find(|d| !self.target.join(d).is_dir()) {
-            return Err(ResultDirError::BadManifest {
-                path: self.target.join(missing),
-                reason: format!("listed in {MANIFEST} but missing"),
-            });
-        }
-        if let Some(missing) = manifest.files.iter().find(|f| !self.target.join(f).is_file()) {
-            return Err(ResultDirError::BadManifest {
-                path: self.target.join(missing),
-                reason: format!("listed in {MANIFEST} but missing"),
-            });
-        }
-        Ok(Contents::Results(manifest))
+        contents(&self.target)
     }
 
     /// The bytes of result file `name`, which the manifest must list.
@@ -424,6 +384,52 @@ impl ResultDir {
         }
         Ok(())
     }
+}
+
+/// What directory `dir` holds, for readers (no lock is taken: a published
+/// set never changes in place): nothing (missing or without a manifest), a
+/// result set (its manifest, checked against the files present; readers that
+/// need finished results check [`Manifest::complete`]), or results of a
+/// version without manifests.
+pub fn contents(dir: &Path) -> Result<Contents, ResultDirError> {
+    let manifest_path = dir.join(MANIFEST);
+    let text = match fs::read_to_string(&manifest_path) {
+        Ok(text) => text,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => {
+            return Ok(if dir.join(LEGACY_MARKER).is_file() {
+                Contents::Legacy
+            } else {
+                Contents::Empty
+            });
+        }
+        Err(e) => return Err(io_error(&manifest_path, "read the manifest")(e)),
+    };
+    let manifest: Manifest = serde_json::from_str(&text).map_err(|e| ResultDirError::BadManifest {
+        path: manifest_path.clone(),
+        reason: format!("not a result manifest: {e}"),
+    })?;
+    if manifest.format != MANIFEST_FORMAT {
+        return Err(ResultDirError::BadManifest {
+            path: manifest_path,
+            reason: format!(
+                "manifest format {} (this build reads format {MANIFEST_FORMAT})",
+                manifest.format
+            ),
+        });
+    }
+    if let Some(missing) = manifest.dirs.iter().find(|d| !dir.join(d).is_dir()) {
+        return Err(ResultDirError::BadManifest {
+            path: dir.join(missing),
+            reason: format!("listed in {MANIFEST} but missing"),
+        });
+    }
+    if let Some(missing) = manifest.files.iter().find(|f| !dir.join(f).is_file()) {
+        return Err(ResultDirError::BadManifest {
+            path: dir.join(missing),
+            reason: format!("listed in {MANIFEST} but missing"),
+        });
+    }
+    Ok(Contents::Results(manifest))
 }
 
 impl Drop for ResultDir {

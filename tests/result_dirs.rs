@@ -285,6 +285,16 @@ fn a_terminated_experiment_keeps_its_runs_and_resumes_to_the_same_numbers() {
                 1 + kept * 21,
                 "21 evaluations per kept run"
             );
+            // Readers say what they read.
+            let svg = dir.join("partial.svg");
+            let o = learnpnp(&["plot", out.to_str().expect("utf-8"), "-o", svg.to_str().expect("utf-8")]);
+            assert!(o.status.success(), "{}", text(&o.stderr));
+            assert!(text(&o.stderr).contains("partial result"), "{}", text(&o.stderr));
+            assert!(
+                std::fs::read_to_string(&svg)
+                    .expect("svg")
+                    .contains(&format!("partial: {kept} of 24 runs"))
+            );
         }
         Some(143) => assert!(err.contains("before any run completed"), "{err}"),
         // The machine was fast enough to finish first.

@@ -13,6 +13,7 @@ use learnpnp::experiment::ranges::CountRange;
 use learnpnp::learning::persist;
 use learnpnp::plan::{Vocabulary, load_plan};
 use learnpnp::pnml::{self, Dialect};
+use learnpnp::result_dir::{self, Contents};
 
 #[derive(Args, Debug)]
 pub struct CheckArgs {
@@ -102,8 +103,20 @@ pub fn plot(args: &PlotArgs) -> Result<()> {
         .dirs
         .iter()
         .map(|dir| {
+            let mut label = label_of(dir);
+            if let Contents::Results(m) = result_dir::contents(dir)?
+                && !m.complete
+            {
+                eprintln!(
+                    "note: {} is a partial result ({} of {} runs)",
+                    dir.display(),
+                    m.runs_completed,
+                    m.runs_planned
+                );
+                label.push_str(&format!(" (partial: {} of {} runs)", m.runs_completed, m.runs_planned));
+            }
             Ok(Series {
-                label: label_of(dir),
+                label,
                 points: read_curve_csv(&dir.join("curve.csv"))?,
             })
         })
