@@ -130,7 +130,7 @@ fn pids_with_all(parts: &[&str]) -> Vec<i32> {
         let Ok(cmdline) = fs::read(entry.path().join("cmdline")) else {
             continue;
         };
-        let args: Vec<String> = cmdline.split(|&b| b == 0).map(|a| text(a)).collect();
+        let args: Vec<String> = cmdline.split(|&b| b == 0).map(text).collect();
         let line = args.join(" ");
         if pid != std::process::id() as i32 && parts.iter().all(|p| line.contains(p)) {
             pids.push(pid);
