@@ -19,3 +19,4 @@ pub mod net;
 pub mod plan;
 pub mod pnml;
 pub mod rng;
+pub mod schema;
