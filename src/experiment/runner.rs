@@ -134,7 +134,7 @@ pub fn run_one(
     out.greedy = task.greedy_score(p.greedy_episodes)?;
     out.episodes_run += p.greedy_episodes as u64;
     if first {
-        let plans: Vec<&Plan> = plan.as_deref().into_iter().collect();
+        let plans: Vec<&Plan> = plan.as_deref().map(Plan::activation_plans).unwrap_or_default();
         out.values = task
             .learners()
             .iter()
