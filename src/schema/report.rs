@@ -321,5 +321,6 @@ pub fn check_report(process: &Process) -> (String, bool) {
             let _ = writeln!(out, "  note: no machine calls it");
         }
     }
+    let _ = writeln!(out, "\nresult: {}", if passed { "passed" } else { "failed" });
     (out, passed)
 }
