@@ -226,10 +226,10 @@ impl<W: World> MachineRun<W> {
             ..
         } = self;
         for &a in process.machines()[*machine].state_actions(*state) {
-            if let Executable::Machine(m) = &mut executables[a] {
-                if m.status == Status::Running {
-                    m.accrue(reward);
-                }
+            if let Executable::Machine(m) = &mut executables[a]
+                && m.status == Status::Running
+            {
+                m.accrue(reward);
             }
         }
     }
@@ -270,10 +270,11 @@ impl<W: World> MachineRun<W> {
         }
         let process = Arc::clone(&self.process);
         for &a in process.machines()[self.machine].state_actions(self.state) {
-            if let Executable::Machine(m) = &mut self.executables[a] {
-                if m.status == Status::Running && !m.fresh {
-                    m.fire(world, chooser)?;
-                }
+            if let Executable::Machine(m) = &mut self.executables[a]
+                && m.status == Status::Running
+                && !m.fresh
+            {
+                m.fire(world, chooser)?;
             }
         }
         Ok(())
