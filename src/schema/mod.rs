@@ -5,8 +5,9 @@
 //! - [`Schema`] is the designer's plan (Definition 4): plan states labelled
 //!   with parallel actions (an action may be a machine of the schema), an
 //!   initial state, final states, and edges `(state, event, condition) -> state`.
-//!   It is read from a file ([`parse_schema`], format in [`text`](self::parse_schema)),
-//!   written back ([`write_schema`]) or built in code ([`SchemaBuilder`]).
+//!   It is read from a file ([`parse_schema`], [`read_schema`]; the format is
+//!   documented in `docs/SCHEMAS.md`), written back ([`write_schema`]) or built
+//!   in code ([`SchemaBuilder`]).
 //! - [`Process`] is the construction of section 3.2.1 for every machine:
 //!   action states, condition constituents, zero-time plan-actions and
 //!   time-extended events ([`condition_constituents`] is C_cnd).
