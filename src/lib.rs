@@ -23,3 +23,4 @@ pub mod net;
 pub mod plan;
 pub mod pnml;
 pub mod rng;
+pub mod schema;

@@ -11,10 +11,11 @@ use learnpnp::experiment::plot::{Series, plot_curves, read_curve_csv};
 use learnpnp::learning::persist;
 use learnpnp::plan::{Vocabulary, load_plan};
 use learnpnp::pnml::{self, Dialect};
+use learnpnp::schema;
 
 #[derive(Args, Debug)]
 pub struct CheckArgs {
-    /// The plan file (PNML).
+    /// The plan file (PNML), or a plan schema (.schema).
     plan: PathBuf,
     /// Most reachable markings to explore.
     #[arg(long, default_value_t = 100_000)]
@@ -23,6 +24,9 @@ pub struct CheckArgs {
 
 /// Exit 0: loads and passes; 1: loads and fails a check; 2: cannot be read.
 pub fn check(args: &CheckArgs) -> ExitCode {
+    if schema::is_schema_path(&args.plan) {
+        return check_schema(args);
+    }
     let plan = match load_plan(&args.plan, Vocabulary::Open) {
         Ok(plan) => plan,
         Err(e) => {
@@ -39,13 +43,34 @@ pub fn check(args: &CheckArgs) -> ExitCode {
     }
 }
 
+/// A schema's checks (`schema::check_report`), with the same exit codes.
+fn check_schema(args: &CheckArgs) -> ExitCode {
+    let process = match schema::load_process(&args.plan, Vocabulary::Open) {
+        Ok(process) => process,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let (report, passed) = schema::check_report(&process);
+    print!("{report}");
+    if passed { ExitCode::SUCCESS } else { ExitCode::from(1) }
+}
+
 #[derive(Args, Debug)]
 pub struct DotArgs {
-    /// The plan file (PNML).
+    /// The plan file (PNML), or a plan schema (.schema: its process is drawn).
     plan: PathBuf,
 }
 
 pub fn dot(args: &DotArgs) -> Result<()> {
+    if schema::is_schema_path(&args.plan) {
+        print!(
+            "{}",
+            schema::to_dot(&schema::load_process(&args.plan, Vocabulary::Open)?)
+        );
+        return Ok(());
+    }
     let plan = load_plan(&args.plan, Vocabulary::Open)?;
     print!("{}", to_dot(&plan));
     Ok(())

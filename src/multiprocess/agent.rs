@@ -116,7 +116,7 @@ impl Brain {
             } => Some(SavedValues::new(
                 *algorithm,
                 keeper.learner().values(),
-                &[plan.as_ref()],
+                &plan.activation_plans(),
             )),
             Brain::Fixed { .. } => None,
         }
@@ -140,7 +140,8 @@ fn load_checkpoint(path: &Path, plan: &Plan) -> Result<SavedValues, ProcessError
             saved
         }
     };
-    if saved.plans != [PlanLabels::of(plan)] {
+    let expected: Vec<PlanLabels> = plan.activation_plans().into_iter().map(PlanLabels::of).collect();
+    if saved.plans != expected {
         return Err(ProcessError::CannotResume(format!(
             "{}: the checkpoint was learned on another plan",
             path.display()
