@@ -25,3 +25,4 @@ pub mod plan;
 pub mod pnml;
 pub mod result_dir;
 pub mod rng;
+pub mod schema;

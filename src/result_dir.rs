@@ -432,6 +432,38 @@ pub fn contents(dir: &Path) -> Result<Contents, ResultDirError> {
     Ok(Contents::Results(manifest))
 }
 
+/// The staging directories beside `target`: of the writer at work (its
+/// scratch directories hold the files of work in progress), or left by a dead
+/// one until the next [`ResultDir::open`]. Most recently modified first.
+pub fn staging_dirs(target: &Path) -> Vec<PathBuf> {
+    let (Some(Component::Normal(name)), Some(parent)) = (target.components().next_back(), target.parent()) else {
+        return Vec::new();
+    };
+    let name = name.to_string_lossy();
+    let parent = if parent.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        parent
+    };
+    let Ok(entries) = fs::read_dir(parent) else {
+        return Vec::new();
+    };
+    let mut found: Vec<(std::time::SystemTime, PathBuf)> = entries
+        .filter_map(Result::ok)
+        .filter(|e| {
+            e.file_name()
+                .to_str()
+                .is_some_and(|n| Leftover::of(n, &name) == Some(Leftover::Staging))
+        })
+        .map(|e| {
+            let modified = e.metadata().and_then(|m| m.modified()).unwrap_or(std::time::UNIX_EPOCH);
+            (modified, e.path())
+        })
+        .collect();
+    found.sort_by_key(|entry| std::cmp::Reverse(entry.0));
+    found.into_iter().map(|(_, path)| path).collect()
+}
+
 impl Drop for ResultDir {
     fn drop(&mut self) {
         // Remove the lock file while still holding the lock: a process that
@@ -951,6 +983,7 @@ mod tests {
         assert!(w.add_text("sub/ok.csv", "y").is_err(), "twice");
         let logs = w.scratch_dir("logs").unwrap();
         assert!(logs.is_dir());
+        assert_eq!(staging_dirs(&parent.join("run")), [w.staging.clone()]);
         assert!(w.add_text("logs/a.txt", "y").is_err(), "inside a scratch directory");
         assert!(w.scratch_dir("sub").is_err(), "over a file's directory");
         w.path_for("plot.svg").unwrap();

@@ -5,6 +5,7 @@
 mod experiment;
 mod inspect;
 mod reproduce;
+mod schema;
 
 use std::process::ExitCode;
 
@@ -37,6 +38,8 @@ enum Command {
     Plot(inspect::PlotArgs),
     /// Print a saved value table as CSV.
     Values(inspect::ValuesArgs),
+    /// Print the controllable process constructed from a plan schema (thesis chapter 3).
+    Schema(schema::SchemaArgs),
 }
 
 /// An experiment stopped by a signal: its message, and the exit status
@@ -92,6 +95,7 @@ fn main() -> ExitCode {
         Some(Command::Reproduce(args)) => reproduce::run(&args),
         Some(Command::Plot(args)) => inspect::plot(&args),
         Some(Command::Values(args)) => inspect::values(&args),
+        Some(Command::Schema(args)) => schema::run(&args),
         None => reproduce::run(&reproduce::ReproduceArgs::default()),
     };
     match result {

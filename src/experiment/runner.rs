@@ -120,7 +120,7 @@ pub fn run_one(
         return Ok(None);
     }
     if run == 0 {
-        let plans: Vec<&Plan> = plan.as_deref().into_iter().collect();
+        let plans: Vec<&Plan> = plan.as_deref().map(Plan::activation_plans).unwrap_or_default();
         out.values = task
             .learners()
             .iter()

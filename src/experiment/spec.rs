@@ -20,6 +20,7 @@ use crate::learning::{
 use crate::plan::{LoadError, Plan, Vocabulary, load_plan};
 use crate::result_dir::ResultDirError;
 use crate::rng::SimRng;
+use crate::schema;
 
 /// A domain and its parameters; `plan` replaces the built-in plan with a file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -416,7 +417,8 @@ impl ExperimentSpec {
     /// check` (thesis 2.3: an execution place marked twice, a transition that
     /// never fires, a marking from which no goal is reachable, a dead marking
     /// that is neither goal nor fail), exploring at most
-    /// [`analysis::DEFAULT_LIMIT`] markings. A check left inconclusive by that
+    /// [`analysis::DEFAULT_LIMIT`] markings; a plan schema, the checks of its
+    /// process ([`schema::check_report`]). A check left inconclusive by that
     /// limit is no refusal. The built-in plans are not checked here (their
     /// tests check them).
     pub fn check_plan(&self) -> Result<(), ExperimentError> {
@@ -426,13 +428,30 @@ impl ExperimentSpec {
         let Some(plan) = self.domain.load_plan()? else {
             return Ok(());
         };
-        let report = analysis::check(&plan, analysis::DEFAULT_LIMIT);
-        if report.failures.is_empty() {
+        let failures: Vec<String> = if schema::is_schema_path(path) {
+            // A schema's process has checks of its own (`learnpnp check x.schema`).
+            let process =
+                schema::load_process(path, Vocabulary::Open).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+            let (report, passed) = schema::check_report(&process);
+            if passed {
+                Vec::new()
+            } else {
+                report
+                    .lines()
+                    .filter_map(|l| l.trim_start().strip_prefix("FAIL "))
+                    .map(str::to_string)
+                    .collect()
+            }
+        } else {
+            let report = analysis::check(&plan, analysis::DEFAULT_LIMIT);
+            report.failures.iter().map(|f| f.to_string()).collect()
+        };
+        if failures.is_empty() {
             return Ok(());
         }
         Err(ExperimentError::FailsCheck {
             path: path.to_path_buf(),
-            failures: report.failures.iter().map(|f| f.to_string()).collect(),
+            failures,
         })
     }
 
@@ -452,7 +471,9 @@ impl ExperimentSpec {
         let mut tables = Vec::new();
         for path in &self.initial_values {
             let saved = persist::load(path).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
-            let expected: Vec<PlanLabels> = plan.map(PlanLabels::of).into_iter().collect();
+            let expected: Vec<PlanLabels> = plan
+                .map(|p| p.activation_plans().into_iter().map(PlanLabels::of).collect())
+                .unwrap_or_default();
             if let Some(difference) = plan_difference(&saved.plans, &expected) {
                 return Err(ExperimentError::Invalid(format!(
                     "{}: the values were learned on another plan: {difference}",
