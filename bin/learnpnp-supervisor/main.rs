@@ -6,14 +6,13 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
 use anyhow::{Context, Result};
 use clap::{Parser, ValueEnum};
 use learnpnp::experiment::args::{DomainName, ExperimentOptions};
 use learnpnp::experiment::spec::Algorithm;
+use learnpnp::interrupt::Interrupt;
 use learnpnp::ipc::namespace::clean_stale;
 use learnpnp::ipc::wait::WaitStrategy;
 use learnpnp::multiprocess::Clock;
@@ -119,13 +118,9 @@ fn run(args: Args) -> Result<ExitCode> {
         config.spec.seed,
         args.out.display()
     );
-    let stop = Arc::new(AtomicBool::new(false));
-    for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
-        // A second signal while stopping ends the supervisor at once (its
-        // children die with it; the next launch removes their shared memory).
-        signal_hook::flag::register_conditional_shutdown(signal, 130, Arc::clone(&stop))?;
-        signal_hook::flag::register(signal, Arc::clone(&stop))?;
-    }
+    // A second signal while stopping ends the supervisor at once (its
+    // children die with it; the next launch removes their shared memory).
+    let interrupt = Interrupt::install().context("installing the signal handlers")?;
     let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
         let bar = indicatif::ProgressBar::new(p.episodes * p.runs as u64);
         bar.set_style(
@@ -136,7 +131,7 @@ fn run(args: Args) -> Result<ExitCode> {
     } else {
         None
     };
-    let report = supervise(&config, &mut out, &stop, &|episodes| {
+    let report = supervise(&config, &mut out, interrupt.flag(), &|episodes| {
         if let Some(bar) = &bar {
             bar.set_position(episodes);
         }
@@ -164,7 +159,7 @@ fn run(args: Args) -> Result<ExitCode> {
             "stopped before the end: {} of {} runs completed",
             summary.runs_completed, summary.runs
         );
-        ExitCode::from(130)
+        ExitCode::from(interrupt.exit_status())
     } else {
         ExitCode::SUCCESS
     })
