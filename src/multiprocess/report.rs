@@ -21,6 +21,9 @@ use crate::latency::plot::{ReferenceLine, percentile_plot};
 use crate::latency::{Latency, Percentiles};
 use crate::result_dir::{Progress, ResultWriter};
 
+/// The name of the merged compute time of every keeper.
+const ALL_COMPUTE: &str = "compute";
+
 /// `summary.json` of a multi-process run.
 #[derive(Debug, Clone, Serialize)]
 pub struct SystemSummary {
@@ -94,7 +97,7 @@ pub fn merged_histograms(records: &[RunRecord]) -> Result<Vec<Latency>, Supervis
             }
         }
     }
-    let mut compute = Latency::new("compute");
+    let mut compute = Latency::new(ALL_COMPUTE);
     for h in merged.iter().filter(|h| h.name().starts_with("compute-")) {
         compute.merge(h)?;
     }
@@ -161,7 +164,7 @@ pub fn summarize(
         },
         latency_us: latency,
         floor_us: floor,
-        compute_us: percentiles("compute"),
+        compute_us: percentiles(ALL_COMPUTE),
         round_trip_over_floor_p50: if floor.p50 > 0.0 { latency.p50 / floor.p50 } else { 0.0 },
         rejected_messages: rejected,
         checkpoint_failures: records.iter().map(|r| r.checkpoint_failures).sum(),
@@ -182,7 +185,7 @@ fn latency_table(histograms: &[Latency], summary: &SystemSummary) -> String {
     let rows = [
         (ROUND_TRIP.to_string(), "round trip".to_string()),
         (FLOOR.to_string(), "iceoryx2 floor".to_string()),
-        ("compute".to_string(), "agent compute".to_string()),
+        (ALL_COMPUTE.to_string(), "agent compute".to_string()),
     ]
     .into_iter()
     .chain((0..crate::keepaway::world::NUM_KEEPERS).map(|k| (compute_histogram(k), format!("  keeper {}", k + 1))));
@@ -264,10 +267,8 @@ pub fn write_report(
         files.add_bytes(&format!("latency/{}.hgrm", h.name()), h.to_hgrm().as_bytes())?;
         files.add_bytes(&format!("latency/{}.hdr", h.name()), &h.to_bytes()?)?;
     }
-    let shown: Vec<&Latency> = [ROUND_TRIP, FLOOR, "compute"]
-        .iter()
-        .filter_map(|name| find(&histograms, name))
-        .collect();
+    // One line per histogram the processes recorded (not the merged compute).
+    let shown: Vec<&Latency> = histograms.iter().filter(|h| h.name() != ALL_COMPUTE).collect();
     let mut references = vec![ReferenceLine {
         label: "deadline: 100 ms cycle".into(),
         micros: 100_000.0,
