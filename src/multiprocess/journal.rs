@@ -144,7 +144,7 @@ mod tests {
                 ret: 12.300000000000002,
                 actions: 123,
                 steps: 123,
-                exploratory: i % 2 == 0,
+                exploratory: i.is_multiple_of(2),
             },
             rng: seeded(i),
             totals: SimTotals {

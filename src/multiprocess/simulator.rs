@@ -517,7 +517,7 @@ impl Task for JournaledTask {
         self.journal
             .append(&entry)
             .map_err(|e| TaskError::Remote(e.to_string()))?;
-        if link.totals.episode_seq % SAVE_HISTOGRAMS_EVERY == 0 {
+        if link.totals.episode_seq.is_multiple_of(SAVE_HISTOGRAMS_EVERY) {
             save_histograms(&self.work_dir, &link).map_err(|e| TaskError::Remote(e.to_string()))?;
         }
         Ok(outcome)
