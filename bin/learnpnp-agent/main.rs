@@ -27,6 +27,10 @@ struct Args {
 
 fn main() -> ExitCode {
     iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
+    // A write beyond the file-size limit (a full disk, a quota) fails with an
+    // error the checkpointing reports, instead of killing the agent.
+    // SAFETY: setting a signal's disposition to "ignore" has no other effect.
+    unsafe { libc::signal(libc::SIGXFSZ, libc::SIG_IGN) };
     let args = Args::parse();
     let settings = AgentSettings {
         keeper: usize::from(args.keeper) - 1,

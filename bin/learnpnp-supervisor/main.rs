@@ -2,22 +2,27 @@
 //! Keepaway simulator and one agent process per keeper on iceoryx2 shared
 //! memory, watches and restarts them, and reports the learning curve and the
 //! latency figures. With no arguments: Keepaway 3 vs 2, three Soft-SoSMC
-//! learners positioning themselves, lock-step, one run.
+//! learners positioning themselves, lock-step, one run. `soak` runs it for a
+//! set time while sampling every process (with `--chaos`, injecting faults);
+//! `bench-latency` measures the round trips per wait strategy.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
 
-use anyhow::{Context, Result};
-use clap::{Parser, ValueEnum};
+use anyhow::{Context, Result, bail};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use learnpnp::experiment::args::{DomainName, ExperimentOptions};
 use learnpnp::experiment::spec::Algorithm;
 use learnpnp::interrupt::Interrupt;
-use learnpnp::ipc::namespace::clean_stale;
+use learnpnp::ipc::namespace::{Namespace, clean_stale};
 use learnpnp::ipc::wait::WaitStrategy;
 use learnpnp::multiprocess::Clock;
+use learnpnp::multiprocess::bench_latency::{bench_latency, configurations};
+use learnpnp::multiprocess::chaos::{Chaos, GARBAGE_COMMAND, publish_garbage};
 use learnpnp::multiprocess::launch::Binaries;
-use learnpnp::multiprocess::supervisor::{Progress, SupervisorConfig, supervise};
+use learnpnp::multiprocess::soak::{Soak, SoakLimits};
+use learnpnp::multiprocess::supervisor::{Progress, RunObserver, SupervisorConfig, supervise};
 use learnpnp::result_dir::ResultDir;
 
 /// The Keepaway experiments the system runs.
@@ -32,8 +37,42 @@ enum Domain {
 /// Runs Keepaway 3 vs 2 as a simulator process and three keeper processes on
 /// iceoryx2 shared memory, and reports the learning curve and latencies.
 #[derive(Parser, Debug)]
-#[command(name = "learnpnp-supervisor", version)]
-struct Args {
+#[command(name = "learnpnp-supervisor", version, args_conflicts_with_subcommands = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run the system (what it does with no command).
+    Run(RunArgs),
+    /// Run the system for a set time or number of cycles while sampling every
+    /// process (memory, descriptors, shared-memory files); --chaos injects faults.
+    Soak(SoakArgs),
+    /// Measure floor, round trip and compute time per wait strategy, idle and under load.
+    BenchLatency(BenchArgs),
+    /// (Chaos soaks) Publish garbage on every service of a run, as a foreign process.
+    #[command(name = GARBAGE_COMMAND, hide = true)]
+    PublishGarbage(GarbageArgs),
+}
+
+/// The run a garbage publisher joins.
+#[derive(Args, Debug)]
+struct GarbageArgs {
+    /// The run's iceoryx2 prefix.
+    #[arg(long)]
+    ipc_prefix: String,
+    /// The run's id.
+    #[arg(long)]
+    run_id: u64,
+}
+
+/// A run of the system.
+#[derive(Args, Debug, Clone)]
+struct RunArgs {
     /// The experiment.
     #[arg(long, value_enum, default_value = "keepaway-position")]
     domain: Domain,
@@ -47,20 +86,50 @@ struct Args {
     #[arg(long, default_value = "out/system")]
     out: PathBuf,
     /// Agents checkpoint their values every this many learning episodes.
-    #[arg(long, default_value_t = 100)]
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..=1_000_000_000))]
     checkpoint_every: u64,
     /// Round trips of the iceoryx2 floor measurement in every run (default:
     /// 20,000 in lock-step, 1,000 five milliseconds apart in real time).
-    #[arg(long)]
-    floor_round_trips: Option<usize>,
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    floor_round_trips: Option<u64>,
     /// Seconds without a heartbeat after which a process is taken as hung.
-    #[arg(long, default_value_t = 10)]
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(3..=3600))]
     heartbeat_timeout: u64,
-    /// Restarts of one keeper in one run before the run is given up.
-    #[arg(long, default_value_t = 5)]
+    /// Restarts of one process in one run before the run is given up.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(0..=1000))]
     max_restarts: u32,
     #[command(flatten)]
     options: ExperimentOptions,
+}
+
+/// A soak: the system for a set time, sampled once a second.
+#[derive(Args, Debug)]
+struct SoakArgs {
+    /// Stop after this many seconds.
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=30 * 86_400))]
+    duration: Option<u64>,
+    /// Stop after this many cycles (864,000 cycles: one simulated day).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    cycles: Option<u64>,
+    /// Inject faults at times drawn from this seed (needs --duration); a
+    /// killed simulator is restarted from its last episode boundary.
+    #[arg(long)]
+    chaos: Option<u64>,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+/// The latency benchmark.
+#[derive(Args, Debug)]
+struct BenchArgs {
+    /// Seconds each configuration runs.
+    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u64).range(2..=3600))]
+    seconds: u64,
+    /// The wait strategies measured.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "spin,yield,block,hybrid")]
+    strategies: Vec<WaitStrategy>,
+    #[command(flatten)]
+    run: RunArgs,
 }
 
 /// The main job's run when the user gives no --runs or --episodes: about one
@@ -68,7 +137,12 @@ struct Args {
 const DEFAULT_RUNS: usize = 1;
 const DEFAULT_EPISODES: u64 = 3000;
 
-fn run(args: Args) -> Result<ExitCode> {
+/// Learning episodes of a soak or benchmark run, which its time limit ends.
+const UNBOUNDED_EPISODES: u64 = 1_000_000_000;
+
+/// Everything but the observer: the configuration, and the output directory
+/// checked and locked before any work.
+fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir)> {
     let domain = match args.domain {
         Domain::KeepawayPosition => DomainName::KeepawayPosition,
         Domain::KeepawayPass => DomainName::KeepawayPass,
@@ -76,11 +150,10 @@ fn run(args: Args) -> Result<ExitCode> {
     let spec = args
         .options
         .clone()
-        .or_defaults(Algorithm::SoftSosmc, DEFAULT_RUNS, DEFAULT_EPISODES)
+        .or_defaults(Algorithm::SoftSosmc, DEFAULT_RUNS, episodes)
         .spec(domain)?;
     spec.protocol.validate()?;
-    // Checked and locked before any work.
-    let mut out = ResultDir::open(&args.out)?;
+    let out = ResultDir::open(&args.out)?;
     let wait = args.wait.unwrap_or(match args.mode {
         Clock::Lockstep => WaitStrategy::Yield,
         Clock::Realtime => WaitStrategy::Hybrid,
@@ -99,7 +172,7 @@ fn run(args: Args) -> Result<ExitCode> {
         floor_round_trips: args.floor_round_trips.unwrap_or(match args.mode {
             Clock::Lockstep => 20_000,
             Clock::Realtime => 1_000,
-        }),
+        }) as usize,
         heartbeat_timeout: Duration::from_secs(args.heartbeat_timeout),
         max_restarts: args.max_restarts,
         restart_simulator: false,
@@ -107,7 +180,7 @@ fn run(args: Args) -> Result<ExitCode> {
     };
     let p = config.spec.protocol;
     eprintln!(
-        "learnpnp-supervisor: {} with {} on simulator + 3 keeper processes; {} mode, {} wait; {} run(s) x {} learning episodes, evaluation every {} ({} episodes), seed {}; results in {}",
+        "learnpnp-supervisor: {} with {} on a simulator and 3 keeper processes; {} mode, {} wait; {} run(s) x {} learning episodes, evaluation every {} ({} episodes), seed {}; results in {}",
         config.spec.domain.name(),
         config.spec.algorithm.name(),
         args.mode.name(),
@@ -119,29 +192,30 @@ fn run(args: Args) -> Result<ExitCode> {
         config.spec.seed,
         args.out.display()
     );
-    // A second signal while stopping ends the supervisor at once (its
-    // children die with it; the next launch removes their shared memory).
-    let interrupt = Interrupt::install().context("installing the signal handlers")?;
-    let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
-        let bar = indicatif::ProgressBar::new(p.episodes * p.runs as u64);
+    Ok((config, out))
+}
+
+/// A progress bar over the learning episodes, on a terminal.
+fn progress_bar(total: u64) -> Option<indicatif::ProgressBar> {
+    std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
+        let bar = indicatif::ProgressBar::new(total);
         bar.set_style(
             indicatif::ProgressStyle::with_template("[{bar:40}] {pos}/{len} learning episodes ({eta})")
                 .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
-        Some(bar)
-    } else {
-        None
-    };
-    let per_run = p.episodes;
-    let mut progress = Progress(|run: usize, episodes: u64| {
-        if let Some(bar) = &bar {
-            bar.set_position(run as u64 * per_run + episodes);
-        }
-    });
-    let report = supervise(&config, &mut out, interrupt.flag(), &mut progress)?;
-    if let Some(bar) = bar {
-        bar.finish_and_clear();
-    }
+        bar
+    })
+}
+
+/// Runs the system with `observer` and prints the report; the exit code says
+/// whether it completed, failed or was stopped.
+fn run_system(
+    config: &SupervisorConfig,
+    out: &mut ResultDir,
+    interrupt: &Interrupt,
+    observer: &mut dyn RunObserver,
+) -> Result<learnpnp::multiprocess::report::Report> {
+    let report = supervise(config, out, interrupt.flag(), observer)?;
     let summary = &report.summary;
     print!("{}", report.latency_table());
     if let Some(e) = &summary.experiment {
@@ -152,8 +226,26 @@ fn run(args: Args) -> Result<ExitCode> {
     }
     println!(
         "results in {}: summary.json, curve.csv, curve.svg, episodes.csv, latency.svg, latency/*.hgrm, values*.bin, runs/*/ (logs, checkpoints)",
-        args.out.display()
+        out.path().display()
     );
+    Ok(report)
+}
+
+fn run(args: RunArgs) -> Result<ExitCode> {
+    let interrupt = Interrupt::install().context("installing the signal handlers")?;
+    let (config, mut out) = prepare(&args, DEFAULT_EPISODES)?;
+    let per_run = config.spec.protocol.episodes;
+    let bar = progress_bar(per_run * config.spec.protocol.runs as u64);
+    let mut progress = Progress(|run: usize, episodes: u64| {
+        if let Some(bar) = &bar {
+            bar.set_position(run as u64 * per_run + episodes);
+        }
+    });
+    let report = run_system(&config, &mut out, &interrupt, &mut progress)?;
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    let summary = report.summary;
     Ok(if let Some(failure) = &summary.failure {
         eprintln!("error: {failure}");
         ExitCode::FAILURE
@@ -168,9 +260,82 @@ fn run(args: Args) -> Result<ExitCode> {
     })
 }
 
+fn soak(args: SoakArgs) -> Result<ExitCode> {
+    if args.duration.is_none() && args.cycles.is_none() {
+        bail!("a soak needs --duration SECONDS or --cycles N");
+    }
+    let interrupt = Interrupt::install().context("installing the signal handlers")?;
+    let (mut config, mut out) = prepare(&args.run, UNBOUNDED_EPISODES)?;
+    let chaos = match (args.chaos, args.duration) {
+        (Some(seed), Some(duration)) => {
+            config.restart_simulator = true;
+            let chaos = Chaos::new(seed, Duration::from_secs(duration), config.clock);
+            for (at, kind) in chaos.schedule() {
+                eprintln!("chaos: {kind:?} at {at:.1} s");
+            }
+            Some(chaos)
+        }
+        (Some(_), None) => bail!("--chaos needs --duration (the faults are spread over it)"),
+        (None, _) => None,
+    };
+    let limits = SoakLimits {
+        duration: args.duration.map(Duration::from_secs),
+        cycles: args.cycles,
+    };
+    let mut observer = Soak::new(limits, chaos);
+    run_system(&config, &mut out, &interrupt, &mut observer)?;
+    let Some(report) = observer.report() else {
+        bail!("the soak ended without a report");
+    };
+    for fault in &report.faults {
+        println!(
+            "fault at {:.1} s: {}: {} ({})",
+            fault.time,
+            fault.kind,
+            fault.outcome,
+            if fault.survived { "survived" } else { "NOT survived" }
+        );
+    }
+    println!("soak verdict: {}", report.verdict);
+    Ok(if report.passed {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
+fn bench(args: BenchArgs) -> Result<ExitCode> {
+    let interrupt = Interrupt::install().context("installing the signal handlers")?;
+    let (config, mut out) = prepare(&args.run, UNBOUNDED_EPISODES)?;
+    let table = bench_latency(
+        &config,
+        &configurations(&args.strategies),
+        Duration::from_secs(args.seconds),
+        &mut out,
+        interrupt.flag(),
+    )?;
+    print!("{table}");
+    println!(
+        "results in {}: latency.json, latency.txt, latency.svg, latency/*.hgrm",
+        out.path().display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
 fn main() -> ExitCode {
     iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
-    match run(Args::parse()) {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => run(cli.run),
+        Some(Command::Run(args)) => run(args),
+        Some(Command::Soak(args)) => soak(args),
+        Some(Command::BenchLatency(args)) => bench(args),
+        Some(Command::PublishGarbage(args)) => Namespace::from_prefix(&args.ipc_prefix)
+            .map_err(anyhow::Error::from)
+            .and_then(|ns| publish_garbage(&ns, args.run_id).map_err(anyhow::Error::msg))
+            .map(|()| ExitCode::SUCCESS),
+    };
+    match result {
         Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e:#}");

@@ -30,6 +30,15 @@ use crate::learning::EpisodeStart;
 use crate::learning::persist::{self, PlanLabels, SavedValues};
 use crate::plan::Plan;
 
+/// Writes a line to the agent's log (its stderr). Unlike `eprintln!` it does
+/// not panic when the write fails: a full disk must not kill the agent.
+macro_rules! report {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 /// The name of keeper `k`'s compute-time histogram.
 pub fn compute_histogram(k: usize) -> String {
     format!("compute-keeper{}", k + 1)
@@ -139,7 +148,7 @@ fn load_checkpoint(path: &Path, plan: &Plan) -> Result<SavedValues, ProcessError
             let prev = persist::prev_path(path);
             let saved = persist::load(&prev)
                 .map_err(|_| ProcessError::CannotResume(format!("{problem} (and no usable {})", prev.display())))?;
-            eprintln!(
+            report!(
                 "error: {problem}; resuming from the previous checkpoint {}",
                 prev.display()
             );
@@ -230,7 +239,7 @@ impl Agent {
                 Ok(()) => self.pacemaker.pulse.checkpoints += 1,
                 Err(e) => {
                     self.pacemaker.pulse.checkpoint_failures += 1;
-                    eprintln!("error: checkpoint not written, the previous one is kept: {e}");
+                    report!("error: checkpoint not written, the previous one is kept: {e}");
                 }
             }
         }
@@ -238,10 +247,10 @@ impl Agent {
         match self.compute.to_bytes() {
             Ok(bytes) => {
                 if let Err(e) = crate::atomic_file::write_atomic(&file, &bytes) {
-                    eprintln!("error: {}: {e}", file.display());
+                    report!("error: {}: {e}", file.display());
                 }
             }
-            Err(e) => eprintln!("error: {e}"),
+            Err(e) => report!("error: {e}"),
         }
     }
 

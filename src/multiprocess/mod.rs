@@ -15,10 +15,14 @@
 //! See docs/ARCHITECTURE.md for one snapshot's way through the processes.
 
 pub mod agent;
+pub mod bench_latency;
+pub mod chaos;
 pub mod journal;
 pub mod launch;
+pub mod load;
 pub mod report;
 pub mod simulator;
+pub mod soak;
 pub mod supervisor;
 
 use std::path::PathBuf;

@@ -233,15 +233,26 @@ pub struct RunView<'a> {
     pub run_id: u64,
     /// The processes alive now, with their ids.
     pub processes: Vec<(Role, u32)>,
+    /// The last heartbeat of each process alive now.
+    pub pulses: Vec<Pulse>,
     /// The current simulator's last heartbeat.
     pub simulator: Option<&'a Pulse>,
+}
+
+/// What an observer asks of the supervisor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Request {
+    /// Stop the run (as Ctrl-C does).
+    Stop,
+    /// Send `order` to `target` on the supervisor's control port.
+    Order(Order, Role),
 }
 
 /// Watches supervised runs from the supervisor's loop (about every 10 ms):
 /// progress bars, soak sampling, fault injection.
 pub trait RunObserver {
-    /// Looks at the run; `false` asks it to stop (as Ctrl-C does).
-    fn observe(&mut self, view: &RunView<'_>) -> bool;
+    /// Looks at the run; returns what it asks of the supervisor (usually nothing).
+    fn observe(&mut self, view: &RunView<'_>) -> Vec<Request>;
 
     /// Adds the observer's files to the result set before it is published.
     fn finish(
@@ -257,11 +268,11 @@ pub trait RunObserver {
 pub struct Progress<F: Fn(usize, u64)>(pub F);
 
 impl<F: Fn(usize, u64)> RunObserver for Progress<F> {
-    fn observe(&mut self, view: &RunView<'_>) -> bool {
+    fn observe(&mut self, view: &RunView<'_>) -> Vec<Request> {
         if let Some(pulse) = view.simulator {
             (self.0)(view.run, pulse.episodes);
         }
-        true
+        Vec::new()
     }
 }
 
@@ -278,6 +289,8 @@ struct Watch<'a> {
     faults: Vec<Fault>,
     restarts: [u32; NUM_KEEPERS],
     simulator_restarts: u32,
+    /// The run was asked to stop (a signal, or an observer).
+    stop_requested: bool,
     resumes: Vec<PendingResume>,
     control_sequence: u64,
 }
@@ -389,8 +402,8 @@ impl Watch<'_> {
         Ok(())
     }
 
-    fn may_restart_simulator(&self, stop: &AtomicBool) -> bool {
-        self.config.restart_simulator && !stop.load(Ordering::Relaxed)
+    fn may_restart_simulator(&self) -> bool {
+        self.config.restart_simulator && !self.stop_requested
     }
 
     /// Replaces the simulator after it `what`: the new one continues from its
@@ -424,18 +437,29 @@ impl Watch<'_> {
             work_dir: &self.context.work_dir,
             run_id: self.context.run_id,
             processes: self.fleet.processes.iter().map(|(role, p)| (*role, p.pid())).collect(),
+            pulses: self
+                .fleet
+                .processes
+                .iter()
+                .filter_map(|(role, p)| self.pulses.get(&(*role, p.pid())).copied())
+                .collect(),
             simulator,
         }
     }
 
     /// Watches until the simulator exits; restarts agents on the way.
     fn watch(&mut self, stop: &AtomicBool, observer: &mut dyn RunObserver) -> Result<ExitStatus, SupervisorError> {
-        let mut stop_sent = false;
         loop {
             self.heartbeats()?;
-            let go_on = observer.observe(&self.view());
-            if !stop_sent && (stop.load(Ordering::Relaxed) || !go_on) {
-                stop_sent = true;
+            let mut go_on = true;
+            for request in observer.observe(&self.view()) {
+                match request {
+                    Request::Stop => go_on = false,
+                    Request::Order(order, target) => self.order(order, Some(target))?,
+                }
+            }
+            if !self.stop_requested && (stop.load(Ordering::Relaxed) || !go_on) {
+                self.stop_requested = true;
                 self.order(Order::Stop, Some(Role::Simulator))?;
                 let why = if go_on {
                     "stop requested (signal)"
@@ -453,7 +477,7 @@ impl Watch<'_> {
             for (role, status) in exited {
                 self.fleet.processes.remove(&role);
                 match role {
-                    Role::Simulator if !status.success() && self.may_restart_simulator(stop) => {
+                    Role::Simulator if !status.success() && self.may_restart_simulator() => {
                         self.restart_simulator(format!("the simulator exited: {}", describe(status)))?;
                     }
                     Role::Simulator => return Ok(status),
@@ -487,7 +511,7 @@ impl Watch<'_> {
                         describe(status)
                     );
                     match role {
-                        Role::Simulator if self.may_restart_simulator(stop) => self.restart_simulator(what)?,
+                        Role::Simulator if self.may_restart_simulator() => self.restart_simulator(what)?,
                         Role::Simulator => {
                             self.fault(what.clone(), "run given up".into());
                             return Err(SupervisorError::Failed(what));
@@ -649,6 +673,7 @@ fn run_in(
         faults: Vec::new(),
         restarts: [0; NUM_KEEPERS],
         simulator_restarts: 0,
+        stop_requested: false,
         resumes: Vec::new(),
         control_sequence: 0,
     };
@@ -682,7 +707,7 @@ fn run_in(
         }
     };
     let failure = failure.or_else(|| {
-        let stopped = stop.load(Ordering::Relaxed);
+        let stopped = watch.stop_requested;
         sim.error
             .clone()
             .filter(|_| !stopped)
