@@ -12,5 +12,5 @@ mod world;
 
 pub use actions::{decision_name, goto_name, registry};
 pub use agent::{MAX_STEPS_PER_CYCLE, PlanKeeper};
-pub use task::{FixedPolicy, KeepawayDomainConfig, KeepawayMode, KeepawayTask, POSITIONING_TAKER_THRESHOLD};
+pub use task::{FixedPolicy, KeepawayDomainConfig, KeepawayMode, KeepawayTask};
 pub use world::{ATOMS, KeeperWorld, atoms};

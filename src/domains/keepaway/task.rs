@@ -17,8 +17,8 @@ use crate::keepaway::params::{KeepawayConfig, VisionMode};
 use crate::keepaway::perception::{PlayerId, perceive};
 use crate::keepaway::policies::{BaselinePolicy, DEFAULT_HOLD_THRESHOLD};
 use crate::keepaway::simulator::Simulator;
-use crate::keepaway::taker::taker_command;
-use crate::keepaway::world::{NUM_KEEPERS, NUM_PLAYERS, Side};
+use crate::keepaway::taker::{TakerMemory, taker_command};
+use crate::keepaway::world::{NUM_KEEPERS, NUM_PLAYERS, NUM_TAKERS, Side};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};
 use crate::plan::{Plan, Vocabulary, catalog};
 use crate::rng::{SimRng, derive_seed};
@@ -73,24 +73,13 @@ impl Default for KeepawayDomainConfig {
     }
 }
 
-/// The ball policy's threshold in the positioning experiment: the framework's
-/// "a taker is near" radius (its hand-coded policy holds beyond 5 m). With it
-/// the best fixed positions keep the ball about 26 s in our simulator, against
-/// about 12 s with the 3.085 m that suits get-open (docs/results/RESULTS.md).
-pub const POSITIONING_TAKER_THRESHOLD: f64 = 5.0;
-
 impl KeepawayDomainConfig {
-    /// The defaults of `mode`: the positioning experiment passes earlier
-    /// ([`POSITIONING_TAKER_THRESHOLD`]).
+    /// The defaults of `mode`.
     pub fn for_mode(mode: KeepawayMode) -> Self {
-        let mut config = KeepawayDomainConfig {
+        KeepawayDomainConfig {
             mode,
             ..KeepawayDomainConfig::default()
-        };
-        if mode == KeepawayMode::Position {
-            config.thresholds.closest_taker = POSITIONING_TAKER_THRESHOLD;
         }
-        config
     }
 
     /// The simulator's configuration.
@@ -140,6 +129,7 @@ pub struct KeepawayTask {
     keepers: Vec<PlanKeeper>,
     fixed: BaselinePolicy,
     memories: [KeeperMemory; NUM_KEEPERS],
+    takers: [TakerMemory; NUM_TAKERS],
     traced: Vec<(String, usize, StateKey)>,
 }
 
@@ -190,6 +180,7 @@ impl KeepawayTask {
             sim,
             keepers,
             memories: [KeeperMemory::default(); NUM_KEEPERS],
+            takers: [TakerMemory::default(); NUM_TAKERS],
             traced,
         })
     }
@@ -198,6 +189,7 @@ impl KeepawayTask {
     fn play(&mut self, start: EpisodeStart) -> Result<EpisodeOutcome, ExecError> {
         self.sim.reset();
         self.memories = [KeeperMemory::default(); NUM_KEEPERS];
+        self.takers = [TakerMemory::default(); NUM_TAKERS];
         for k in &mut self.keepers {
             k.begin_episode(start);
         }
@@ -210,7 +202,7 @@ impl KeepawayTask {
                 let Some(id) = PlayerId::new(i) else { continue };
                 let view = perceive(&world, id, &cfg);
                 *command = match id.side() {
-                    Side::Takers => taker_command(&view, &cfg),
+                    Side::Takers => taker_command(&view, &cfg, &mut self.takers[id.index_in_team()]),
                     Side::Keepers => {
                         let k = id.index_in_team();
                         match self.keepers.get_mut(k) {
