@@ -5,7 +5,7 @@
 
 use super::geometry::{Vec2, normalize_deg, quantize};
 use super::params::{KeepawayConfig, VisionMode};
-use super::world::{NUM_PLAYERS, Side, World};
+use super::world::{NUM_KEEPERS, NUM_PLAYERS, Side, World};
 use serde::{Deserialize, Serialize};
 
 /// A valid global player index (`0..NUM_PLAYERS`; keepers first, then takers).
@@ -36,6 +36,17 @@ impl From<PlayerId> for u8 {
 }
 
 impl PlayerId {
+    /// The keepers, in team order.
+    pub const KEEPERS: [PlayerId; NUM_KEEPERS] = {
+        let mut ids = [PlayerId(0); NUM_KEEPERS];
+        let mut k = 0;
+        while k < NUM_KEEPERS {
+            ids[k] = PlayerId(k as u8);
+            k += 1;
+        }
+        ids
+    };
+
     /// The id of global index `i`, if it is in range.
     pub fn new(i: usize) -> Option<PlayerId> {
         u8::try_from(i).ok().and_then(|i| PlayerId::try_from(i).ok())

@@ -44,10 +44,12 @@ pub fn taker_command(view: &PlayerView, cfg: &KeepawayConfig, memory: &mut Taker
         return hold_ball(view, cfg, cfg.skills.taker_hold_ratio);
     }
     let mut players = mates.clone().chain(view.side().opponent().indices());
-    if let Some((closest, d)) = closest_of(&mut players) {
-        if closest != me && mates.contains(&closest) && d < cfg.server.kickable_distance() {
-            return turn_to_ball(view, cfg);
-        }
+    if let Some((closest, d)) = closest_of(&mut players)
+        && closest != me
+        && mates.contains(&closest)
+        && d < cfg.server.kickable_distance()
+    {
+        return turn_to_ball(view, cfg);
     }
     intercept(view, cfg, &mut memory.intercept)
 }

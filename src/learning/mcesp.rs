@@ -155,7 +155,7 @@ impl Learner for Mcesp {
         self.learning = start.learning();
         self.greedy = start.greedy();
         self.explored = false;
-        if self.learning && self.episode > 0 && self.episode % self.config.stage_length.max(1) == 0 {
+        if self.learning && self.episode > 0 && self.episode.is_multiple_of(self.config.stage_length.max(1)) {
             self.end_stage();
         }
     }

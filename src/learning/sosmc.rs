@@ -182,7 +182,7 @@ impl SoSmc {
         match c.assessment {
             Assessment::Never => Kind::Exploit,
             Assessment::PerDecision => Kind::PerDecision,
-            Assessment::EveryN(n) if n > 0 && (since + 1) % n == 0 => Kind::Explore,
+            Assessment::EveryN(n) if n > 0 && (since + 1).is_multiple_of(n) => Kind::Explore,
             Assessment::AfterK(k) if self.exploit_streak >= k => Kind::Explore,
             _ => Kind::Exploit,
         }

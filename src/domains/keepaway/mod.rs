@@ -7,10 +7,14 @@
 
 mod actions;
 mod agent;
+mod config;
 mod task;
+mod team;
 mod world;
 
 pub use actions::{decision_name, goto_name, registry};
 pub use agent::{MAX_STEPS_PER_CYCLE, PlanKeeper};
-pub use task::{FixedPolicy, KeepawayDomainConfig, KeepawayMode, KeepawayTask};
+pub use config::{FixedPolicy, KeepawayDomainConfig, KeepawayMode};
+pub use task::{KeepawayTask, RunSeeds};
+pub use team::{KeeperTeam, LocalTeam, TeamStep};
 pub use world::{ATOMS, KeeperWorld, atoms};

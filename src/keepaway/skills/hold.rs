@@ -44,16 +44,16 @@ pub fn hold_ball(view: &PlayerView, cfg: &KeepawayConfig, ratio: f64) -> Command
         .map(|(_, o)| (o, o.pos.dist(view.ball.pos)))
         .min_by(|a, b| a.1.total_cmp(&b.1));
     let mut ang_rel = 0.0;
-    if let Some((opp, d)) = closest {
-        if d < cfg.skills.hold_opponent_radius {
-            let away = (me.pos - opp.pos).dir();
-            let sign = if normalize_deg(opp.body - away) > 0.0 {
-                -1.0
-            } else {
-                1.0
-            };
-            ang_rel = normalize_deg(away + sign * 45.0 - me.body);
-        }
+    if let Some((opp, d)) = closest
+        && d < cfg.skills.hold_opponent_radius
+    {
+        let away = (me.pos - opp.pos).dir();
+        let sign = if normalize_deg(opp.body - away) > 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        ang_rel = normalize_deg(away + sign * 45.0 - me.body);
     }
     let in_place = me.pos + Vec2::polar(ratio, view.side().frame_dir() + ang_rel);
     if view.ball.pos.dist(in_place) < cfg.skills.hold_tolerance {
