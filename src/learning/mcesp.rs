@@ -29,6 +29,7 @@ pub struct McespConfig {
     /// Smallest step size.
     pub alpha_min: f64,
     /// Value of unseen pairs.
+    #[serde(with = "crate::json_float")]
     pub initial_value: f64,
 }
 

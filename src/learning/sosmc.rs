@@ -84,6 +84,7 @@ pub struct SoSmcConfig {
     /// Step size of exploiting updates.
     pub step_size: StepSize,
     /// Initial value: negative infinity (pessimistic: no estimate) or an optimistic bound.
+    #[serde(with = "crate::json_float")]
     pub initial_value: f64,
     /// The optional threshold rule.
     pub threshold: Option<ThresholdRule>,
