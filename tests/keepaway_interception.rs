@@ -161,17 +161,26 @@ fn the_fastest_teammate_is_the_one_who_gets_there_first() {
     for k in 0..3 {
         assert_eq!(fastest_teammate(&view(&w, k, &cfg), &cfg), Some(0), "seen by {k}");
     }
-    // A taker stands on the ball's path 3 m from keeper 0's spot; the ball is
-    // stopped there first, so the fastest keeper is the one fastest to that point
-    // (keeper 2, at (4, -4)), and supporters expect the pass from there.
-    let mut w = alone(0, 0.0, Vec2::new(-3.0, 0.0), Vec2::new(1.5, 0.0));
+    // The ball rolls along y = 0 towards keeper 1, who stands 1 m off its path
+    // at x = 8: it is the fastest. With a taker on the path at x = 0.5, the
+    // taker stops the ball first, so the fastest keeper is the one fastest to
+    // where the taker gets it: keeper 2, 4 m away, for every keeper's view.
+    let mut w = alone(0, 0.0, Vec2::new(-3.0, 0.0), Vec2::new(2.0, 0.0));
     w.players[0] = player(-9.0, 9.0, 0.0);
-    w.players[2] = player(4.0, -4.0, 90.0);
-    w.players[3] = player(0.5, 0.0, 180.0);
-    let v = view(&w, 1, &cfg);
-    assert_eq!(fastest_teammate(&v, &cfg), Some(2));
-    let origin = pass_origin(&v, Some(2), &cfg);
-    assert!(origin.dist(w.ball.pos) < 8.0);
+    w.players[1] = player(8.0, 1.0, -90.0);
+    w.players[2] = player(0.0, -4.0, 90.0);
+    w.players[3] = player(-9.0, -9.0, 180.0);
+    for k in 0..3 {
+        assert_eq!(fastest_teammate(&view(&w, k, &cfg), &cfg), Some(1), "seen by {k}");
+    }
+    w.players[3] = player(0.5, 0.3, 180.0);
+    for k in 0..3 {
+        let v = view(&w, k, &cfg);
+        assert_eq!(fastest_teammate(&v, &cfg), Some(2), "seen by {k}");
+        // Supporters expect the pass from where keeper 2 would reach the ball
+        // rolling on (the framework's keeperSupport ignores the taker there).
+        assert!(pass_origin(&v, Some(2), &cfg).x > 8.0);
+    }
 }
 
 #[test]
