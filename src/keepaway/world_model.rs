@@ -18,12 +18,20 @@ use super::perception::PlayerView;
 /// - a ball seen faster than `(1 + ball_rand) x ball_speed_max` is slowed to
 ///   `ball_speed_max`.
 ///
-/// The framework's prediction between see messages
-/// (`updateDynamicObjectForNextCycle`) stops the ball in the same way; views here
-/// arrive every cycle, so only the see-message rule applies. The world model's
-/// other corrections concern goalie catches and set plays, which keepaway does not
-/// have, and the filtering of noisy velocity estimates, which full-state views do
-/// not need.
+/// Where this differs from the framework's player, and why:
+/// - views here arrive every cycle; the framework's 360-degree see messages come
+///   every 150 ms (1.5 cycles), and its world model predicts the cycles between
+///   (`updateDynamicObjectForNextCycle`, which stops the ball in the same way,
+///   and moves the opponent fastest to the ball 0.3 m towards it), and its
+///   estimates count the cycles since the last see (`predictNrCyclesToPoint`);
+/// - the players do not talk: the framework's keepers and takers say where the
+///   ball and the closest opponent are, which adds nothing to views of the whole
+///   field every cycle;
+/// - the world model's filtering of noisy velocity estimates and its own
+///   localisation are not modelled (full-state views need neither; quantised
+///   views are taken as they come, see [`super::perception::perceive`]);
+/// - its other corrections concern goalie catches and set plays, which keepaway
+///   does not have.
 pub fn believed(view: &PlayerView, cfg: &KeepawayConfig) -> PlayerView {
     let sp = &cfg.server;
     let reach = sp.kickable_distance();

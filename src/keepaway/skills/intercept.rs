@@ -27,7 +27,9 @@ fn in_field(p: Vec2) -> bool {
 /// What an interceptor remembers between cycles: the interception point it chose
 /// last, and when (the static variables of `predictCommandToInterceptBall`, one
 /// set per player process). The point is forgotten when the player has not
-/// intercepted for more than two cycles.
+/// intercepted for more than two cycles. Players here start every episode with
+/// an empty memory; the framework's outlives the reset by up to two cycles, when
+/// the ball has jumped to its start point and the old point no longer matters.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct InterceptMemory {
     /// The interception point chosen at the last call.
