@@ -16,22 +16,23 @@ use learnpnp::keepaway::policies::BaselinePolicy;
 use learnpnp::keepaway::{EndReason, KeepawayConfig, VisionMode, run_episode};
 
 /// Plays `n` episodes with a policy made by `make` (from the episode index) and
-/// prints the mean duration, its standard deviation and standard error, and how
-/// many episodes ended with the ball out of the region.
+/// prints the mean duration, its standard deviation and standard error, the
+/// longest episode, and how many episodes ended with the ball out of the region.
 fn report(name: &str, cfg: &KeepawayConfig, n: u64, make: &dyn Fn(u64) -> BaselinePolicy) -> Result<()> {
-    let (mut sum, mut sum_sq, mut out) = (0.0, 0.0, 0u64);
+    let (mut sum, mut sum_sq, mut out, mut longest) = (0.0, 0.0, 0u64, 0.0f64);
     for i in 0..n {
         let mut policy = make(i);
         let o = run_episode(cfg, 1000 + i, &mut policy).context("running an episode")?;
         sum += o.seconds;
         sum_sq += o.seconds * o.seconds;
         out += u64::from(o.end == EndReason::Out);
+        longest = longest.max(o.seconds);
     }
     let count = n as f64;
     let mean = sum / count;
     let sd = (sum_sq / count - mean * mean).max(0.0).sqrt();
     println!(
-        "{name:>28}: {mean:6.2} s  (sd {sd:5.2}, se {:4.2}, {out}/{n} out)",
+        "{name:>28}: {mean:6.2} s  (sd {sd:5.2}, se {:4.2}, longest {longest:6.1} s, {out}/{n} out)",
         sd / count.sqrt()
     );
     Ok(())

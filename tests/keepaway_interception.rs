@@ -187,8 +187,7 @@ fn the_fastest_teammate_is_the_one_who_gets_there_first() {
 fn takers_close_in_and_win_the_ball_from_a_holding_keeper() {
     // Keeper 0 holds the ball in the middle, its teammates far away; the takers
     // start 8 m off. Running in takes about 8 cycles and the referee needs 4
-    // more of taker possession; over these 10 seeds it took 13 to 21 cycles, and
-    // 60 leaves room for a longer struggle.
+    // more of taker possession: 60 cycles leave room for the struggle.
     let cfg = KeepawayConfig {
         max_episode_cycles: Some(60),
         ..KeepawayConfig::default()
@@ -241,9 +240,10 @@ fn takers_close_in_and_win_the_ball_from_a_holding_keeper() {
 }
 
 /// Over whole episodes from the referee's resets, always-holding keepers lose the
-/// ball quickly: over 2000 episodes (seeds 0..2000) the longest lasted 65 cycles.
-/// Every one of 50 must end within 150 cycles (before the framework's world-model
-/// rule was ported, takers turned for ever against a holder shuffling the ball).
+/// ball quickly: over 1000 episodes the longest lasted 6.5 s, 65 cycles
+/// (`cargo run --release --example keepaway_baselines`). Every one of 50 must end
+/// within 150 cycles (without the framework's world-model rule, takers turn back
+/// and forth for ever against a holder shuffling the ball).
 #[test]
 fn always_hold_episodes_are_short() {
     let cfg = KeepawayConfig {

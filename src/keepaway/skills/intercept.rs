@@ -230,6 +230,7 @@ pub fn interception_command(
     // them changes nothing, as an unreachable point changes no choice.
     let acc = sp.max_power * sp.dash_power_rate * sp.effort;
     let (mut step_bound, mut run_bound) = (me.vel.norm() / sp.player_decay, 0.0f64);
+    let mut rolling = ball.vel;
     let mut i = 0i64;
     while i <= horizon && i <= first + 20 && in_field(at) {
         let n = u32::try_from(i).unwrap_or(0);
@@ -237,9 +238,16 @@ pub fn interception_command(
             step_bound = (step_bound * sp.player_decay + acc).min(sp.player_speed_max);
             run_bound += step_bound;
         }
-        let next = ball_pos_after(ball, n, sp);
-        let ball_vel = if i == 0 { ball.vel } else { next - at };
-        at = next;
+        // The ball's position after `i` cycles, and the velocity it arrived with.
+        let ball_vel = if i == 0 {
+            at = ball.pos;
+            ball.vel
+        } else {
+            let v = rolling;
+            at += v;
+            rolling *= sp.ball_decay;
+            v
+        };
         let pred = pos_after(&me, n.min(4), 0.0, sp);
         if pred.dist(at) / sp.player_speed_max > i as f64 + reach || !in_field(at) {
             i += 1;

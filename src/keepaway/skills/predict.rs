@@ -48,9 +48,19 @@ pub enum Estimate {
 /// runaway estimates from absurd views.
 const MAX_SIMULATED_CYCLES: u32 = 200;
 
-/// Sum of the first `n` terms of the geometric series `1 + r + r^2 + ...`.
+/// Sum of the first `n` terms of the geometric series `1 + r + r^2 + ...`
+/// (term by term for the few terms of most predictions).
 fn geom_sum(r: f64, n: u32) -> f64 {
-    (1.0 - r.powi(i32::try_from(n).unwrap_or(i32::MAX))) / (1.0 - r)
+    if n <= 8 {
+        let (mut sum, mut term) = (0.0, 1.0);
+        for _ in 0..n {
+            sum += term;
+            term *= r;
+        }
+        sum
+    } else {
+        (1.0 - r.powi(i32::try_from(n).unwrap_or(i32::MAX))) / (1.0 - r)
+    }
 }
 
 /// Where the ball will be after `n` cycles (`predictPosAfterNrCycles` for the
@@ -94,6 +104,7 @@ impl Mover {
     }
 
     /// `predictStateAfterDash`.
+    #[inline]
     fn dash(&self, power: f64, sp: &ServerParams) -> Mover {
         let mut vel = self.vel;
         if power != 0.0 {
@@ -122,6 +133,7 @@ impl Mover {
     }
 
     /// `predictStateAfterCommand`.
+    #[inline]
     pub(crate) fn after(&self, cmd: Command, sp: &ServerParams) -> Mover {
         match cmd {
             Command::Dash { power } => self.dash(power, sp),
@@ -132,6 +144,7 @@ impl Mover {
     }
 
     /// Position after `n` cycles of dashing with `power`.
+    #[inline]
     fn pos_after(&self, n: u32, power: f64, sp: &ServerParams) -> Vec2 {
         let max = sp.player_speed_max;
         if power == 0.0 && self.vel.norm_sq() <= max * max {
