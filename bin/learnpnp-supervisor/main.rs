@@ -19,6 +19,7 @@ use learnpnp::ipc::wait::WaitStrategy;
 use learnpnp::multiprocess::Clock;
 use learnpnp::multiprocess::launch::Binaries;
 use learnpnp::multiprocess::supervisor::{SupervisorConfig, supervise};
+use learnpnp::result_dir::ResultDir;
 
 /// The Keepaway experiments the system runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -49,9 +50,10 @@ struct Args {
     /// Agents checkpoint their values every this many learning episodes.
     #[arg(long, default_value_t = 100)]
     checkpoint_every: u64,
-    /// Round trips of the iceoryx2 floor measurement in every run.
-    #[arg(long, default_value_t = 20_000)]
-    floor_round_trips: usize,
+    /// Round trips of the iceoryx2 floor measurement in every run (default:
+    /// 20,000 in lock-step, 1,000 five milliseconds apart in real time).
+    #[arg(long)]
+    floor_round_trips: Option<usize>,
     /// Seconds without a heartbeat after which a process is taken as hung.
     #[arg(long, default_value_t = 10)]
     heartbeat_timeout: u64,
@@ -78,6 +80,8 @@ fn run(args: Args) -> Result<ExitCode> {
         .or_defaults(Algorithm::SoftSosmc, DEFAULT_RUNS, DEFAULT_EPISODES)
         .spec(domain)?;
     spec.protocol.validate()?;
+    // Checked and locked before any work.
+    let mut out = ResultDir::open(&args.out)?;
     let wait = args.wait.unwrap_or(match args.mode {
         Clock::Lockstep => WaitStrategy::Yield,
         Clock::Realtime => WaitStrategy::Hybrid,
@@ -93,7 +97,10 @@ fn run(args: Args) -> Result<ExitCode> {
         clock: args.mode,
         wait,
         checkpoint_every: args.checkpoint_every,
-        floor_round_trips: args.floor_round_trips,
+        floor_round_trips: args.floor_round_trips.unwrap_or(match args.mode {
+            Clock::Lockstep => 20_000,
+            Clock::Realtime => 1_000,
+        }),
         heartbeat_timeout: Duration::from_secs(args.heartbeat_timeout),
         max_restarts: args.max_restarts,
         binaries: Binaries::beside_current_exe()?,
@@ -129,7 +136,7 @@ fn run(args: Args) -> Result<ExitCode> {
     } else {
         None
     };
-    let report = supervise(&config, &args.out, &stop, &|episodes| {
+    let report = supervise(&config, &mut out, &stop, &|episodes| {
         if let Some(bar) = &bar {
             bar.set_position(episodes);
         }

@@ -1,5 +1,6 @@
 //! Commands that inspect files: check, dot, convert, plot, values.
 
+use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -8,21 +9,27 @@ use clap::Args;
 use learnpnp::analysis;
 use learnpnp::dot::to_dot;
 use learnpnp::experiment::plot::{Series, plot_curves, read_curve_csv};
+use learnpnp::experiment::ranges::CountRange;
 use learnpnp::learning::persist;
 use learnpnp::plan::{Vocabulary, load_plan};
 use learnpnp::pnml::{self, Dialect};
+use learnpnp::result_dir::{self, Contents};
+use learnpnp::schema;
 
 #[derive(Args, Debug)]
 pub struct CheckArgs {
-    /// The plan file (PNML).
+    /// The plan file (PNML), or a plan schema (.schema).
     plan: PathBuf,
-    /// Most reachable markings to explore.
-    #[arg(long, default_value_t = 100_000)]
+    /// Most reachable markings to explore (at least 1).
+    #[arg(long, allow_hyphen_values = true, default_value_t = analysis::DEFAULT_LIMIT, value_parser = |s: &str| CountRange::new(1, u64::MAX).parse_usize(s))]
     limit: usize,
 }
 
 /// Exit 0: loads and passes; 1: loads and fails a check; 2: cannot be read.
 pub fn check(args: &CheckArgs) -> ExitCode {
+    if schema::is_schema_path(&args.plan) {
+        return check_schema(args);
+    }
     let plan = match load_plan(&args.plan, Vocabulary::Open) {
         Ok(plan) => plan,
         Err(e) => {
@@ -31,23 +38,48 @@ pub fn check(args: &CheckArgs) -> ExitCode {
         }
     };
     let report = analysis::check(&plan, args.limit);
-    print!("{report}");
-    if report.passed() {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(1)
+    print_report(&report, report.passed())
+}
+
+/// Prints a check report (a closed pipe is no error); exit 0 if it passed, 1 if not.
+fn print_report(report: &dyn std::fmt::Display, passed: bool) -> ExitCode {
+    match write!(std::io::stdout().lock(), "{report}") {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+        _ if passed => ExitCode::SUCCESS,
+        _ => ExitCode::from(1),
     }
+}
+
+/// A schema's checks (`schema::check_report`), with the same exit codes.
+fn check_schema(args: &CheckArgs) -> ExitCode {
+    let process = match schema::load_process(&args.plan, Vocabulary::Open) {
+        Ok(process) => process,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let (report, passed) = schema::check_report(&process);
+    print_report(&report, passed)
 }
 
 #[derive(Args, Debug)]
 pub struct DotArgs {
-    /// The plan file (PNML).
+    /// The plan file (PNML), or a plan schema (.schema: its process is drawn).
     plan: PathBuf,
 }
 
 pub fn dot(args: &DotArgs) -> Result<()> {
+    if schema::is_schema_path(&args.plan) {
+        let dot = schema::to_dot(&schema::load_process(&args.plan, Vocabulary::Open)?);
+        write!(std::io::stdout().lock(), "{dot}")?;
+        return Ok(());
+    }
     let plan = load_plan(&args.plan, Vocabulary::Open)?;
-    print!("{}", to_dot(&plan));
+    write!(std::io::stdout().lock(), "{}", to_dot(&plan))?;
     Ok(())
 }
 
@@ -98,8 +130,20 @@ pub fn plot(args: &PlotArgs) -> Result<()> {
         .dirs
         .iter()
         .map(|dir| {
+            let mut label = label_of(dir);
+            if let Contents::Results(m) = result_dir::contents(dir)?
+                && !m.complete
+            {
+                eprintln!(
+                    "note: {} is a partial result ({} of {} runs)",
+                    dir.display(),
+                    m.runs_completed,
+                    m.runs_planned
+                );
+                label.push_str(&format!(" (partial: {} of {} runs)", m.runs_completed, m.runs_planned));
+            }
             Ok(Series {
-                label: label_of(dir),
+                label,
                 points: read_curve_csv(&dir.join("curve.csv"))?,
             })
         })

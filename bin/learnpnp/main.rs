@@ -5,6 +5,7 @@
 mod experiment;
 mod inspect;
 mod reproduce;
+mod schema;
 
 use std::process::ExitCode;
 
@@ -37,6 +38,51 @@ enum Command {
     Plot(inspect::PlotArgs),
     /// Print a saved value table as CSV.
     Values(inspect::ValuesArgs),
+    /// Print the controllable process constructed from a plan schema (thesis chapter 3).
+    Schema(schema::SchemaArgs),
+}
+
+/// An experiment stopped by a signal: its message, and the exit status
+/// (128 + the signal's number).
+#[derive(Debug)]
+pub struct Interrupted {
+    /// The exit status.
+    pub status: u8,
+    /// What was kept and how to continue.
+    pub message: String,
+}
+
+impl std::fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for Interrupted {}
+
+/// An error and its causes on one line, each cause once: a cause whose text
+/// its parent already shows (`path: error` wrapping `error`) is skipped.
+fn describe(error: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in error.chain() {
+        let part = cause.to_string();
+        if !text.contains(&part) {
+            if !text.is_empty() {
+                text.push_str(": ");
+            }
+            text.push_str(&part);
+        }
+    }
+    text
+}
+
+/// Whether the error is a write to a closed pipe (`learnpnp values f | head`):
+/// the reader has all it wanted, which is no failure.
+fn is_broken_pipe(error: &anyhow::Error) -> bool {
+    error
+        .chain()
+        .filter_map(|c| c.downcast_ref::<std::io::Error>())
+        .any(|e| e.kind() == std::io::ErrorKind::BrokenPipe)
 }
 
 fn main() -> ExitCode {
@@ -49,13 +95,21 @@ fn main() -> ExitCode {
         Some(Command::Reproduce(args)) => reproduce::run(&args),
         Some(Command::Plot(args)) => inspect::plot(&args),
         Some(Command::Values(args)) => inspect::values(&args),
+        Some(Command::Schema(args)) => schema::run(&args),
         None => reproduce::run(&reproduce::ReproduceArgs::default()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            ExitCode::from(2)
-        }
+        Err(e) => match e.downcast_ref::<Interrupted>() {
+            Some(interrupted) => {
+                eprintln!("{interrupted}");
+                ExitCode::from(interrupted.status)
+            }
+            None if is_broken_pipe(&e) => ExitCode::SUCCESS,
+            None => {
+                eprintln!("error: {}", describe(&e));
+                ExitCode::from(2)
+            }
+        },
     }
 }

@@ -15,7 +15,7 @@
 
 use super::choice::choice_points;
 use super::count::{self, OMEGA, Tri};
-use super::reachability::{Reachability, StateId, enabled, explore};
+use super::reachability::{MEMORY_LIMIT, Reachability, StateId, enabled, explore};
 use super::report::{CheckReport, Element, Example, Failure, Note, PlaceBound, Property, ReportedChoice, Verdict};
 use crate::net::{PlaceId, TransitionId};
 use crate::plan::Plan;
@@ -23,7 +23,8 @@ use crate::plan::Plan;
 /// How many example markings a failure lists.
 const MAX_EXAMPLES: usize = 3;
 
-/// Explores `plan` (at most `limit` markings) and checks every property.
+/// Explores `plan` (at most `limit` markings, fewer for plans too large for
+/// [`MEMORY_LIMIT`]) and checks every property.
 pub fn check(plan: &Plan, limit: usize) -> CheckReport {
     let graph = explore(plan, limit);
     let bounds: Vec<PlaceBound> = graph
@@ -42,10 +43,20 @@ pub fn check(plan: &Plan, limit: usize) -> CheckReport {
         .collect();
     let mut failures = Vec::new();
     let mut notes = Vec::new();
-    let incomplete = format!(
-        "the marking limit of {} was reached before every marking was explored",
-        graph.limit()
-    );
+    let incomplete = if graph.limit() < limit {
+        format!(
+            "the marking limit, lowered to {} so that markings of {} places fit in {} MiB, \
+             was reached before every marking was explored",
+            graph.limit(),
+            plan.net().places().len(),
+            MEMORY_LIMIT >> 20
+        )
+    } else {
+        format!(
+            "the marking limit of {} was reached before every marking was explored",
+            graph.limit()
+        )
+    };
     let checker = Checker {
         plan,
         graph: &graph,

@@ -2,10 +2,12 @@
 //! and SVG results.
 
 pub mod args;
+pub mod checkpoint;
 pub mod defaults;
 pub mod output;
 pub mod plot;
 pub mod presets;
+pub mod ranges;
 pub mod runner;
 pub mod spec;
 pub mod stats;

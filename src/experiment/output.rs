@@ -1,17 +1,19 @@
 //! Writing an experiment's results: CSV files, a JSON summary, SVG plots and
-//! the learned values of run 0.
+//! the learned values of run 0, published as one set in a
+//! [`ResultDir`].
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use serde::Serialize;
 
+use super::checkpoint;
 use super::plot::{self, CurvePoint, Series};
 use super::runner::ExperimentOutput;
 use super::spec::{ExperimentError, ExperimentSpec};
 use super::stats::{Summary, summarize};
-use crate::atomic_file::write_atomic;
 use crate::learning::persist;
+use crate::result_dir::{Progress, ResultDir, ResultWriter};
 
 /// One named series of (episode, value) points.
 type Scatter = (String, Vec<(f64, f64)>);
@@ -40,6 +42,11 @@ pub struct SummaryFile {
     /// Keepaway: simulated cycles per second over learning episodes.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cycles_per_second: Option<f64>,
+    /// Whether every planned run completed; false for an interrupted
+    /// experiment, whose figures are over the runs it completed.
+    pub complete: bool,
+    /// The runs the figures are over.
+    pub runs_completed: usize,
 }
 
 /// The curve: mean and 95% CI over runs at each evaluation point.
@@ -74,14 +81,9 @@ pub fn summary(output: &ExperimentOutput) -> SummaryFile {
         actions_per_second: output.total_actions() as f64 / wall,
         cycles_per_second: matches!(output.spec.domain, crate::experiment::spec::DomainSpec::Keepaway { .. })
             .then(|| output.total_actions() as f64 / wall),
+        complete: output.is_complete(),
+        runs_completed: output.runs.len(),
     }
-}
-
-fn write_text(path: &Path, text: &str) -> Result<(), ExperimentError> {
-    write_atomic(path, text.as_bytes()).map_err(|source| ExperimentError::Io {
-        path: path.to_path_buf(),
-        source,
-    })
 }
 
 /// The curve as a plottable series.
@@ -100,26 +102,46 @@ pub fn series(output: &ExperimentOutput) -> Series {
     }
 }
 
-/// Writes every result file of `output` into `dir` (created if needed) and returns the summary.
-pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFile, ExperimentError> {
-    let io = |path: PathBuf| move |source| ExperimentError::Io { path, source };
-    std::fs::create_dir_all(dir).map_err(io(dir.to_path_buf()))?;
+/// Writes every result file of `output` into `dir` as one set (see
+/// [`crate::result_dir`]: the previous set is replaced whole) and returns the
+/// summary. The output of an interrupted experiment is written as a partial
+/// result: its figures are over the completed runs, `summary.json` says
+/// `"complete": false`, and [`checkpoint::CHECKPOINT`] keeps the runs for `--resume`.
+pub fn write_results(output: &ExperimentOutput, dir: &mut ResultDir) -> Result<SummaryFile, ExperimentError> {
+    let mut files = dir.writer()?;
+    let summary = stage_results(output, &mut files)?;
+    let json = serde_json::to_string_pretty(&summary).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+    files.add_text("summary.json", &json)?;
+    if !output.is_complete() {
+        files.add_bytes(checkpoint::CHECKPOINT, &checkpoint::encode(output)?)?;
+    }
+    files.commit(Progress {
+        completed: output.runs.len() as u64,
+        planned: output.spec.protocol.runs as u64,
+    })?;
+    Ok(summary)
+}
 
+/// Writes every result file of `output` but `summary.json` into `files`
+/// (nothing is committed) and returns the summary: [`write_results`] writes it
+/// as `summary.json`, a caller with a summary of its own (the multi-process
+/// supervisor) embeds it there.
+pub fn stage_results(output: &ExperimentOutput, files: &mut ResultWriter<'_>) -> Result<SummaryFile, ExperimentError> {
     let mut text = String::from("episode,mean,ci_low,ci_high,runs\n");
     for (episode, s) in curve(output) {
         let _ = writeln!(text, "{episode},{},{},{},{}", s.mean, s.ci_low, s.ci_high, s.n);
     }
-    write_text(&dir.join("curve.csv"), &text)?;
+    files.add_text("curve.csv", &text)?;
 
     let mut text = String::from("run,episode,score,greedy\n");
-    for (run, r) in output.runs.iter().enumerate() {
+    for r in &output.runs {
         for (episode, score) in output.eval_points.iter().zip(&r.evals) {
-            let _ = writeln!(text, "{run},{episode},{score},{}", r.greedy);
+            let _ = writeln!(text, "{},{episode},{score},{}", r.run, r.greedy);
         }
     }
-    write_text(&dir.join("runs.csv"), &text)?;
+    files.add_text("runs.csv", &text)?;
 
-    if let Some(first) = output.runs.first() {
+    if let Some(first) = output.first_run() {
         let mut text = String::from("episode,return,actions,steps,exploratory\n");
         for e in &first.episodes {
             let o = e.outcome;
@@ -133,7 +155,7 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
                 u8::from(o.exploratory)
             );
         }
-        write_text(&dir.join("episodes.csv"), &text)?;
+        files.add_text("episodes.csv", &text)?;
 
         if !first.traces.is_empty() {
             let mut text = String::from("episode,name,value\n");
@@ -147,7 +169,7 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
                     }
                 }
             }
-            write_text(&dir.join("traces.csv"), &text)?;
+            files.add_text("traces.csv", &text)?;
             for (_, points) in &mut by_name {
                 points.retain(|(_, v)| v.is_finite());
             }
@@ -174,7 +196,7 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
                         format!("{}: values of the traced options (run 0)", output.spec.label),
                     ),
                 };
-                plot::plot_scatter(&dir.join(file), &title, "episode", "value", series)
+                plot::plot_scatter(&files.path_for(&file)?, &title, "episode", "value", series)
                     .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
             }
         }
@@ -185,21 +207,19 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
             } else {
                 format!("values-agent{}.bin", agent + 1)
             };
-            persist::save(&dir.join(name), values).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+            let bytes =
+                persist::encode(Path::new(&name), values).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+            files.add_bytes(&name, &bytes)?;
         }
     }
 
-    let summary = summary(output);
-    let json = serde_json::to_string_pretty(&summary).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
-    write_text(&dir.join("summary.json"), &json)?;
-
     plot::plot_curves(
-        &dir.join("curve.svg"),
+        &files.path_for("curve.svg")?,
         &format!("{} on {}", output.spec.label, output.spec.domain.name()),
         "learning episodes",
         "evaluation return (mean, 95% CI)",
         &[series(output)],
     )
     .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
-    Ok(summary)
+    Ok(summary(output))
 }

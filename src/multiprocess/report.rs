@@ -6,7 +6,6 @@
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use std::path::Path;
 
 use serde::Serialize;
 
@@ -14,12 +13,13 @@ use super::Clock;
 use super::agent::compute_histogram;
 use super::simulator::{AbortedEpisode, FLOOR, ROUND_TRIP};
 use super::supervisor::{Fault, RunRecord, SupervisorConfig, SupervisorError};
-use crate::experiment::output::{SummaryFile, write_results};
+use crate::experiment::output::{SummaryFile, stage_results};
 use crate::experiment::runner::ExperimentOutput;
 use crate::ipc::convert::Rejections;
 use crate::ipc::wait::WaitStrategy;
 use crate::latency::plot::{ReferenceLine, percentile_plot};
 use crate::latency::{Latency, Percentiles};
+use crate::result_dir::{Progress, ResultWriter};
 
 /// `summary.json` of a multi-process run.
 #[derive(Debug, Clone, Serialize)]
@@ -72,6 +72,8 @@ pub struct SystemSummary {
     pub faults: Vec<Fault>,
     /// Files of the runs' iceoryx2 namespaces left after cleanup (0 expected).
     pub leftover_shm_files: usize,
+    /// The runs' iceoryx2 prefixes.
+    pub ipc_prefixes: Vec<String>,
     /// Wall-clock seconds of the whole launch.
     pub wall_seconds: f64,
     /// The experiment's figures (spec, final mean with its confidence interval, ...)
@@ -165,6 +167,7 @@ pub fn summarize(
         checkpoint_failures: records.iter().map(|r| r.checkpoint_failures).sum(),
         faults: records.iter().flat_map(|r| r.faults.iter().cloned()).collect(),
         leftover_shm_files: records.iter().map(|r| r.leftover_files).sum(),
+        ipc_prefixes: records.iter().map(|r| r.prefix.clone()).collect(),
         wall_seconds,
         experiment,
     }
@@ -210,11 +213,6 @@ fn latency_table(histograms: &[Latency], summary: &SystemSummary) -> String {
     text
 }
 
-fn write(dir: &Path, name: &str, bytes: &[u8]) -> Result<(), SupervisorError> {
-    let path = dir.join(name);
-    crate::atomic_file::write_atomic(&path, bytes).map_err(|source| SupervisorError::Io { path, source })
-}
-
 /// A launch's summary and its histograms (runs merged).
 #[derive(Debug, Clone)]
 pub struct Report {
@@ -231,18 +229,15 @@ impl Report {
     }
 }
 
-/// Writes the run's files into `dir`: the experiment's (when a run completed),
-/// `summary.json`, `latency/*.hgrm` and `latency/*.hdr`, and `latency.svg`.
+/// Writes the run's files into `files` and publishes them as one set: the
+/// experiment's (when a run completed), `summary.json`, `latency/*.hgrm` and
+/// `latency/*.hdr`, and `latency.svg`.
 pub fn write_report(
-    dir: &Path,
+    mut files: ResultWriter<'_>,
     config: &SupervisorConfig,
     records: &[RunRecord],
     wall_seconds: f64,
 ) -> Result<Report, SupervisorError> {
-    std::fs::create_dir_all(dir.join("latency")).map_err(|source| SupervisorError::Io {
-        path: dir.join("latency"),
-        source,
-    })?;
     let completed: Vec<&RunRecord> = records.iter().filter(|r| r.sim.complete).collect();
     let experiment = if completed.is_empty() {
         None
@@ -259,15 +254,15 @@ pub fn write_report(
             runs,
             wall_seconds,
         };
-        Some(write_results(&output, dir).map_err(|e| SupervisorError::Failed(e.to_string()))?)
+        Some(stage_results(&output, &mut files).map_err(|e| SupervisorError::Failed(e.to_string()))?)
     };
     let histograms = merged_histograms(records)?;
     let summary = summarize(config, records, &histograms, experiment, wall_seconds);
     let json = serde_json::to_vec_pretty(&summary).map_err(|e| SupervisorError::Failed(e.to_string()))?;
-    write(dir, "summary.json", &json)?;
+    files.add_bytes("summary.json", &json)?;
     for h in &histograms {
-        write(dir, &format!("latency/{}.hgrm", h.name()), h.to_hgrm().as_bytes())?;
-        write(dir, &format!("latency/{}.hdr", h.name()), &h.to_bytes()?)?;
+        files.add_bytes(&format!("latency/{}.hgrm", h.name()), h.to_hgrm().as_bytes())?;
+        files.add_bytes(&format!("latency/{}.hdr", h.name()), &h.to_bytes()?)?;
     }
     let shown: Vec<&Latency> = [ROUND_TRIP, FLOOR, "compute"]
         .iter()
@@ -291,6 +286,10 @@ pub fn write_report(
         config.wait.name()
     );
     let svg = percentile_plot(&title, &shown, &references).map_err(|e| SupervisorError::Failed(e.to_string()))?;
-    write(dir, "latency.svg", svg.as_bytes())?;
+    files.add_bytes("latency.svg", svg.as_bytes())?;
+    files.commit(Progress {
+        completed: summary.runs_completed as u64,
+        planned: summary.runs as u64,
+    })?;
     Ok(Report { summary, histograms })
 }

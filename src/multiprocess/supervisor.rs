@@ -5,6 +5,7 @@
 //! simulator aborts the episode in flight), stops everything on request with a
 //! final checkpoint, and removes every shared-memory file of the run.
 
+use crate::result_dir::{self, ResultDir, ResultDirError};
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -27,6 +28,10 @@ use crate::ipc::wait::{WaitStrategy, wake};
 use crate::keepaway::world::NUM_KEEPERS;
 use crate::latency::{Latency, LatencyError};
 use crate::learning::persist::{self, SavedValues};
+
+/// The file in a run's work directory naming its iceoryx2 prefix and run id
+/// (for diagnostic tools that join the run).
+pub const IDENTITY_FILE: &str = "ipc.json";
 
 /// The exit code of an agent that cannot resume from its checkpoint: it is
 /// not restarted again.
@@ -79,6 +84,9 @@ pub enum SupervisorError {
     /// A process failed in a way the run cannot survive.
     #[error("{0}")]
     Failed(String),
+    /// The output directory cannot be used.
+    #[error(transparent)]
+    ResultDir(#[from] ResultDirError),
 }
 
 fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> SupervisorError + '_ {
@@ -284,8 +292,9 @@ impl Watch<'_> {
                 log_tail(&self.log(Role::Keeper(k)))
             )));
         }
-        self.order(Order::KeeperLost(k), Some(Role::Simulator))?;
         self.start(Role::Keeper(k), true)?;
+        let pid = self.fleet.processes.get(&Role::Keeper(k)).map_or(0, Process::pid);
+        self.order(Order::KeeperLost { keeper: k, pid }, Some(Role::Simulator))?;
         let checkpoint = self.context.work_dir.join(checkpoint_name(k));
         self.fault(what, format!("restarted from its checkpoint {}", checkpoint.display()));
         Ok(())
@@ -468,7 +477,7 @@ pub fn supervise_run(
     let spec_path = work_dir.join("spec.json");
     let spec_json = serde_json::to_vec_pretty(&config.spec).map_err(|e| SupervisorError::Failed(e.to_string()))?;
     crate::atomic_file::write_atomic(&spec_path, &spec_json).map_err(io_error(&spec_path))?;
-    let owner = Namespace::unique().claim()?;
+    let owner = Namespace::claim_unique()?;
     let outcome = run_in(config, run, work_dir, &spec_path, &owner, stop, progress);
     let prefix = owner.namespace().prefix().to_string();
     let namespace = owner.namespace().clone();
@@ -501,6 +510,10 @@ fn run_in(
         spec: spec_path.to_path_buf(),
         work_dir: work_dir.to_path_buf(),
     };
+    let identity = serde_json::json!({ "ipc_prefix": context.ipc_prefix, "run_id": context.run_id });
+    let identity_path = work_dir.join(IDENTITY_FILE);
+    crate::atomic_file::write_atomic(&identity_path, identity.to_string().as_bytes())
+        .map_err(io_error(&identity_path))?;
     let mut watch = Watch {
         config,
         ports: SupervisorPorts::open(&node)?,
@@ -544,6 +557,13 @@ fn run_in(
             });
         }
     };
+    let failure = failure.or_else(|| {
+        let stopped = stop.load(Ordering::Relaxed);
+        sim.error
+            .clone()
+            .filter(|_| !stopped)
+            .map(|e| format!("the simulator ended the run early: {e}"))
+    });
     let learning = super::simulator::keepaway_config(&config.spec)
         .map_err(|e| SupervisorError::Failed(e.to_string()))?
         .learning_keepers();
@@ -573,22 +593,35 @@ fn run_in(
     })
 }
 
-/// The directory holding run `run`'s working files (checkpoints, logs,
-/// histograms) inside the output directory `out`.
+/// Where run `run`'s working files (checkpoints, logs, histograms) of the
+/// output directory `out` are: in the `runs` directory of the result set being
+/// written (inside its hidden staging directory, see [`crate::result_dir`])
+/// while the supervisor works, under `out/runs/` once the set is published.
 pub fn run_work_dir(out: &Path, run: usize) -> PathBuf {
-    out.join("runs").join(format!("run-{run}"))
+    let name = format!("run-{run}");
+    result_dir::staging_dirs(out)
+        .into_iter()
+        .map(|staging| staging.join(RUNS_DIR).join(&name))
+        .find(|dir| dir.is_dir())
+        .unwrap_or_else(|| out.join(RUNS_DIR).join(name))
 }
 
+/// The directory of the result set holding every run's working files.
+const RUNS_DIR: &str = "runs";
+
 /// Runs every run of `config`'s experiment one after the other (stopping at
-/// the first that fails, or when `stop` is set) and writes the report into
-/// `out`. `progress` is told the learning episodes completed over all runs.
+/// the first that fails, or when `stop` is set) and publishes the report in
+/// `out` as one set (the runs' working files under `runs/`).
+/// `progress` is told the learning episodes completed over all runs.
 pub fn supervise(
     config: &SupervisorConfig,
-    out: &Path,
+    out: &mut ResultDir,
     stop: &AtomicBool,
     progress: &dyn Fn(u64),
 ) -> Result<super::report::Report, SupervisorError> {
     let started = Instant::now();
+    let mut files = out.writer()?;
+    let runs_dir = files.scratch_dir(RUNS_DIR)?;
     let mut records: Vec<RunRecord> = Vec::new();
     let per_run = config.spec.protocol.episodes;
     for run in 0..config.spec.protocol.runs {
@@ -596,7 +629,8 @@ pub fn supervise(
             break;
         }
         let done_before = run as u64 * per_run;
-        let record = supervise_run(config, run, &run_work_dir(out, run), stop, &|episodes| {
+        let work_dir = runs_dir.join(format!("run-{run}"));
+        let record = supervise_run(config, run, &work_dir, stop, &|episodes| {
             progress(done_before + episodes)
         })?;
         let ended = record.failure.is_some() || !record.sim.complete;
@@ -605,5 +639,5 @@ pub fn supervise(
             break;
         }
     }
-    super::report::write_report(out, config, &records, started.elapsed().as_secs_f64())
+    super::report::write_report(files, config, &records, started.elapsed().as_secs_f64())
 }

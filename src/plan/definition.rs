@@ -1,6 +1,7 @@
 //! A Petri Net Plan: a net whose labels are interpreted as actions, goals and guards.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
@@ -101,11 +102,16 @@ pub struct Plan {
     transitions: Vec<TransitionInfo>,
     internal: Vec<InternalCondition>,
     atoms: AtomTable,
+    schema: Option<Arc<crate::schema::Process>>,
 }
 
 impl Plan {
-    /// Interprets `net` as a plan, resolving atoms against `vocabulary`.
+    /// Interprets `net` as a plan, resolving atoms against `vocabulary`. A net
+    /// without places is refused ([`PlanError::Empty`]).
     pub fn from_net(net: PetriNet, vocabulary: Vocabulary<'_>) -> Result<Self, PlanError> {
+        if net.places().is_empty() {
+            return Err(PlanError::Empty);
+        }
         let incidence = Incidence::new(&net);
         let mut actions: Vec<ActionInfo> = Vec::new();
         let mut by_name: HashMap<String, ActionId> = HashMap::new();
@@ -224,7 +230,32 @@ impl Plan {
             transitions,
             internal,
             atoms,
+            schema: None,
         })
+    }
+
+    /// This plan, executed as the controllable process of a plan schema (thesis
+    /// chapter 3) rather than as a Petri Net Plan: its net is the process's.
+    pub(crate) fn with_schema_process(mut self, process: Arc<crate::schema::Process>) -> Self {
+        self.schema = Some(process);
+        self
+    }
+
+    /// The process of the plan schema this plan was constructed from, if any;
+    /// the executor then follows the schema's semantics (thesis 3.1.1).
+    pub fn schema_process(&self) -> Option<&Arc<crate::schema::Process>> {
+        self.schema.as_ref()
+    }
+
+    /// The plans whose markings a learner of this plan sees, indexed by
+    /// [`crate::executor::PlanKey`]: this plan, then (for a plan constructed
+    /// from a schema) the other machines of the schema.
+    pub fn activation_plans(&self) -> Vec<&Plan> {
+        let called = self
+            .schema
+            .iter()
+            .flat_map(|p| p.machines().iter().skip(1).map(|m| m.plan()));
+        std::iter::once(self).chain(called).collect()
     }
 
     /// The plan's name.
