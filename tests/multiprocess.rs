@@ -582,6 +582,8 @@ fn corrupt_checkpoint_at_restart_resumes_from_the_previous_one() {
     let s = summary(&out);
     assert_eq!(s["complete"], true);
     assert_eq!(s["restarts"], 1);
+    assert_eq!(s["resumes"][0]["source"], "previous checkpoint");
+    assert_eq!(s["values_survived"], true, "{}", s["resumes"]);
     sandbox.assert_clean(&prefixes(&s));
 }
 
@@ -613,5 +615,39 @@ fn missing_checkpoint_at_restart_is_a_clear_error() {
     );
     let s = summary(&out);
     assert_eq!(s["complete"], false);
+    sandbox.assert_clean(&prefixes(&s));
+}
+
+#[test]
+fn sigterm_stops_the_run_with_a_final_checkpoint() {
+    let sandbox = Sandbox::new("sigterm");
+    let out = sandbox.out("system");
+    let child = sandbox
+        .supervisor("system", &["--episodes", "2000", "--checkpoint-every", "1000"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The first checkpoint is the starting values; the run is under way once
+    // the first episode's events flow (keeper 1 has acted).
+    assert!(wait_until(Duration::from_secs(120), || {
+        fs::read_to_string(run_work_dir(&out, 0).join("simulator.log")).is_ok()
+            && pids_with_all(&["learnpnp-sim", &run_work_dir(&out, 0).to_string_lossy()]).len() == 1
+    }));
+    sleep(Duration::from_secs(2));
+    let work = run_work_dir(&out, 0);
+    let start = learnpnp::learning::persist::load(&work.join("values.bin")).unwrap();
+    kill(child.id() as i32, libc::SIGTERM);
+    let output = finish(child);
+    assert_eq!(output.status.code(), Some(143), "{}", text(&output.stderr));
+    let s = summary(&out);
+    assert_eq!(s["complete"], false);
+    assert!(s["failure"].is_null(), "a requested stop is no failure: {s}");
+    let work = run_work_dir(&out, 0);
+    let last = learnpnp::learning::persist::load(&work.join("values.bin")).unwrap();
+    assert_ne!(
+        last, start,
+        "the final checkpoint holds what was learned since the start"
+    );
     sandbox.assert_clean(&prefixes(&s));
 }

@@ -6,19 +6,18 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
 use anyhow::{Context, Result};
 use clap::{Parser, ValueEnum};
 use learnpnp::experiment::args::{DomainName, ExperimentOptions};
 use learnpnp::experiment::spec::Algorithm;
+use learnpnp::interrupt::Interrupt;
 use learnpnp::ipc::namespace::clean_stale;
 use learnpnp::ipc::wait::WaitStrategy;
 use learnpnp::multiprocess::Clock;
 use learnpnp::multiprocess::launch::Binaries;
-use learnpnp::multiprocess::supervisor::{SupervisorConfig, supervise};
+use learnpnp::multiprocess::supervisor::{Progress, SupervisorConfig, supervise};
 use learnpnp::result_dir::ResultDir;
 
 /// The Keepaway experiments the system runs.
@@ -103,6 +102,7 @@ fn run(args: Args) -> Result<ExitCode> {
         }),
         heartbeat_timeout: Duration::from_secs(args.heartbeat_timeout),
         max_restarts: args.max_restarts,
+        restart_simulator: false,
         binaries: Binaries::beside_current_exe()?,
     };
     let p = config.spec.protocol;
@@ -119,13 +119,9 @@ fn run(args: Args) -> Result<ExitCode> {
         config.spec.seed,
         args.out.display()
     );
-    let stop = Arc::new(AtomicBool::new(false));
-    for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
-        // A second signal while stopping ends the supervisor at once (its
-        // children die with it; the next launch removes their shared memory).
-        signal_hook::flag::register_conditional_shutdown(signal, 130, Arc::clone(&stop))?;
-        signal_hook::flag::register(signal, Arc::clone(&stop))?;
-    }
+    // A second signal while stopping ends the supervisor at once (its
+    // children die with it; the next launch removes their shared memory).
+    let interrupt = Interrupt::install().context("installing the signal handlers")?;
     let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
         let bar = indicatif::ProgressBar::new(p.episodes * p.runs as u64);
         bar.set_style(
@@ -136,11 +132,13 @@ fn run(args: Args) -> Result<ExitCode> {
     } else {
         None
     };
-    let report = supervise(&config, &mut out, &stop, &|episodes| {
+    let per_run = p.episodes;
+    let mut progress = Progress(|run: usize, episodes: u64| {
         if let Some(bar) = &bar {
-            bar.set_position(episodes);
+            bar.set_position(run as u64 * per_run + episodes);
         }
-    })?;
+    });
+    let report = supervise(&config, &mut out, interrupt.flag(), &mut progress)?;
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
@@ -164,7 +162,7 @@ fn run(args: Args) -> Result<ExitCode> {
             "stopped before the end: {} of {} runs completed",
             summary.runs_completed, summary.runs
         );
-        ExitCode::from(130)
+        ExitCode::from(interrupt.exit_status())
     } else {
         ExitCode::SUCCESS
     })

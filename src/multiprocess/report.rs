@@ -12,7 +12,7 @@ use serde::Serialize;
 use super::Clock;
 use super::agent::compute_histogram;
 use super::simulator::{AbortedEpisode, FLOOR, ROUND_TRIP};
-use super::supervisor::{Fault, RunRecord, SupervisorConfig, SupervisorError};
+use super::supervisor::{Fault, ResumeCheck, RunRecord, SupervisorConfig, SupervisorError};
 use crate::experiment::output::{SummaryFile, stage_results};
 use crate::experiment::runner::ExperimentOutput;
 use crate::ipc::convert::Rejections;
@@ -20,6 +20,9 @@ use crate::ipc::wait::WaitStrategy;
 use crate::latency::plot::{ReferenceLine, percentile_plot};
 use crate::latency::{Latency, Percentiles};
 use crate::result_dir::{Progress, ResultWriter};
+
+/// The name of the merged compute time of every keeper.
+const ALL_COMPUTE: &str = "compute";
 
 /// `summary.json` of a multi-process run.
 #[derive(Debug, Clone, Serialize)]
@@ -50,6 +53,10 @@ pub struct SystemSummary {
     pub late_commands: u64,
     /// Agents restarted.
     pub restarts: u32,
+    /// Every restarted agent resumed with exactly the values checkpointed before it was lost.
+    pub values_survived: bool,
+    /// Each agent restart and what it resumed with.
+    pub resumes: Vec<ResumeCheck>,
     /// Episodes aborted because a keeper was lost.
     pub aborted_episodes: usize,
     /// The aborted episodes.
@@ -94,7 +101,7 @@ pub fn merged_histograms(records: &[RunRecord]) -> Result<Vec<Latency>, Supervis
             }
         }
     }
-    let mut compute = Latency::new("compute");
+    let mut compute = Latency::new(ALL_COMPUTE);
     for h in merged.iter().filter(|h| h.name().starts_with("compute-")) {
         compute.merge(h)?;
     }
@@ -120,9 +127,9 @@ pub fn summarize(
         .map(|c| c.simulator().server.cycle_seconds)
         .unwrap_or(0.1);
     let learning_cycles: u64 = records.iter().map(|r| r.sim.output.actions).sum();
-    let learning_episodes: u64 = records.iter().map(|r| r.sim.learning_episodes).sum();
-    let loop_seconds: f64 = records.iter().map(|r| r.sim.seconds).sum();
-    let cycles: u64 = records.iter().map(|r| r.sim.cycles).sum();
+    let learning_episodes: u64 = records.iter().map(|r| r.sim.totals.learning_episodes).sum();
+    let loop_seconds: f64 = records.iter().map(|r| r.sim.totals.seconds).sum();
+    let cycles: u64 = records.iter().map(|r| r.sim.totals.cycles).sum();
     let failure = records.iter().find_map(|r| r.failure.clone());
     let mut rejected: BTreeMap<String, Rejections> = BTreeMap::new();
     for record in records {
@@ -142,18 +149,23 @@ pub fn summarize(
         runs_completed: records.iter().filter(|r| r.sim.complete).count(),
         episodes: learning_episodes,
         episodes_played: records.iter().map(|r| r.sim.output.episodes_run).sum::<u64>()
-            + records.iter().map(|r| r.sim.aborted.len() as u64).sum::<u64>(),
+            + records.iter().map(|r| r.sim.totals.aborted.len() as u64).sum::<u64>(),
         cycles,
         cycles_per_second: if loop_seconds > 0.0 {
             cycles as f64 / loop_seconds
         } else {
             0.0
         },
-        missed_deadlines: records.iter().map(|r| r.sim.missed_deadlines).sum(),
-        late_commands: records.iter().map(|r| r.sim.late_commands).sum(),
+        missed_deadlines: records.iter().map(|r| r.sim.totals.missed_deadlines).sum(),
+        late_commands: records.iter().map(|r| r.sim.totals.late_commands).sum(),
         restarts: records.iter().map(|r| r.restarts).sum(),
-        aborted_episodes: records.iter().map(|r| r.sim.aborted.len()).sum(),
-        aborted: records.iter().flat_map(|r| r.sim.aborted.iter().cloned()).collect(),
+        values_survived: records.iter().flat_map(|r| &r.resumes).all(|c| c.survived),
+        resumes: records.iter().flat_map(|r| r.resumes.iter().cloned()).collect(),
+        aborted_episodes: records.iter().map(|r| r.sim.totals.aborted.len()).sum(),
+        aborted: records
+            .iter()
+            .flat_map(|r| r.sim.totals.aborted.iter().cloned())
+            .collect(),
         mean_episode_seconds: if learning_episodes > 0 {
             learning_cycles as f64 * seconds_per_cycle / learning_episodes as f64
         } else {
@@ -161,7 +173,7 @@ pub fn summarize(
         },
         latency_us: latency,
         floor_us: floor,
-        compute_us: percentiles("compute"),
+        compute_us: percentiles(ALL_COMPUTE),
         round_trip_over_floor_p50: if floor.p50 > 0.0 { latency.p50 / floor.p50 } else { 0.0 },
         rejected_messages: rejected,
         checkpoint_failures: records.iter().map(|r| r.checkpoint_failures).sum(),
@@ -182,7 +194,7 @@ fn latency_table(histograms: &[Latency], summary: &SystemSummary) -> String {
     let rows = [
         (ROUND_TRIP.to_string(), "round trip".to_string()),
         (FLOOR.to_string(), "iceoryx2 floor".to_string()),
-        ("compute".to_string(), "agent compute".to_string()),
+        (ALL_COMPUTE.to_string(), "agent compute".to_string()),
     ]
     .into_iter()
     .chain((0..crate::keepaway::world::NUM_KEEPERS).map(|k| (compute_histogram(k), format!("  keeper {}", k + 1))));
@@ -264,10 +276,8 @@ pub fn write_report(
         files.add_bytes(&format!("latency/{}.hgrm", h.name()), h.to_hgrm().as_bytes())?;
         files.add_bytes(&format!("latency/{}.hdr", h.name()), &h.to_bytes()?)?;
     }
-    let shown: Vec<&Latency> = [ROUND_TRIP, FLOOR, "compute"]
-        .iter()
-        .filter_map(|name| find(&histograms, name))
-        .collect();
+    // One line per histogram the processes recorded (not the merged compute).
+    let shown: Vec<&Latency> = histograms.iter().filter(|h| h.name() != ALL_COMPUTE).collect();
     let mut references = vec![ReferenceLine {
         label: "deadline: 100 ms cycle".into(),
         micros: 100_000.0,
