@@ -3,9 +3,9 @@
 use learnpnp::keepaway::features::{FeatureThresholds, observe};
 use learnpnp::keepaway::keeper::{KeeperMemory, keeper_command};
 use learnpnp::keepaway::perception::{PlayerId, SeenBall, SeenPlayer};
-use learnpnp::keepaway::skills::{get_open, go_to_point, hold_ball, intercept, turn_to_ball};
+use learnpnp::keepaway::skills::{InterceptMemory, get_open, go_to_point, hold_ball, intercept, turn_to_ball};
 use learnpnp::keepaway::state_vars::StateVars;
-use learnpnp::keepaway::taker::taker_command;
+use learnpnp::keepaway::taker::{TakerMemory, taker_command};
 use learnpnp::keepaway::world::NUM_PLAYERS;
 use learnpnp::keepaway::{
     BaselinePolicy, Command, KeepawayConfig, PlayerView, Simulator, Vec2, VisionMode, World, perceive,
@@ -80,12 +80,12 @@ proptest! {
     #[test]
     fn skills_survive_any_view(view in any_view()) {
         let cfg = KeepawayConfig::default();
-        let _ = intercept(&view, &cfg);
+        let _ = intercept(&view, &cfg, &mut InterceptMemory::default());
         let _ = hold_ball(&view, &cfg, 0.7);
         let _ = get_open(&view, &cfg);
         let _ = go_to_point(&view, &cfg, Vec2::new(1.0, 2.0));
         let _ = turn_to_ball(&view, &cfg);
-        let _ = taker_command(&view, &cfg);
+        let _ = taker_command(&view, &cfg, &mut TakerMemory::default());
         let _ = StateVars::from_view(&view);
         let _ = observe(&view, &FeatureThresholds::default());
         let mut memory = KeeperMemory::default();

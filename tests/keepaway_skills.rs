@@ -5,8 +5,8 @@ use learnpnp::keepaway::perception::PlayerId;
 use learnpnp::keepaway::policies::{hand_coded, threshold_policy};
 use learnpnp::keepaway::skills::get_open::{congestion, grid_points, in_cone, least_congested_point};
 use learnpnp::keepaway::skills::pass::{PassState, teammates_by_distance};
-use learnpnp::keepaway::skills::predict::{Kinematics, cycles_to_point};
-use learnpnp::keepaway::skills::{go_to_point, hold_ball, intercept};
+use learnpnp::keepaway::skills::predict::{Estimate, Kinematics, cycles_to_point};
+use learnpnp::keepaway::skills::{InterceptMemory, go_to_point, hold_ball, intercept};
 use learnpnp::keepaway::state_vars::StateVars;
 use learnpnp::keepaway::world::{Ball, NUM_PLAYERS, Player};
 use learnpnp::keepaway::{
@@ -183,7 +183,8 @@ fn pass_reaches_the_receiver() {
     w.players[4] = player(-8.0, -8.0, 0.0);
     w.players[1] = player(9.0, 0.0, 180.0);
     sim.set_world(w);
-    let mut pass = PassState::new(id(1), &view(sim.world(), 0));
+    // Keeper 1 at 9 m is the second closest (keeper 2 is 8 m away).
+    let mut pass = PassState::new(2, &view(sim.world(), 0));
     let mut kicks = 0;
     loop {
         let v = view(sim.world(), 0);
@@ -224,7 +225,8 @@ fn intercept_runs_to_a_rolling_ball() {
     w.ball.pos = Vec2::new(-6.0, 2.0);
     w.ball.vel = Vec2::new(0.8, -0.2);
     sim.set_world(w);
-    let first = intercept(&view(sim.world(), 0), &c);
+    let mut memory = InterceptMemory::default();
+    let first = intercept(&view(sim.world(), 0), &c, &mut memory);
     assert!(matches!(first, Command::Turn { .. }), "{first:?}");
     for t in 0..40 {
         let v = view(sim.world(), 0);
@@ -233,7 +235,7 @@ fn intercept_runs_to_a_rolling_ball() {
             return;
         }
         let mut cmds = [Command::None; NUM_PLAYERS];
-        cmds[0] = intercept(&v, &c);
+        cmds[0] = intercept(&v, &c, &mut memory);
         sim.step(&cmds);
     }
     panic!("never reached the ball");
@@ -283,13 +285,15 @@ fn cycles_to_reach_a_point() {
         vel: Vec2::ZERO,
         body: 0.0,
     };
-    // Within reach: 0. Straight ahead 10 m (+1.085 reach): 10 to 11 cycles at 1 m/cycle.
-    assert_eq!(cycles_to_point(&at_rest, Vec2::new(1.0, 0.0), &c), 0);
-    let ahead = cycles_to_point(&at_rest, Vec2::new(11.085, 0.0), &c);
-    assert!((10..=11).contains(&ahead), "{ahead}");
-    // Behind: one more cycle to turn first.
-    let behind = cycles_to_point(&at_rest, Vec2::new(-11.085, 0.0), &c);
-    assert_eq!(behind, ahead + 1);
+    for whose in [Estimate::Own, Estimate::Other] {
+        // Within reach: 0. Straight ahead 10 m (+1.085 reach): 10 to 11 cycles at 1 m/cycle.
+        assert_eq!(cycles_to_point(&at_rest, Vec2::new(1.0, 0.0), whose, &c), 0);
+        let ahead = cycles_to_point(&at_rest, Vec2::new(11.085, 0.0), whose, &c);
+        assert!((10..=11).contains(&ahead), "{ahead}");
+        // Behind: one more cycle to turn first.
+        let behind = cycles_to_point(&at_rest, Vec2::new(-11.085, 0.0), whose, &c);
+        assert_eq!(behind, ahead + 1);
+    }
 }
 
 #[test]

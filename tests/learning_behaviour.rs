@@ -140,7 +140,12 @@ fn consistent_exploration_repeats_its_choice_within_an_episode() {
 
 /// Plays a synthetic episode: one choice between two options with random return.
 fn synthetic_episode(learner: &mut dyn Learner, ret: f64) {
-    learner.begin_episode(EpisodeStart::LEARN);
+    synthetic_episode_from(learner, EpisodeStart::LEARN, ret);
+}
+
+/// [`synthetic_episode`] begun with `start`.
+fn synthetic_episode_from(learner: &mut dyn Learner, start: EpisodeStart, ret: f64) {
+    learner.begin_episode(start);
     let state = Marking::from_tokens(vec![1, 0, 0]);
     let options = [Marking::from_tokens(vec![0, 1, 0]), Marking::from_tokens(vec![0, 0, 1])];
     learner.plan_started(PlanKey::ROOT, &state);
@@ -204,6 +209,40 @@ fn the_threshold_rule_suspends_exploration_while_returns_are_good() {
     assert!(explored[25..60].iter().all(|e| !e), "{explored:?}");
     // After returns fall below the threshold for a window, exploration resumes.
     assert!(explored[75..].iter().any(|e| *e), "{explored:?}");
+}
+
+/// A shared schedule may force an episode to explore; the threshold rule wins:
+/// while it suspends exploration, a forced exploratory episode exploits.
+#[test]
+fn the_threshold_rule_overrides_a_forced_exploration() {
+    let mut config = sosmc(0, Assessment::Never);
+    config.threshold = Some(ThresholdRule {
+        threshold: 5.0,
+        window: 3,
+    });
+    let mut agent = SoSmc::new(config, seeded(8));
+    let forced = EpisodeStart {
+        mode: EpisodeMode::Learn,
+        exploratory: Some(true),
+    };
+    let episode = |agent: &mut SoSmc, start: EpisodeStart, ret: f64| {
+        synthetic_episode_from(agent, start, ret);
+        agent.exploratory()
+    };
+    // Not suspended yet: the forced episode explores.
+    assert!(episode(&mut agent, forced, 10.0));
+    // Three good exploiting episodes fill the window: exploration is suspended.
+    for _ in 0..3 {
+        assert!(!episode(&mut agent, EpisodeStart::LEARN, 10.0));
+    }
+    assert!(agent.suspended());
+    assert!(!episode(&mut agent, forced, 10.0), "suspended, yet explored");
+    // Returns fall below the threshold: the rule lifts, and forcing works again.
+    for _ in 0..3 {
+        episode(&mut agent, EpisodeStart::LEARN, 0.0);
+    }
+    assert!(!agent.suspended());
+    assert!(episode(&mut agent, forced, 0.0));
 }
 
 #[test]

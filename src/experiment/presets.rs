@@ -425,14 +425,6 @@ fn keepaway_baselines() -> Figure {
             curve("always hold", FixedPolicy::AlwaysHold),
             curve("hand-coded", FixedPolicy::Handcoded),
             curve("threshold", FixedPolicy::Threshold),
-            {
-                // The same policy passing at 5 m (the framework's hold radius), as
-                // the positioning experiment's ball holder does.
-                let mut config = KeepawayDomainConfig::for_mode(KeepawayMode::Fixed(FixedPolicy::Threshold));
-                config.hold_threshold = crate::domains::keepaway::POSITIONING_TAKER_THRESHOLD;
-                let d = DomainSpec::Keepaway { config, plan: None };
-                experiment("threshold 5 m", d, Algorithm::Random, LearnerSpec::Random, p)
-            },
         ],
     }
 }

@@ -6,8 +6,8 @@ use super::params::{ConfigError, KeepawayConfig};
 use super::perception::{PlayerId, perceive};
 use super::referee::EndReason;
 use super::simulator::Simulator;
-use super::taker::taker_command;
-use super::world::{NUM_KEEPERS, NUM_PLAYERS, Side};
+use super::taker::{TakerMemory, taker_command};
+use super::world::{NUM_KEEPERS, NUM_PLAYERS, NUM_TAKERS, Side};
 use serde::{Deserialize, Serialize};
 
 /// How an episode went.
@@ -23,10 +23,12 @@ pub struct EpisodeOutcome {
 
 /// A keepaway match: the simulator plus the agents' memories. Keepers follow the
 /// fixed procedure around a [`KeeperPolicy`]; takers follow the framework's policy.
+/// Memories are cleared at every reset.
 #[derive(Clone, Debug)]
 pub struct Keepaway {
     sim: Simulator,
     memories: [KeeperMemory; NUM_KEEPERS],
+    takers: [TakerMemory; NUM_TAKERS],
 }
 
 impl Keepaway {
@@ -35,6 +37,7 @@ impl Keepaway {
         Ok(Keepaway {
             sim: Simulator::new(cfg, seed)?,
             memories: [KeeperMemory::default(); NUM_KEEPERS],
+            takers: [TakerMemory::default(); NUM_TAKERS],
         })
     }
 
@@ -42,6 +45,7 @@ impl Keepaway {
     pub fn reset(&mut self) {
         self.sim.reset();
         self.memories = [KeeperMemory::default(); NUM_KEEPERS];
+        self.takers = [TakerMemory::default(); NUM_TAKERS];
     }
 
     /// The simulator (world, referee, configuration).
@@ -50,8 +54,8 @@ impl Keepaway {
     }
 
     /// Every player's command for the current state, each computed from its own view.
-    /// This updates the keepers' memories (a pass in progress), so it is meant to be
-    /// called once per cycle, as [`Keepaway::step`] does.
+    /// This updates the players' memories (a pass in progress, the last interception
+    /// point), so it is meant to be called once per cycle, as [`Keepaway::step`] does.
     pub fn commands(&mut self, policy: &mut dyn KeeperPolicy) -> [Command; NUM_PLAYERS] {
         let cfg = *self.sim.config();
         let world = *self.sim.world();
@@ -64,7 +68,10 @@ impl Keepaway {
                     Some(memory) => keeper_command(&view, &cfg, memory, policy),
                     None => Command::None,
                 },
-                Side::Takers => taker_command(&view, &cfg),
+                Side::Takers => match self.takers.get_mut(id.index_in_team()) {
+                    Some(memory) => taker_command(&view, &cfg, memory),
+                    None => Command::None,
+                },
             };
         }
         commands

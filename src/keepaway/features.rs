@@ -11,15 +11,12 @@ use serde::{Deserialize, Serialize};
 /// The thresholds of the three binary features.
 ///
 /// Defaults:
-/// - `closest_taker` = [`DEFAULT_HOLD_THRESHOLD`] (3.085 m, the kickable distance
-///   plus two cycles of a taker's running): the threshold of the thesis's fixed
-///   keepers, so that their policy ("hold until a taker is closer than the
-///   threshold") can be expressed in the abstraction, as the thesis requires;
+/// - `closest_taker` = [`DEFAULT_HOLD_THRESHOLD`] (5 m, the framework's "a taker is
+///   near" radius): the threshold of the thesis's fixed keepers, so that their
+///   policy ("hold until a taker is closer than the threshold") can be expressed in
+///   the abstraction, as the thesis requires;
 /// - `pass_line` = 2.5 m: a taker within the kickable distance plus one to two
-///   cycles of running from the line can cut a pass; it also splits the lanes seen
-///   at the hand-coded policy's decisions into balanced groups (over 100 episodes,
-///   8896 decisions, the median distance was 1.2 m for teammate 1's lane and 3.7 m
-///   for teammate 2's; 2.5 m leaves about 35% and 60% of them open).
+///   cycles of running from the line can cut a pass.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FeatureThresholds {
     /// Threshold on the takers' distance to a pass line (m).

@@ -5,12 +5,11 @@ use super::command::Command;
 use super::episode::EpisodeOutcome;
 use super::geometry::Vec2;
 use super::params::KeepawayConfig;
-use super::perception::{PlayerId, PlayerView};
-use super::skills::intercept::intercept_at;
-use super::skills::pass::{PassState, teammates_by_distance};
-use super::skills::predict::fastest_to_ball;
-use super::skills::{get_open_from, go_to_support_point, hold_ball};
-use super::world::Side;
+use super::perception::PlayerView;
+use super::skills::fastest::{fastest_teammate, pass_origin};
+use super::skills::pass::PassState;
+use super::skills::{InterceptMemory, get_open_from, go_to_support_point, hold_ball, intercept};
+use super::world_model::believed;
 use serde::{Deserialize, Serialize};
 
 /// The choice of the keeper with the ball.
@@ -70,62 +69,59 @@ pub trait KeeperPolicy {
     fn end_episode(&mut self, _outcome: &EpisodeOutcome) {}
 }
 
-/// A keeper's memory between cycles: the pass in progress, if any.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+/// A keeper's memory between cycles: the pass in progress, if any, and the last
+/// interception point.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct KeeperMemory {
     /// The pass being kicked.
     pub pass: Option<PassState>,
+    /// The interception skill's memory.
+    pub intercept: InterceptMemory,
 }
 
-/// A keeper's command for this cycle:
+/// A keeper's command for this cycle (the framework's `KeepawayPlayer::keeper`),
+/// from what it believes ([`believed`]):
 /// - with the ball kickable: continue the pass kicked last cycle if there is one,
 ///   otherwise ask `policy` and hold the ball (one cycle, ratio 0.7) or start a pass
 ///   to the k-th closest teammate;
-/// - otherwise, if this keeper is the teammate fastest to the ball (predicted
-///   interception time, ties to the lower index), intercept;
+/// - otherwise, if this keeper is the teammate fastest to the ball
+///   ([`fastest_teammate`]), intercept;
 /// - otherwise support as `policy` says (get open for a pass from where the fastest
-///   teammate will get the ball, by default).
+///   teammate will get the ball, [`pass_origin`], by default).
+///
+/// The framework first searches for the ball when its world model has lost it;
+/// views here always show it. The neck, turned to the ball or the region's centre
+/// in the framework, does not matter with 360-degree vision.
 pub fn keeper_command(
     view: &PlayerView,
     cfg: &KeepawayConfig,
     memory: &mut KeeperMemory,
     policy: &mut dyn KeeperPolicy,
 ) -> Command {
+    let view = &believed(view, cfg);
     if view.ball_kickable(cfg) {
         if let Some(mut pass) = memory.pass.filter(|p| p.continues(view, cfg)) {
             let cmd = pass.kick(view, cfg);
             memory.pass = Some(pass);
             return cmd;
         }
-        let mates = teammates_by_distance(view);
-        let receiver = match policy.decide(view, cfg) {
-            KeeperAction::Hold => None,
-            KeeperAction::Pass1 => PlayerId::new(mates[0]),
-            KeeperAction::Pass2 => PlayerId::new(mates[1]),
-        };
-        return match receiver {
-            Some(r) if r != view.me => {
-                let mut pass = PassState::new(r, view);
-                let cmd = pass.kick(view, cfg);
-                memory.pass = Some(pass);
-                cmd
-            }
-            _ => {
-                memory.pass = None;
-                hold_ball(view, cfg, cfg.skills.keeper_hold_ratio)
-            }
-        };
+        let action = policy.decide(view, cfg);
+        if action == KeeperAction::Hold {
+            memory.pass = None;
+            return hold_ball(view, cfg, cfg.skills.keeper_hold_ratio);
+        }
+        let mut pass = PassState::new(action.index(), view);
+        let cmd = pass.kick(view, cfg);
+        memory.pass = Some(pass);
+        return cmd;
     }
     memory.pass = None;
-    let fastest = fastest_to_ball(view, Side::Keepers.indices(), cfg);
-    if let Some(f) = fastest.filter(|f| f.player == view.me.index()) {
-        return intercept_at(view, cfg, &f);
+    let fastest = fastest_teammate(view, cfg);
+    if fastest == Some(view.me.index()) {
+        return intercept(view, cfg, &mut memory.intercept);
     }
     match policy.support(view, cfg) {
-        SupportAction::GetOpen => {
-            let from = fastest.map_or(view.ball.pos, |f| f.point);
-            get_open_from(view, cfg, from)
-        }
+        SupportAction::GetOpen => get_open_from(view, cfg, pass_origin(view, fastest, cfg)),
         SupportAction::GoTo(p) => go_to_support_point(view, cfg, p),
     }
 }

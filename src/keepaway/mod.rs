@@ -9,7 +9,7 @@
 //! - [`world`], [`referee`], [`simulator`]: state, physics step, episode end and
 //!   reset, all randomness from one seeded generator;
 //! - [`perception`]: what each agent sees ([`perception::PlayerView`], full state or
-//!   quantised);
+//!   quantised); [`world_model`]: what the framework's player then believes;
 //! - [`skills`], [`taker`], [`keeper`]: the framework's behaviours; the keeper with the
 //!   ball asks a pluggable [`keeper::KeeperPolicy`];
 //! - [`policies`]: random, always-hold, hand-coded and the thesis's threshold policy;
@@ -31,6 +31,7 @@ pub mod skills;
 pub mod state_vars;
 pub mod taker;
 pub mod world;
+pub mod world_model;
 
 pub use command::Command;
 pub use episode::{EpisodeOutcome, Keepaway, run_episode};

@@ -140,9 +140,11 @@ impl PlayerView {
         self.side().opponent().indices().map(move |i| (i, &self.players[i]))
     }
 
-    /// Whether the ball is within one's kickable distance.
+    /// Whether the ball is within one's kickable distance (the framework's
+    /// `isBallKickable`: strictly closer than it; the server itself accepts a kick
+    /// at exactly that distance).
     pub fn ball_kickable(&self, cfg: &KeepawayConfig) -> bool {
-        self.own().pos.dist(self.ball.pos) <= cfg.server.kickable_distance()
+        self.own().pos.dist(self.ball.pos) < cfg.server.kickable_distance()
     }
 }
 

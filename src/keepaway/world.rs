@@ -44,6 +44,29 @@ impl Side {
             Side::Takers => Side::Keepers,
         }
     }
+
+    /// The direction (degrees, simulator coordinates) of this side's own x axis.
+    ///
+    /// The framework's world model (UvA Trilearn's) always plays towards its own +x:
+    /// the server mirrors the field for the right team, so the takers' "global
+    /// direction 0" is our 180. Skills that use a fixed global direction (the
+    /// heading after an interception, the hold's "already in place" test, the
+    /// preference for interception points farther forward) turn it by this angle.
+    pub fn frame_dir(self) -> f64 {
+        match self {
+            Side::Keepers => 0.0,
+            Side::Takers => 180.0,
+        }
+    }
+
+    /// `p` in this side's own frame (see [`Side::frame_dir`]): unchanged for the
+    /// keepers, rotated by 180 degrees for the takers.
+    pub fn own_frame(self, p: Vec2) -> Vec2 {
+        match self {
+            Side::Keepers => p,
+            Side::Takers => -p,
+        }
+    }
 }
 
 /// The ball's state.

@@ -45,7 +45,9 @@ pub struct EpisodeStart {
     /// Learning, evaluation or greedy.
     pub mode: EpisodeMode,
     /// Forces the episode to be exploratory or not (a schedule shared by several
-    /// agents); `None` lets the learner decide by its own rule.
+    /// agents); `None` lets the learner decide by its own rule. SoSMC's initial
+    /// phase and its threshold rule take precedence: a suspended learner does not
+    /// explore even when forced to.
     pub exploratory: Option<bool>,
 }
 

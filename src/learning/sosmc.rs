@@ -163,16 +163,21 @@ impl SoSmc {
         self.suspended
     }
 
+    /// The kind of the next episode. In order: the initial phase; the threshold
+    /// rule (chapter 7: while it suspends exploration, no episode explores, even
+    /// one a shared schedule forces to: agents sharing a schedule share the
+    /// reward, so their rules suspend and resume together); a forced choice; the
+    /// learner's own assessment schedule.
     fn kind_for(&self, forced: Option<bool>) -> Kind {
         let c = &self.config;
         if self.episode < c.initial_phase {
             return Kind::Initial;
         }
-        if let Some(explore) = forced {
-            return if explore { Kind::Explore } else { Kind::Exploit };
-        }
         if self.suspended {
             return Kind::Exploit;
+        }
+        if let Some(explore) = forced {
+            return if explore { Kind::Explore } else { Kind::Exploit };
         }
         let since = self.episode - c.initial_phase;
         match c.assessment {

@@ -4,11 +4,10 @@
 use crate::executor::{Action, Registry};
 use crate::keepaway::geometry::Vec2;
 use crate::keepaway::keeper::KeeperAction;
-use crate::keepaway::perception::PlayerId;
 use crate::keepaway::positions::PositioningPoint;
-use crate::keepaway::skills::intercept::intercept_at;
-use crate::keepaway::skills::pass::{PassState, teammates_by_distance};
-use crate::keepaway::skills::{get_open_from, go_to_support_point, hold_ball};
+use crate::keepaway::skills::fastest::pass_origin;
+use crate::keepaway::skills::pass::PassState;
+use crate::keepaway::skills::{get_open_from, go_to_support_point, hold_ball, intercept};
 
 use super::world::KeeperWorld;
 
@@ -74,16 +73,15 @@ impl Action<KeeperWorld> for Pass {
     }
     fn start(&mut self, w: &mut KeeperWorld) {
         self.done = false;
-        self.state = w.view().and_then(|view| {
-            let mates = teammates_by_distance(view);
-            let k = match self.receiver {
+        self.state = w.view().map(|view| {
+            let rank = match self.receiver {
                 Receiver::Closest(k) => k,
                 Receiver::SafestLane => match w.distances() {
                     Some(d) if d.line[1] > d.line[0] => 2,
                     _ => 1,
                 },
             };
-            PlayerId::new(mates[k - 1]).map(|r| PassState::new(r, view))
+            PassState::new(rank, view)
         });
     }
     fn step(&mut self, w: &mut KeeperWorld) {
@@ -109,8 +107,10 @@ impl Action<KeeperWorld> for Intercept {
         if self.finished(w) {
             return;
         }
-        if let (Some(view), Some(at)) = (w.view().copied(), w.interception()) {
-            w.issue(intercept_at(&view, &w.config, &at));
+        if let Some(view) = w.view().copied() {
+            let config = w.config;
+            let command = intercept(&view, &config, w.intercept_memory());
+            w.issue(command);
         }
     }
     fn finished(&self, w: &KeeperWorld) -> bool {
@@ -141,7 +141,7 @@ impl Action<KeeperWorld> for Supporting {
         let Some(view) = w.view().copied() else { return };
         let command = match self.how {
             Support::GetOpen => {
-                let from = w.interception().map_or(view.ball.pos, |i| i.point);
+                let from = pass_origin(&view, w.fastest_keeper(), &w.config);
                 get_open_from(&view, &w.config, from)
             }
             Support::Point(p) => go_to_support_point(&view, &w.config, p),

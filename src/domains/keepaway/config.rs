@@ -61,24 +61,13 @@ impl Default for KeepawayDomainConfig {
     }
 }
 
-/// The ball policy's threshold in the positioning experiment: the framework's
-/// "a taker is near" radius (its hand-coded policy holds beyond 5 m). With it
-/// the best fixed positions keep the ball about 26 s in our simulator, against
-/// about 12 s with the 3.085 m that suits get-open (docs/results/RESULTS.md).
-pub const POSITIONING_TAKER_THRESHOLD: f64 = 5.0;
-
 impl KeepawayDomainConfig {
-    /// The defaults of `mode`: the positioning experiment passes earlier
-    /// ([`POSITIONING_TAKER_THRESHOLD`]).
+    /// The defaults of `mode`.
     pub fn for_mode(mode: KeepawayMode) -> Self {
-        let mut config = KeepawayDomainConfig {
+        KeepawayDomainConfig {
             mode,
             ..KeepawayDomainConfig::default()
-        };
-        if mode == KeepawayMode::Position {
-            config.thresholds.closest_taker = POSITIONING_TAKER_THRESHOLD;
         }
-        config
     }
 
     /// The simulator's configuration.

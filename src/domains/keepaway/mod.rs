@@ -14,7 +14,7 @@ mod world;
 
 pub use actions::{decision_name, goto_name, registry};
 pub use agent::{MAX_STEPS_PER_CYCLE, PlanKeeper};
-pub use config::{FixedPolicy, KeepawayDomainConfig, KeepawayMode, POSITIONING_TAKER_THRESHOLD};
+pub use config::{FixedPolicy, KeepawayDomainConfig, KeepawayMode};
 pub use task::{KeepawayTask, RunSeeds};
 pub use team::{KeeperTeam, LocalTeam, TeamStep};
 pub use world::{ATOMS, KeeperWorld, atoms};

@@ -11,8 +11,8 @@ use crate::domains::{EpisodeOutcome, Task, TaskError};
 use crate::keepaway::command::Command;
 use crate::keepaway::perception::{PlayerId, perceive};
 use crate::keepaway::simulator::Simulator;
-use crate::keepaway::taker::taker_command;
-use crate::keepaway::world::{NUM_KEEPERS, NUM_PLAYERS};
+use crate::keepaway::taker::{TakerMemory, taker_command};
+use crate::keepaway::world::{NUM_KEEPERS, NUM_PLAYERS, NUM_TAKERS};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner};
 use crate::plan::Plan;
 use crate::rng::{SimRng, derive_seed};
@@ -43,6 +43,7 @@ pub struct KeepawayTask {
     config: KeepawayDomainConfig,
     sim: Simulator,
     team: Box<dyn KeeperTeam>,
+    takers: [TakerMemory; NUM_TAKERS],
 }
 
 impl KeepawayTask {
@@ -67,7 +68,12 @@ impl KeepawayTask {
         seeds: RunSeeds,
     ) -> Result<Self, TaskError> {
         let sim = Simulator::new(config.simulator(), seeds.simulator).map_err(|e| TaskError::Invalid(e.to_string()))?;
-        Ok(KeepawayTask { config, sim, team })
+        Ok(KeepawayTask {
+            config,
+            sim,
+            team,
+            takers: [TakerMemory::default(); NUM_TAKERS],
+        })
     }
 
     /// Plays one episode; an episode the team aborts is discarded and played again.
@@ -82,6 +88,7 @@ impl KeepawayTask {
     /// One episode from a fresh start, or `None` if the team aborted it.
     fn play_once(&mut self, start: EpisodeStart) -> Result<Option<EpisodeOutcome>, TaskError> {
         self.sim.reset();
+        self.takers = [TakerMemory::default(); NUM_TAKERS];
         self.team.begin_episode(start)?;
         let cfg = *self.sim.config();
         let seconds_per_cycle = cfg.server.cycle_seconds;
@@ -93,9 +100,9 @@ impl KeepawayTask {
             };
             let mut commands = [Command::None; NUM_PLAYERS];
             commands[..NUM_KEEPERS].copy_from_slice(&keeper_commands);
-            for (i, command) in commands.iter_mut().enumerate().skip(NUM_KEEPERS) {
+            for ((i, command), memory) in commands.iter_mut().enumerate().skip(NUM_KEEPERS).zip(&mut self.takers) {
                 if let Some(id) = PlayerId::new(i) {
-                    *command = taker_command(&perceive(&world, id, &cfg), &cfg);
+                    *command = taker_command(&perceive(&world, id, &cfg), &cfg, memory);
                 }
             }
             if self.sim.step(&commands).is_some() {

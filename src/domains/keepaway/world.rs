@@ -7,8 +7,9 @@ use crate::keepaway::command::Command;
 use crate::keepaway::features::{FeatureThresholds, PassLineDistances};
 use crate::keepaway::params::KeepawayConfig;
 use crate::keepaway::perception::PlayerView;
-use crate::keepaway::skills::predict::{Interception, fastest_to_ball};
-use crate::keepaway::world::Side;
+use crate::keepaway::skills::InterceptMemory;
+use crate::keepaway::skills::fastest::fastest_teammate;
+use crate::keepaway::world_model::believed;
 
 /// The atoms of a keeper's knowledge base, in id order.
 pub const ATOMS: [&str; 5] = ["HasBall", "Fastest", "Lane1Open", "Lane2Open", "TakerFar"];
@@ -22,7 +23,7 @@ pub fn atoms() -> AtomTable {
 ///
 /// - `HasBall`: the ball is within kickable distance;
 /// - `Fastest`: of the keepers, this one reaches the ball first (the framework's
-///   predicted interception time);
+///   fastest teammate, [`fastest_teammate`]);
 /// - `Lane1Open`, `Lane2Open`: the takers are farther than the pass-line
 ///   threshold from the line to the closest / second-closest teammate;
 /// - `TakerFar`: the closest taker is farther than its threshold.
@@ -36,7 +37,8 @@ pub struct KeeperWorld {
     pub thresholds: FeatureThresholds,
     view: Option<PlayerView>,
     facts: [bool; ATOMS.len()],
-    interception: Option<Interception>,
+    fastest: Option<usize>,
+    intercept: InterceptMemory,
     distances: Option<PassLineDistances>,
     command: Option<Command>,
     pending: f64,
@@ -50,22 +52,25 @@ impl KeeperWorld {
             thresholds,
             view: None,
             facts: [false; ATOMS.len()],
-            interception: None,
+            fastest: None,
+            intercept: InterceptMemory::default(),
             distances: None,
             command: None,
             pending: 0.0,
         }
     }
 
-    /// A new cycle: the keeper's view and the time elapsed since the last one.
+    /// A new cycle: the keeper's view (kept as the framework's world model
+    /// believes it, [`believed`]) and the time elapsed since the last one.
     pub fn perceive(&mut self, view: PlayerView, elapsed_seconds: f64) {
         let cfg = &self.config;
-        self.interception = fastest_to_ball(&view, Side::Keepers.indices(), cfg);
+        let view = believed(&view, cfg);
+        self.fastest = fastest_teammate(&view, cfg);
         self.distances = PassLineDistances::from_view(&view);
         let observation = self.distances.map(|d| d.observe(&self.thresholds));
         self.facts = [
             view.ball_kickable(cfg),
-            self.interception.is_some_and(|i| i.player == view.me.index()),
+            self.fastest == Some(view.me.index()),
             observation.is_some_and(|o| o.lane1_open),
             observation.is_some_and(|o| o.lane2_open),
             observation.is_some_and(|o| o.taker_far),
@@ -90,9 +95,15 @@ impl KeeperWorld {
         self.facts[1]
     }
 
-    /// The keepers' fastest interception of the ball this cycle.
-    pub fn interception(&self) -> Option<Interception> {
-        self.interception
+    /// The keeper fastest to the ball this cycle (global index), as this keeper
+    /// predicts it.
+    pub fn fastest_keeper(&self) -> Option<usize> {
+        self.fastest
+    }
+
+    /// The interception skill's memory (the last interception point).
+    pub fn intercept_memory(&mut self) -> &mut InterceptMemory {
+        &mut self.intercept
     }
 
     /// The pass-line and closest-taker distances this cycle.
@@ -112,9 +123,11 @@ impl KeeperWorld {
         self.command
     }
 
-    /// Forgets the episode (reward not yet taken included).
+    /// Forgets the episode (reward not yet taken and the last interception point
+    /// included).
     pub fn reset(&mut self) {
         self.view = None;
+        self.intercept = InterceptMemory::default();
         self.command = None;
         self.pending = 0.0;
     }

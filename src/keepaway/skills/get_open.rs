@@ -1,12 +1,11 @@
 //! Getting open for a pass (the framework's `getOpenForPassFromInRectangle`).
 
+use super::fastest::{fastest_teammate, pass_origin};
 use super::movement::{go_to_point, turn_body_to_point};
-use super::predict::fastest_to_ball;
 use crate::keepaway::command::Command;
 use crate::keepaway::geometry::Vec2;
 use crate::keepaway::params::KeepawayConfig;
 use crate::keepaway::perception::PlayerView;
-use crate::keepaway::world::Side;
 
 /// Congestion at `p`: the sum of `1 / distance` to every other player (oneself
 /// excluded; players exactly at `p` are skipped).
@@ -95,12 +94,9 @@ pub fn get_open_from(view: &PlayerView, cfg: &KeepawayConfig, pass_from: Vec2) -
 }
 
 /// Get open: the pass is expected from where the teammate fastest to the ball will
-/// get it (the framework's `keeperSupport`).
+/// get it (the framework's `keeperSupport`, see [`pass_origin`]).
 pub fn get_open(view: &PlayerView, cfg: &KeepawayConfig) -> Command {
-    let from = fastest_to_ball(view, Side::Keepers.indices(), cfg)
-        .map(|i| i.point)
-        .unwrap_or(view.ball.pos);
-    get_open_from(view, cfg, from)
+    get_open_from(view, cfg, pass_origin(view, fastest_teammate(view, cfg), cfg))
 }
 
 #[cfg(test)]

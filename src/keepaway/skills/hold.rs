@@ -1,7 +1,7 @@
 //! Holding the ball (the framework's `holdBall`).
 
 use super::kick::kick_ball_close_to_body;
-use super::movement::turn_body_to_point;
+use super::predict::{Kinematics, after_command, turn_to_point};
 use crate::keepaway::command::Command;
 use crate::keepaway::geometry::{Vec2, normalize_deg};
 use crate::keepaway::params::KeepawayConfig;
@@ -20,21 +20,22 @@ pub fn hold_facing_point(side: Side) -> Vec2 {
 }
 
 /// Keep the ball within reach for one cycle, shielding it from the opponent
-/// closest to the ball.
+/// closest to the ball (the framework's `holdBall(ratio)`).
 ///
 /// If that opponent is within `hold_opponent_radius` (5 m) of the ball, the ball's
 /// spot is at ±45 degrees from the line opponent-to-me, on the side away from where
 /// the opponent's body points; otherwise it is straight in front of the body. The
 /// spot lies `player_size + ball_size + ratio x kickable_margin` from where one will
-/// be next cycle (0.875 m for the keepers' ratio 0.7). If the ball is already within
-/// `hold_tolerance` (0.3 m) of the spot and will stay within 0.85 x kickable
-/// distance, turn towards [`hold_facing_point`]; otherwise kick the ball to the spot
-/// (or stop it if one kick cannot).
+/// be next cycle (0.875 m for the keepers' ratio 0.7), and the ball is kicked there
+/// ([`kick_ball_close_to_body`]), unless it is already in place: then the holder
+/// turns towards [`hold_facing_point`], provided the ball will still be within
+/// 0.85 x the kickable distance after the turn.
 ///
-/// Decision: the framework tests "already there" against a point at distance
-/// `ratio` (not the spot's distance) and in a direction mixing relative and global
-/// angles; this implementation tests against the spot itself, which is what the
-/// framework's comments describe.
+/// "In place", as the framework writes it, means within `hold_tolerance` (0.3 m) of
+/// the point `ratio` metres from one's current position in the direction of the
+/// spot's angle relative to the body, read as a direction of one's own frame (see
+/// [`Side::frame_dir`]): not the spot itself. The two agree when the holder faces
+/// its own direction 0, which the turn brings about.
 pub fn hold_ball(view: &PlayerView, cfg: &KeepawayConfig, ratio: f64) -> Command {
     let sp = &cfg.server;
     let me = view.own();
@@ -54,13 +55,13 @@ pub fn hold_ball(view: &PlayerView, cfg: &KeepawayConfig, ratio: f64) -> Command
         };
         ang_rel = normalize_deg(away + sign * 45.0 - me.body);
     }
-    let me_next = me.pos + me.vel;
-    let dist = sp.player_size + sp.ball_size + sp.kickable_margin * ratio;
-    let spot = me_next + Vec2::polar(dist, me.body + ang_rel);
-    if view.ball.pos.dist(spot) < cfg.skills.hold_tolerance {
+    let in_place = me.pos + Vec2::polar(ratio, view.side().frame_dir() + ang_rel);
+    if view.ball.pos.dist(in_place) < cfg.skills.hold_tolerance {
+        let k = Kinematics::from(me);
+        let turn = turn_to_point(&k, hold_facing_point(view.side()), 1, sp);
         let ball_next = view.ball.pos + view.ball.vel;
-        if ball_next.dist(me_next) < 0.85 * sp.kickable_distance() {
-            return turn_body_to_point(view, cfg, hold_facing_point(view.side()), 1);
+        if ball_next.dist(after_command(&k, turn, sp).pos) < 0.85 * sp.kickable_distance() {
+            return turn;
         }
     }
     kick_ball_close_to_body(view, cfg, ang_rel, ratio)

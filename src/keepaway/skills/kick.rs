@@ -86,7 +86,9 @@ pub fn freeze_ball(view: &PlayerView, cfg: &KeepawayConfig) -> Command {
 /// Put the ball next to the body at `ang_rel` degrees from the body direction, at
 /// `player_size + ball_size + ratio x kickable_margin` from where one will be next
 /// cycle (`kickBallCloseToBody`); if one kick cannot do it and the ball is moving,
-/// stop it instead.
+/// stop it instead. (The framework also pulls a spot that would lie off the
+/// 105 m x 68 m pitch back onto it; keepaway's region lies well inside the pitch,
+/// so that never happens here and is left out.)
 pub fn kick_ball_close_to_body(view: &PlayerView, cfg: &KeepawayConfig, ang_rel: f64, ratio: f64) -> Command {
     let sp = &cfg.server;
     let me = view.own();

@@ -1,6 +1,6 @@
 //! Turning and moving: turn to a point or the ball, dash to a point, go to a point.
 
-use super::predict::{Kinematics, after_turn, angle_for_turn, final_pos, power_for_dash, rollout_pos};
+use super::predict::{Kinematics, after_turn, angle_for_turn, final_pos, turn_to_point};
 use crate::keepaway::command::Command;
 use crate::keepaway::geometry::{Vec2, normalize_deg};
 use crate::keepaway::params::KeepawayConfig;
@@ -10,12 +10,7 @@ use crate::keepaway::perception::PlayerView;
 /// cycles of rolling (the framework's `turnBodyToPoint`); the moment compensates
 /// for the inertia at the current speed.
 pub fn turn_body_to_point(view: &PlayerView, cfg: &KeepawayConfig, point: Vec2, cycles: u32) -> Command {
-    let me = Kinematics::from(view.own());
-    let from = rollout_pos(&me, cycles, &cfg.server);
-    let ang = normalize_deg((point - from).dir() - me.body);
-    Command::Turn {
-        moment: angle_for_turn(ang, me.vel.norm(), &cfg.server),
-    }
+    turn_to_point(&Kinematics::from(view.own()), point, cycles, &cfg.server)
 }
 
 /// Turn the body towards where the ball will be next cycle (`turnBodyToObject`).
@@ -27,17 +22,14 @@ pub fn turn_to_ball(view: &PlayerView, cfg: &KeepawayConfig) -> Command {
 /// Dash so as to cover the distance to `point` (projected on the body direction)
 /// in `cycles` cycles (`dashToPoint`).
 pub fn dash_to_point(view: &PlayerView, cfg: &KeepawayConfig, point: Vec2, cycles: u32) -> Command {
-    let me = view.own();
-    Command::Dash {
-        power: power_for_dash(point - me.pos, me.body, me.vel, cycles, &cfg.server),
-    }
+    super::predict::dash_to_point(&Kinematics::from(view.own()), point, cycles, &cfg.server)
 }
 
 /// Go to `point` (the framework's `moveToPos` with its defaults: no backward
 /// dashing, one-cycle dash target): if the point, seen from where one comes to rest,
 /// is within `when_to_turn_deg` (7 degrees) of the body direction, dash; otherwise
-/// simulate the turns needed: one or two, turn now (seen from two cycles ahead);
-/// more (moving too fast to turn), brake first.
+/// simulate the turns needed (`directTowards`): one or two, turn now (seen from two
+/// cycles ahead); more (moving too fast to turn), brake first.
 pub fn go_to_point(view: &PlayerView, cfg: &KeepawayConfig, point: Vec2) -> Command {
     let sp = &cfg.server;
     let when = cfg.skills.when_to_turn_deg;

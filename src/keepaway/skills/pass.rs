@@ -3,7 +3,7 @@
 use super::kick::kick_to;
 use crate::keepaway::command::Command;
 use crate::keepaway::params::KeepawayConfig;
-use crate::keepaway::perception::{PlayerId, PlayerView};
+use crate::keepaway::perception::PlayerView;
 use serde::{Deserialize, Serialize};
 
 /// The teammates (global indices) sorted by increasing distance from the viewer;
@@ -27,29 +27,34 @@ pub fn teammates_by_distance(view: &PlayerView) -> [usize; 2] {
     out
 }
 
-/// A pass in progress: the ball is kicked towards the receiver's current position
+/// A pass in progress: the ball is kicked towards the teammate of the chosen rank
 /// (the framework's `directPass`, normal speed: the ball should arrive at
 /// `pass_end_speed`, 1.2 m/cycle) on consecutive cycles until it leaves the
-/// kickable range, since accelerating the ball may take several kicks.
-///
-/// Decision: the receiver is fixed when the pass starts; the framework re-sorts the
-/// teammates by distance every cycle and follows the same rank, which only differs
-/// if the ranking changes during the two or three cycles of a pass.
+/// kickable range, since accelerating the ball may take several kicks. As in the
+/// framework's `keeperWithBall`, the rank is kept and the teammates are sorted by
+/// distance again at every kick.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct PassState {
-    /// Who receives the pass.
-    pub receiver: PlayerId,
+    /// The receiver's rank among the teammates by distance: 1 for the closest
+    /// (Pass(1)), 2 for the second closest (Pass(2)).
+    pub rank: usize,
     /// The cycle of the last kick of this pass.
     pub last_cycle: u32,
 }
 
 impl PassState {
-    /// Starts a pass to `receiver` at the view's cycle.
-    pub fn new(receiver: PlayerId, view: &PlayerView) -> Self {
+    /// Starts a pass to the teammate of `rank` (1 or 2; anything else counts as 2)
+    /// at the view's cycle.
+    pub fn new(rank: usize, view: &PlayerView) -> Self {
         PassState {
-            receiver,
+            rank: rank.clamp(1, 2),
             last_cycle: view.cycle,
         }
+    }
+
+    /// The receiver this cycle: the teammate of the pass's rank.
+    pub fn receiver(&self, view: &PlayerView) -> usize {
+        teammates_by_distance(view)[self.rank.clamp(1, 2) - 1]
     }
 
     /// Whether the pass goes on this cycle: the ball is still kickable and the last
@@ -61,7 +66,7 @@ impl PassState {
     /// This cycle's kick of the pass.
     pub fn kick(&mut self, view: &PlayerView, cfg: &KeepawayConfig) -> Command {
         self.last_cycle = view.cycle;
-        let to = view.players[self.receiver.index()].pos;
+        let to = view.players[self.receiver(view)].pos;
         kick_to(view, cfg, to, cfg.skills.pass_end_speed)
     }
 }

@@ -1,12 +1,16 @@
-//! Noise-free predictions of ball and player motion, as the framework's world model
-//! makes them: ball roll-out, the effect of a dash or turn, dash powers, and
-//! estimated cycles for a player to reach a point or the ball.
+//! The framework's world-model predictions (`WorldModelPredict.cc` and the
+//! prediction helpers of `WorldModelHighLevel.cc`): where the ball and a player
+//! will be, what one dash or turn does, which command moves a player towards a
+//! point, and how many cycles a player needs to reach a point.
+//!
+//! Every prediction is noise-free, as the framework's. Its predictions start
+//! from the state of the last see message and count the cycles since; our views
+//! are current every cycle, so they start from the present state.
 
 use crate::keepaway::command::Command;
 use crate::keepaway::geometry::{Vec2, clamp, normalize_deg};
 use crate::keepaway::params::{KeepawayConfig, ServerParams};
-use crate::keepaway::perception::{PlayerView, SeenBall, SeenPlayer};
-use crate::keepaway::world::NUM_PLAYERS;
+use crate::keepaway::perception::{SeenBall, SeenPlayer};
 
 /// A player's kinematic state, as used in predictions.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -29,49 +33,165 @@ impl From<&SeenPlayer> for Kinematics {
     }
 }
 
-/// Sum of the first `n` terms of the geometric series `1 + r + r^2 + ...`.
+/// Whose cycles [`cycles_to_point`] estimates: the framework simulates its own
+/// agent's run to the end but extrapolates other players' after their turns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Estimate {
+    /// The viewer itself.
+    Own,
+    /// Any other player.
+    Other,
+}
+
+/// Most cycles [`cycles_to_point`] simulates. The framework's loops have no bound;
+/// in play they end within the interception horizon, and this bound only stops
+/// runaway estimates from absurd views.
+const MAX_SIMULATED_CYCLES: u32 = 200;
+
+/// Sum of the first `n` terms of the geometric series `1 + r + r^2 + ...`
+/// (term by term for the few terms of most predictions).
 fn geom_sum(r: f64, n: u32) -> f64 {
-    (1.0 - r.powi(i32::try_from(n).unwrap_or(i32::MAX))) / (1.0 - r)
+    if n <= 8 {
+        let (mut sum, mut term) = (0.0, 1.0);
+        for _ in 0..n {
+            sum += term;
+            term *= r;
+        }
+        sum
+    } else {
+        (1.0 - r.powi(i32::try_from(n).unwrap_or(i32::MAX))) / (1.0 - r)
+    }
 }
 
-/// A player's position after `n` cycles without commands.
-pub fn rollout_pos(k: &Kinematics, n: u32, sp: &ServerParams) -> Vec2 {
-    k.pos + k.vel * geom_sum(sp.player_decay, n)
+/// Where the ball will be after `n` cycles (`predictPosAfterNrCycles` for the
+/// ball: its velocity decays geometrically).
+pub fn ball_pos_after(ball: &SeenBall, n: u32, sp: &ServerParams) -> Vec2 {
+    ball.pos + ball.vel * geom_sum(sp.ball_decay, n)
 }
 
-/// Where a player comes to rest without commands.
+/// A [`Kinematics`] with its body direction also as a unit vector, so that the
+/// simulation loops below need trigonometry only when the body turns.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Mover {
+    pos: Vec2,
+    vel: Vec2,
+    body: f64,
+    u: Vec2,
+}
+
+impl Mover {
+    /// The mover at `k`.
+    pub(crate) fn new(k: &Kinematics) -> Self {
+        Mover {
+            pos: k.pos,
+            vel: k.vel,
+            body: k.body,
+            u: Vec2::polar(1.0, k.body),
+        }
+    }
+
+    /// Position.
+    pub(crate) fn pos(&self) -> Vec2 {
+        self.pos
+    }
+
+    fn kinematics(&self) -> Kinematics {
+        Kinematics {
+            pos: self.pos,
+            vel: self.vel,
+            body: self.body,
+        }
+    }
+
+    /// `predictStateAfterDash`.
+    #[inline]
+    fn dash(&self, power: f64, sp: &ServerParams) -> Mover {
+        let mut vel = self.vel;
+        if power != 0.0 {
+            vel += self.u * (power * sp.dash_power_rate * sp.effort);
+        }
+        let s2 = vel.norm_sq();
+        if s2 > sp.player_speed_max * sp.player_speed_max {
+            vel *= sp.player_speed_max / s2.sqrt();
+        }
+        Mover {
+            pos: self.pos + vel,
+            vel: vel * sp.player_decay,
+            ..*self
+        }
+    }
+
+    /// `predictStateAfterTurn`.
+    fn turn(&self, moment: f64, sp: &ServerParams) -> Mover {
+        let body = normalize_deg(self.body + moment / (1.0 + sp.inertia_moment * self.vel.norm()));
+        Mover {
+            body,
+            u: Vec2::polar(1.0, body),
+            ..*self
+        }
+        .dash(0.0, sp)
+    }
+
+    /// `predictStateAfterCommand`.
+    #[inline]
+    pub(crate) fn after(&self, cmd: Command, sp: &ServerParams) -> Mover {
+        match cmd {
+            Command::Dash { power } => self.dash(power, sp),
+            Command::Turn { moment } => self.turn(moment, sp),
+            Command::Kick { .. } => self.dash(0.0, sp),
+            Command::None => self.dash(0.01, sp),
+        }
+    }
+
+    /// Position after `n` cycles of dashing with `power`.
+    #[inline]
+    fn pos_after(&self, n: u32, power: f64, sp: &ServerParams) -> Vec2 {
+        let max = sp.player_speed_max;
+        if power == 0.0 && self.vel.norm_sq() <= max * max {
+            // Rolling within the speed cap: the geometric series in closed form.
+            return self.pos + self.vel * geom_sum(sp.player_decay, n);
+        }
+        let mut m = *self;
+        for _ in 0..n {
+            m = m.dash(power, sp);
+        }
+        m.pos
+    }
+}
+
+/// State after one cycle with a dash of `power` (`predictStateAfterDash`): the
+/// acceleration along the body (backwards for a negative power), the speed capped,
+/// then one cycle of movement and decay.
+pub fn after_dash(k: &Kinematics, power: f64, sp: &ServerParams) -> Kinematics {
+    Mover::new(k).dash(power, sp).kinematics()
+}
+
+/// State after one cycle with a turn of `moment` (`predictStateAfterTurn`): the
+/// body turns by `moment / (1 + inertia_moment x speed)`, then the player rolls.
+pub fn after_turn(k: &Kinematics, moment: f64, sp: &ServerParams) -> Kinematics {
+    Mover::new(k).turn(moment, sp).kinematics()
+}
+
+/// State after one cycle with `cmd` (`predictStateAfterCommand`): a kick leaves
+/// the player rolling; no command counts as the framework's illegal command, a
+/// dash of power 0.01.
+pub fn after_command(k: &Kinematics, cmd: Command, sp: &ServerParams) -> Kinematics {
+    Mover::new(k).after(cmd, sp).kinematics()
+}
+
+/// Where a player will be after `n` cycles dashing with `power` every cycle
+/// (`predictPosAfterNrCycles` for a player; power 0 is rolling out).
+pub fn pos_after(k: &Kinematics, n: u32, power: f64, sp: &ServerParams) -> Vec2 {
+    Mover::new(k).pos_after(n, power, sp)
+}
+
+/// Where a player comes to rest without commands (`predictFinalAgentPos`).
 pub fn final_pos(k: &Kinematics, sp: &ServerParams) -> Vec2 {
     k.pos + k.vel / (1.0 - sp.player_decay)
 }
 
-/// State after one cycle with a dash of `power` (noise-free), the body direction
-/// given as the unit vector `u`.
-fn after_dash(k: &Kinematics, power: f64, u: Vec2, sp: &ServerParams) -> Kinematics {
-    let power = clamp(power, sp.min_power, sp.max_power);
-    let mut vel = k.vel + u * (power * sp.dash_power_rate * sp.effort);
-    let s = vel.norm();
-    if s > sp.player_speed_max {
-        vel *= sp.player_speed_max / s;
-    }
-    Kinematics {
-        pos: k.pos + vel,
-        vel: vel * sp.player_decay,
-        body: k.body,
-    }
-}
-
-/// State after one cycle with a turn of `moment` (noise-free).
-pub fn after_turn(k: &Kinematics, moment: f64, sp: &ServerParams) -> Kinematics {
-    let moment = clamp(moment, sp.min_moment, sp.max_moment);
-    Kinematics {
-        pos: k.pos + k.vel,
-        vel: k.vel * sp.player_decay,
-        body: normalize_deg(k.body + moment / (1.0 + sp.inertia_moment * k.vel.norm())),
-    }
-}
-
-/// The moment to send to turn by `desired` degrees at `speed`, clipped to the
-/// largest moment (then the turn falls short).
+/// The moment to send to turn by `desired` degrees at `speed` (`getAngleForTurn`),
+/// clipped to the largest moment (then the turn falls short).
 pub fn angle_for_turn(desired: f64, speed: f64, sp: &ServerParams) -> f64 {
     clamp(
         desired * (1.0 + sp.inertia_moment * speed),
@@ -80,27 +200,43 @@ pub fn angle_for_turn(desired: f64, speed: f64, sp: &ServerParams) -> f64 {
     )
 }
 
-/// The dash power to cover the projection of `rel` on the body direction in
-/// `cycles` cycles (speed capped at the maximum), allowing for the current
-/// velocity; clipped to the power range.
-pub fn power_for_dash(rel: Vec2, body: f64, vel: Vec2, cycles: u32, sp: &ServerParams) -> f64 {
-    power_for_dash_along(rel, Vec2::polar(1.0, body), vel, cycles, sp)
+/// The turn that faces `point` as seen from where the player will be after
+/// `cycles` cycles of rolling (`turnBodyToPoint`).
+pub fn turn_to_point(k: &Kinematics, point: Vec2, cycles: u32, sp: &ServerParams) -> Command {
+    let from = pos_after(k, cycles, 0.0, sp);
+    Command::Turn {
+        moment: angle_for_turn(normalize_deg((point - from).dir() - k.body), k.vel.norm(), sp),
+    }
 }
 
-/// [`power_for_dash`] with the body direction given as the unit vector `u`.
-fn power_for_dash_along(rel: Vec2, u: Vec2, vel: Vec2, cycles: u32, sp: &ServerParams) -> f64 {
-    let dist = rel.dot(u);
+/// The dash power to cover the projection of `rel` on the body direction in
+/// `cycles` cycles (`getPowerForDash`): the first speed of a geometric series with
+/// the player's decay, capped at the top speed, minus the current speed along the
+/// body; clipped to the power range.
+pub fn power_for_dash(rel: Vec2, body: f64, vel: Vec2, cycles: u32, sp: &ServerParams) -> f64 {
+    power_along(rel, Vec2::polar(1.0, body), vel, cycles, sp)
+}
+
+/// [`power_for_dash`] with the body direction as the unit vector `u`.
+fn power_along(rel: Vec2, u: Vec2, vel: Vec2, cycles: u32, sp: &ServerParams) -> f64 {
     let n = cycles.max(1);
-    let mut speed = dist / geom_sum(sp.player_decay, n);
+    let mut speed = rel.dot(u) / geom_sum(sp.player_decay, n);
     if speed > sp.player_speed_max {
         speed = sp.player_speed_max;
     }
-    let acc = speed - vel.dot(u);
-    let power = acc / (sp.dash_power_rate * sp.effort);
+    let power = (speed - vel.dot(u)) / (sp.dash_power_rate * sp.effort);
     if power.is_nan() {
         0.0
     } else {
         clamp(power, sp.min_power, sp.max_power)
+    }
+}
+
+/// The dash towards `point` (`dashToPoint`): the power that covers its
+/// projection on the body direction in `cycles` cycles.
+pub fn dash_to_point(k: &Kinematics, point: Vec2, cycles: u32, sp: &ServerParams) -> Command {
+    Command::Dash {
+        power: power_for_dash(point - k.pos, k.body, k.vel, cycles, sp),
     }
 }
 
@@ -117,80 +253,96 @@ pub fn kick_speed_to_travel(dist: f64, end_speed: f64, sp: &ServerParams) -> f64
     end_speed * r.powf(steps.round_ties_even())
 }
 
-/// The framework's turn-or-dash decision for moving towards `target`
-/// (`predictCommandToMoveToPos`), used while intercepting: turn towards the target
-/// when it lies more than `0.9 x kickable distance` off the body line (2x beyond
-/// 10 m, 3x beyond 20 m), or lies behind and farther than `dist_back`; otherwise
-/// dash with the power that covers the distance in `cycles` cycles (backwards if
-/// the target is behind).
+/// The turn, if any, that the framework makes before moving to `target` in
+/// `cycles` cycles (`predictCommandTurnTowards`, never moving backwards on
+/// purpose).
 ///
-/// Decision: the framework's extra "turn around and run backwards" special case
-/// for targets just behind is not reproduced.
-pub fn move_command_towards(k: &Kinematics, target: Vec2, cycles: u32, dist_back: f64, sp: &ServerParams) -> Command {
-    let u = Vec2::polar(1.0, k.body);
-    match move_decision(k, u, target, cycles, dist_back, sp) {
-        MoveDecision::Turn { from } => Command::Turn {
-            moment: turn_moment_towards(k, from, target, sp),
-        },
-        MoveDecision::Dash { power } => Command::Dash { power },
+/// From where the player will be after `min(cycles, 4)` cycles of rolling, it turns
+/// while the target lies more than `0.9 x kickable distance` off the body line
+/// (2x beyond 10 m, 3x beyond 20 m), or farther than `dist_back` and more than
+/// 90 degrees off the body direction; up to five turns are simulated and the
+/// first is returned. After more than one turn, with fewer than four cycles left
+/// and the target closer than `dist_back`, it turns its back to the target instead
+/// if the body line then passes within `0.9 x kickable distance` of it.
+///
+/// The framework also requires `angTmp` to exceed the when-to-turn angle, but its
+/// `angTo + (bMoveBack) ? 180 : 0` parses as `(angTo + bMoveBack) ? 180 : 0`: the
+/// test only fails when the target lies exactly on the body direction, as here.
+pub fn turn_towards(k: &Kinematics, target: Vec2, cycles: u32, dist_back: f64, sp: &ServerParams) -> Option<f64> {
+    Mover::new(k).turn_towards(target, cycles, dist_back, sp)
+}
+
+/// The command that moves a player towards `target`, to be reached in `cycles`
+/// cycles (`predictCommandToMoveToPos`): the turn of [`turn_towards`] if it asks
+/// for one, otherwise the dash of [`power_for_dash`].
+pub fn move_command(k: &Kinematics, target: Vec2, cycles: u32, dist_back: f64, sp: &ServerParams) -> Command {
+    Mover::new(k).move_command(target, cycles, dist_back, sp)
+}
+
+impl Mover {
+    /// [`turn_towards`].
+    fn turn_towards(&self, target: Vec2, cycles: u32, dist_back: f64, sp: &ServerParams) -> Option<f64> {
+        let reach = sp.kickable_distance();
+        let pos_pred = self.pos_after(cycles.min(4), 0.0, sp);
+        let d2 = self.pos.dist_sq(target);
+        let ratio = if d2 > 400.0 {
+            3.0
+        } else if d2 > 100.0 {
+            2.0
+        } else {
+            0.9
+        };
+        let to = target - pos_pred;
+        let far = to.norm_sq() > dist_back * dist_back;
+        // Off the body line; more than 90 degrees off the body direction; exactly on it.
+        let off = |u: Vec2| to.cross(u).abs();
+        let behind = |u: Vec2| to.dot(u) < 0.0;
+        let needs_turn = |u: Vec2| off(u) > ratio * reach || (far && behind(u));
+        let on_body_direction = to.cross(self.u) == 0.0 && to.dot(self.u) > 0.0;
+        if on_body_direction || !needs_turn(self.u) {
+            return None;
+        }
+        let dir_to = to.dir();
+        let mut cur = *self;
+        let mut first = None;
+        let mut turns = 0;
+        while needs_turn(cur.u) && turns < 5 {
+            let moment = angle_for_turn(normalize_deg(dir_to - cur.body), cur.vel.norm(), sp);
+            first.get_or_insert(moment);
+            cur = cur.turn(moment, sp);
+            turns += 1;
+        }
+        if turns > 1 && cycles < 4 && to.norm_sq() < dist_back * dist_back {
+            let moment = angle_for_turn(normalize_deg(dir_to + 180.0 - self.body), self.vel.norm(), sp);
+            if off(self.turn(moment, sp).u) < 0.9 * reach {
+                return Some(moment);
+            }
+        }
+        first
     }
-}
 
-/// The outcome of [`move_command_towards`] before any angle is computed.
-enum MoveDecision {
-    /// Turn towards the target as seen from `from`.
-    Turn { from: Vec2 },
-    /// Dash with this power.
-    Dash { power: f64 },
-}
-
-/// The moment turning a player at `k` to face `target` as seen from `from`.
-fn turn_moment_towards(k: &Kinematics, from: Vec2, target: Vec2, sp: &ServerParams) -> f64 {
-    let ang_to = normalize_deg((target - from).dir() - k.body);
-    angle_for_turn(ang_to, k.vel.norm(), sp)
-}
-
-/// [`move_command_towards`] with the body direction as the unit vector `u`,
-/// avoiding trigonometry on the common paths.
-fn move_decision(
-    k: &Kinematics,
-    u: Vec2,
-    target: Vec2,
-    cycles: u32,
-    dist_back: f64,
-    sp: &ServerParams,
-) -> MoveDecision {
-    let pos_pred = rollout_pos(k, cycles.min(4), sp);
-    let to = target - pos_pred;
-    let offset = to.cross(u).abs();
-    let d = k.pos.dist(target);
-    let ratio = if d > 20.0 {
-        3.0
-    } else if d > 10.0 {
-        2.0
-    } else {
-        0.9
-    };
-    // Behind: more than 90 degrees off the body direction.
-    let behind = to.dot(u) < 0.0 && to.norm_sq() > dist_back * dist_back;
-    if offset > ratio * sp.kickable_distance() || behind {
-        MoveDecision::Turn { from: pos_pred }
-    } else {
-        MoveDecision::Dash {
-            power: power_for_dash_along(target - k.pos, u, k.vel, cycles, sp),
+    /// [`move_command`].
+    pub(crate) fn move_command(&self, target: Vec2, cycles: u32, dist_back: f64, sp: &ServerParams) -> Command {
+        match self.turn_towards(target, cycles, dist_back, sp) {
+            Some(moment) => Command::Turn { moment },
+            None => Command::Dash {
+                power: power_along(target - self.pos, self.u, self.vel, cycles, sp),
+            },
         }
     }
 }
 
 /// Cycles to run `dist` straight ahead at full power, starting at `speed` along
 /// the body, until within the kickable distance (the framework's
-/// `predictNrCyclesForDistance`): simulated until the speed settles, then extrapolated.
+/// `predictNrCyclesForDistance`): simulated until the speed settles, then
+/// extrapolated. Unlike the framework, a zero final speed or an absurd distance
+/// gives a large count instead of an overflow.
 pub fn cycles_for_distance(dist: f64, speed: f64, sp: &ServerParams) -> u32 {
     let min_dist = sp.kickable_distance();
     let acc = sp.max_power * sp.dash_power_rate * sp.effort;
     let mut dist = dist;
     let mut speed = speed;
-    let mut prev = f64::NEG_INFINITY;
+    let mut prev = -1.0;
     let mut cycles = 0u32;
     while dist > min_dist && ((speed - prev).abs() > 1e-4 || speed < 0.3) && cycles < 40 {
         prev = speed;
@@ -201,165 +353,63 @@ pub fn cycles_for_distance(dist: f64, speed: f64, sp: &ServerParams) -> u32 {
     }
     speed /= sp.player_decay;
     if dist > min_dist {
-        if speed > 1e-6 {
-            let more = ((dist - min_dist) / speed).ceil();
-            cycles = cycles.saturating_add(if more < 1e6 { more as u32 } else { 1_000_000 });
+        let more = ((dist - min_dist) / speed).ceil();
+        cycles = cycles.saturating_add(if (0.0..1e6).contains(&more) {
+            more as u32
         } else {
-            cycles = cycles.saturating_add(1_000_000);
-        }
+            1_000_000
+        });
     }
     cycles
 }
 
-/// Estimated cycles for a player to get within kickable distance of `target`
-/// (the framework's `predictNrCyclesToPoint`): simulate the turns (and braking
-/// dashes) that [`move_command_towards`] asks for, then count full-power running.
-pub fn cycles_to_point(k: &Kinematics, target: Vec2, cfg: &KeepawayConfig) -> u32 {
-    cycles_to_point_along(k, Vec2::polar(1.0, k.body), target, cfg)
-}
-
-/// [`cycles_to_point`] with the body direction given as the unit vector `u`.
-fn cycles_to_point_along(k: &Kinematics, u: Vec2, target: Vec2, cfg: &KeepawayConfig) -> u32 {
+/// Estimated cycles for a player at `k` to get within kickable distance of `target`
+/// (the framework's `predictNrCyclesToPoint`).
+///
+/// The turns that [`move_command`] asks for (and braking dashes while facing more
+/// than 20 degrees away) are simulated; then the framework's own agent
+/// ([`Estimate::Own`]) simulates the rest of its run command by command, while
+/// another player's run ([`Estimate::Other`]) is extrapolated with
+/// [`cycles_for_distance`]. Both loops are bounded (see `MAX_SIMULATED_CYCLES`).
+pub fn cycles_to_point(k: &Kinematics, target: Vec2, whose: Estimate, cfg: &KeepawayConfig) -> u32 {
     let sp = &cfg.server;
+    let back = cfg.skills.intercept_dist_back;
     let reach = sp.kickable_distance();
-    let to = target - k.pos;
-    let d = to.norm();
-    if d < reach {
+    if target.dist(k.pos) < reach {
         return 0;
     }
-    let want = to / d;
-    let cos20 = 20f64.to_radians().cos();
-    let mut k = *k;
-    let mut u = u;
+    let dir_des = (target - k.pos).dir();
+    let mut cur = Mover::new(k);
     let mut cycles = 0u32;
-    for _ in 0..8 {
-        match move_decision(&k, u, target, 1, cfg.skills.intercept_dist_back, sp) {
-            MoveDecision::Turn { from } => {
-                let moment = turn_moment_towards(&k, from, target, sp);
-                k = after_turn(&k, moment, sp);
-                u = Vec2::polar(1.0, k.body);
-            }
-            // A braking (backward) dash while facing more than 20 degrees away.
-            MoveDecision::Dash { power } if power < 0.0 && u.dot(want) < cos20 => {
-                k = after_dash(&k, power, u, sp);
-            }
-            MoveDecision::Dash { .. } => break,
+    loop {
+        let cmd = cur.move_command(target, 1, back, sp);
+        let turning = match cmd {
+            Command::Turn { .. } => true,
+            Command::Dash { power } => power < 0.0 && normalize_deg(cur.body - dir_des).abs() > 20.0,
+            _ => false,
+        };
+        if !turning || cycles >= MAX_SIMULATED_CYCLES {
+            break;
         }
         cycles += 1;
-        if k.pos.dist(target) < reach {
+        cur = cur.after(cmd, sp);
+        if target.dist(cur.pos) < reach {
             return cycles;
         }
     }
-    cycles.saturating_add(cycles_for_distance(k.pos.dist(target), k.vel.dot(u), sp))
-}
-
-/// The ball as an interceptor should predict it: as seen, except that a ball within
-/// the kickable distance of an opponent is taken to stay where it is.
-///
-/// Decision (deviation from the framework, whose prediction always lets the ball
-/// roll on): an opponent who controls the ball keeps it next to himself, so its
-/// free roll-out is the wrong target. Without this, a keeper holding the ball
-/// flips it from one side of his body to the other, each flip sends the takers'
-/// predicted interception point several metres to the other side, and the takers
-/// keep turning instead of running in: an always-hold team then keeps the ball
-/// for ever, which contradicts every published keepaway result.
-pub fn ball_to_chase(view: &PlayerView, cfg: &KeepawayConfig) -> SeenBall {
-    let reach = cfg.server.kickable_distance();
-    let controlled = view.opponents().any(|(_, o)| o.pos.dist(view.ball.pos) <= reach);
-    if controlled {
-        SeenBall {
-            pos: view.ball.pos,
-            vel: Vec2::ZERO,
+    match whose {
+        Estimate::Other => {
+            let speed = cur.vel.dot(cur.u);
+            cycles.saturating_add(cycles_for_distance(cur.pos.dist(target), speed, sp))
         }
-    } else {
-        view.ball
-    }
-}
-
-/// Result of an interception estimate.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Interception {
-    /// Global index of the player.
-    pub player: usize,
-    /// Cycles until the ball can be reached.
-    pub cycles: u32,
-    /// Where the ball will be then.
-    pub point: Vec2,
-}
-
-/// The player among `candidates` (global indices, in priority order for ties) who
-/// reaches the ball first, by the framework's scheme (`createInterceptFeatures`):
-/// for `i = 0, 1, ...` up to the interception horizon, predict the ball after `i`
-/// cycles (see [`ball_to_chase`]) and estimate, for each candidate close enough,
-/// the cycles to reach it ([`cycles_to_point`]); the first `i` at which the best
-/// estimate is `<= i` gives the fastest player. If nobody makes it within the
-/// horizon, the candidate with the smallest estimate to the horizon's ball
-/// position is returned with the horizon as its time. Indices that are out of
-/// range, and candidates beyond the first [`NUM_PLAYERS`], are ignored; `None` if
-/// no candidate is left.
-pub fn fastest_to_ball(
-    view: &PlayerView,
-    candidates: impl IntoIterator<Item = usize>,
-    cfg: &KeepawayConfig,
-) -> Option<Interception> {
-    let sp = &cfg.server;
-    let reach = sp.kickable_distance();
-    let ball = ball_to_chase(view, cfg);
-    let mut ball_pos = ball.pos;
-    let mut ball_vel = ball.vel;
-    // Capped as in `SkillParams::validate`, so that an unvalidated value cannot stall.
-    let horizon = cfg.skills.intercept_horizon.min(1000);
-    // Each candidate's state and body direction, computed once.
-    let mut movers = [(usize::MAX, Kinematics::default(), Vec2::ZERO); NUM_PLAYERS];
-    let mut n = 0;
-    for j in candidates {
-        if let (Some(p), Some(slot)) = (view.players.get(j), movers.get_mut(n)) {
-            let k = Kinematics::from(p);
-            *slot = (j, k, Vec2::polar(1.0, k.body));
-            n += 1;
-        }
-    }
-    let movers = &movers[..n];
-    for i in 0..=horizon {
-        let mut best: Option<(usize, u32)> = None;
-        for &(j, k, u) in movers {
-            // Nobody covers more than `player_speed_max` per cycle, so a candidate
-            // farther than this cannot make it in `i` cycles (the framework's own
-            // cut-off, `d / speed_max < i + 1`, is looser; the result is the same).
-            if k.pos.dist(ball_pos) - reach > sp.player_speed_max * f64::from(i) {
-                continue;
+        Estimate::Own => {
+            while cur.pos.dist(target) > reach && cycles < MAX_SIMULATED_CYCLES {
+                cur = cur.after(cur.move_command(target, 1, back, sp), sp);
+                cycles += 1;
             }
-            let c = cycles_to_point_along(&k, u, ball_pos, cfg);
-            if best.is_none_or(|(_, b)| c < b) {
-                best = Some((j, c));
-            }
-        }
-        if let Some((player, c)) = best
-            && c <= i
-        {
-            return Some(Interception {
-                player,
-                cycles: i,
-                point: ball_pos,
-            });
-        }
-        if i < horizon {
-            ball_pos += ball_vel;
-            ball_vel *= sp.ball_decay;
+            cycles
         }
     }
-    let mut best: Option<(usize, u32)> = None;
-    for &(j, k, u) in movers {
-        let c = cycles_to_point_along(&k, u, ball_pos, cfg);
-        if best.is_none_or(|(_, b)| c < b) {
-            best = Some((j, c));
-        }
-    }
-    best.map(|(player, _)| Interception {
-        player,
-        cycles: horizon,
-        point: ball_pos,
-    })
 }
 
 #[cfg(test)]
@@ -397,5 +447,27 @@ mod tests {
         let c = cycles_for_distance(10.0 + sp.kickable_distance(), 0.0, &sp);
         assert!((10..=12).contains(&c), "{c}");
         assert_eq!(cycles_for_distance(0.5, 0.0, &sp), 0);
+    }
+
+    #[test]
+    fn turn_towards_a_point_behind() {
+        let sp = ServerParams::default();
+        let k = Kinematics::default();
+        // Straight ahead: no turn; straight behind and far: a full turn.
+        assert_eq!(turn_towards(&k, Vec2::new(5.0, 0.0), 1, 2.5, &sp), None);
+        let t = turn_towards(&k, Vec2::new(-5.0, 0.0), 1, 2.5, &sp).expect("a turn");
+        assert!((t.abs() - 180.0).abs() < 1e-9);
+        // Just behind, within the dash-back distance: no turn (dash backwards).
+        assert_eq!(turn_towards(&k, Vec2::new(-2.0, 0.0), 1, 2.5, &sp), None);
+    }
+
+    #[test]
+    fn own_and_other_estimates_agree_on_a_straight_run() {
+        let cfg = KeepawayConfig::default();
+        let k = Kinematics::default();
+        let target = Vec2::new(8.0, 0.0);
+        let own = cycles_to_point(&k, target, Estimate::Own, &cfg);
+        let other = cycles_to_point(&k, target, Estimate::Other, &cfg);
+        assert!(own.abs_diff(other) <= 1, "own {own}, other {other}");
     }
 }

@@ -1,0 +1,77 @@
+//! Mean episode durations of the fixed keeper policies (random, always hold, the
+//! framework's hand-coded policy, the thesis's threshold policy), played by all
+//! three keepers, in full-state and quantised vision.
+//!
+//! ```sh
+//! cargo run --release --example keepaway_baselines -- [EPISODES]
+//! ```
+//!
+//! Episode `i` of every policy starts from seed `1000 + i` (1000 episodes by
+//! default). A measurement program: it prints numbers and checks nothing.
+
+use std::process::ExitCode;
+
+use anyhow::{Context, Result, bail};
+use learnpnp::keepaway::policies::BaselinePolicy;
+use learnpnp::keepaway::{EndReason, KeepawayConfig, VisionMode, run_episode};
+
+/// Plays `n` episodes with a policy made by `make` (from the episode index) and
+/// prints the mean duration, its standard deviation and standard error, the
+/// longest episode, and how many episodes ended with the ball out of the region.
+fn report(name: &str, cfg: &KeepawayConfig, n: u64, make: &dyn Fn(u64) -> BaselinePolicy) -> Result<()> {
+    let (mut sum, mut sum_sq, mut out, mut longest) = (0.0, 0.0, 0u64, 0.0f64);
+    for i in 0..n {
+        let mut policy = make(i);
+        let o = run_episode(cfg, 1000 + i, &mut policy).context("running an episode")?;
+        sum += o.seconds;
+        sum_sq += o.seconds * o.seconds;
+        out += u64::from(o.end == EndReason::Out);
+        longest = longest.max(o.seconds);
+    }
+    let count = n as f64;
+    let mean = sum / count;
+    let sd = (sum_sq / count - mean * mean).max(0.0).sqrt();
+    println!(
+        "{name:>28}: {mean:6.2} s  (sd {sd:5.2}, se {:4.2}, longest {longest:6.1} s, {out}/{n} out)",
+        sd / count.sqrt()
+    );
+    Ok(())
+}
+
+fn run() -> Result<()> {
+    let mut args = std::env::args().skip(1);
+    let n: u64 = match args.next() {
+        Some(a) => a
+            .parse()
+            .ok()
+            .filter(|&n| n > 0)
+            .with_context(|| format!("EPISODES must be a positive integer, got `{a}`"))?,
+        None => 1000,
+    };
+    if let Some(extra) = args.next() {
+        bail!("unexpected argument `{extra}` (usage: keepaway_baselines [EPISODES])");
+    }
+    let full = KeepawayConfig::default();
+    let quantised = KeepawayConfig {
+        vision: VisionMode::Quantised,
+        ..full
+    };
+    for (vision, cfg) in [("full state", &full), ("quantised", &quantised)] {
+        println!("{vision}, {n} episodes per policy:");
+        report("random", cfg, n, &BaselinePolicy::random)?;
+        report("always hold", cfg, n, &|_| BaselinePolicy::AlwaysHold)?;
+        report("hand-coded", cfg, n, &|_| BaselinePolicy::HandCoded)?;
+        report("threshold", cfg, n, &|_| BaselinePolicy::threshold())?;
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
