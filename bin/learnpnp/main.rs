@@ -4,6 +4,7 @@
 
 mod experiment;
 mod inspect;
+mod replay;
 mod reproduce;
 
 use std::process::ExitCode;
@@ -37,6 +38,8 @@ enum Command {
     Plot(inspect::PlotArgs),
     /// Print a saved value table as CSV.
     Values(inspect::ValuesArgs),
+    /// Write a RoboCup game log (.rcg) as one self-contained HTML page to watch.
+    Replay(replay::ReplayArgs),
 }
 
 fn main() -> ExitCode {
@@ -49,6 +52,7 @@ fn main() -> ExitCode {
         Some(Command::Reproduce(args)) => reproduce::run(&args),
         Some(Command::Plot(args)) => inspect::plot(&args),
         Some(Command::Values(args)) => inspect::values(&args),
+        Some(Command::Replay(args)) => replay::run(&args),
         None => reproduce::run(&reproduce::ReproduceArgs::default()),
     };
     match result {

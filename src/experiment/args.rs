@@ -74,6 +74,11 @@ pub struct ExperimentOptions {
     /// A label for plots (default: the algorithm).
     #[arg(long)]
     label: Option<String>,
+    /// Keepaway: save N evaluation episodes of run 0, played after learning,
+    /// as RoboCup game logs (DIR/replays/episode-NN.rcg; watch them with
+    /// `learnpnp replay` or rcssmonitor).
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    record: usize,
 
     /// Start every run from these saved value tables (values.bin, then
     /// values-agent2.bin, ... for several learning agents) instead of the initial value.
@@ -234,6 +239,12 @@ impl ExperimentOptions {
                 )));
             }
         };
+        if self.record > 0 && !matches!(domain, DomainSpec::Keepaway { .. }) {
+            return Err(ExperimentError::Invalid(format!(
+                "--record saves Keepaway episodes as game logs; {} has none",
+                domain.name()
+            )));
+        }
         let mut learner = defaults::default_learner(algo, &domain);
         self.overrides().apply(&mut learner);
         let mut protocol = defaults::default_protocol(&domain);
@@ -274,6 +285,7 @@ impl ExperimentOptions {
             protocol,
             seed: self.seed,
             initial_values: self.initial_values.clone(),
+            record: self.record,
         })
     }
 }

@@ -42,6 +42,13 @@ pub struct SummaryFile {
     pub cycles_per_second: Option<f64>,
 }
 
+/// The file name of recorded episode `i` (0-based) of `count`:
+/// `episode-1.rcg`, or `episode-01.rcg` ... when there are ten or more.
+pub fn replay_name(i: usize, count: usize) -> String {
+    let width = count.to_string().len();
+    format!("episode-{:0width$}.rcg", i + 1)
+}
+
 /// The curve: mean and 95% CI over runs at each evaluation point.
 pub fn curve(output: &ExperimentOutput) -> Vec<(u64, Summary)> {
     output
@@ -186,6 +193,14 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
                 format!("values-agent{}.bin", agent + 1)
             };
             persist::save(&dir.join(name), values).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+        }
+
+        if !first.replays.is_empty() {
+            let replays = dir.join("replays");
+            std::fs::create_dir_all(&replays).map_err(io(replays.clone()))?;
+            for (i, log) in first.replays.iter().enumerate() {
+                write_text(&replays.join(replay_name(i, first.replays.len())), log)?;
+            }
         }
     }
 

@@ -64,6 +64,7 @@ fn experiment(
         protocol,
         seed: SEED,
         initial_values: Vec::new(),
+        record: 0,
     }
 }
 

@@ -43,6 +43,8 @@ pub struct RunOutput {
     pub episodes_run: u64,
     /// Primitive actions (moves, cycles) over those episodes.
     pub actions: u64,
+    /// Game logs (`.rcg` text) of the recorded episodes (run 0 only).
+    pub replays: Vec<String>,
 }
 
 /// What an experiment produced.
@@ -102,6 +104,7 @@ pub fn run_one(
         values: Vec::new(),
         episodes_run: 0,
         actions: 0,
+        replays: Vec::new(),
     };
     let eval_cost = p.eval_episodes as u64;
     out.evals.push(task.evaluate(p.eval_episodes)?);
@@ -140,6 +143,8 @@ pub fn run_one(
             .iter()
             .map(|l| SavedValues::new(spec.algorithm.name(), l.values(), &plans))
             .collect();
+        // Played last, so that recording changes no result of the run.
+        out.replays = task.record(spec.record)?;
     }
     Ok(out)
 }

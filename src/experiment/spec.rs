@@ -254,6 +254,14 @@ pub struct ExperimentSpec {
     /// experiment saves them), instead of the initial value.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub initial_values: Vec<PathBuf>,
+    /// Keepaway: evaluation episodes of run 0, played after its last
+    /// evaluation, to save as RoboCup game logs (they change no result).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub record: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 impl ExperimentSpec {
