@@ -1,13 +1,14 @@
 //! Graphviz DOT export of a plan: what `learnpnp dot PLAN` prints.
 //!
 //! Places are circles, transitions boxes. Execution places are filled and
-//! labelled with their action, choice points (found structurally, see
-//! [`structural_choice_points`]) are double circles, goal and fail places are
-//! coloured with a bold outline; the output starts with a legend comment.
+//! labelled with their action, choice points are double circles (the same
+//! ones `learnpnp check` reports: [`choice_points`] of the reachable
+//! markings), goal and fail places are coloured with a bold outline; the
+//! output starts with a legend comment.
 
 use std::fmt;
 
-use crate::analysis::structural_choice_points;
+use crate::analysis::{DEFAULT_LIMIT, choice_points, explore};
 use crate::net::{NodeRef, PlaceId};
 use crate::plan::Plan;
 
@@ -18,16 +19,30 @@ const LEGEND: &str = "\
 //                           ● = a token of the initial marking (●×n for n > 3)
 //   filled light blue       execution place, labelled with its action
 //   double circle           choice point: output transitions that can be
-//                           executable together (gold when not an execution place)
+//                           executable together in a reachable marking, as
+//                           `learnpnp check` reports them (gold when not an
+//                           execution place)
 //   green, bold outline     goal place
 //   pink, bold outline      fail place
 //   box                     transition, with its label
 //   arc label               arc weight (shown when above 1)
 ";
 
-/// The plan as a Graphviz `digraph`, deterministic (nodes and arcs in file order).
+/// The plan as a Graphviz `digraph`, deterministic (nodes and arcs in file
+/// order); choice points are found over at most [`DEFAULT_LIMIT`] reachable
+/// markings, as `check` finds them.
 pub fn to_dot(plan: &Plan) -> String {
-    Dot(plan).to_string()
+    to_dot_with_limit(plan, DEFAULT_LIMIT)
+}
+
+/// [`to_dot`] exploring at most `limit` markings for the choice points.
+pub fn to_dot_with_limit(plan: &Plan, limit: usize) -> String {
+    let graph = explore(plan, limit);
+    let mut choice = vec![false; plan.net().places().len()];
+    for c in choice_points(plan, &graph) {
+        choice[c.place.index()] = true;
+    }
+    Dot { plan, choice }.to_string()
 }
 
 /// Escapes `text` for a double-quoted DOT string: quotes and backslashes are
@@ -62,11 +77,15 @@ fn tokens(n: u8) -> String {
     }
 }
 
-struct Dot<'a>(&'a Plan);
+struct Dot<'a> {
+    plan: &'a Plan,
+    /// Per place: whether it is a choice point.
+    choice: Vec<bool>,
+}
 
 impl Dot<'_> {
     fn place(&self, f: &mut fmt::Formatter<'_>, p: PlaceId, choice: bool) -> fmt::Result {
-        let plan = self.0;
+        let plan = self.plan;
         let node = plan.net().place(p);
         let action = plan.exec_action(p).map(|a| plan.action(a).name.as_str());
         let goal = plan.goal().iter().any(|&(q, _)| q == p);
@@ -115,7 +134,7 @@ impl Dot<'_> {
 
 impl fmt::Display for Dot<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let plan = self.0;
+        let plan = self.plan;
         let net = plan.net();
         writeln!(f, "// Petri Net Plan '{}' (learnpnp dot)", comment(net.name()))?;
         f.write_str(LEGEND)?;
@@ -123,11 +142,7 @@ impl fmt::Display for Dot<'_> {
         f.write_str("  rankdir=LR;\n")?;
         f.write_str("  node [fontname=\"Helvetica\", fontsize=10];\n")?;
         f.write_str("  edge [fontname=\"Helvetica\", fontsize=9];\n")?;
-        let mut choice = vec![false; net.places().len()];
-        for c in structural_choice_points(plan) {
-            choice[c.place.index()] = true;
-        }
-        for (i, &is_choice) in choice.iter().enumerate() {
+        for (i, &is_choice) in self.choice.iter().enumerate() {
             self.place(f, PlaceId::new(i), is_choice)?;
         }
         for t in net.transitions() {

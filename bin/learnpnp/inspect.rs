@@ -12,6 +12,15 @@ use learnpnp::learning::persist;
 use learnpnp::plan::{Vocabulary, load_plan};
 use learnpnp::pnml::{self, Dialect};
 
+/// Writes `text` to standard output; a reader that closed the pipe (`| head`) is no error.
+pub fn print_out(text: &str) -> std::io::Result<()> {
+    use std::io::Write as _;
+    match std::io::stdout().lock().write_all(text.as_bytes()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        other => other,
+    }
+}
+
 #[derive(Args, Debug)]
 pub struct CheckArgs {
     /// The plan file (PNML).
@@ -31,7 +40,10 @@ pub fn check(args: &CheckArgs) -> ExitCode {
         }
     };
     let report = analysis::check(&plan, args.limit);
-    print!("{report}");
+    if let Err(e) = print_out(&report.to_string()) {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
     if report.passed() {
         ExitCode::SUCCESS
     } else {
@@ -47,7 +59,10 @@ pub struct DotArgs {
 
 pub fn dot(args: &DotArgs) -> Result<()> {
     let plan = load_plan(&args.plan, Vocabulary::Open)?;
-    print!("{}", to_dot(&plan));
+    for w in plan.warnings() {
+        eprintln!("warning: {w}");
+    }
+    print_out(&to_dot(&plan))?;
     Ok(())
 }
 

@@ -12,6 +12,7 @@
 mod check;
 mod choice;
 mod count;
+mod diagnosis;
 mod guards;
 mod options;
 mod reachability;

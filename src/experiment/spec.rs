@@ -101,6 +101,9 @@ impl DomainSpec {
             DomainSpec::PenaltyKick { plan: Some(p), .. } => load_plan(p, Vocabulary::Open)?,
             DomainSpec::PenaltyKick { config, plan: None } => penalty_kick::plan(config.variant)?,
         };
+        for w in plan.warnings() {
+            eprintln!("warning: {w}");
+        }
         Ok(Some(Arc::new(plan)))
     }
 
