@@ -27,10 +27,16 @@ pub enum TaskError {
         /// The label looked for.
         label: String,
     },
+    /// The run was asked to stop before it ended.
+    #[error("the run was stopped before it ended")]
+    Stopped,
+    /// Keepers in other processes cannot be reached.
+    #[error("keeper processes: {0}")]
+    Remote(String),
 }
 
 /// What one episode earned.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct EpisodeOutcome {
     /// Undiscounted sum of rewards.
     pub ret: f64,

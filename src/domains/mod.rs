@@ -16,7 +16,7 @@ pub use driver::{EpisodeOutcome, PlanAgent, TaskError};
 use crate::learning::{EpisodeMode, Learner};
 
 /// Episodes of one learning run in one domain.
-pub trait Task: Send {
+pub trait Task {
     /// Runs one episode in `mode`.
     fn episode(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError>;
 

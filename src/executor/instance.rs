@@ -265,11 +265,10 @@ impl<W: World> PlanInstance<W> {
             active, executables, ..
         } = self;
         for a in active.iter() {
-            if let Executable::Plan(p) = &mut executables[a] {
-                if p.status == Status::Running {
+            if let Executable::Plan(p) = &mut executables[a]
+                && p.status == Status::Running {
                     p.accrue(reward);
                 }
-            }
         }
     }
 
@@ -320,11 +319,10 @@ impl<W: World> PlanInstance<W> {
             if !self.active.contains(a) {
                 continue;
             }
-            if let Executable::Plan(p) = &mut self.executables[a] {
-                if !p.fresh && p.status == Status::Running {
+            if let Executable::Plan(p) = &mut self.executables[a]
+                && !p.fresh && p.status == Status::Running {
                     p.fire(world, chooser)?;
                 }
-            }
         }
         Ok(())
     }

@@ -226,6 +226,14 @@ impl ExperimentOptions {
         }
     }
 
+    /// These options with `algo`, `runs` and `episodes` where the user gave none.
+    pub fn or_defaults(mut self, algo: Algorithm, runs: usize, episodes: u64) -> Self {
+        self.algo.get_or_insert(algo);
+        self.runs.get_or_insert(runs);
+        self.episodes.get_or_insert(episodes);
+        self
+    }
+
     /// The experiment these options describe in domain `name`.
     pub fn spec(&self, name: DomainName) -> Result<ExperimentSpec, ExperimentError> {
         let domain = self.domain(name);

@@ -9,16 +9,17 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use crossbeam::channel;
+use serde::{Deserialize, Serialize};
 
 use super::spec::{ExperimentError, ExperimentSpec};
-use crate::domains::EpisodeOutcome;
-use crate::learning::EpisodeMode;
+use crate::domains::{EpisodeOutcome, Task};
 use crate::learning::persist::SavedValues;
+use crate::learning::{EpisodeMode, Learner};
 use crate::plan::Plan;
-use crate::rng::{derive_seed, seeded};
+use crate::rng::{SimRng, derive_seed, seeded};
 
 /// One learning episode of run 0, as `episodes.csv` lists it.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct EpisodeRecord {
     /// Learning episode number (1-based).
     pub episode: u64,
@@ -27,7 +28,7 @@ pub struct EpisodeRecord {
 }
 
 /// What one run produced.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct RunOutput {
     /// The evaluation score at each evaluation point.
     pub evals: Vec<f64>,
@@ -72,40 +73,61 @@ impl ExperimentOutput {
     }
 }
 
+/// The learner of agent `agent` in run `run`, starting from `initial` if given.
+/// Agent 0 draws from stream 1 of the run's seed, further agents from streams
+/// 100 + i: every process of a multi-process run builds the same learners.
+pub fn learner_for(spec: &ExperimentSpec, run: usize, agent: usize, initial: Option<&SavedValues>) -> Box<dyn Learner> {
+    let seed = derive_seed(spec.seed, run as u64);
+    let stream = if agent == 0 { 1 } else { 100 + agent as u64 };
+    let mut learner = spec.learner.build(seeded(derive_seed(seed, stream)));
+    if let Some(saved) = initial {
+        let start = saved.to_table(learner.values().initial_value());
+        *learner.values_mut() = start;
+    }
+    learner
+}
+
+/// The random stream of run `run`'s task (its world and fixed policies).
+pub fn task_rng(spec: &ExperimentSpec, run: usize) -> SimRng {
+    seeded(derive_seed(derive_seed(spec.seed, run as u64), 2))
+}
+
 /// Runs one run of `spec` with the plan already loaded.
 pub fn run_one(
     spec: &ExperimentSpec,
     plan: Option<Arc<Plan>>,
     initial: &[SavedValues],
     run: usize,
-    mut progress: impl FnMut(u64),
+    progress: impl FnMut(u64),
 ) -> Result<RunOutput, ExperimentError> {
-    let seed = derive_seed(spec.seed, run as u64);
-    // Agent 0 draws from stream 1; further agents from streams 100 + i.
-    let mut learner = |agent: usize| {
-        let stream = if agent == 0 { 1 } else { 100 + agent as u64 };
-        let mut learner = spec.learner.build(seeded(derive_seed(seed, stream)));
-        if let Some(saved) = initial.get(agent) {
-            let start = saved.to_table(learner.values().initial_value());
-            *learner.values_mut() = start;
-        }
-        learner
-    };
-    let mut task = spec
-        .domain
-        .task(plan.clone(), &mut learner, seeded(derive_seed(seed, 2)))?;
+    let mut learner = |agent: usize| learner_for(spec, run, agent, initial.get(agent));
+    let mut task = spec.domain.task(plan.clone(), &mut learner, task_rng(spec, run))?;
+    let mut out = RunOutput::default();
+    run_protocol(spec, task.as_mut(), run, &mut out, progress)?;
+    if run == 0 {
+        let plans: Vec<&Plan> = plan.as_deref().into_iter().collect();
+        out.values = task
+            .learners()
+            .iter()
+            .map(|l| SavedValues::new(spec.algorithm.name(), l.values(), &plans))
+            .collect();
+    }
+    Ok(out)
+}
+
+/// The protocol of one run on `task`, whatever runs it (in this process or
+/// with keepers in other processes): evaluations every `eval_every` learning
+/// episodes, then the greedy score. Results accumulate in `out` as they come,
+/// so an interrupted run keeps what it completed.
+pub fn run_protocol(
+    spec: &ExperimentSpec,
+    task: &mut dyn Task,
+    run: usize,
+    out: &mut RunOutput,
+    mut progress: impl FnMut(u64),
+) -> Result<(), ExperimentError> {
     let p = spec.protocol;
     let first = run == 0;
-    let mut out = RunOutput {
-        evals: Vec::with_capacity(p.eval_points().len()),
-        greedy: 0.0,
-        episodes: Vec::new(),
-        traces: Vec::new(),
-        values: Vec::new(),
-        episodes_run: 0,
-        actions: 0,
-        replays: Vec::new(),
-    };
     let eval_cost = p.eval_episodes as u64;
     out.evals.push(task.evaluate(p.eval_episodes)?);
     out.episodes_run += eval_cost;
@@ -137,16 +159,10 @@ pub fn run_one(
     out.greedy = task.greedy_score(p.greedy_episodes)?;
     out.episodes_run += p.greedy_episodes as u64;
     if first {
-        let plans: Vec<&Plan> = plan.as_deref().into_iter().collect();
-        out.values = task
-            .learners()
-            .iter()
-            .map(|l| SavedValues::new(spec.algorithm.name(), l.values(), &plans))
-            .collect();
         // Played last, so that recording changes no result of the run.
         out.replays = task.record(spec.record)?;
     }
-    Ok(out)
+    Ok(())
 }
 
 /// Runs every run of `spec` on `threads` threads; a progress bar is drawn on a

@@ -95,11 +95,10 @@ impl Keepaway {
     pub fn run_episode(&mut self, policy: &mut dyn KeeperPolicy) -> EpisodeOutcome {
         self.reset();
         let outcome = loop {
-            if self.step(policy).is_some() {
-                if let Some(o) = self.outcome() {
+            if self.step(policy).is_some()
+                && let Some(o) = self.outcome() {
                     break o;
                 }
-            }
         };
         policy.end_episode(&outcome);
         outcome

@@ -54,11 +54,10 @@ impl Referee {
         } else if Side::Keepers.indices().any(near) {
             self.take_count = 0;
         }
-        if let Some(limit) = cfg.max_episode_cycles {
-            if world.cycle >= limit {
+        if let Some(limit) = cfg.max_episode_cycles
+            && world.cycle >= limit {
                 return Some(EndReason::CycleLimit);
             }
-        }
         None
     }
 }

@@ -31,10 +31,9 @@ pub fn taker_command(view: &PlayerView, cfg: &KeepawayConfig) -> Command {
     if view.ball_kickable(cfg) && closest_of(&mut my_side.clone()).map(|c| c.0) == Some(me) {
         return hold_ball(view, cfg, cfg.skills.taker_hold_ratio);
     }
-    if let Some((closest, d)) = closest_of(&mut (0..view.players.len())) {
-        if closest != me && my_side.contains(&closest) && d < cfg.server.kickable_distance() {
+    if let Some((closest, d)) = closest_of(&mut (0..view.players.len()))
+        && closest != me && my_side.contains(&closest) && d < cfg.server.kickable_distance() {
             return turn_to_ball(view, cfg);
         }
-    }
     intercept(view, cfg)
 }

@@ -29,6 +29,7 @@ pub struct McespConfig {
     /// Smallest step size.
     pub alpha_min: f64,
     /// Value of unseen pairs.
+    #[serde(with = "crate::json_float")]
     pub initial_value: f64,
 }
 
@@ -155,7 +156,7 @@ impl Learner for Mcesp {
         self.learning = start.learning();
         self.greedy = start.greedy();
         self.explored = false;
-        if self.learning && self.episode > 0 && self.episode % self.config.stage_length.max(1) == 0 {
+        if self.learning && self.episode > 0 && self.episode.is_multiple_of(self.config.stage_length.max(1)) {
             self.end_stage();
         }
     }

@@ -18,6 +18,7 @@ pub struct MonteCarloConfig {
     /// How options are drawn; schedules count learning decisions.
     pub exploration: Exploration,
     /// Value of unseen markings.
+    #[serde(with = "crate::json_float")]
     pub initial_value: f64,
 }
 

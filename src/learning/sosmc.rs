@@ -84,6 +84,7 @@ pub struct SoSmcConfig {
     /// Step size of exploiting updates.
     pub step_size: StepSize,
     /// Initial value: negative infinity (pessimistic: no estimate) or an optimistic bound.
+    #[serde(with = "crate::json_float")]
     pub initial_value: f64,
     /// The optional threshold rule.
     pub threshold: Option<ThresholdRule>,
@@ -177,7 +178,7 @@ impl SoSmc {
         match c.assessment {
             Assessment::Never => Kind::Exploit,
             Assessment::PerDecision => Kind::PerDecision,
-            Assessment::EveryN(n) if n > 0 && (since + 1) % n == 0 => Kind::Explore,
+            Assessment::EveryN(n) if n > 0 && (since + 1).is_multiple_of(n) => Kind::Explore,
             Assessment::AfterK(k) if self.exploit_streak >= k => Kind::Explore,
             _ => Kind::Exploit,
         }

@@ -49,6 +49,7 @@ pub struct TdConfig {
     /// How options are drawn; schedules count learning decisions.
     pub exploration: Exploration,
     /// Value of unseen keys.
+    #[serde(with = "crate::json_float")]
     pub initial_value: f64,
     /// Repeat the first decision at an observation within an episode.
     pub consistent: bool,

@@ -37,11 +37,10 @@ impl Trajectory {
             self.rewards.push((self.time, reward));
         }
         self.time += elapsed;
-        if let Some(id) = self.pending.take() {
-            if !self.visits.iter().any(|(v, _)| *v == id) {
+        if let Some(id) = self.pending.take()
+            && !self.visits.iter().any(|(v, _)| *v == id) {
                 self.visits.push((id, self.time));
             }
-        }
     }
 
     /// Records a first visit of `id` now (for learners valuing every marking).

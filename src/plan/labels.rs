@@ -10,11 +10,10 @@ pub fn split_tokens(label: &str) -> Option<Vec<&str>> {
     for (i, c) in label.char_indices() {
         match c {
             '(' | '[' => {
-                if c == '[' && depth == 0 {
-                    if let Some(s) = start.take() {
+                if c == '[' && depth == 0
+                    && let Some(s) = start.take() {
                         tokens.push(&label[s..i]);
                     }
-                }
                 if start.is_none() {
                     start = Some(i);
                 }
@@ -114,11 +113,10 @@ pub fn parse_place_label(label: &str) -> Result<PlaceLabel, LabelError> {
             if out.goal.replace(n?).is_some() {
                 return Err(label_error(token, "a second goal token"));
             }
-        } else if let Some(n) = marking_token(token, "fail") {
-            if out.fail.replace(n?).is_some() {
+        } else if let Some(n) = marking_token(token, "fail")
+            && out.fail.replace(n?).is_some() {
                 return Err(label_error(token, "a second fail token"));
             }
-        }
     }
     Ok(out)
 }

@@ -29,7 +29,7 @@ pub enum TeamStep {
 }
 
 /// Who decides the keepers' commands in an episode.
-pub trait KeeperTeam: Send {
+pub trait KeeperTeam {
     /// A new episode begins; the learners are told how it is to be run.
     fn begin_episode(&mut self, start: EpisodeStart) -> Result<(), TaskError>;
 

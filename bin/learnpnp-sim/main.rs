@@ -1,0 +1,36 @@
+//! `learnpnp-sim`: the Keepaway simulator process of a multi-process run
+//! (started by `learnpnp-supervisor`, which passes every argument).
+
+use std::process::ExitCode;
+
+use anyhow::Context;
+use clap::Parser;
+use learnpnp::multiprocess::{RunContext, simulator};
+
+/// The Keepaway simulator behind iceoryx2 services.
+#[derive(Parser)]
+#[command(name = "learnpnp-sim", version)]
+struct Args {
+    #[command(flatten)]
+    context: RunContext,
+    /// Round trips of the floor measurement before the first episode.
+    #[arg(long, default_value_t = 20_000)]
+    floor_round_trips: usize,
+}
+
+fn main() -> ExitCode {
+    iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
+    let args = Args::parse();
+    match simulator::run(&args.context, args.floor_round_trips).context("simulator") {
+        Ok(result) => {
+            if let Some(error) = &result.error {
+                eprintln!("simulator: the run ended early: {error}");
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,13 @@
+//! The transport of the multi-process system: iceoryx2 shared memory.
+//!
+//! - [`namespace`]: a run's own prefix and directory, its owner lock, and the
+//!   cleanup of what dead runs left;
+//! - [`services`]: every service of a run with its limits, and each process's ports;
+//! - [`wait`]: how a process waits between polls (spin, yield, block, hybrid);
+//! - [`convert`]: the in-process types to and from their `shm_layouts`
+//!   layouts, validating everything read.
+
+pub mod convert;
+pub mod namespace;
+pub mod services;
+pub mod wait;

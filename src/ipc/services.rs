@@ -1,0 +1,356 @@
+//! The run's iceoryx2 services, each opened with explicit limits, and the
+//! ports each process holds. Names, payloads and who publishes and subscribes
+//! are documented in `shm_layouts/README.md`.
+
+use std::fmt::Debug;
+
+use iceoryx2::node::Node;
+use iceoryx2::port::listener::Listener;
+use iceoryx2::port::notifier::Notifier;
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::subscriber::Subscriber;
+use iceoryx2::prelude::{NodeBuilder, ServiceName, SignalHandlingMode, ZeroCopySend, ipc};
+use iceoryx2::service::port_factory::{event, publish_subscribe};
+use shm_layouts::{
+    AgentReport, Control, EpisodeEvent, Heartbeat, KeeperCommand, KeeperSnapshot, NUM_KEEPERS, services,
+};
+
+use super::namespace::Namespace;
+
+/// The iceoryx2 service variant of every port: inter-process, single-threaded ports.
+pub type Ipc = ipc::Service;
+
+/// A publisher of `T`.
+pub type Pub<T> = Publisher<Ipc, T, ()>;
+/// A subscriber of `T`.
+pub type Sub<T> = Subscriber<Ipc, T, ()>;
+
+/// Why a port cannot be opened or used.
+#[derive(Debug, thiserror::Error)]
+pub enum IpcError {
+    /// An iceoryx2 operation failed.
+    #[error("{operation}: {detail}")]
+    Iceoryx {
+        /// What was being done (names the service).
+        operation: String,
+        /// iceoryx2's error.
+        detail: String,
+    },
+    /// The namespace is unusable.
+    #[error(transparent)]
+    Namespace(#[from] super::namespace::NamespaceError),
+}
+
+/// Wraps an iceoryx2 error with what was being done.
+pub(crate) fn fail<E: Debug>(operation: impl Into<String>) -> impl FnOnce(E) -> IpcError {
+    let operation = operation.into();
+    move |e| IpcError::Iceoryx {
+        operation,
+        detail: format!("{e:?}"),
+    }
+}
+
+/// Sized for the run's processes plus restarts whose predecessor iceoryx2
+/// has not yet cleaned up, and a diagnostic or foreign port or two.
+const MAX_NODES: usize = 32;
+
+/// A publish-subscribe service's limits.
+#[derive(Debug, Clone, Copy)]
+struct Limits {
+    publishers: usize,
+    subscribers: usize,
+    /// Samples a subscriber holds before the oldest is overwritten.
+    buffer: usize,
+}
+
+/// Data services between the simulator and one keeper: one of each side,
+/// room for a restarted one and a foreign one; the buffer covers two
+/// seconds of real-time cycles, for an agent that was stopped and catches up.
+const POINT_TO_POINT: Limits = Limits {
+    publishers: 4,
+    subscribers: 4,
+    buffer: 32,
+};
+
+/// Services every process publishes to or subscribes from.
+const SHARED: Limits = Limits {
+    publishers: 16,
+    subscribers: 16,
+    buffer: 256,
+};
+
+/// Opens (or creates) the publish-subscribe service `name` of `T`.
+fn pubsub<T: ZeroCopySend + Debug + 'static>(
+    node: &Node<Ipc>,
+    name: &str,
+    limits: Limits,
+) -> Result<publish_subscribe::PortFactory<Ipc, T, ()>, IpcError> {
+    let service_name = ServiceName::new(name).map_err(fail(format!("service name {name}")))?;
+    node.service_builder(&service_name)
+        .publish_subscribe::<T>()
+        .max_publishers(limits.publishers)
+        .max_subscribers(limits.subscribers)
+        .max_nodes(MAX_NODES)
+        .history_size(0)
+        .subscriber_max_buffer_size(limits.buffer)
+        .enable_safe_overflow(true)
+        .open_or_create()
+        .map_err(fail(format!("opening service {name}")))
+}
+
+/// Opens (or creates) the event service that wakes `process`.
+fn wake_service(node: &Node<Ipc>, process: &str) -> Result<event::PortFactory<Ipc>, IpcError> {
+    let name = services::wake(process);
+    let service_name = ServiceName::new(&name).map_err(fail(format!("service name {name}")))?;
+    node.service_builder(&service_name)
+        .event()
+        .max_listeners(2)
+        .max_notifiers(16)
+        .max_nodes(MAX_NODES)
+        .open_or_create()
+        .map_err(fail(format!("opening event service {name}")))
+}
+
+/// The wake-up service name of the simulator.
+pub const SIM_PROCESS: &str = "sim";
+
+/// The wake-up service name of keeper `k`'s agent.
+pub fn keeper_process(k: usize) -> String {
+    format!("keeper-{k}")
+}
+
+/// A node of the run in `namespace`, named `name`; signals are left to the program.
+pub fn node(namespace: &Namespace, name: &str) -> Result<Node<Ipc>, IpcError> {
+    let config = namespace.config()?;
+    let node_name = name.try_into().map_err(fail(format!("node name {name}")))?;
+    NodeBuilder::new()
+        .name(&node_name)
+        .config(&config)
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<Ipc>()
+        .map_err(fail(format!("creating node {name}")))
+}
+
+fn publisher<T: ZeroCopySend + Debug + 'static>(
+    node: &Node<Ipc>,
+    name: &str,
+    limits: Limits,
+) -> Result<Pub<T>, IpcError> {
+    pubsub::<T>(node, name, limits)?
+        .publisher_builder()
+        .create()
+        .map_err(fail(format!("publisher on {name}")))
+}
+
+fn subscriber<T: ZeroCopySend + Debug + 'static>(
+    node: &Node<Ipc>,
+    name: &str,
+    limits: Limits,
+) -> Result<Sub<T>, IpcError> {
+    pubsub::<T>(node, name, limits)?
+        .subscriber_builder()
+        .create()
+        .map_err(fail(format!("subscriber on {name}")))
+}
+
+fn listener(node: &Node<Ipc>, process: &str) -> Result<Listener<Ipc>, IpcError> {
+    wake_service(node, process)?
+        .listener_builder()
+        .create()
+        .map_err(fail(format!("listener of {process}")))
+}
+
+fn notifier(node: &Node<Ipc>, process: &str) -> Result<Notifier<Ipc>, IpcError> {
+    wake_service(node, process)?
+        .notifier_builder()
+        .create()
+        .map_err(fail(format!("notifier of {process}")))
+}
+
+/// Every service of a run, created by the supervisor before it starts the
+/// processes (so the limits are its own) and kept open for the run's life.
+pub struct RunServices {
+    _pubsub: Vec<Box<dyn std::any::Any>>,
+    _events: Vec<event::PortFactory<Ipc>>,
+}
+
+impl RunServices {
+    /// Creates every service of the run on `node`.
+    pub fn create(node: &Node<Ipc>) -> Result<Self, IpcError> {
+        let mut pubsub_factories: Vec<Box<dyn std::any::Any>> = Vec::new();
+        for k in 0..NUM_KEEPERS {
+            pubsub_factories.push(Box::new(pubsub::<KeeperSnapshot>(
+                node,
+                &services::snapshot(k),
+                POINT_TO_POINT,
+            )?));
+            pubsub_factories.push(Box::new(pubsub::<KeeperCommand>(
+                node,
+                &services::command(k),
+                POINT_TO_POINT,
+            )?));
+        }
+        pubsub_factories.push(Box::new(pubsub::<EpisodeEvent>(node, services::EPISODE, SHARED)?));
+        pubsub_factories.push(Box::new(pubsub::<AgentReport>(node, services::AGENT_REPORT, SHARED)?));
+        pubsub_factories.push(Box::new(pubsub::<Heartbeat>(node, services::HEARTBEAT, SHARED)?));
+        pubsub_factories.push(Box::new(pubsub::<Control>(node, services::CONTROL, SHARED)?));
+        pubsub_factories.push(Box::new(pubsub::<KeeperSnapshot>(
+            node,
+            services::FLOOR_PING,
+            POINT_TO_POINT,
+        )?));
+        pubsub_factories.push(Box::new(pubsub::<KeeperCommand>(
+            node,
+            services::FLOOR_PONG,
+            POINT_TO_POINT,
+        )?));
+        let mut events = vec![wake_service(node, SIM_PROCESS)?];
+        for k in 0..NUM_KEEPERS {
+            events.push(wake_service(node, &keeper_process(k))?);
+        }
+        Ok(RunServices {
+            _pubsub: pubsub_factories,
+            _events: events,
+        })
+    }
+}
+
+/// The simulator's ports.
+pub struct SimPorts {
+    /// Snapshots to keeper k.
+    pub snapshots: Vec<Pub<KeeperSnapshot>>,
+    /// Commands from keeper k.
+    pub commands: Vec<Sub<KeeperCommand>>,
+    /// Episode events to every agent.
+    pub episode: Pub<EpisodeEvent>,
+    /// Agents' reports.
+    pub reports: Sub<AgentReport>,
+    /// Heartbeats to the supervisor.
+    pub heartbeat: Pub<Heartbeat>,
+    /// The supervisor's commands.
+    pub control: Sub<Control>,
+    /// Floor measurement pings to agent 0.
+    pub floor_ping: Pub<KeeperSnapshot>,
+    /// Floor measurement pongs from agent 0.
+    pub floor_pong: Sub<KeeperCommand>,
+    /// Wakes the simulator when it blocks.
+    pub wake: Listener<Ipc>,
+    /// Wake keeper k.
+    pub wake_keepers: Vec<Notifier<Ipc>>,
+}
+
+impl SimPorts {
+    /// Opens the simulator's ports on `node`.
+    pub fn open(node: &Node<Ipc>) -> Result<Self, IpcError> {
+        let keepers = 0..NUM_KEEPERS;
+        Ok(SimPorts {
+            snapshots: keepers
+                .clone()
+                .map(|k| publisher(node, &services::snapshot(k), POINT_TO_POINT))
+                .collect::<Result<_, _>>()?,
+            commands: keepers
+                .clone()
+                .map(|k| subscriber(node, &services::command(k), POINT_TO_POINT))
+                .collect::<Result<_, _>>()?,
+            episode: publisher(node, services::EPISODE, SHARED)?,
+            reports: subscriber(node, services::AGENT_REPORT, SHARED)?,
+            heartbeat: publisher(node, services::HEARTBEAT, SHARED)?,
+            control: subscriber(node, services::CONTROL, SHARED)?,
+            floor_ping: publisher(node, services::FLOOR_PING, POINT_TO_POINT)?,
+            floor_pong: subscriber(node, services::FLOOR_PONG, POINT_TO_POINT)?,
+            wake: listener(node, SIM_PROCESS)?,
+            wake_keepers: keepers
+                .map(|k| notifier(node, &keeper_process(k)))
+                .collect::<Result<_, _>>()?,
+        })
+    }
+}
+
+/// An agent's ports (keeper k).
+pub struct AgentPorts {
+    /// Its snapshots.
+    pub snapshot: Sub<KeeperSnapshot>,
+    /// Its commands.
+    pub command: Pub<KeeperCommand>,
+    /// Episode events.
+    pub episode: Sub<EpisodeEvent>,
+    /// Its reports to the simulator.
+    pub report: Pub<AgentReport>,
+    /// Heartbeats to the supervisor.
+    pub heartbeat: Pub<Heartbeat>,
+    /// The supervisor's commands.
+    pub control: Sub<Control>,
+    /// Floor pings (agent 0 answers them).
+    pub floor_ping: Sub<KeeperSnapshot>,
+    /// Floor pongs.
+    pub floor_pong: Pub<KeeperCommand>,
+    /// Wakes this agent when it blocks.
+    pub wake: Listener<Ipc>,
+    /// Wakes the simulator.
+    pub wake_sim: Notifier<Ipc>,
+}
+
+impl AgentPorts {
+    /// Opens keeper `k`'s ports on `node`.
+    pub fn open(node: &Node<Ipc>, k: usize) -> Result<Self, IpcError> {
+        Ok(AgentPorts {
+            snapshot: subscriber(node, &services::snapshot(k), POINT_TO_POINT)?,
+            command: publisher(node, &services::command(k), POINT_TO_POINT)?,
+            episode: subscriber(node, services::EPISODE, SHARED)?,
+            report: publisher(node, services::AGENT_REPORT, SHARED)?,
+            heartbeat: publisher(node, services::HEARTBEAT, SHARED)?,
+            control: subscriber(node, services::CONTROL, SHARED)?,
+            floor_ping: subscriber(node, services::FLOOR_PING, POINT_TO_POINT)?,
+            floor_pong: publisher(node, services::FLOOR_PONG, POINT_TO_POINT)?,
+            wake: listener(node, &keeper_process(k))?,
+            wake_sim: notifier(node, SIM_PROCESS)?,
+        })
+    }
+}
+
+/// The supervisor's ports.
+pub struct SupervisorPorts {
+    /// Every process's heartbeats.
+    pub heartbeats: Sub<Heartbeat>,
+    /// Commands to the processes.
+    pub control: Pub<Control>,
+    /// Wakes the simulator (after a control command).
+    pub wake_sim: Notifier<Ipc>,
+    /// Wake keeper k (after a control command).
+    pub wake_keepers: Vec<Notifier<Ipc>>,
+}
+
+impl SupervisorPorts {
+    /// Opens the supervisor's ports on `node`.
+    pub fn open(node: &Node<Ipc>) -> Result<Self, IpcError> {
+        Ok(SupervisorPorts {
+            heartbeats: subscriber(node, services::HEARTBEAT, SHARED)?,
+            control: publisher(node, services::CONTROL, SHARED)?,
+            wake_sim: notifier(node, SIM_PROCESS)?,
+            wake_keepers: (0..NUM_KEEPERS)
+                .map(|k| notifier(node, &keeper_process(k)))
+                .collect::<Result<_, _>>()?,
+        })
+    }
+}
+
+/// Publishes `value` on `publisher`, written straight into a loaned
+/// shared-memory sample.
+pub fn send<T: ZeroCopySend + Debug + 'static>(publisher: &Pub<T>, value: T) -> Result<(), IpcError> {
+    let sample = publisher.loan_uninit().map_err(fail("loaning a sample"))?;
+    sample
+        .write_payload(value)
+        .send()
+        .map(|_| ())
+        .map_err(fail("sending a sample"))
+}
+
+/// Reads the next sample on `subscriber` in place (in shared memory, not
+/// copied) with `read`, if there is one.
+pub fn receive<T: ZeroCopySend + Debug + 'static, R>(
+    subscriber: &Sub<T>,
+    read: impl FnOnce(&T) -> R,
+) -> Result<Option<R>, IpcError> {
+    let sample = subscriber.receive().map_err(fail("receiving a sample"))?;
+    Ok(sample.map(|s| read(&s)))
+}

@@ -1,0 +1,94 @@
+//! How a process waits for a message that has not arrived yet.
+//!
+//! iceoryx2 subscribers have no blocking receive: a process polls, and between
+//! polls it spins, yields its core, or blocks on an iceoryx2 event that the
+//! sender notifies. On a machine with fewer cores than busy processes, pure
+//! spinning starves the process being waited for, and a blocking wake-up costs
+//! tens of microseconds; the figures that chose the default are in
+//! docs/results/RESULTS.md (multi-process system).
+
+use std::time::{Duration, Instant};
+
+use iceoryx2::port::listener::Listener;
+use iceoryx2::port::notifier::Notifier;
+use serde::{Deserialize, Serialize};
+
+use super::services::{Ipc, IpcError, fail};
+
+/// A waiting process's behaviour between polls.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum WaitStrategy {
+    /// Poll without pause: lowest latency while every process has a core of its own.
+    Spin,
+    /// Poll, yielding the core between polls.
+    Yield,
+    /// Block on the process's wake-up event until a sender notifies it.
+    Block,
+    /// Yield between polls for [`HYBRID_YIELD`], then block.
+    Hybrid,
+}
+
+impl WaitStrategy {
+    /// Whether senders must notify the receiver's wake-up event after sending.
+    pub fn notifies(self) -> bool {
+        matches!(self, WaitStrategy::Block | WaitStrategy::Hybrid)
+    }
+
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            WaitStrategy::Spin => "spin",
+            WaitStrategy::Yield => "yield",
+            WaitStrategy::Block => "block",
+            WaitStrategy::Hybrid => "hybrid",
+        }
+    }
+}
+
+/// How long [`WaitStrategy::Hybrid`] yields before it blocks: a little longer
+/// than a lock-step cycle's round trip, so that a busy run never blocks and an
+/// idle process soon stops taking turns on the cores.
+pub const HYBRID_YIELD: Duration = Duration::from_micros(200);
+
+/// The longest a blocked process sleeps before it looks again (for its
+/// heartbeat, the supervisor's commands and deadlines).
+pub const MAX_BLOCK: Duration = Duration::from_millis(20);
+
+/// One wait: call [`Idle::pause`] each time a poll found nothing.
+#[derive(Debug)]
+pub struct Idle {
+    strategy: WaitStrategy,
+    since: Option<Instant>,
+}
+
+impl Idle {
+    /// A wait that begins now.
+    pub fn new(strategy: WaitStrategy) -> Self {
+        Idle { strategy, since: None }
+    }
+
+    /// Pauses once between two polls; a blocking pause returns when `wake` is
+    /// notified or after at most `limit` (and [`MAX_BLOCK`]).
+    pub fn pause(&mut self, wake: &Listener<Ipc>, limit: Duration) -> Result<(), IpcError> {
+        let since = *self.since.get_or_insert_with(Instant::now);
+        match self.strategy {
+            WaitStrategy::Spin => std::hint::spin_loop(),
+            WaitStrategy::Yield => std::thread::yield_now(),
+            WaitStrategy::Hybrid if since.elapsed() < HYBRID_YIELD => std::thread::yield_now(),
+            WaitStrategy::Block | WaitStrategy::Hybrid => {
+                wake.timed_wait(|_| {}, limit.min(MAX_BLOCK))
+                    .map_err(fail("waiting on the wake-up event"))?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Wakes a receiver after a send, if its strategy blocks.
+pub fn wake(strategy: WaitStrategy, notifier: &Notifier<Ipc>) -> Result<(), IpcError> {
+    if strategy.notifies() {
+        notifier.notify().map_err(fail("notifying a wake-up event"))?;
+    }
+    Ok(())
+}

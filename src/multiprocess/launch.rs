@@ -1,0 +1,194 @@
+//! Starting the run's processes: where their binaries are, their command
+//! lines, their logs, and the guarantee that they die with the supervisor
+//! (`PR_SET_PDEATHSIG`) and are not hit by the terminal's Ctrl-C (their own
+//! process group), so that the supervisor alone decides how they stop.
+
+use std::ffi::OsString;
+use std::fs::File;
+use std::io;
+use std::os::unix::process::CommandExt;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, ExitStatus, Stdio};
+
+use super::RunContext;
+use crate::ipc::convert::Role;
+
+/// The simulator's binary.
+pub const SIM_BINARY: &str = "learnpnp-sim";
+
+/// The agents' binary.
+pub const AGENT_BINARY: &str = "learnpnp-agent";
+
+/// Why a process cannot be started.
+#[derive(Debug, thiserror::Error)]
+pub enum LaunchError {
+    /// A binary is missing.
+    #[error("{0} not found (build every binary: cargo build --release --bins)")]
+    Missing(PathBuf),
+    /// Building the missing binaries failed.
+    #[error("building {SIM_BINARY} and {AGENT_BINARY} failed: {0}")]
+    Build(String),
+    /// Starting a process failed.
+    #[error("starting {what}: {source}")]
+    Spawn {
+        /// The process.
+        what: String,
+        /// The error.
+        source: io::Error,
+    },
+}
+
+/// The simulator's and the agents' binaries.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Binaries {
+    /// `learnpnp-sim`.
+    pub sim: PathBuf,
+    /// `learnpnp-agent`.
+    pub agent: PathBuf,
+}
+
+impl Binaries {
+    /// The binaries in `dir`.
+    pub fn in_dir(dir: &Path) -> Result<Self, LaunchError> {
+        let binaries = Binaries {
+            sim: dir.join(SIM_BINARY),
+            agent: dir.join(AGENT_BINARY),
+        };
+        for path in [&binaries.sim, &binaries.agent] {
+            if !path.is_file() {
+                return Err(LaunchError::Missing(path.clone()));
+            }
+        }
+        Ok(binaries)
+    }
+
+    /// The binaries next to the running executable. Under `cargo run`, which
+    /// builds only the binary it runs, missing ones are built first with the
+    /// same cargo and profile.
+    pub fn beside_current_exe() -> Result<Self, LaunchError> {
+        let exe = std::env::current_exe().map_err(|source| LaunchError::Spawn {
+            what: "locating the supervisor's executable".into(),
+            source,
+        })?;
+        let dir = exe.parent().map(Path::to_path_buf).unwrap_or_default();
+        match Self::in_dir(&dir) {
+            Err(LaunchError::Missing(_)) if std::env::var_os("CARGO").is_some() => {
+                build_with_cargo(&dir)?;
+                Self::in_dir(&dir)
+            }
+            other => other,
+        }
+    }
+}
+
+/// Builds the sibling binaries with the cargo that runs us (`cargo run`),
+/// in the profile of the directory we run from.
+fn build_with_cargo(dir: &Path) -> Result<(), LaunchError> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let mut command = Command::new(cargo);
+    command.args(["build", "--bin", SIM_BINARY, "--bin", AGENT_BINARY]);
+    if dir.file_name().is_some_and(|n| n == "release") {
+        command.arg("--release");
+    }
+    if let Some(manifest) = std::env::var_os("CARGO_MANIFEST_DIR") {
+        command
+            .arg("--manifest-path")
+            .arg(Path::new(&manifest).join("Cargo.toml"));
+    }
+    eprintln!("building {SIM_BINARY} and {AGENT_BINARY} (cargo run builds only the supervisor)");
+    let status = command.status().map_err(|e| LaunchError::Build(e.to_string()))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(LaunchError::Build(status.to_string()))
+    }
+}
+
+impl RunContext {
+    /// The command-line arguments that give a child process this context.
+    pub fn to_args(&self) -> Vec<OsString> {
+        let mut args: Vec<OsString> = vec![
+            "--run-id".into(),
+            self.run_id.to_string().into(),
+            "--run".into(),
+            self.run.to_string().into(),
+            "--ipc-prefix".into(),
+            self.ipc_prefix.clone().into(),
+            "--clock".into(),
+            self.clock.name().into(),
+            "--wait".into(),
+            self.wait.name().into(),
+            "--spec".into(),
+        ];
+        args.push(self.spec.clone().into());
+        args.push("--work-dir".into());
+        args.push(self.work_dir.clone().into());
+        args
+    }
+}
+
+/// A started process of the run.
+#[derive(Debug)]
+pub struct Process {
+    /// Who it is.
+    pub role: Role,
+    child: Child,
+}
+
+impl Process {
+    /// Its process id.
+    pub fn pid(&self) -> u32 {
+        self.child.id()
+    }
+
+    /// Its exit status, if it has exited.
+    pub fn exited(&mut self) -> io::Result<Option<ExitStatus>> {
+        self.child.try_wait()
+    }
+
+    /// Kills it (SIGKILL) and reaps it.
+    pub fn kill(&mut self) -> io::Result<ExitStatus> {
+        // An already exited process makes kill fail; wait still reaps it.
+        let _ = self.child.kill();
+        self.child.wait()
+    }
+
+    /// Waits for it to exit.
+    pub fn wait(&mut self) -> io::Result<ExitStatus> {
+        self.child.wait()
+    }
+}
+
+/// Starts `binary` as `role` with `args`, its output appended to `log`; it
+/// gets its own process group and is killed when the supervisor dies.
+pub fn spawn(binary: &Path, role: Role, args: &[OsString], log: &Path) -> Result<Process, LaunchError> {
+    let fail = |source| LaunchError::Spawn {
+        what: format!("{role} ({})", binary.display()),
+        source,
+    };
+    let out = File::options().create(true).append(true).open(log).map_err(fail)?;
+    let err = out.try_clone().map_err(fail)?;
+    let parent = std::process::id();
+    let mut command = Command::new(binary);
+    command
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(out)
+        .stderr(err)
+        .process_group(0);
+    // SAFETY: the closure only calls async-signal-safe functions (prctl, getppid).
+    unsafe {
+        command.pre_exec(move || {
+            if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) != 0 {
+                return Err(io::Error::last_os_error());
+            }
+            // The supervisor may have died before the death signal was armed.
+            if libc::getppid() as u32 != parent {
+                return Err(io::Error::other("the supervisor is gone"));
+            }
+            Ok(())
+        });
+    }
+    let child = command.spawn().map_err(fail)?;
+    Ok(Process { role, child })
+}

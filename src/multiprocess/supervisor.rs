@@ -1,0 +1,607 @@
+//! The supervisor: for each run of an experiment it picks a run-unique
+//! iceoryx2 namespace, creates the services, starts the simulator and one
+//! agent process per keeper, watches their exit status and heartbeats,
+//! restarts an agent that dies or hangs (from its last checkpoint; the
+//! simulator aborts the episode in flight), stops everything on request with a
+//! final checkpoint, and removes every shared-memory file of the run.
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::ExitStatus;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use rand::RngExt;
+use serde::Serialize;
+
+use super::agent::{checkpoint_name, compute_histogram};
+use super::launch::{Binaries, LaunchError, Process, spawn};
+use super::simulator::{FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult};
+use super::{Clock, RunContext};
+use crate::experiment::spec::ExperimentSpec;
+use crate::ipc::convert::{Order, Pulse, Rejections, Role, control_message, read_heartbeat};
+use crate::ipc::namespace::{Namespace, NamespaceError, NamespaceOwner};
+use crate::ipc::services::{IpcError, RunServices, SupervisorPorts, node, receive, send};
+use crate::ipc::wait::{WaitStrategy, wake};
+use crate::keepaway::world::NUM_KEEPERS;
+use crate::latency::{Latency, LatencyError};
+use crate::learning::persist::{self, SavedValues};
+
+/// The exit code of an agent that cannot resume from its checkpoint: it is
+/// not restarted again.
+pub const EXIT_CANNOT_RESUME: i32 = 3;
+
+/// How the supervisor runs the system.
+#[derive(Debug, Clone)]
+pub struct SupervisorConfig {
+    /// The experiment.
+    pub spec: ExperimentSpec,
+    /// Lock-step or real time.
+    pub clock: Clock,
+    /// How processes wait for messages.
+    pub wait: WaitStrategy,
+    /// Agents checkpoint every this many learning episodes.
+    pub checkpoint_every: u64,
+    /// Round trips of the floor measurement in every run.
+    pub floor_round_trips: usize,
+    /// A process silent for this long is taken as hung and killed.
+    pub heartbeat_timeout: Duration,
+    /// Restarts of one keeper in one run before the run is given up.
+    pub max_restarts: u32,
+    /// The simulator's and agents' binaries.
+    pub binaries: Binaries,
+}
+
+/// Why a run of the system failed.
+#[derive(Debug, thiserror::Error)]
+pub enum SupervisorError {
+    /// A process cannot be started.
+    #[error(transparent)]
+    Launch(#[from] LaunchError),
+    /// Shared memory failed.
+    #[error(transparent)]
+    Ipc(#[from] IpcError),
+    /// The namespace cannot be set up or cleaned.
+    #[error(transparent)]
+    Namespace(#[from] NamespaceError),
+    /// A file cannot be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
+    /// A histogram file is unreadable.
+    #[error(transparent)]
+    Latency(#[from] LatencyError),
+    /// A process failed in a way the run cannot survive.
+    #[error("{0}")]
+    Failed(String),
+}
+
+fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> SupervisorError + '_ {
+    move |source| SupervisorError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// A fault and what the supervisor did about it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Fault {
+    /// The run (0-based).
+    pub run: usize,
+    /// Seconds since the run's processes started.
+    pub seconds: f64,
+    /// What happened (e.g. "keeper 2 exited: signal 9 (SIGKILL)").
+    pub kind: String,
+    /// What the supervisor did, and with what result.
+    pub outcome: String,
+}
+
+/// What one run of the system produced.
+#[derive(Debug)]
+pub struct RunRecord {
+    /// The run's index.
+    pub run: usize,
+    /// The simulator's result (protocol output, counters); empty if it died.
+    pub sim: SimulatorResult,
+    /// Why the run did not complete normally (a process the run cannot do
+    /// without died, or could not be restarted).
+    pub failure: Option<String>,
+    /// Faults and restarts, in order.
+    pub faults: Vec<Fault>,
+    /// Agents restarted.
+    pub restarts: u32,
+    /// The run's histograms: round trip, floor, and each keeper's compute time.
+    pub histograms: Vec<Latency>,
+    /// Messages refused, by process (the simulator and each keeper, all incarnations).
+    pub rejected: BTreeMap<String, Rejections>,
+    /// Checkpoint writes that failed, over every agent.
+    pub checkpoint_failures: u64,
+    /// The learning keepers' final values (their last checkpoints).
+    pub values: Vec<SavedValues>,
+    /// Wall-clock seconds of the run.
+    pub seconds: f64,
+    /// Files of the run's namespace left after cleanup (0 unless cleanup failed).
+    pub leftover_files: usize,
+    /// The run's iceoryx2 prefix.
+    pub prefix: String,
+}
+
+/// How an exit status reads in a report.
+fn describe(status: ExitStatus) -> String {
+    use std::os::unix::process::ExitStatusExt;
+    match (status.code(), status.signal()) {
+        (Some(code), _) => format!("exit code {code}"),
+        (None, Some(signal)) => format!("signal {signal} ({})", signal_name(signal)),
+        _ => status.to_string(),
+    }
+}
+
+fn signal_name(signal: i32) -> &'static str {
+    match signal {
+        libc::SIGKILL => "SIGKILL",
+        libc::SIGTERM => "SIGTERM",
+        libc::SIGSEGV => "SIGSEGV",
+        libc::SIGABRT => "SIGABRT",
+        libc::SIGINT => "SIGINT",
+        _ => "signal",
+    }
+}
+
+/// The processes of a run; whatever is still running when this is dropped is killed.
+struct Fleet {
+    processes: BTreeMap<Role, Process>,
+}
+
+impl Fleet {
+    fn kill_all(&mut self) {
+        for process in self.processes.values_mut() {
+            let _ = process.kill();
+        }
+        self.processes.clear();
+    }
+}
+
+impl Drop for Fleet {
+    fn drop(&mut self) {
+        self.kill_all();
+    }
+}
+
+/// The last lines of a log, for an error message.
+fn log_tail(path: &Path) -> String {
+    let text = fs::read_to_string(path).unwrap_or_default();
+    let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
+    lines[lines.len().saturating_sub(3)..].join(" | ")
+}
+
+/// One run being supervised.
+struct Watch<'a> {
+    config: &'a SupervisorConfig,
+    context: RunContext,
+    ports: SupervisorPorts,
+    fleet: Fleet,
+    started: Instant,
+    last_heard: BTreeMap<Role, Instant>,
+    pulses: BTreeMap<(Role, u32), Pulse>,
+    faults: Vec<Fault>,
+    restarts: [u32; NUM_KEEPERS],
+    control_sequence: u64,
+}
+
+impl Watch<'_> {
+    fn log(&self, role: Role) -> PathBuf {
+        let name = match role {
+            Role::Simulator => "simulator.log".to_string(),
+            Role::Keeper(k) => format!("keeper{}.log", k + 1),
+        };
+        self.context.work_dir.join(name)
+    }
+
+    fn start(&mut self, role: Role, resume: bool) -> Result<(), SupervisorError> {
+        let mut args = self.context.to_args();
+        let binary = match role {
+            Role::Simulator => {
+                args.push("--floor-round-trips".into());
+                args.push(self.config.floor_round_trips.to_string().into());
+                &self.config.binaries.sim
+            }
+            Role::Keeper(k) => {
+                args.push("--keeper".into());
+                args.push((k + 1).to_string().into());
+                args.push("--checkpoint-every".into());
+                args.push(self.config.checkpoint_every.to_string().into());
+                if resume {
+                    args.push("--resume".into());
+                }
+                &self.config.binaries.agent
+            }
+        };
+        let process = spawn(binary, role, &args, &self.log(role))?;
+        self.fleet.processes.insert(role, process);
+        self.last_heard.insert(role, Instant::now());
+        Ok(())
+    }
+
+    fn fault(&mut self, kind: String, outcome: String) {
+        self.faults.push(Fault {
+            run: self.context.run,
+            seconds: self.started.elapsed().as_secs_f64(),
+            kind,
+            outcome,
+        });
+    }
+
+    fn order(&mut self, order: Order, target: Option<Role>) -> Result<(), SupervisorError> {
+        self.control_sequence += 1;
+        let message = control_message(order, target, self.control_sequence, self.context.run_id);
+        send(&self.ports.control, message)?;
+        wake(self.context.wait, &self.ports.wake_sim)?;
+        for notifier in &self.ports.wake_keepers {
+            wake(self.context.wait, notifier)?;
+        }
+        Ok(())
+    }
+
+    /// Reads the heartbeats; returns the simulator's learning episodes so far.
+    fn heartbeats(&mut self) -> Result<Option<u64>, SupervisorError> {
+        let run_id = self.context.run_id;
+        let mut episodes = None;
+        while let Some(reading) = receive(&self.ports.heartbeats, |m| read_heartbeat(m, run_id))? {
+            // Heartbeats that do not read are a foreign process's: ignored here,
+            // counted by the processes that must act on such messages.
+            if let Ok(pulse) = reading {
+                let from_current = self
+                    .fleet
+                    .processes
+                    .get(&pulse.role)
+                    .is_some_and(|p| p.pid() == pulse.pid);
+                if from_current {
+                    self.last_heard.insert(pulse.role, Instant::now());
+                }
+                if pulse.role == Role::Simulator {
+                    episodes = Some(pulse.episodes);
+                }
+                self.pulses.insert((pulse.role, pulse.pid), pulse);
+            }
+        }
+        Ok(episodes)
+    }
+
+    /// Replaces keeper `k`'s agent after it `what` (exited or hung).
+    fn restart(&mut self, k: usize, what: String) -> Result<(), SupervisorError> {
+        self.restarts[k] += 1;
+        if self.restarts[k] > self.config.max_restarts {
+            let outcome = format!("not restarted: {} restarts already", self.config.max_restarts);
+            self.fault(what.clone(), outcome);
+            return Err(SupervisorError::Failed(format!(
+                "{what}, {} times: run given up ({})",
+                self.restarts[k],
+                log_tail(&self.log(Role::Keeper(k)))
+            )));
+        }
+        self.order(Order::KeeperLost(k), Some(Role::Simulator))?;
+        self.start(Role::Keeper(k), true)?;
+        let checkpoint = self.context.work_dir.join(checkpoint_name(k));
+        self.fault(what, format!("restarted from its checkpoint {}", checkpoint.display()));
+        Ok(())
+    }
+
+    /// Watches until the simulator exits; restarts agents on the way.
+    fn watch(&mut self, stop: &AtomicBool, progress: &dyn Fn(u64)) -> Result<ExitStatus, SupervisorError> {
+        let mut stop_sent = false;
+        loop {
+            if let Some(episodes) = self.heartbeats()? {
+                progress(episodes);
+            }
+            if stop.load(Ordering::Relaxed) && !stop_sent {
+                stop_sent = true;
+                self.order(Order::Stop, Some(Role::Simulator))?;
+                self.fault("stop requested (signal)".into(), "the simulator ends the run".into());
+            }
+            let mut exited = Vec::new();
+            for (role, process) in &mut self.fleet.processes {
+                if let Some(status) = process.exited().map_err(io_error(Path::new("waitpid")))? {
+                    exited.push((*role, status));
+                }
+            }
+            for (role, status) in exited {
+                self.fleet.processes.remove(&role);
+                match role {
+                    Role::Simulator => return Ok(status),
+                    Role::Keeper(k) => {
+                        let what = format!("{role} exited: {}", describe(status));
+                        if status.code() == Some(EXIT_CANNOT_RESUME) {
+                            self.fault(what.clone(), "not restarted: it cannot resume".into());
+                            return Err(SupervisorError::Failed(format!(
+                                "{what}: {}",
+                                log_tail(&self.log(role))
+                            )));
+                        }
+                        self.restart(k, what)?;
+                    }
+                }
+            }
+            let timeout = self.config.heartbeat_timeout;
+            let hung: Vec<Role> = self
+                .fleet
+                .processes
+                .keys()
+                .filter(|r| self.last_heard.get(r).is_some_and(|t| t.elapsed() > timeout))
+                .copied()
+                .collect();
+            for role in hung {
+                if let Some(mut process) = self.fleet.processes.remove(&role) {
+                    let status = process.kill().map_err(io_error(Path::new("kill")))?;
+                    let what = format!(
+                        "{role} silent for {} s: killed ({})",
+                        timeout.as_secs(),
+                        describe(status)
+                    );
+                    match role {
+                        Role::Simulator => {
+                            self.fault(what.clone(), "run given up".into());
+                            return Err(SupervisorError::Failed(what));
+                        }
+                        Role::Keeper(k) => self.restart(k, what)?,
+                    }
+                }
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+
+    /// Asks every agent to stop (each checkpoints) and waits for them, killing
+    /// one that does not stop within `grace`.
+    fn stop_agents(&mut self, grace: Duration) -> Result<(), SupervisorError> {
+        self.order(Order::Stop, None)?;
+        let deadline = Instant::now() + grace;
+        while !self.fleet.processes.is_empty() {
+            let mut done = Vec::new();
+            for (role, process) in &mut self.fleet.processes {
+                if let Some(status) = process.exited().map_err(io_error(Path::new("waitpid")))? {
+                    done.push((*role, status));
+                }
+            }
+            for (role, status) in done {
+                self.fleet.processes.remove(&role);
+                if !status.success() {
+                    self.fault(
+                        format!("{role} exited while stopping: {}", describe(status)),
+                        "its last checkpoint is kept".into(),
+                    );
+                }
+            }
+            if Instant::now() > deadline {
+                let stuck: Vec<Role> = self.fleet.processes.keys().copied().collect();
+                for role in stuck {
+                    if let Some(mut process) = self.fleet.processes.remove(&role) {
+                        let _ = process.kill();
+                        self.fault(
+                            format!("{role} did not stop within {} s", grace.as_secs()),
+                            "killed; its last checkpoint is kept".into(),
+                        );
+                    }
+                }
+            }
+            self.heartbeats()?;
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        Ok(())
+    }
+
+    /// Messages refused, summed over every incarnation of each process.
+    fn rejected(&self, sim: &SimulatorResult) -> BTreeMap<String, Rejections> {
+        let mut by_process: BTreeMap<String, Rejections> = BTreeMap::new();
+        by_process.insert(Role::Simulator.to_string(), sim.rejected);
+        for ((role, _), pulse) in &self.pulses {
+            if let Role::Keeper(_) = role {
+                let entry = by_process.entry(role.to_string()).or_default();
+                *entry = entry.plus(&pulse.rejected);
+            }
+        }
+        by_process
+    }
+}
+
+/// Reads every histogram the run's processes wrote into `dir`, the keepers'
+/// incarnations merged.
+fn read_histograms(dir: &Path) -> Result<Vec<Latency>, SupervisorError> {
+    let read = |path: &Path, name: &str| -> Result<Option<Latency>, SupervisorError> {
+        match fs::read(path) {
+            Ok(bytes) => Ok(Some(Latency::from_bytes(name, &bytes)?)),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+            Err(source) => Err(SupervisorError::Io {
+                path: path.to_path_buf(),
+                source,
+            }),
+        }
+    };
+    let mut histograms = Vec::new();
+    for name in [ROUND_TRIP, FLOOR] {
+        if let Some(h) = read(&dir.join(format!("{name}.hdr")), name)? {
+            histograms.push(h);
+        }
+    }
+    let mut entries: Vec<PathBuf> = fs::read_dir(dir)
+        .map_err(io_error(dir))?
+        .flatten()
+        .map(|e| e.path())
+        .collect();
+    entries.sort();
+    for k in 0..NUM_KEEPERS {
+        let name = compute_histogram(k);
+        let mut merged = Latency::new(name.clone());
+        for path in &entries {
+            let file = path
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            if file.starts_with(&format!("{name}.")) && file.ends_with(".hdr")
+                && let Some(h) = read(path, &name)? {
+                    merged.merge(&h)?;
+                }
+        }
+        histograms.push(merged);
+    }
+    Ok(histograms)
+}
+
+/// Runs run `run` of `config`'s experiment with its files in `work_dir`
+/// (created): returns what it produced once the simulator has ended and every
+/// process has stopped, also when the run failed ([`RunRecord::failure`]).
+/// The run's namespace is removed in every case.
+pub fn supervise_run(
+    config: &SupervisorConfig,
+    run: usize,
+    work_dir: &Path,
+    stop: &AtomicBool,
+    progress: &dyn Fn(u64),
+) -> Result<RunRecord, SupervisorError> {
+    fs::create_dir_all(work_dir).map_err(io_error(work_dir))?;
+    let spec_path = work_dir.join("spec.json");
+    let spec_json = serde_json::to_vec_pretty(&config.spec).map_err(|e| SupervisorError::Failed(e.to_string()))?;
+    crate::atomic_file::write_atomic(&spec_path, &spec_json).map_err(io_error(&spec_path))?;
+    let owner = Namespace::unique().claim()?;
+    let outcome = run_in(config, run, work_dir, &spec_path, &owner, stop, progress);
+    let prefix = owner.namespace().prefix().to_string();
+    let namespace = owner.namespace().clone();
+    let released = owner.release();
+    let mut record = outcome?;
+    released?;
+    record.leftover_files = namespace.files().len();
+    record.prefix = prefix;
+    Ok(record)
+}
+
+fn run_in(
+    config: &SupervisorConfig,
+    run: usize,
+    work_dir: &Path,
+    spec_path: &Path,
+    owner: &NamespaceOwner,
+    stop: &AtomicBool,
+    progress: &dyn Fn(u64),
+) -> Result<RunRecord, SupervisorError> {
+    let namespace = owner.namespace();
+    let node = node(namespace, "supervisor")?;
+    let _services = RunServices::create(&node)?;
+    let context = RunContext {
+        run_id: rand::rng().random(),
+        run,
+        ipc_prefix: namespace.prefix().to_string(),
+        clock: config.clock,
+        wait: config.wait,
+        spec: spec_path.to_path_buf(),
+        work_dir: work_dir.to_path_buf(),
+    };
+    let mut watch = Watch {
+        config,
+        ports: SupervisorPorts::open(&node)?,
+        context,
+        fleet: Fleet {
+            processes: BTreeMap::new(),
+        },
+        started: Instant::now(),
+        last_heard: BTreeMap::new(),
+        pulses: BTreeMap::new(),
+        faults: Vec::new(),
+        restarts: [0; NUM_KEEPERS],
+        control_sequence: 0,
+    };
+    watch.start(Role::Simulator, false)?;
+    for k in 0..NUM_KEEPERS {
+        watch.start(Role::Keeper(k), false)?;
+    }
+    let watched = watch.watch(stop, progress);
+    watch.stop_agents(Duration::from_secs(10))?;
+    let failure = match watched {
+        Ok(status) if status.success() => None,
+        Ok(status) => {
+            let what = format!("the simulator exited: {}", describe(status));
+            watch.fault(what.clone(), "agents stopped; run given up".into());
+            Some(format!("{what} ({})", log_tail(&watch.log(Role::Simulator))))
+        }
+        Err(SupervisorError::Failed(why)) => Some(why),
+        Err(other) => return Err(other),
+    };
+    let seconds = watch.started.elapsed().as_secs_f64();
+    let result_path = work_dir.join(RESULT_FILE);
+    let sim: SimulatorResult = match fs::read_to_string(&result_path) {
+        Ok(text) => serde_json::from_str(&text)
+            .map_err(|e| SupervisorError::Failed(format!("{}: {e}", result_path.display())))?,
+        Err(_) if failure.is_some() => SimulatorResult::default(),
+        Err(source) => {
+            return Err(SupervisorError::Io {
+                path: result_path,
+                source,
+            });
+        }
+    };
+    let learning = super::simulator::keepaway_config(&config.spec)
+        .map_err(|e| SupervisorError::Failed(e.to_string()))?
+        .learning_keepers();
+    let mut values = Vec::new();
+    for k in 0..learning {
+        let path = work_dir.join(checkpoint_name(k));
+        match persist::load(&path) {
+            Ok(v) => values.push(v),
+            Err(e) if failure.is_none() => return Err(SupervisorError::Failed(e.to_string())),
+            Err(_) => break,
+        }
+    }
+    let checkpoint_failures = watch.pulses.values().map(|p| p.checkpoint_failures).sum();
+    Ok(RunRecord {
+        run,
+        rejected: watch.rejected(&sim),
+        sim,
+        failure,
+        restarts: watch.restarts.iter().sum(),
+        faults: std::mem::take(&mut watch.faults),
+        histograms: read_histograms(work_dir)?,
+        checkpoint_failures,
+        values,
+        seconds,
+        leftover_files: 0,
+        prefix: String::new(),
+    })
+}
+
+/// The directory holding run `run`'s working files (checkpoints, logs,
+/// histograms) inside the output directory `out`.
+pub fn run_work_dir(out: &Path, run: usize) -> PathBuf {
+    out.join("runs").join(format!("run-{run}"))
+}
+
+/// Runs every run of `config`'s experiment one after the other (stopping at
+/// the first that fails, or when `stop` is set) and writes the report into
+/// `out`. `progress` is told the learning episodes completed over all runs.
+pub fn supervise(
+    config: &SupervisorConfig,
+    out: &Path,
+    stop: &AtomicBool,
+    progress: &dyn Fn(u64),
+) -> Result<super::report::Report, SupervisorError> {
+    let started = Instant::now();
+    let mut records: Vec<RunRecord> = Vec::new();
+    let per_run = config.spec.protocol.episodes;
+    for run in 0..config.spec.protocol.runs {
+        if stop.load(Ordering::Relaxed) {
+            break;
+        }
+        let done_before = run as u64 * per_run;
+        let record = supervise_run(config, run, &run_work_dir(out, run), stop, &|episodes| {
+            progress(done_before + episodes)
+        })?;
+        let ended = record.failure.is_some() || !record.sim.complete;
+        records.push(record);
+        if ended {
+            break;
+        }
+    }
+    super::report::write_report(out, config, &records, started.elapsed().as_secs_f64())
+}
