@@ -1,15 +1,18 @@
 //! Commands that inspect files: check, dot, convert, plot, values.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use clap::Args;
 use learnpnp::analysis;
-use learnpnp::dot::to_dot;
+use learnpnp::dot::to_dot_with_values;
 use learnpnp::experiment::plot::{Series, plot_curves, read_curve_csv};
+use learnpnp::experiment::spec::DomainSpec;
+use learnpnp::learning::by_choice::{self, group_by_choice};
 use learnpnp::learning::persist;
-use learnpnp::plan::{Vocabulary, load_plan};
+use learnpnp::learning::persist::SavedValues;
+use learnpnp::plan::{Plan, Vocabulary, load_plan};
 use learnpnp::pnml::{self, Dialect};
 
 /// Writes `text` to standard output; a reader that closed the pipe (`| head`) is no error.
@@ -55,6 +58,22 @@ pub fn check(args: &CheckArgs) -> ExitCode {
 pub struct DotArgs {
     /// The plan file (PNML).
     plan: PathBuf,
+    /// A value table learned on this plan (DIR/values.bin): each option of a
+    /// choice point is labelled with its value and updates, the greedy one marked.
+    #[arg(long, value_name = "FILE")]
+    values: Option<PathBuf>,
+    /// Most reachable markings to explore for the choice points (as check does).
+    #[arg(long, default_value_t = 100_000)]
+    limit: usize,
+}
+
+/// A saved table, the previous good copy if the file is damaged (with a warning).
+fn load_values(path: &Path) -> Result<SavedValues> {
+    let (saved, problem) = persist::load_latest(path)?;
+    if let Some(e) = problem {
+        eprintln!("warning: {e}; using the previous good table");
+    }
+    Ok(saved)
 }
 
 pub fn dot(args: &DotArgs) -> Result<()> {
@@ -62,7 +81,17 @@ pub fn dot(args: &DotArgs) -> Result<()> {
     for w in plan.warnings() {
         eprintln!("warning: {w}");
     }
-    print_out(&to_dot(&plan))?;
+    let learned = match &args.values {
+        Some(path) => {
+            let saved = load_values(path)?;
+            Some(
+                group_by_choice(&[&plan], &saved)
+                    .with_context(|| format!("{} and {}", path.display(), args.plan.display()))?,
+            )
+        }
+        None => None,
+    };
+    print_out(&to_dot_with_values(&plan, args.limit, learned.as_ref()))?;
     Ok(())
 }
 
@@ -133,14 +162,49 @@ pub fn plot(args: &PlotArgs) -> Result<()> {
 pub struct ValuesArgs {
     /// A value table saved by an experiment (values.bin).
     file: PathBuf,
+    /// The plan the values were learned on (default: the plan of the
+    /// experiment, from summary.json next to the table).
+    #[arg(long)]
+    plan: Option<PathBuf>,
+}
+
+/// The plan of the experiment whose results directory holds `values`, from
+/// its summary.json; `None` when there is none.
+fn experiment_plan(values: &Path) -> Result<Option<Plan>> {
+    let summary = values.with_file_name("summary.json");
+    let Ok(text) = std::fs::read_to_string(&summary) else {
+        return Ok(None);
+    };
+    let json: serde_json::Value =
+        serde_json::from_str(&text).with_context(|| format!("{} is not JSON", summary.display()))?;
+    let domain: DomainSpec = serde_json::from_value(json["spec"]["domain"].clone())
+        .with_context(|| format!("{}: no experiment domain in 'spec'", summary.display()))?;
+    let plan = domain
+        .load_plan()
+        .with_context(|| format!("loading the plan named by {}", summary.display()))?;
+    Ok(plan.map(|p| (*p).clone()))
 }
 
 pub fn values(args: &ValuesArgs) -> Result<()> {
-    let (saved, problem) = persist::load_latest(&args.file)?;
-    if let Some(e) = problem {
-        eprintln!("warning: {e}; showing the previous good table");
+    let saved = load_values(&args.file)?;
+    let plan = match &args.plan {
+        Some(path) => Some(load_plan(path, Vocabulary::Open)?),
+        None => experiment_plan(&args.file)?,
+    };
+    let mut text = Vec::new();
+    match plan {
+        Some(plan) => {
+            let learned = group_by_choice(&[&plan], &saved).with_context(|| format!("{}", args.file.display()))?;
+            by_choice::write_csv(&learned, &saved, &mut text)?;
+        }
+        None => {
+            eprintln!(
+                "warning: no plan for {} (give --plan PLAN): one row per marking, not grouped by choice point",
+                args.file.display()
+            );
+            persist::write_csv(&saved, &mut text)?;
+        }
     }
-    let stdout = std::io::stdout();
-    persist::write_csv(&saved, &mut stdout.lock())?;
+    print_out(&String::from_utf8_lossy(&text))?;
     Ok(())
 }

@@ -22,6 +22,6 @@ pub use check::check;
 pub use choice::{ChoicePoint, choice_points, structural_choice_points};
 pub use count::Count;
 pub use guards::{MAX_GUARD_ATOMS, jointly_satisfiable};
-pub use options::{ChoiceAt, before, choices_at, option_label, option_transitions, transition_name};
+pub use options::{ChoiceAt, before, choices_among, choices_at, option_label, option_transitions, transition_name};
 pub use reachability::{DEFAULT_LIMIT, Reachability, StateId, explore};
 pub use report::{CheckReport, Element, Example, Failure, Note, PlaceBound, Property, ReportedChoice, Verdict};

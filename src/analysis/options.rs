@@ -7,7 +7,7 @@
 //! choices a marking offers with guards free ([`choices_at`]), and from which
 //! marking one transition leads to a given one ([`before`]).
 
-use super::choice::structural_choice_points;
+use super::choice::{ChoicePoint, structural_choice_points};
 use super::guards::jointly_satisfiable;
 use crate::net::{Marking, PlaceId, TransitionId};
 use crate::plan::Plan;
@@ -87,9 +87,15 @@ pub struct ChoiceAt {
 /// transitions whose guards can hold together, those transitions enabled at
 /// `marking` that compete with another such one for the place's tokens.
 pub fn choices_at(plan: &Plan, marking: &Marking) -> Vec<ChoiceAt> {
+    choices_among(plan, &structural_choice_points(plan), marking)
+}
+
+/// [`choices_at`] among `points`, the plan's structural choice points
+/// (computed once by the caller for many markings).
+pub fn choices_among(plan: &Plan, points: &[ChoicePoint], marking: &Marking) -> Vec<ChoiceAt> {
     let incidence = plan.incidence();
     let mut found = Vec::new();
-    for point in structural_choice_points(plan) {
+    for point in points {
         let tokens = u16::from(marking.get(point.place));
         if tokens == 0 {
             continue;

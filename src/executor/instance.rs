@@ -266,9 +266,10 @@ impl<W: World> PlanInstance<W> {
         } = self;
         for a in active.iter() {
             if let Executable::Plan(p) = &mut executables[a]
-                && p.status == Status::Running {
-                    p.accrue(reward);
-                }
+                && p.status == Status::Running
+            {
+                p.accrue(reward);
+            }
         }
     }
 
@@ -320,9 +321,11 @@ impl<W: World> PlanInstance<W> {
                 continue;
             }
             if let Executable::Plan(p) = &mut self.executables[a]
-                && !p.fresh && p.status == Status::Running {
-                    p.fire(world, chooser)?;
-                }
+                && !p.fresh
+                && p.status == Status::Running
+            {
+                p.fire(world, chooser)?;
+            }
         }
         Ok(())
     }

@@ -96,9 +96,10 @@ impl Keepaway {
         self.reset();
         let outcome = loop {
             if self.step(policy).is_some()
-                && let Some(o) = self.outcome() {
-                    break o;
-                }
+                && let Some(o) = self.outcome()
+            {
+                break o;
+            }
         };
         policy.end_episode(&outcome);
         outcome

@@ -55,9 +55,10 @@ impl Referee {
             self.take_count = 0;
         }
         if let Some(limit) = cfg.max_episode_cycles
-            && world.cycle >= limit {
-                return Some(EndReason::CycleLimit);
-            }
+            && world.cycle >= limit
+        {
+            return Some(EndReason::CycleLimit);
+        }
         None
     }
 }

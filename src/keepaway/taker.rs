@@ -32,8 +32,11 @@ pub fn taker_command(view: &PlayerView, cfg: &KeepawayConfig) -> Command {
         return hold_ball(view, cfg, cfg.skills.taker_hold_ratio);
     }
     if let Some((closest, d)) = closest_of(&mut (0..view.players.len()))
-        && closest != me && my_side.contains(&closest) && d < cfg.server.kickable_distance() {
-            return turn_to_ball(view, cfg);
-        }
+        && closest != me
+        && my_side.contains(&closest)
+        && d < cfg.server.kickable_distance()
+    {
+        return turn_to_ball(view, cfg);
+    }
     intercept(view, cfg)
 }

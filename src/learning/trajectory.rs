@@ -38,9 +38,10 @@ impl Trajectory {
         }
         self.time += elapsed;
         if let Some(id) = self.pending.take()
-            && !self.visits.iter().any(|(v, _)| *v == id) {
-                self.visits.push((id, self.time));
-            }
+            && !self.visits.iter().any(|(v, _)| *v == id)
+        {
+            self.visits.push((id, self.time));
+        }
     }
 
     /// Records a first visit of `id` now (for learners valuing every marking).

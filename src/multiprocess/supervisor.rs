@@ -441,10 +441,12 @@ fn read_histograms(dir: &Path) -> Result<Vec<Latency>, SupervisorError> {
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_default();
-            if file.starts_with(&format!("{name}.")) && file.ends_with(".hdr")
-                && let Some(h) = read(path, &name)? {
-                    merged.merge(&h)?;
-                }
+            if file.starts_with(&format!("{name}."))
+                && file.ends_with(".hdr")
+                && let Some(h) = read(path, &name)?
+            {
+                merged.merge(&h)?;
+            }
         }
         histograms.push(merged);
     }

@@ -217,24 +217,25 @@ impl Plan {
                 }
             }
             let mut resolve = |atom: &str| -> Result<AtomRef, PlanError> {
-                if let Some((name, _)) = atom.split_once('.').filter(|_| atom.matches('.').count() == 1) {
-                    if !name.is_empty() && !by_name.contains_key(name) {
-                        // As for calls: the PNP library asks the executable by name.
-                        warnings.push(PlanWarning {
-                            transition: node.id.clone(),
-                            label: node.label.clone(),
-                            message: format!(
-                                "no execution place names action '{name}', whose condition '{atom}' the guard \
-                                 tests; as the PNP library does, '{name}' is asked by name and never stepped"
-                            ),
-                        });
-                        actions.push(ActionInfo {
-                            agent: name.split_once('#').map(|(a, _)| a.to_string()),
-                            name: name.to_string(),
-                            exec_places: Vec::new(),
-                        });
-                        by_name.insert(name.to_string(), ActionId(actions.len() as u32 - 1));
-                    }
+                if let Some((name, _)) = atom.split_once('.').filter(|_| atom.matches('.').count() == 1)
+                    && !name.is_empty()
+                    && !by_name.contains_key(name)
+                {
+                    // As for calls: the PNP library asks the executable by name.
+                    warnings.push(PlanWarning {
+                        transition: node.id.clone(),
+                        label: node.label.clone(),
+                        message: format!(
+                            "no execution place names action '{name}', whose condition '{atom}' the guard \
+                             tests; as the PNP library does, '{name}' is asked by name and never stepped"
+                        ),
+                    });
+                    actions.push(ActionInfo {
+                        agent: name.split_once('#').map(|(a, _)| a.to_string()),
+                        name: name.to_string(),
+                        exec_places: Vec::new(),
+                    });
+                    by_name.insert(name.to_string(), ActionId(actions.len() as u32 - 1));
                 }
                 resolve_atom(atom, &by_name, &mut atoms, vocabulary, &mut internal)
                     .map_err(|reason| label_error(atom, &reason))

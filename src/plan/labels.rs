@@ -10,10 +10,12 @@ pub fn split_tokens(label: &str) -> Option<Vec<&str>> {
     for (i, c) in label.char_indices() {
         match c {
             '(' | '[' => {
-                if c == '[' && depth == 0
-                    && let Some(s) = start.take() {
-                        tokens.push(&label[s..i]);
-                    }
+                if c == '['
+                    && depth == 0
+                    && let Some(s) = start.take()
+                {
+                    tokens.push(&label[s..i]);
+                }
                 if start.is_none() {
                     start = Some(i);
                 }
@@ -114,9 +116,10 @@ pub fn parse_place_label(label: &str) -> Result<PlaceLabel, LabelError> {
                 return Err(label_error(token, "a second goal token"));
             }
         } else if let Some(n) = marking_token(token, "fail")
-            && out.fail.replace(n?).is_some() {
-                return Err(label_error(token, "a second fail token"));
-            }
+            && out.fail.replace(n?).is_some()
+        {
+            return Err(label_error(token, "a second fail token"));
+        }
     }
     Ok(out)
 }

@@ -44,15 +44,16 @@ pub fn hold_ball(view: &PlayerView, cfg: &KeepawayConfig, ratio: f64) -> Command
         .min_by(|a, b| a.1.total_cmp(&b.1));
     let mut ang_rel = 0.0;
     if let Some((opp, d)) = closest
-        && d < cfg.skills.hold_opponent_radius {
-            let away = (me.pos - opp.pos).dir();
-            let sign = if normalize_deg(opp.body - away) > 0.0 {
-                -1.0
-            } else {
-                1.0
-            };
-            ang_rel = normalize_deg(away + sign * 45.0 - me.body);
-        }
+        && d < cfg.skills.hold_opponent_radius
+    {
+        let away = (me.pos - opp.pos).dir();
+        let sign = if normalize_deg(opp.body - away) > 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        ang_rel = normalize_deg(away + sign * 45.0 - me.body);
+    }
     let me_next = me.pos + me.vel;
     let dist = sp.player_size + sp.ball_size + sp.kickable_margin * ratio;
     let spot = me_next + Vec2::polar(dist, me.body + ang_rel);

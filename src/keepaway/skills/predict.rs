@@ -335,13 +335,14 @@ pub fn fastest_to_ball(
             }
         }
         if let Some((player, c)) = best
-            && c <= i {
-                return Some(Interception {
-                    player,
-                    cycles: i,
-                    point: ball_pos,
-                });
-            }
+            && c <= i
+        {
+            return Some(Interception {
+                player,
+                cycles: i,
+                point: ball_pos,
+            });
+        }
         if i < horizon {
             ball_pos += ball_vel;
             ball_vel *= sp.ball_decay;
