@@ -1,4 +1,4 @@
-//! Commands that inspect files: check, dot, convert, plot, values.
+//! Commands that inspect files and domains: check, dot, convert, plot, values, domains.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -6,6 +6,7 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use clap::Args;
 use learnpnp::analysis;
+use learnpnp::domains::describe;
 use learnpnp::dot::to_dot_with_values;
 use learnpnp::experiment::plot::{Series, plot_curves, read_curve_csv};
 use learnpnp::experiment::spec::DomainSpec;
@@ -206,5 +207,26 @@ pub fn values(args: &ValuesArgs) -> Result<()> {
         }
     }
     print_out(&String::from_utf8_lossy(&text))?;
+    Ok(())
+}
+
+#[derive(Args, Debug)]
+pub struct DomainArgs {
+    /// The domain's name, as `learnpnp experiment` takes it.
+    name: String,
+}
+
+pub fn domains() -> Result<()> {
+    let text: Vec<String> = describe::domains().iter().map(ToString::to_string).collect();
+    print_out(&text.join("\n"))?;
+    Ok(())
+}
+
+pub fn domain(args: &DomainArgs) -> Result<()> {
+    let Some(d) = describe::domain(&args.name) else {
+        let known: Vec<&str> = describe::domains().iter().map(|d| d.name).collect();
+        anyhow::bail!("no domain '{}' (known: {})", args.name, known.join(", "));
+    };
+    print_out(&d.to_string())?;
     Ok(())
 }

@@ -40,6 +40,10 @@ enum Command {
     Values(inspect::ValuesArgs),
     /// Write a RoboCup game log (.rcg) as one self-contained HTML page to watch.
     Replay(replay::ReplayArgs),
+    /// What a plan may use in every domain: actions, atoms, reward, episode end.
+    Domains,
+    /// What a plan may use in one domain (e.g. keepaway-pass).
+    Domain(inspect::DomainArgs),
 }
 
 fn main() -> ExitCode {
@@ -53,6 +57,8 @@ fn main() -> ExitCode {
         Some(Command::Plot(args)) => inspect::plot(&args),
         Some(Command::Values(args)) => inspect::values(&args),
         Some(Command::Replay(args)) => replay::run(&args),
+        Some(Command::Domains) => inspect::domains(),
+        Some(Command::Domain(args)) => inspect::domain(&args),
         None => reproduce::run(&reproduce::ReproduceArgs::default()),
     };
     match result {

@@ -4,6 +4,7 @@
 //! A domain is a [`Task`]: it runs episodes of a plan with a learner choosing at
 //! its choice points, and reports what each episode earned.
 
+pub mod describe;
 mod driver;
 pub mod grid;
 pub mod keepaway;

@@ -27,7 +27,7 @@ pub use action::{Action, World};
 pub use chooser::{Chooser, PlanKey, RandomChooser};
 pub use error::ExecError;
 pub use instance::Status;
-pub use registry::Registry;
+pub use registry::{Registered, RegisteredKind, Registry};
 
 use instance::PlanInstance;
 
