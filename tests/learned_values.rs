@@ -43,7 +43,7 @@ fn values_are_grouped_by_choice_point_and_drawn_on_the_plan() {
     let dir = temp_dir("kick");
     let out = dir.join("kick");
     let out = out.to_str().expect("a path");
-    ok(&[
+    let printed = ok(&[
         "experiment",
         "penalty-kick",
         "--algo",
@@ -59,6 +59,17 @@ fn values_are_grouped_by_choice_point_and_drawn_on_the_plan() {
         "--out",
         out,
     ]);
+    // The run prints its full configuration first: the spec summary.json keeps.
+    let json_end = printed.find("\n}\n").expect("the configuration's end") + 2;
+    let json_start = printed.find("\n{").expect("the configuration's start") + 1;
+    assert!(printed.starts_with("configuration (1 worker threads"), "{printed}");
+    let printed_spec: serde_json::Value = serde_json::from_str(&printed[json_start..json_end]).expect("JSON");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(format!("{out}/summary.json")).expect("summary.json"))
+            .expect("JSON");
+    assert_eq!(printed_spec, summary["spec"]);
+    assert_eq!(printed_spec["protocol"]["episodes"], 300);
+
     let table = format!("{out}/values.bin");
     // The plan comes from the experiment's summary.json.
     let csv = ok(&["values", &table]);

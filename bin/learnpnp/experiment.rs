@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use learnpnp::experiment::args::{DomainName, ExperimentOptions};
-use learnpnp::experiment::output::write_results;
+use learnpnp::experiment::output::{replay_name, write_results};
 use learnpnp::experiment::runner::run_experiment;
 
 #[derive(Args, Debug)]
@@ -31,6 +31,12 @@ pub fn default_threads() -> usize {
 pub fn run(args: &ExperimentArgs) -> Result<()> {
     let spec = args.options.spec(args.domain)?;
     let threads = args.threads.unwrap_or_else(default_threads);
+    let configuration = serde_json::to_string_pretty(&spec).context("printing the configuration")?;
+    println!(
+        "configuration ({} worker threads; saved in {} with the results):\n{configuration}",
+        threads,
+        args.out.join("summary.json").display()
+    );
     let output = run_experiment(&spec, threads, true).context("experiment failed")?;
     let summary = write_results(&output, &args.out).context("writing results")?;
     println!(
@@ -46,5 +52,14 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
         summary.episodes_per_second,
         args.out.display()
     );
+    if spec.record > 0 {
+        let first = args.out.join("replays").join(replay_name(0, spec.record));
+        println!(
+            "{} recorded episode(s) in {}; watch one with: learnpnp replay {} -o episode.html",
+            spec.record,
+            args.out.join("replays").display(),
+            first.display()
+        );
+    }
     Ok(())
 }
