@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use learnpnp::experiment::args::{DomainName, ExperimentOptions};
-use learnpnp::experiment::output::{replay_name, write_results};
+use learnpnp::experiment::output::{greedy_text, replay_name, with_unit, write_results};
 use learnpnp::experiment::runner::run_experiment;
 
 #[derive(Args, Debug)]
@@ -39,14 +39,15 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
     );
     let output = run_experiment(&spec, threads, true).context("experiment failed")?;
     let summary = write_results(&output, &args.out).context("writing results")?;
+    let unit = spec.domain.score_unit();
     println!(
-        "{} on {}: final mean {:.4} (95% CI {:.4} .. {:.4}), greedy {:.4}; {} runs in {:.2} s, {:.0} episodes/s; results in {}",
+        "{} on {}: final mean {} (95% CI {} .. {}), greedy {}; {} runs in {:.2} s, {:.0} episodes/s; results in {}",
         spec.label,
         spec.domain.name(),
-        summary.final_mean,
-        summary.final_ci95[0],
-        summary.final_ci95[1],
-        summary.final_greedy_mean,
+        with_unit(summary.final_mean, unit),
+        with_unit(summary.final_ci95[0], unit),
+        with_unit(summary.final_ci95[1], unit),
+        greedy_text(&summary),
         spec.protocol.runs,
         summary.wall_seconds,
         summary.episodes_per_second,

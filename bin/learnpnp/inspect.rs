@@ -8,8 +8,9 @@ use clap::Args;
 use learnpnp::analysis;
 use learnpnp::domains::describe;
 use learnpnp::dot::to_dot_with_values;
-use learnpnp::experiment::plot::{Series, plot_curves, read_curve_csv};
-use learnpnp::experiment::spec::DomainSpec;
+use learnpnp::experiment::output::score_axis;
+use learnpnp::experiment::plot::{Reference, Series, plot_curves, read_curve_csv};
+use learnpnp::experiment::spec::{DomainSpec, ExperimentSpec};
 use learnpnp::learning::by_choice::{self, group_by_choice};
 use learnpnp::learning::persist;
 use learnpnp::learning::persist::SavedValues;
@@ -130,31 +131,49 @@ pub struct PlotArgs {
     title: String,
 }
 
-fn label_of(dir: &std::path::Path) -> String {
-    let from_summary = std::fs::read_to_string(dir.join("summary.json"))
-        .ok()
-        .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok())
-        .and_then(|v| v["spec"]["label"].as_str().map(str::to_string));
-    from_summary.unwrap_or_else(|| dir.display().to_string())
+/// The experiment spec saved in `dir`'s summary.json, if it can be read.
+fn spec_of(dir: &Path) -> Option<ExperimentSpec> {
+    let text = std::fs::read_to_string(dir.join("summary.json")).ok()?;
+    let json: serde_json::Value = serde_json::from_str(&text).ok()?;
+    serde_json::from_value(json["spec"].clone()).ok()
 }
 
 pub fn plot(args: &PlotArgs) -> Result<()> {
+    let specs: Vec<Option<ExperimentSpec>> = args.dirs.iter().map(|d| spec_of(d)).collect();
     let series = args
         .dirs
         .iter()
-        .map(|dir| {
+        .zip(&specs)
+        .map(|(dir, spec)| {
             Ok(Series {
-                label: label_of(dir),
+                label: spec
+                    .as_ref()
+                    .map_or_else(|| dir.display().to_string(), |s| s.label.clone()),
                 points: read_curve_csv(&dir.join("curve.csv"))?,
             })
         })
         .collect::<Result<Vec<_>>>()?;
+    // The axis and references of the experiments, when they all agree on them.
+    let known: Vec<&ExperimentSpec> = specs.iter().flatten().collect();
+    let axis = match known.first() {
+        Some(first) if known.len() == specs.len() && known.iter().all(|s| score_axis(s) == score_axis(first)) => {
+            score_axis(first)
+        }
+        _ => "evaluation score (mean over runs, 95% CI)".to_string(),
+    };
+    let mut references: Vec<Reference> = Vec::new();
+    for r in known.iter().filter_map(|s| s.domain.reference()) {
+        if !references.contains(&r) {
+            references.push(r);
+        }
+    }
     plot_curves(
         &args.output,
         &args.title,
         "learning episodes",
-        "evaluation return (mean, 95% CI)",
+        &axis,
         &series,
+        &references,
     )?;
     Ok(())
 }

@@ -1,14 +1,18 @@
 //! `learnpnp reproduce`: the thesis's figures from their presets.
 
-use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use learnpnp::atomic_file::write_atomic;
-use learnpnp::experiment::output::{series, write_results};
-use learnpnp::experiment::plot::plot_curves;
+use learnpnp::experiment::output::{
+    SummaryFile, bar, bar_axis, greedy_text, score_axis, series, unit_suffix, with_unit, write_results,
+};
+use learnpnp::experiment::plot::{plot_bars, plot_curves};
 use learnpnp::experiment::presets::{self, Figure, FigureKind};
+use learnpnp::experiment::progress::{Rates, clock};
+use learnpnp::experiment::report::summary_markdown;
 use learnpnp::experiment::runner::run_experiment;
 
 use super::experiment::default_threads;
@@ -73,65 +77,92 @@ fn selected(names: &[String]) -> Result<Vec<Figure>> {
 
 pub fn run(args: &ReproduceArgs) -> Result<()> {
     let threads = args.threads.unwrap_or_else(default_threads);
-    let figures = selected(&args.figures)?;
+    let mut figures = selected(&args.figures)?;
     if figures.is_empty() {
         bail!("nothing to reproduce");
     }
-    let mut table = String::from(
-        "| figure | curve | final mean | 95% CI | greedy mean | runs | seconds |\n|---|---|---|---|---|---|---|\n",
-    );
-    for figure in figures {
+    if let Some(runs) = args.runs {
+        for spec in figures.iter_mut().flat_map(|f| f.curves.iter_mut()) {
+            spec.protocol.runs = runs;
+        }
+    }
+    let started = Instant::now();
+    let mut rates = Rates::default();
+    let total = figures.len();
+    let mut done: Vec<(Figure, Vec<SummaryFile>)> = Vec::new();
+    for (k, figure) in figures.iter().enumerate() {
         let dir = args.out.join(format!("fig{}", figure.id));
-        println!("Figure {}: {}", figure.id, figure.title);
+        println!("Figure {} ({} of {total}): {}", figure.id, k + 1, figure.title);
+        let mut summaries = Vec::new();
         let mut all = Vec::new();
-        for mut spec in figure.curves.clone() {
-            if let Some(runs) = args.runs {
-                spec.protocol.runs = runs;
-            }
-            let output = run_experiment(&spec, threads, true)
-                .with_context(|| format!("figure {}: {}", figure.id, spec.label))?;
+        let mut bars = Vec::new();
+        for (j, spec) in figure.curves.iter().enumerate() {
+            let remaining = figures[k..].iter().flat_map(|f| &f.curves).skip(j);
+            println!(
+                "  [figure {} of {total}, curve {} of {}; {} elapsed, {}] {}",
+                k + 1,
+                j + 1,
+                figure.curves.len(),
+                clock(started.elapsed()),
+                rates.estimate(remaining),
+                spec.label
+            );
+            let output =
+                run_experiment(spec, threads, true).with_context(|| format!("figure {}: {}", figure.id, spec.label))?;
+            rates.record(spec, output.wall_seconds);
             let curve_dir = dir.join(slug(&spec.label));
             let summary = write_results(&output, &curve_dir)?;
+            let unit = spec.domain.score_unit();
             println!(
-                "  {:<28} final {:>9.4} [{:.4}, {:.4}]  greedy {:>9.4}  {:>4} runs {:>7.2} s  {:>9.0} episodes/s",
+                "  {:<28} final {} [{}, {}]  greedy {}  {} runs {:.2} s  {:.0} episodes/s",
                 spec.label,
-                summary.final_mean,
-                summary.final_ci95[0],
-                summary.final_ci95[1],
-                summary.final_greedy_mean,
+                with_unit(summary.final_mean, unit),
+                with_unit(summary.final_ci95[0], unit),
+                with_unit(summary.final_ci95[1], unit),
+                greedy_text(&summary),
                 spec.protocol.runs,
                 summary.wall_seconds,
                 summary.episodes_per_second
             );
-            let _ = writeln!(
-                table,
-                "| {} | {} | {:.4} | [{:.4}, {:.4}] | {:.4} | {} | {:.2} |",
-                figure.id,
-                spec.label,
-                summary.final_mean,
-                summary.final_ci95[0],
-                summary.final_ci95[1],
-                summary.final_greedy_mean,
-                spec.protocol.runs,
-                summary.wall_seconds
-            );
             all.push(series(&output));
+            bars.push(bar(&output));
+            summaries.push(summary);
         }
-        if figure.kind == FigureKind::Curves {
-            let path = dir.join("figure.svg");
-            plot_curves(
+        let title = format!("Figure {}: {}", figure.id, figure.title);
+        let path = dir.join("figure.svg");
+        let drawn = match (figure.kind, figure.curves.first()) {
+            (FigureKind::Curves, Some(first)) => {
+                let references: Vec<_> = first.domain.reference().into_iter().collect();
+                plot_curves(
+                    &path,
+                    &title,
+                    "learning episodes",
+                    &score_axis(first),
+                    &all,
+                    &references,
+                )
+            }
+            (FigureKind::Bars, Some(first)) => plot_bars(
                 &path,
-                &format!("Figure {}: {}", figure.id, figure.title),
-                "learning episodes",
-                "evaluation return (mean, 95% CI)",
-                &all,
-            )
-            .with_context(|| format!("plotting {}", path.display()))?;
-        }
+                &title,
+                &bar_axis(first),
+                &unit_suffix(first.domain.score_unit()),
+                &bars,
+            ),
+            _ => Ok(()),
+        };
+        drawn.with_context(|| format!("plotting {}", path.display()))?;
+        done.push((figure.clone(), summaries));
     }
     std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
     let path = args.out.join("summary.md");
-    write_atomic(&path, table.as_bytes())?;
-    println!("summary table: {}", path.display());
+    let listed: Vec<(&Figure, &[SummaryFile])> = done.iter().map(|(f, s)| (f, s.as_slice())).collect();
+    write_atomic(&path, summary_markdown(&listed).as_bytes())?;
+    println!(
+        "summary table: {} ({} figures in {})",
+        path.display(),
+        done.len(),
+        clock(started.elapsed())
+    );
     Ok(())
 }

@@ -68,8 +68,8 @@ pub struct ExperimentOptions {
     /// default: about a thousand points).
     #[arg(long)]
     trace_every: Option<u64>,
-    /// Base seed (run i uses a seed derived from it and i).
-    #[arg(long, default_value_t = 1)]
+    /// Base seed (run i uses a seed derived from it and i); the presets' by default.
+    #[arg(long, default_value_t = defaults::DEFAULT_SEED)]
     seed: u64,
     /// A label for plots (default: the algorithm).
     #[arg(long)]

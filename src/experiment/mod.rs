@@ -6,6 +6,8 @@ pub mod defaults;
 pub mod output;
 pub mod plot;
 pub mod presets;
+pub mod progress;
+pub mod report;
 pub mod runner;
 pub mod spec;
 pub mod stats;

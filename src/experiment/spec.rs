@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
+use super::plot::Reference;
 use crate::domains::keepaway::{self, KeepawayDomainConfig, KeepawayMode, KeepawayTask};
 use crate::domains::parr_russell::{self, ParrRussell, ParrRussellConfig};
 use crate::domains::penalty_kick::{self, PenaltyKick, PenaltyKickConfig};
@@ -83,6 +84,50 @@ impl DomainSpec {
                 KeepawayMode::Position => "keepaway-position",
                 KeepawayMode::Fixed(_) => "keepaway-fixed",
             },
+        }
+    }
+
+    /// What an episode's return measures, for axis labels and tables.
+    pub fn score_name(&self) -> &'static str {
+        match self {
+            DomainSpec::Keepaway { .. } => "episode duration",
+            _ => "return",
+        }
+    }
+
+    /// The unit of the score: seconds in Keepaway, none elsewhere.
+    pub fn score_unit(&self) -> &'static str {
+        match self {
+            DomainSpec::Keepaway { .. } => "s",
+            _ => "",
+        }
+    }
+
+    /// Whether nothing learns: the keepers follow a fixed policy.
+    pub fn is_fixed_policy(&self) -> bool {
+        matches!(
+            self,
+            DomainSpec::Keepaway {
+                config: KeepawayDomainConfig {
+                    mode: KeepawayMode::Fixed(_),
+                    ..
+                },
+                ..
+            }
+        )
+    }
+
+    /// A known optimum to draw beside the curves: in Parr and Russell's grid
+    /// with the thesis's plan, the exact value of the best memoryless policy.
+    pub fn reference(&self) -> Option<Reference> {
+        match self {
+            DomainSpec::ParrRussell { config, plan: None } => {
+                parr_russell::optimum::optimum(config).map(|(_, value)| Reference {
+                    label: format!("best memoryless policy, exact: {value:.3}"),
+                    value,
+                })
+            }
+            _ => None,
         }
     }
 
