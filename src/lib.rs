@@ -28,3 +28,4 @@ pub mod net;
 pub mod plan;
 pub mod pnml;
 pub mod rng;
+pub mod schema;

@@ -16,6 +16,7 @@ use learnpnp::learning::persist;
 use learnpnp::learning::persist::SavedValues;
 use learnpnp::plan::{Plan, Vocabulary, load_plan};
 use learnpnp::pnml::{self, Dialect};
+use learnpnp::schema;
 
 /// Writes `text` to standard output; a reader that closed the pipe (`| head`) is no error.
 pub fn print_out(text: &str) -> std::io::Result<()> {
@@ -28,7 +29,7 @@ pub fn print_out(text: &str) -> std::io::Result<()> {
 
 #[derive(Args, Debug)]
 pub struct CheckArgs {
-    /// The plan file (PNML).
+    /// The plan file (PNML), or a plan schema (.schema).
     plan: PathBuf,
     /// Most reachable markings to explore.
     #[arg(long, default_value_t = 100_000)]
@@ -37,6 +38,9 @@ pub struct CheckArgs {
 
 /// Exit 0: loads and passes; 1: loads and fails a check; 2: cannot be read.
 pub fn check(args: &CheckArgs) -> ExitCode {
+    if schema::is_schema_path(&args.plan) {
+        return check_schema(args);
+    }
     let plan = match load_plan(&args.plan, Vocabulary::Open) {
         Ok(plan) => plan,
         Err(e) => {
@@ -56,9 +60,23 @@ pub fn check(args: &CheckArgs) -> ExitCode {
     }
 }
 
+/// A schema's checks (`schema::check_report`), with the same exit codes.
+fn check_schema(args: &CheckArgs) -> ExitCode {
+    let process = match schema::load_process(&args.plan, Vocabulary::Open) {
+        Ok(process) => process,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let (report, passed) = schema::check_report(&process);
+    print!("{report}");
+    if passed { ExitCode::SUCCESS } else { ExitCode::from(1) }
+}
+
 #[derive(Args, Debug)]
 pub struct DotArgs {
-    /// The plan file (PNML).
+    /// The plan file (PNML), or a plan schema (.schema: its process is drawn).
     plan: PathBuf,
     /// A value table learned on this plan (DIR/values.bin): each option of a
     /// choice point is labelled with its value and updates, the greedy one marked.
@@ -79,6 +97,13 @@ fn load_values(path: &Path) -> Result<SavedValues> {
 }
 
 pub fn dot(args: &DotArgs) -> Result<()> {
+    if schema::is_schema_path(&args.plan) {
+        print!(
+            "{}",
+            schema::to_dot(&schema::load_process(&args.plan, Vocabulary::Open)?)
+        );
+        return Ok(());
+    }
     let plan = load_plan(&args.plan, Vocabulary::Open)?;
     for w in plan.warnings() {
         eprintln!("warning: {w}");

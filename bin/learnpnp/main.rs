@@ -6,6 +6,7 @@ mod experiment;
 mod inspect;
 mod replay;
 mod reproduce;
+mod schema;
 
 use std::process::ExitCode;
 
@@ -44,6 +45,8 @@ enum Command {
     Domains,
     /// What a plan may use in one domain (e.g. keepaway-pass).
     Domain(inspect::DomainArgs),
+    /// Print the controllable process constructed from a plan schema (thesis chapter 3).
+    Schema(schema::SchemaArgs),
 }
 
 fn main() -> ExitCode {
@@ -66,6 +69,7 @@ fn main() -> ExitCode {
         Some(Command::Replay(args)) => replay::run(&args),
         Some(Command::Domains) => inspect::domains(),
         Some(Command::Domain(args)) => inspect::domain(&args),
+        Some(Command::Schema(args)) => schema::run(&args),
         None => reproduce::run(&reproduce::ReproduceArgs::default()),
     };
     match result {

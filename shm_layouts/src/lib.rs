@@ -225,10 +225,12 @@ pub struct AgentReport {
     pub episode: u64,
     /// A [`report`] tag.
     pub kind: u32,
+    /// The agent's process id (which incarnation of the keeper is ready).
+    pub pid: u32,
     /// 1 if the episode explored, else 0.
     pub exploratory: u8,
     /// Zero.
-    pub reserved: [u8; 3],
+    pub reserved: [u8; 7],
 }
 
 /// Tags of a [`Heartbeat`]'s state.
@@ -295,7 +297,8 @@ pub mod control {
     pub const STOP: u32 = 1;
     /// Agents checkpoint their values now.
     pub const CHECKPOINT: u32 = 2;
-    /// To the simulator: keeper `target` was lost; abort the episode and wait for it.
+    /// To the simulator: keeper `target` was lost; abort the episode and wait
+    /// for its replacement (process [`super::Control::pid`]).
     pub const KEEPER_LOST: u32 = 3;
     /// [`super::Control::target`] of a command for every process.
     pub const ALL: u32 = u32::MAX;
@@ -314,6 +317,10 @@ pub struct Control {
     pub target: u32,
     /// The supervisor's command counter, from 1.
     pub sequence: u64,
+    /// [`control::KEEPER_LOST`]: the replacement's process id; zero otherwise.
+    pub pid: u32,
+    /// Zero.
+    pub reserved: u32,
 }
 
 /// The names of the services, relative to the run's iceoryx2 prefix (which
@@ -416,11 +423,12 @@ mod tests {
 
     #[test]
     fn agent_report_layout() {
-        assert_eq!((size_of::<AgentReport>(), align_of::<AgentReport>()), (32, 8));
+        assert_eq!((size_of::<AgentReport>(), align_of::<AgentReport>()), (40, 8));
         assert_eq!(offset_of!(AgentReport, episode), 16);
         assert_eq!(offset_of!(AgentReport, kind), 24);
-        assert_eq!(offset_of!(AgentReport, exploratory), 28);
-        assert_eq!(offset_of!(AgentReport, reserved), 29);
+        assert_eq!(offset_of!(AgentReport, pid), 28);
+        assert_eq!(offset_of!(AgentReport, exploratory), 32);
+        assert_eq!(offset_of!(AgentReport, reserved), 33);
     }
 
     #[test]
@@ -440,10 +448,12 @@ mod tests {
 
     #[test]
     fn control_layout() {
-        assert_eq!((size_of::<Control>(), align_of::<Control>()), (32, 8));
+        assert_eq!((size_of::<Control>(), align_of::<Control>()), (40, 8));
         assert_eq!(offset_of!(Control, command), 16);
         assert_eq!(offset_of!(Control, target), 20);
         assert_eq!(offset_of!(Control, sequence), 24);
+        assert_eq!(offset_of!(Control, pid), 32);
+        assert_eq!(offset_of!(Control, reserved), 36);
     }
 
     #[test]

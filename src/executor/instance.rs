@@ -95,16 +95,7 @@ impl<W: World> PlanInstance<W> {
                     declared_lists.push(None);
                 }
                 None => {
-                    let names: Vec<String> = registry.entries().into_iter().map(|e| e.pattern()).collect();
-                    return Err(ExecError::UnknownAction {
-                        plan: plan.name().to_string(),
-                        action: info.name.clone(),
-                        registered: if names.is_empty() {
-                            "nothing".to_string()
-                        } else {
-                            names.join(", ")
-                        },
-                    });
+                    return Err(registry.unknown_action(plan.name(), &info.name));
                 }
             }
         }

@@ -156,6 +156,21 @@ impl<W> Registry<W> {
         out
     }
 
+    /// The error for `action`, used by `plan`, that nothing here provides: it
+    /// lists what is registered.
+    pub(crate) fn unknown_action(&self, plan: &str, action: &str) -> super::ExecError {
+        let names: Vec<String> = self.entries().into_iter().map(|e| e.pattern()).collect();
+        super::ExecError::UnknownAction {
+            plan: plan.to_string(),
+            action: action.to_string(),
+            registered: if names.is_empty() {
+                "nothing".to_string()
+            } else {
+                names.join(", ")
+            },
+        }
+    }
+
     fn primitive(&self, name: &str) -> Option<&Primitive<W>> {
         self.actions.get(name).or_else(|| {
             self.families

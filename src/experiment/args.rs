@@ -154,6 +154,10 @@ pub struct ExperimentOptions {
     /// TD: repeat the first decision at an observation within an episode.
     #[arg(long)]
     consistent: bool,
+    /// TD: value every marking the plan passes through (one-step methods then
+    /// bootstrap at every state of the process, not only at choices).
+    #[arg(long)]
+    every_marking: bool,
 }
 
 impl ExperimentOptions {
@@ -223,6 +227,7 @@ impl ExperimentOptions {
             stage_length: self.stage_length,
             alpha_min: self.alpha_min,
             consistent: self.consistent,
+            every_marking: self.every_marking,
         }
     }
 

@@ -298,6 +298,8 @@ pub struct Overrides {
     pub alpha_min: Option<f64>,
     /// TD: consistent exploration.
     pub consistent: bool,
+    /// TD: values on every marking ([`Scope::Markings`]) instead of the choices' afterstates.
+    pub every_marking: bool,
 }
 
 impl Overrides {
@@ -319,6 +321,9 @@ impl Overrides {
                     c.exploration = Exploration::Greedy;
                 }
                 c.consistent |= self.consistent;
+                if self.every_marking {
+                    c.scope = Scope::Markings;
+                }
             }
             LearnerSpec::Sosmc(c) => {
                 set(&mut c.gamma, self.gamma);

@@ -105,7 +105,7 @@ pub fn run_one(
     let mut out = RunOutput::default();
     run_protocol(spec, task.as_mut(), run, &mut out, progress)?;
     if run == 0 {
-        let plans: Vec<&Plan> = plan.as_deref().into_iter().collect();
+        let plans: Vec<&Plan> = plan.as_deref().map(Plan::activation_plans).unwrap_or_default();
         out.values = task
             .learners()
             .iter()

@@ -322,7 +322,9 @@ impl ExperimentSpec {
             if let Some(problem) = problem {
                 eprintln!("warning: {problem}; using {}", persist::prev_path(path).display());
             }
-            let expected: Vec<PlanLabels> = plan.map(PlanLabels::of).into_iter().collect();
+            let expected: Vec<PlanLabels> = plan
+                .map(|p| p.activation_plans().into_iter().map(PlanLabels::of).collect())
+                .unwrap_or_default();
             if saved.plans != expected {
                 return Err(ExperimentError::Invalid(format!(
                     "{}: the values were learned on another plan ({})",

@@ -364,8 +364,11 @@ pub fn read_episode_event(msg: &EpisodeEvent, run_id: u64) -> Result<(u64, Episo
 /// An agent's report at an episode boundary.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum AgentNews {
-    /// Connected and ready for an episode.
-    Ready,
+    /// Connected and ready for an episode: the process with this id.
+    Ready {
+        /// The agent's process id.
+        pid: u32,
+    },
     /// Episode `episode` ended.
     Ended {
         /// The episode.
@@ -377,16 +380,17 @@ pub enum AgentNews {
 
 /// Keeper `keeper`'s report.
 pub fn agent_report(news: AgentNews, keeper: usize, run_id: u64) -> AgentReport {
-    let (kind, episode, exploratory) = match news {
-        AgentNews::Ready => (report::READY, 0, false),
-        AgentNews::Ended { episode, exploratory } => (report::ENDED, episode, exploratory),
+    let (kind, episode, pid, exploratory) = match news {
+        AgentNews::Ready { pid } => (report::READY, 0, pid, false),
+        AgentNews::Ended { episode, exploratory } => (report::ENDED, episode, 0, exploratory),
     };
     AgentReport {
         header: Header::new(keeper as u32, run_id),
         episode,
         kind,
+        pid,
         exploratory: u8::from(exploratory),
-        reserved: [0; 3],
+        reserved: [0; 7],
     }
 }
 
@@ -394,7 +398,7 @@ pub fn agent_report(news: AgentNews, keeper: usize, run_id: u64) -> AgentReport 
 pub fn read_agent_report(msg: &AgentReport, run_id: u64) -> Result<(usize, AgentNews), Rejection> {
     check_header(&msg.header, run_id, |s| (s as usize) < NUM_KEEPERS)?;
     let news = match (msg.kind, msg.exploratory) {
-        (report::READY, _) => AgentNews::Ready,
+        (report::READY, 0) => AgentNews::Ready { pid: msg.pid },
         (report::ENDED, e @ (0 | 1)) => AgentNews::Ended {
             episode: msg.episode,
             exploratory: e == 1,
@@ -537,22 +541,29 @@ pub enum Order {
     Stop,
     /// Checkpoint now.
     Checkpoint,
-    /// Keeper k was lost (to the simulator).
-    KeeperLost(usize),
+    /// Keeper `keeper` was lost (to the simulator); process `pid` replaces it.
+    KeeperLost {
+        /// The keeper.
+        keeper: usize,
+        /// Its replacement's process id.
+        pid: u32,
+    },
 }
 
 /// The control message of `order` for `target` (`None`: everyone).
 pub fn control_message(order: Order, target: Option<Role>, sequence: u64, run_id: u64) -> Control {
-    let (command, target) = match order {
-        Order::Stop => (control::STOP, target.map_or(control::ALL, Role::sender)),
-        Order::Checkpoint => (control::CHECKPOINT, target.map_or(control::ALL, Role::sender)),
-        Order::KeeperLost(k) => (control::KEEPER_LOST, k as u32),
+    let (command, target, pid) = match order {
+        Order::Stop => (control::STOP, target.map_or(control::ALL, Role::sender), 0),
+        Order::Checkpoint => (control::CHECKPOINT, target.map_or(control::ALL, Role::sender), 0),
+        Order::KeeperLost { keeper, pid } => (control::KEEPER_LOST, keeper as u32, pid),
     };
     Control {
         header: Header::new(SENDER_SUPERVISOR, run_id),
         command,
         target,
         sequence,
+        pid,
+        reserved: 0,
     }
 }
 
@@ -564,7 +575,10 @@ pub fn read_control(msg: &Control, me: Role, run_id: u64) -> Result<Option<Order
         control::STOP if for_me => Ok(Some(Order::Stop)),
         control::CHECKPOINT if for_me => Ok(Some(Order::Checkpoint)),
         control::KEEPER_LOST if (msg.target as usize) < NUM_KEEPERS => {
-            Ok((me == Role::Simulator).then_some(Order::KeeperLost(msg.target as usize)))
+            Ok((me == Role::Simulator).then_some(Order::KeeperLost {
+                keeper: msg.target as usize,
+                pid: msg.pid,
+            }))
         }
         control::STOP | control::CHECKPOINT => Ok(None),
         _ => Err(Rejection::Content),
@@ -706,6 +720,8 @@ mod tests {
             exploratory: true,
         };
         assert_eq!(read_agent_report(&agent_report(news, 2, 3), 3), Ok((2, news)));
+        let ready = AgentNews::Ready { pid: 4242 };
+        assert_eq!(read_agent_report(&agent_report(ready, 0, 3), 3), Ok((0, ready)));
         let mut m = agent_report(news, 2, 3);
         m.header.sender = 3;
         assert_eq!(read_agent_report(&m, 3), Err(Rejection::Sender));
@@ -736,8 +752,9 @@ mod tests {
             read_control(&checkpoint, Role::Keeper(2), 3),
             Ok(Some(Order::Checkpoint))
         );
-        let lost = control_message(Order::KeeperLost(1), None, 3, 3);
-        assert_eq!(read_control(&lost, Role::Simulator, 3), Ok(Some(Order::KeeperLost(1))));
+        let order = Order::KeeperLost { keeper: 1, pid: 77 };
+        let lost = control_message(order, None, 3, 3);
+        assert_eq!(read_control(&lost, Role::Simulator, 3), Ok(Some(order)));
         assert_eq!(read_control(&lost, Role::Keeper(1), 3), Ok(None));
     }
 }

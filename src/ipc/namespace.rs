@@ -22,14 +22,29 @@ use rand::RngExt;
 pub const SHM_DIR: &str = "/dev/shm";
 
 /// The start of every learnpnp prefix.
-const PREFIX_START: &str = "lpnp";
+const PREFIX_START: &str = "lp";
+
+/// The longest path of a unix socket (`sun_path` holds 108 bytes with its NUL).
+const MAX_SOCKET_PATH: usize = 107;
+
+/// What iceoryx2 appends to a namespace's root for an event's socket: the
+/// prefix, a 31-digit id and `.event`.
+const SOCKET_NAME: usize = 31 + ".event".len();
 
 /// Why a namespace cannot be set up or cleaned.
 #[derive(Debug, thiserror::Error)]
 pub enum NamespaceError {
     /// A prefix with characters iceoryx2 does not allow in file names, or not ours.
-    #[error("invalid iceoryx2 prefix {0:?}: expected 'lpnp' followed by letters, digits or '_'")]
+    #[error("invalid iceoryx2 prefix {0:?}: expected 'lp' followed by letters, digits or '_'")]
     BadPrefix(String),
+    /// The namespace's directory is too long for iceoryx2's unix sockets.
+    #[error(
+        "{path}: too long for iceoryx2's unix sockets (a socket path holds {MAX_SOCKET_PATH} bytes): set LEARNPNP_IPC_DIR to a shorter directory"
+    )]
+    PathTooLong {
+        /// The namespace's root directory.
+        path: PathBuf,
+    },
     /// A file operation failed.
     #[error("{path}: {source}")]
     Io {
@@ -66,18 +81,40 @@ pub struct Namespace {
 }
 
 impl Namespace {
-    /// A fresh namespace with a prefix no other run has: the process id and
-    /// 48 random bits.
+    /// A fresh namespace under [`base_dir`] with a random prefix (32 bits;
+    /// [`Namespace::claim`] refuses one that exists).
     pub fn unique() -> Self {
-        let random: u64 = rand::rng().random::<u64>() & 0xffff_ffff_ffff;
+        let random: u32 = rand::rng().random();
         Namespace {
-            prefix: format!("{PREFIX_START}{:x}_{random:012x}_", std::process::id()),
+            prefix: format!("{PREFIX_START}{random:08x}_"),
             base: base_dir(),
         }
     }
 
-    /// The namespace of `prefix` (as a supervisor passes it to its processes).
+    /// Claims a fresh namespace under [`base_dir`], drawing another prefix if
+    /// the first is taken.
+    pub fn claim_unique() -> Result<NamespaceOwner, NamespaceError> {
+        let mut attempt = 0;
+        loop {
+            match Namespace::unique().claim() {
+                Err(NamespaceError::Io { source, .. })
+                    if source.kind() == io::ErrorKind::AlreadyExists && attempt < 8 =>
+                {
+                    attempt += 1;
+                }
+                other => return other,
+            }
+        }
+    }
+
+    /// The namespace of `prefix` (as a supervisor passes it to its processes),
+    /// under [`base_dir`].
     pub fn from_prefix(prefix: &str) -> Result<Self, NamespaceError> {
+        Self::at(&base_dir(), prefix)
+    }
+
+    /// The namespace of `prefix` under `base`.
+    pub fn at(base: &Path, prefix: &str) -> Result<Self, NamespaceError> {
         let valid = prefix.starts_with(PREFIX_START)
             && prefix.len() <= 64
             && prefix.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_');
@@ -86,7 +123,7 @@ impl Namespace {
         }
         Ok(Namespace {
             prefix: prefix.to_string(),
-            base: base_dir(),
+            base: base.to_path_buf(),
         })
     }
 
@@ -121,11 +158,28 @@ impl Namespace {
     /// returned guard is dropped (or the process dies). The lock is taken on a
     /// temporary name and then renamed into place, so that [`clean_stale`]
     /// never sees an unlocked lock file of a live run.
+    /// Fails if the prefix is taken or the directory is too long for the
+    /// run's unix sockets.
     pub fn claim(&self) -> Result<NamespaceOwner, NamespaceError> {
+        let root = self.root();
+        if root.as_os_str().len() + 1 + self.prefix.len() + SOCKET_NAME > MAX_SOCKET_PATH {
+            return Err(NamespaceError::PathTooLong { path: root });
+        }
         fs::create_dir_all(&self.base).map_err(io_error(&self.base))?;
         let path = self.lock_path();
         let tmp = path.with_extension("lock.new");
-        let file = File::create(&tmp).map_err(io_error(&tmp))?;
+        let taken = |p: &Path| p.exists();
+        if taken(&path) || taken(&root) {
+            return Err(NamespaceError::Io {
+                path,
+                source: io::Error::from(io::ErrorKind::AlreadyExists),
+            });
+        }
+        let file = File::options()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+            .map_err(io_error(&tmp))?;
         file.lock().map_err(io_error(&tmp))?;
         fs::rename(&tmp, &path).map_err(io_error(&path))?;
         fs::create_dir_all(self.root()).map_err(io_error(&self.root()))?;
@@ -255,7 +309,7 @@ pub fn clean_stale() -> Result<Vec<StaleNamespace>, NamespaceError> {
         let Some(stem) = name.strip_suffix(".lock") else {
             continue;
         };
-        let Ok(namespace) = Namespace::from_prefix(&format!("{stem}_")) else {
+        let Ok(namespace) = Namespace::at(&base, &format!("{stem}_")) else {
             continue;
         };
         let path = entry.path();

@@ -10,7 +10,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::simulator::{FLOOR_END, keepaway_config};
-use super::{Pacemaker, ProcessError, RunContext};
+use super::{HEARTBEAT_EVERY, Pacemaker, ProcessError, RunContext};
 use crate::domains::keepaway::{KeepawayDomainConfig, PlanKeeper, RunSeeds, registry};
 use crate::experiment::runner::{learner_for, task_rng};
 use crate::experiment::spec::ExperimentSpec;
@@ -116,7 +116,7 @@ impl Brain {
             } => Some(SavedValues::new(
                 *algorithm,
                 keeper.learner().values(),
-                &[plan.as_ref()],
+                &plan.activation_plans(),
             )),
             Brain::Fixed { .. } => None,
         }
@@ -140,7 +140,8 @@ fn load_checkpoint(path: &Path, plan: &Plan) -> Result<SavedValues, ProcessError
             saved
         }
     };
-    if saved.plans != [PlanLabels::of(plan)] {
+    let expected: Vec<PlanLabels> = plan.activation_plans().into_iter().map(PlanLabels::of).collect();
+    if saved.plans != expected {
         return Err(ProcessError::CannotResume(format!(
             "{}: the checkpoint was learned on another plan",
             path.display()
@@ -202,6 +203,9 @@ struct Agent {
     compute: Latency,
     checkpoint: PathBuf,
     histogram_file: PathBuf,
+    /// No episode event or ping has come since the agent started: it keeps
+    /// saying it is ready (the simulator may have subscribed after the first time).
+    announcing: bool,
     /// The episode in progress (0: none) and how it is run.
     episode: u64,
     start: EpisodeStart,
@@ -242,7 +246,7 @@ impl Agent {
             match order {
                 Ok(Some(Order::Stop)) => return Ok(true),
                 Ok(Some(Order::Checkpoint)) => self.save(),
-                Ok(Some(Order::KeeperLost(_)) | None) => {}
+                Ok(Some(Order::KeeperLost { .. }) | None) => {}
                 Err(why) => self.count(why),
             }
         }
@@ -257,6 +261,8 @@ impl Agent {
             handled = true;
             match event {
                 Ok((episode, EpisodeNews::Begin(start))) => {
+                    self.announcing = false;
+                    self.pacemaker.pulse.state = ProcessState::Running;
                     self.brain.begin_episode(start);
                     self.episode = episode;
                     self.start = start;
@@ -355,6 +361,7 @@ impl Agent {
         let Some(first) = ping(&self.ports)? else {
             return Ok(false);
         };
+        self.announcing = false;
         let mut next = Some(first);
         let mut last = Instant::now();
         let mut idle = Idle::new(self.context.wait);
@@ -390,11 +397,29 @@ impl Agent {
         }
     }
 
+    /// Says this process is ready for an episode.
+    fn announce(&mut self) -> Result<(), ProcessError> {
+        let ready = AgentNews::Ready {
+            pid: std::process::id(),
+        };
+        send(
+            &self.ports.report,
+            agent_report(ready, self.settings.keeper, self.context.run_id),
+        )?;
+        wake(self.context.wait, &self.ports.wake_sim)?;
+        Ok(())
+    }
+
     /// Serves the run until the supervisor says stop; checkpoints at the end.
     fn serve(&mut self) -> Result<(), ProcessError> {
         let mut idle = Idle::new(self.context.wait);
+        let mut announced = Instant::now();
         loop {
             self.pacemaker.tick(&self.ports.heartbeat)?;
+            if self.announcing && announced.elapsed() >= HEARTBEAT_EVERY {
+                self.announce()?;
+                announced = Instant::now();
+            }
             if self.control()? {
                 break;
             }
@@ -442,6 +467,7 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
             .work_dir
             .join(format!("{}.{}.hdr", compute_histogram(k), std::process::id())),
         checkpoint,
+        announcing: true,
         episode: 0,
         start: EpisodeStart::LEARN,
         learning_episodes: 0,
@@ -449,8 +475,7 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
     if !settings.resume {
         agent.save();
     }
-    send(&agent.ports.report, agent_report(AgentNews::Ready, k, context.run_id))?;
-    wake(context.wait, &agent.ports.wake_sim)?;
+    agent.announce()?;
     agent.pacemaker.pulse.state = ProcessState::Ready;
     agent.pacemaker.beat(&agent.ports.heartbeat)?;
     agent.serve()

@@ -72,6 +72,8 @@ pub struct SystemSummary {
     pub faults: Vec<Fault>,
     /// Files of the runs' iceoryx2 namespaces left after cleanup (0 expected).
     pub leftover_shm_files: usize,
+    /// The runs' iceoryx2 prefixes.
+    pub ipc_prefixes: Vec<String>,
     /// Wall-clock seconds of the whole launch.
     pub wall_seconds: f64,
     /// The experiment's figures (spec, final mean with its confidence interval, ...)
@@ -165,6 +167,7 @@ pub fn summarize(
         checkpoint_failures: records.iter().map(|r| r.checkpoint_failures).sum(),
         faults: records.iter().flat_map(|r| r.faults.iter().cloned()).collect(),
         leftover_shm_files: records.iter().map(|r| r.leftover_files).sum(),
+        ipc_prefixes: records.iter().map(|r| r.prefix.clone()).collect(),
         wall_seconds,
         experiment,
     }

@@ -89,8 +89,14 @@ struct Link {
     context: RunContext,
     ports: SimPorts,
     pacemaker: Pacemaker,
-    /// Keepers lost whose replacement has not said it is ready.
+    /// Keepers whose (replacement) process has not said it is ready.
     awaiting: [bool; NUM_KEEPERS],
+    /// Keepers lost since the current episode began.
+    lost: [bool; NUM_KEEPERS],
+    /// The process id each keeper's replacement will have (none before the first loss).
+    expected: [Option<u32>; NUM_KEEPERS],
+    /// The process id of each keeper's last readiness report.
+    ready: [Option<u32>; NUM_KEEPERS],
     stop: bool,
     round_trip: Latency,
     floor: Latency,
@@ -111,7 +117,12 @@ impl Link {
         {
             match order {
                 Ok(Some(Order::Stop)) => self.stop = true,
-                Ok(Some(Order::KeeperLost(k))) => self.awaiting[k] = true,
+                Ok(Some(Order::KeeperLost { keeper, pid })) => {
+                    self.lost[keeper] = true;
+                    self.expected[keeper] = Some(pid);
+                    // The replacement may have said it is ready before this was read.
+                    self.awaiting[keeper] = self.ready[keeper] != Some(pid);
+                }
                 Ok(Some(Order::Checkpoint) | None) => {}
                 Err(why) => self.count(why),
             }
@@ -124,7 +135,13 @@ impl Link {
         let run_id = self.context.run_id;
         while let Some(report) = receive(&self.ports.reports, |m| read_agent_report(m, run_id)).map_err(remote)? {
             match report {
-                Ok((k, AgentNews::Ready)) => self.awaiting[k] = false,
+                Ok((k, AgentNews::Ready { pid })) => {
+                    self.ready[k] = Some(pid);
+                    // Only the replacement the supervisor named ends the wait.
+                    if self.expected[k].is_none_or(|p| p == pid) {
+                        self.awaiting[k] = false;
+                    }
+                }
                 Ok((
                     k,
                     AgentNews::Ended {
@@ -198,7 +215,7 @@ impl RemoteTeam {
         let news = EpisodeNews::Abort { cycles: self.cycles };
         send(&link.ports.episode, episode_event(self.episode, news, run_id)).map_err(remote)?;
         link.wake_keepers()?;
-        let keepers = (0..NUM_KEEPERS).filter(|&k| link.awaiting[k]).map(|k| k + 1).collect();
+        let keepers = (0..NUM_KEEPERS).filter(|&k| link.lost[k]).map(|k| k + 1).collect();
         link.result.aborted.push(AbortedEpisode {
             episode: self.episode,
             mode: self.start.mode,
@@ -207,6 +224,7 @@ impl RemoteTeam {
         });
         link.pacemaker.pulse.aborted_episodes += 1;
         link.wait_ready()?;
+        link.lost = [false; NUM_KEEPERS];
         // Commands of the discarded episode still queued are not rejections.
         for k in 0..NUM_KEEPERS {
             while let Some(reading) =
@@ -225,6 +243,7 @@ impl KeeperTeam for RemoteTeam {
     fn begin_episode(&mut self, start: EpisodeStart) -> Result<(), TaskError> {
         let mut link = self.link.borrow_mut();
         link.wait_ready()?;
+        link.lost = [false; NUM_KEEPERS];
         self.episode += 1;
         self.start = start;
         self.cycles = 0;
@@ -239,7 +258,7 @@ impl KeeperTeam for RemoteTeam {
         if link.stop {
             return Err(TaskError::Stopped);
         }
-        if link.awaiting.contains(&true) {
+        if link.lost.contains(&true) {
             return self.abort(link);
         }
         self.cycle_seq += 1;
@@ -297,7 +316,7 @@ impl KeeperTeam for RemoteTeam {
             if link.stop {
                 return Err(TaskError::Stopped);
             }
-            if link.awaiting.contains(&true) {
+            if link.lost.contains(&true) {
                 return self.abort(link);
             }
             let limit = deadline.map_or(MAX_BLOCK, |d| d.saturating_duration_since(Instant::now()));
@@ -320,20 +339,16 @@ impl KeeperTeam for RemoteTeam {
         };
         send(&link.ports.episode, episode_event(self.episode, news, run_id)).map_err(remote)?;
         link.wake_keepers()?;
-        let mut lost = link.awaiting;
         let mut ended = [None; NUM_KEEPERS];
         let mut idle = Idle::new(link.context.wait);
         loop {
             link.housekeeping()?;
-            for (lost, awaiting) in lost.iter_mut().zip(link.awaiting) {
-                *lost |= awaiting;
-            }
             link.read_reports(self.episode, &mut ended)?;
             if link.stop {
                 return Err(TaskError::Stopped);
             }
             // A keeper lost meanwhile will not report; its replacement says it is ready.
-            let settled = (0..NUM_KEEPERS).all(|k| ended[k].is_some() || (lost[k] && !link.awaiting[k]));
+            let settled = (0..NUM_KEEPERS).all(|k| ended[k].is_some() || (link.lost[k] && !link.awaiting[k]));
             if settled {
                 break;
             }
@@ -405,7 +420,7 @@ fn measure_floor(link: &mut Link, round_trips: usize) -> Result<(), TaskError> {
             if checked.elapsed() > Duration::from_millis(10) {
                 checked = Instant::now();
                 link.housekeeping()?;
-                if link.stop || link.awaiting[0] || sent.elapsed() > Duration::from_secs(2) {
+                if link.stop || link.lost[0] || sent.elapsed() > Duration::from_secs(2) {
                     return Ok(()); // the floor stays as measured so far
                 }
             }
@@ -445,6 +460,9 @@ pub fn run(context: &RunContext, floor_round_trips: usize) -> Result<SimulatorRe
         ports,
         pacemaker: Pacemaker::new(Role::Simulator, context.run_id),
         awaiting: [true; NUM_KEEPERS],
+        lost: [false; NUM_KEEPERS],
+        expected: [None; NUM_KEEPERS],
+        ready: [None; NUM_KEEPERS],
         stop: false,
         round_trip: Latency::new(ROUND_TRIP),
         floor: Latency::new(FLOOR),

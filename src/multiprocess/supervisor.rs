@@ -28,6 +28,10 @@ use crate::keepaway::world::NUM_KEEPERS;
 use crate::latency::{Latency, LatencyError};
 use crate::learning::persist::{self, SavedValues};
 
+/// The file in a run's work directory naming its iceoryx2 prefix and run id
+/// (for diagnostic tools that join the run).
+pub const IDENTITY_FILE: &str = "ipc.json";
+
 /// The exit code of an agent that cannot resume from its checkpoint: it is
 /// not restarted again.
 pub const EXIT_CANNOT_RESUME: i32 = 3;
@@ -284,8 +288,9 @@ impl Watch<'_> {
                 log_tail(&self.log(Role::Keeper(k)))
             )));
         }
-        self.order(Order::KeeperLost(k), Some(Role::Simulator))?;
         self.start(Role::Keeper(k), true)?;
+        let pid = self.fleet.processes.get(&Role::Keeper(k)).map_or(0, Process::pid);
+        self.order(Order::KeeperLost { keeper: k, pid }, Some(Role::Simulator))?;
         let checkpoint = self.context.work_dir.join(checkpoint_name(k));
         self.fault(what, format!("restarted from its checkpoint {}", checkpoint.display()));
         Ok(())
@@ -468,7 +473,7 @@ pub fn supervise_run(
     let spec_path = work_dir.join("spec.json");
     let spec_json = serde_json::to_vec_pretty(&config.spec).map_err(|e| SupervisorError::Failed(e.to_string()))?;
     crate::atomic_file::write_atomic(&spec_path, &spec_json).map_err(io_error(&spec_path))?;
-    let owner = Namespace::unique().claim()?;
+    let owner = Namespace::claim_unique()?;
     let outcome = run_in(config, run, work_dir, &spec_path, &owner, stop, progress);
     let prefix = owner.namespace().prefix().to_string();
     let namespace = owner.namespace().clone();
@@ -501,6 +506,10 @@ fn run_in(
         spec: spec_path.to_path_buf(),
         work_dir: work_dir.to_path_buf(),
     };
+    let identity = serde_json::json!({ "ipc_prefix": context.ipc_prefix, "run_id": context.run_id });
+    let identity_path = work_dir.join(IDENTITY_FILE);
+    crate::atomic_file::write_atomic(&identity_path, identity.to_string().as_bytes())
+        .map_err(io_error(&identity_path))?;
     let mut watch = Watch {
         config,
         ports: SupervisorPorts::open(&node)?,
@@ -544,6 +553,13 @@ fn run_in(
             });
         }
     };
+    let failure = failure.or_else(|| {
+        let stopped = stop.load(Ordering::Relaxed);
+        sim.error
+            .clone()
+            .filter(|_| !stopped)
+            .map(|e| format!("the simulator ended the run early: {e}"))
+    });
     let learning = super::simulator::keepaway_config(&config.spec)
         .map_err(|e| SupervisorError::Failed(e.to_string()))?
         .learning_keepers();

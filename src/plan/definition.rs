@@ -1,6 +1,7 @@
 //! A Petri Net Plan: a net whose labels are interpreted as actions, goals and guards.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
@@ -102,6 +103,7 @@ pub struct Plan {
     internal: Vec<InternalCondition>,
     atoms: AtomTable,
     warnings: Vec<PlanWarning>,
+    schema: Option<Arc<crate::schema::Process>>,
 }
 
 impl Plan {
@@ -268,7 +270,32 @@ impl Plan {
             internal,
             atoms,
             warnings,
+            schema: None,
         })
+    }
+
+    /// This plan, executed as the controllable process of a plan schema (thesis
+    /// chapter 3) rather than as a Petri Net Plan: its net is the process's.
+    pub(crate) fn with_schema_process(mut self, process: Arc<crate::schema::Process>) -> Self {
+        self.schema = Some(process);
+        self
+    }
+
+    /// The process of the plan schema this plan was constructed from, if any;
+    /// the executor then follows the schema's semantics (thesis 3.1.1).
+    pub fn schema_process(&self) -> Option<&Arc<crate::schema::Process>> {
+        self.schema.as_ref()
+    }
+
+    /// The plans whose markings a learner of this plan sees, indexed by
+    /// [`crate::executor::PlanKey`]: this plan, then (for a plan constructed
+    /// from a schema) the other machines of the schema.
+    pub fn activation_plans(&self) -> Vec<&Plan> {
+        let called = self
+            .schema
+            .iter()
+            .flat_map(|p| p.machines().iter().skip(1).map(|m| m.plan()));
+        std::iter::once(self).chain(called).collect()
     }
 
     /// What is unusual in the plan but accepted, as the PNP library accepts it.

@@ -1,9 +1,11 @@
 //! Loading plan files: PNML read, then labels interpreted, errors naming the file.
+//! A plan schema file (`.schema`, thesis chapter 3) loads as its constructed process.
 
 use std::path::{Path, PathBuf};
 
 use super::{Plan, PlanError, Vocabulary};
 use crate::pnml::{self, PnmlFileError};
+use crate::schema::{self, SchemaFileError};
 
 /// A plan file that cannot be loaded; the message starts with its path.
 #[derive(Debug, thiserror::Error)]
@@ -11,6 +13,9 @@ pub enum LoadError {
     /// The file cannot be read or is not a valid net.
     #[error(transparent)]
     File(#[from] PnmlFileError),
+    /// The schema file cannot be read, or is not a valid schema.
+    #[error(transparent)]
+    Schema(#[from] SchemaFileError),
     /// The net is not a valid plan.
     #[error("{path}: {source}")]
     Plan {
@@ -21,8 +26,12 @@ pub enum LoadError {
     },
 }
 
-/// Reads and interprets the plan in `path` (JARP or standard PNML).
+/// Reads and interprets the plan in `path` (JARP or standard PNML), or the
+/// plan schema in `path` if its extension is `.schema`.
 pub fn load_plan(path: &Path, vocabulary: Vocabulary<'_>) -> Result<Plan, LoadError> {
+    if schema::is_schema_path(path) {
+        return Ok(schema::load_schema_plan(path, vocabulary)?);
+    }
     let net = pnml::read_file(path)?;
     Plan::from_net(net, vocabulary).map_err(|source| LoadError::Plan {
         path: path.to_path_buf(),

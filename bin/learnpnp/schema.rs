@@ -1,0 +1,27 @@
+//! `learnpnp schema`: the controllable process constructed from a plan schema.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+use learnpnp::plan::Vocabulary;
+use learnpnp::schema;
+
+#[derive(Args, Debug)]
+pub struct SchemaArgs {
+    /// The plan schema file (.schema).
+    schema: PathBuf,
+    /// Print the process as Graphviz DOT instead of a listing.
+    #[arg(long)]
+    dot: bool,
+}
+
+pub fn run(args: &SchemaArgs) -> Result<()> {
+    let process = schema::load_process(&args.schema, Vocabulary::Open)?;
+    if args.dot {
+        print!("{}", schema::to_dot(&process));
+    } else {
+        print!("{}", schema::describe(&process));
+    }
+    Ok(())
+}
