@@ -86,6 +86,13 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
             spec.protocol.runs = runs;
         }
     }
+    let curves: usize = figures.iter().map(|f| f.curves.len()).sum();
+    println!(
+        "{} figure(s), {curves} curve(s) on {threads} worker threads into {}; each curve's full configuration \
+         is in its directory's summary.json",
+        figures.len(),
+        args.out.display()
+    );
     let started = Instant::now();
     let mut rates = Rates::default();
     let total = figures.len();
