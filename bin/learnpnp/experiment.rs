@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use learnpnp::experiment::args::{DomainName, ExperimentOptions};
-use learnpnp::experiment::output::{greedy_text, replay_name, with_unit, write_results};
+use learnpnp::experiment::output::{ci_text, greedy_text, replay_name, with_unit, write_results};
 use learnpnp::experiment::runner::run_experiment;
 
 #[derive(Args, Debug)]
@@ -41,12 +41,11 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
     let summary = write_results(&output, &args.out).context("writing results")?;
     let unit = spec.domain.score_unit();
     println!(
-        "{} on {}: final mean {} (95% CI {} .. {}), greedy {}; {} runs in {:.2} s, {:.0} episodes/s; results in {}",
+        "{} on {}: final mean {} (95% CI {}), greedy {}; {} runs in {:.2} s, {:.0} episodes/s; results in {}",
         spec.label,
         spec.domain.name(),
         with_unit(summary.final_mean, unit),
-        with_unit(summary.final_ci95[0], unit),
-        with_unit(summary.final_ci95[1], unit),
+        ci_text(&summary),
         greedy_text(&summary),
         spec.protocol.runs,
         summary.wall_seconds,

@@ -7,7 +7,7 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use learnpnp::atomic_file::write_atomic;
 use learnpnp::experiment::output::{
-    SummaryFile, bar, bar_axis, greedy_text, score_axis, series, unit_suffix, with_unit, write_results,
+    SummaryFile, bar, bar_axis, ci_text, greedy_text, score_axis, series, unit_suffix, with_unit, write_results,
 };
 use learnpnp::experiment::plot::{plot_bars, plot_curves};
 use learnpnp::experiment::presets::{self, Figure, FigureKind};
@@ -121,11 +121,10 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
             let summary = write_results(&output, &curve_dir)?;
             let unit = spec.domain.score_unit();
             println!(
-                "  {:<28} final {} [{}, {}]  greedy {}  {} runs {:.2} s  {:.0} episodes/s",
+                "  {:<28} final {} (95% CI {})  greedy {}  {} runs {:.2} s  {:.0} episodes/s",
                 spec.label,
                 with_unit(summary.final_mean, unit),
-                with_unit(summary.final_ci95[0], unit),
-                with_unit(summary.final_ci95[1], unit),
+                ci_text(&summary),
                 greedy_text(&summary),
                 spec.protocol.runs,
                 summary.wall_seconds,

@@ -84,6 +84,20 @@ pub fn with_unit(value: f64, unit: &str) -> String {
     }
 }
 
+/// The final score's 95% confidence interval as text, with its unit, or why there is none.
+pub fn ci_text(summary: &SummaryFile) -> String {
+    let unit = summary.spec.domain.score_unit();
+    if summary.spec.protocol.runs < 2 {
+        "n/a (one run)".to_string()
+    } else {
+        format!(
+            "{} .. {}",
+            with_unit(summary.final_ci95[0], unit),
+            with_unit(summary.final_ci95[1], unit)
+        )
+    }
+}
+
 /// The greedy score of `summary` as text: the value with its unit, or why it does not apply.
 pub fn greedy_text(summary: &SummaryFile) -> String {
     match (summary.final_greedy_mean, greedy_not_applicable(&summary.spec)) {
@@ -229,7 +243,14 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
                         format!("{}: values of the traced options (run 0)", output.spec.label),
                     ),
                 };
-                plot::plot_scatter(&dir.join(file), &title, "episode", "value", series)
+                let axis = match output.spec.domain.score_unit() {
+                    "" => "value".to_string(),
+                    unit => format!(
+                        "value: expected {} still to come ({unit})",
+                        output.spec.domain.score_name()
+                    ),
+                };
+                plot::plot_scatter(&dir.join(file), &title, "learning episodes", &axis, series)
                     .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
             }
         }

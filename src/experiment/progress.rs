@@ -1,13 +1,22 @@
 //! How far a reproduction of several figures has come, and roughly how long
-//! the rest will take: each domain's seconds per episode, measured on the
-//! curves already run, times the episodes left. A domain not run yet has no
+//! the rest will take: each domain family's seconds per episode (the grids
+//! apart, every Keepaway experiment together: one simulator), measured on the
+//! curves already run, times the episodes left. A family not run yet has no
 //! rate, so the estimate is then a lower bound and says so.
 
 use std::collections::HashMap;
 use std::fmt;
 use std::time::Duration;
 
-use super::spec::ExperimentSpec;
+use super::spec::{DomainSpec, ExperimentSpec};
+
+/// The family whose measured rate estimates `spec`'s.
+fn family(spec: &ExperimentSpec) -> &'static str {
+    match spec.domain {
+        DomainSpec::Keepaway { .. } => "keepaway",
+        _ => spec.domain.name(),
+    }
+}
 
 /// Episodes every run of `spec` plays: learning, evaluation and greedy ones.
 pub fn episodes_of(spec: &ExperimentSpec) -> u64 {
@@ -16,25 +25,25 @@ pub fn episodes_of(spec: &ExperimentSpec) -> u64 {
     per_run * p.runs as u64 + spec.record as u64
 }
 
-/// Seconds per episode, per domain, measured so far.
+/// Seconds per episode, per domain family, measured so far.
 #[derive(Debug, Clone, Default)]
 pub struct Rates {
     measured: HashMap<&'static str, (f64, u64)>,
 }
 
-/// What is left: seconds, and the domains not timed yet (then a lower bound).
+/// What is left: seconds, and the families not timed yet (then a lower bound).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Estimate {
-    /// Seconds left over the domains with a rate.
+    /// Seconds left over the families with a rate.
     pub seconds: f64,
-    /// Domains still to run without a rate yet.
+    /// Families still to run without a rate yet.
     pub untimed: Vec<&'static str>,
 }
 
 impl Rates {
     /// `spec` took `seconds`.
     pub fn record(&mut self, spec: &ExperimentSpec, seconds: f64) {
-        let entry = self.measured.entry(spec.domain.name()).or_insert((0.0, 0));
+        let entry = self.measured.entry(family(spec)).or_insert((0.0, 0));
         entry.0 += seconds;
         entry.1 += episodes_of(spec);
     }
@@ -44,7 +53,7 @@ impl Rates {
         let mut seconds = 0.0;
         let mut untimed: Vec<&'static str> = Vec::new();
         for spec in remaining {
-            let name = spec.domain.name();
+            let name = family(spec);
             match self.measured.get(name) {
                 Some(&(s, n)) if n > 0 => seconds += s / n as f64 * episodes_of(spec) as f64,
                 _ => {
@@ -95,12 +104,12 @@ mod tests {
         assert_eq!(episodes_of(grid), 200 * (1000 + 51 * 20 + 100));
         let mut rates = Rates::default();
         let before = rates.estimate(&curves);
-        assert_eq!(before.untimed, ["parr-russell", "keepaway-pass"]);
+        assert_eq!(before.untimed, ["parr-russell", "keepaway"]);
         rates.record(grid, 10.0);
         let after = rates.estimate(&curves[1..]);
         // Three grid curves like the first one: 30 s; Keepaway still unknown.
         assert!((after.seconds - 30.0).abs() < 1e-9, "{after:?}");
-        assert_eq!(after.to_string(), "at least 30s left (keepaway-pass not timed yet)");
+        assert_eq!(after.to_string(), "at least 30s left (keepaway not timed yet)");
         rates.record(&curves[4], 100.0);
         assert_eq!(rates.estimate(&curves[5..]).to_string(), "about 1m 40s left");
         assert_eq!(clock(Duration::from_secs(3725)), "1h 02m");

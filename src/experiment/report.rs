@@ -4,24 +4,8 @@
 
 use std::fmt::Write as _;
 
-use super::output::{SummaryFile, greedy_text, with_unit};
+use super::output::{SummaryFile, ci_text, greedy_text, with_unit};
 use super::presets::{Figure, FigureKind};
-
-/// The score of `summary` and its interval as table cells.
-fn score_cells(summary: &SummaryFile) -> (String, String) {
-    let unit = summary.spec.domain.score_unit();
-    let score = with_unit(summary.final_mean, unit);
-    let ci = if summary.spec.protocol.runs < 2 {
-        "n/a (one run)".to_string()
-    } else {
-        format!(
-            "{} .. {}",
-            with_unit(summary.final_ci95[0], unit),
-            with_unit(summary.final_ci95[1], unit)
-        )
-    };
-    (score, ci)
-}
 
 /// A table cell: `|` escaped.
 fn cell(text: &str) -> String {
@@ -52,7 +36,7 @@ pub fn summary_markdown(figures: &[(&Figure, &[SummaryFile])]) -> String {
         let _ = writeln!(md, "| curve | {score} | 95% CI | {greedy} | runs | wall time |");
         md.push_str("|---|---|---|---|---|---|\n");
         for s in summaries.iter() {
-            let (value, ci) = score_cells(s);
+            let (value, ci) = (with_unit(s.final_mean, s.spec.domain.score_unit()), ci_text(s));
             let _ = writeln!(
                 md,
                 "| {} | {} | {} | {} | {} | {:.1} s |",
