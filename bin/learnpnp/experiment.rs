@@ -41,7 +41,7 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
     let summary = write_results(&output, &args.out).context("writing results")?;
     let unit = spec.domain.score_unit();
     println!(
-        "{} on {}: final mean {} (95% CI {}), greedy {}; {} runs in {:.2} s, {:.0} episodes/s; results in {}",
+        "{} on {}: final mean {}, 95% CI {}, greedy {}; {} runs in {:.2} s, {:.0} episodes/s; results in {}",
         spec.label,
         spec.domain.name(),
         with_unit(summary.final_mean, unit),
