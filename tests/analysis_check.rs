@@ -411,8 +411,15 @@ fn overflow_beyond_255_tokens_counts_as_unbounded_without_panicking() {
 }
 
 #[test]
-fn an_empty_net_is_one_dead_marking() {
-    let report = check(&raw_plan(&[], &[], &[]), 0);
+fn an_empty_net_is_no_plan() {
+    let net = PetriNet::new("empty", Vec::new(), Vec::new(), &[]).expect("a net");
+    let err = Plan::from_net(net, Vocabulary::Open).expect_err("nothing to run");
+    assert!(err.to_string().contains("no places"), "{err}");
+}
+
+#[test]
+fn an_unmarked_place_is_one_dead_marking() {
+    let report = check(&raw_plan(&[("p", "idle", 0)], &[], &[]), 0);
     assert_eq!(report.markings, 1);
     assert_eq!(report.limit, 1);
     assert_eq!(verdict(&report, Property::Minimality), &Verdict::Passed);
@@ -505,4 +512,50 @@ fn an_empty_initial_marking_is_named() {
         text.contains("because no place holds a token at the start: give the initial place a token"),
         "{text}"
     );
+}
+
+#[test]
+fn a_huge_plan_is_explored_within_the_memory_limit() {
+    // A chain of 100 000 places: each marking costs 400 kB to store, so the
+    // marking limit is lowered and the check stops, inconclusive, in bounded memory.
+    let n = 100_000;
+    let places: Vec<(String, String, u8)> = (0..=n)
+        .map(|i| {
+            (
+                format!("p{i}"),
+                if i == n { "goal".into() } else { format!("s{i}") },
+                u8::from(i == 0),
+            )
+        })
+        .collect();
+    let transitions: Vec<(String, String)> = (0..n).map(|i| (format!("t{i}"), String::new())).collect();
+    let arcs: Vec<(String, String, u8)> = (0..n)
+        .flat_map(|i| {
+            [
+                (format!("p{i}"), format!("t{i}"), 1),
+                (format!("t{i}"), format!("p{}", i + 1), 1),
+            ]
+        })
+        .collect();
+    let plan = raw_plan(
+        &places
+            .iter()
+            .map(|(a, b, c)| (a.as_str(), b.as_str(), *c))
+            .collect::<Vec<_>>(),
+        &transitions
+            .iter()
+            .map(|(a, b)| (a.as_str(), b.as_str()))
+            .collect::<Vec<_>>(),
+        &arcs
+            .iter()
+            .map(|(a, b, c)| (a.as_str(), b.as_str(), *c))
+            .collect::<Vec<_>>(),
+    );
+    let limit = learnpnp::analysis::marking_limit(n + 1, LIMIT);
+    assert!(limit < 1000 && limit * (n + 1) * 4 <= learnpnp::analysis::MEMORY_LIMIT);
+    let report = check(&plan, LIMIT);
+    assert_eq!((report.markings, report.limit, report.complete), (limit, limit, false));
+    let text = report.to_string();
+    assert!(text.contains("lowered to") && text.contains("256 MiB"), "{text}");
+    assert!(!report.passed());
 }

@@ -5,7 +5,18 @@ use std::sync::Arc;
 
 use learnpnp::domains::keepaway::{KeepawayDomainConfig, KeepawayMode, KeepawayTask};
 use learnpnp::experiment::args::{DomainName, ExperimentOptions};
-use learnpnp::experiment::runner::run_experiment;
+use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
+use learnpnp::experiment::spec::ExperimentSpec;
+
+/// Every run of `spec` on `threads` threads, no progress bar.
+fn run(spec: &ExperimentSpec, threads: usize) -> ExperimentOutput {
+    let options = RunOptions {
+        threads,
+        progress: false,
+        stop: None,
+    };
+    run_experiment(spec, options, Completed::default()).expect("the experiment runs")
+}
 use learnpnp::keepaway::rcg::{GameLog, MAX_PLAYER};
 use learnpnp::learning::{EpisodeMode, Learner, RandomLearner};
 use learnpnp::rng::seeded;
@@ -170,8 +181,8 @@ fn recording_changes_no_result() {
     with_record.extend(["--record", "2"]);
     let recording = options(&with_record).spec(DomainName::KeepawayPass).expect("a spec");
     assert_eq!(recording.record, 2);
-    let a = run_experiment(&plain, 1, false).expect("runs");
-    let b = run_experiment(&recording, 2, false).expect("runs");
+    let a = run(&plain, 1);
+    let b = run(&recording, 2);
     for (x, y) in a.runs.iter().zip(&b.runs) {
         assert_eq!(x.evals, y.evals);
         assert_eq!(x.greedy, y.greedy);

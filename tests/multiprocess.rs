@@ -151,11 +151,12 @@ fn kill(pid: i32, signal: i32) {
 /// Waits until run 0 of `out` has written its second checkpoint of keeper 1
 /// (the run is under way), or panics.
 fn wait_for_progress(out: &Path) {
-    let prev = run_work_dir(out, 0).join("values.bin.prev");
+    // The work directory is found anew: it appears when the supervisor starts.
+    let prev = || run_work_dir(out, 0).join("values.bin.prev");
     assert!(
-        wait_until(Duration::from_secs(120), || prev.exists()),
+        wait_until(Duration::from_secs(120), || prev().exists()),
         "the run made no progress: {} never appeared",
-        prev.display()
+        prev().display()
     );
 }
 
@@ -306,8 +307,8 @@ fn killed_simulator_ends_the_run() {
     let s = summary(&out);
     assert_eq!(s["complete"], false);
     assert!(s["failure"].as_str().unwrap().contains("simulator exited"));
-    // The agents were stopped with a final checkpoint.
-    assert!(persist_loads(&work.join("values.bin")));
+    // The agents were stopped with a final checkpoint (published with the results).
+    assert!(persist_loads(&run_work_dir(&out, 0).join("values.bin")));
     sandbox.assert_clean(&prefixes(&s));
 }
 
@@ -398,8 +399,9 @@ fn garbage_on_the_services_is_rejected_and_never_applied() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let identity_path = run_work_dir(&out, 0).join(IDENTITY_FILE);
-    assert!(wait_until(Duration::from_secs(60), || identity_path.exists()));
+    let identity_path = || run_work_dir(&out, 0).join(IDENTITY_FILE);
+    assert!(wait_until(Duration::from_secs(60), || identity_path().exists()));
+    let identity_path = identity_path();
     let identity: Value = serde_json::from_str(&fs::read_to_string(&identity_path).unwrap()).unwrap();
     let prefix = identity["ipc_prefix"].as_str().unwrap().to_string();
     let run_id = identity["run_id"].as_u64().unwrap();
@@ -572,7 +574,7 @@ fn corrupt_checkpoint_at_restart_resumes_from_the_previous_one() {
     kill(agent[0], libc::SIGKILL);
     let output = finish(child);
     assert!(output.status.success(), "{}", text(&output.stderr));
-    let log = fs::read_to_string(work.join("keeper1.log")).unwrap();
+    let log = fs::read_to_string(run_work_dir(&out, 0).join("keeper1.log")).unwrap();
     assert!(
         log.contains(&checkpoint.display().to_string()) && log.contains("resuming from the previous checkpoint"),
         "the restart names the corrupt file: {log}"
@@ -611,5 +613,39 @@ fn missing_checkpoint_at_restart_is_a_clear_error() {
     );
     let s = summary(&out);
     assert_eq!(s["complete"], false);
+    sandbox.assert_clean(&prefixes(&s));
+}
+
+#[test]
+fn sigterm_stops_the_run_with_a_final_checkpoint() {
+    let sandbox = Sandbox::new("sigterm");
+    let out = sandbox.out("system");
+    let child = sandbox
+        .supervisor("system", &["--episodes", "2000", "--checkpoint-every", "1000"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The first checkpoint is the starting values; the run is under way once
+    // the first episode's events flow (keeper 1 has acted).
+    assert!(wait_until(Duration::from_secs(120), || {
+        fs::read_to_string(run_work_dir(&out, 0).join("simulator.log")).is_ok()
+            && pids_with_all(&["learnpnp-sim", &run_work_dir(&out, 0).to_string_lossy()]).len() == 1
+    }));
+    sleep(Duration::from_secs(2));
+    let work = run_work_dir(&out, 0);
+    let start = learnpnp::learning::persist::load(&work.join("values.bin")).unwrap();
+    kill(child.id() as i32, libc::SIGTERM);
+    let output = finish(child);
+    assert_eq!(output.status.code(), Some(143), "{}", text(&output.stderr));
+    let s = summary(&out);
+    assert_eq!(s["complete"], false);
+    assert!(s["failure"].is_null(), "a requested stop is no failure: {s}");
+    let work = run_work_dir(&out, 0);
+    let last = learnpnp::learning::persist::load(&work.join("values.bin")).unwrap();
+    assert_ne!(
+        last, start,
+        "the final checkpoint holds what was learned since the start"
+    );
     sandbox.assert_clean(&prefixes(&s));
 }

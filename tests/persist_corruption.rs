@@ -195,6 +195,14 @@ fn a_payload_that_is_not_the_format_is_undecodable() {
     assert!(matches!(err, PersistError::Decode { .. }), "{err:?}");
     let err = load_err(&path, &file_bytes(FORMAT_VERSION, &[]));
     assert!(matches!(err, PersistError::Decode { .. }), "{err:?}");
+    // The algorithm's name is not UTF-8: said in words, not the decoder's debug text.
+    let err = load_err(&path, &file_bytes(FORMAT_VERSION, &[2, 0xff, 0xfe]));
+    let message = err.to_string();
+    assert!(matches!(err, PersistError::Decode { .. }), "{err:?}");
+    assert!(
+        message.contains("not valid UTF-8") && !message.contains('{'),
+        "{message}"
+    );
     // A valid encoding followed by bytes the decoder does not use.
     let mut payload = bincode::serde::encode_to_vec(values(), bincode::config::standard()).expect("encode");
     payload.push(0);

@@ -6,7 +6,18 @@ use learnpnp::experiment::args::{DomainName, ExperimentOptions};
 use learnpnp::experiment::output::{greedy_text, summary};
 use learnpnp::experiment::presets;
 use learnpnp::experiment::report::summary_markdown;
-use learnpnp::experiment::runner::run_experiment;
+use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
+use learnpnp::experiment::spec::ExperimentSpec;
+
+/// Every run of `spec` on `threads` threads, no progress bar.
+fn run(spec: &ExperimentSpec, threads: usize) -> ExperimentOutput {
+    let options = RunOptions {
+        threads,
+        progress: false,
+        stop: None,
+    };
+    run_experiment(spec, options, Completed::default()).expect("the experiment runs")
+}
 
 fn options(args: &[&str]) -> ExperimentOptions {
     use clap::Parser;
@@ -45,8 +56,8 @@ fn a_baseline_is_the_same_through_reproduce_and_experiment() {
         spec.protocol.eval_every = 5;
         spec.protocol.eval_episodes = 4;
     }
-    let a = summary(&run_experiment(&short, 1, false).expect("runs"));
-    let b = summary(&run_experiment(&experiment, 2, false).expect("runs"));
+    let a = summary(&run(&short, 1));
+    let b = summary(&run(&experiment, 2));
     assert_eq!(a.final_mean, b.final_mean);
     assert_eq!(a.final_ci95, b.final_ci95);
     assert_eq!(a.final_greedy_mean, None, "a fixed policy has no greedy score");
@@ -66,7 +77,7 @@ fn the_summary_table_has_units_claims_and_references() {
         spec.protocol.episodes = 4;
         spec.protocol.eval_every = 2;
         spec.protocol.eval_episodes = 2;
-        runs.push(vec![summary(&run_experiment(spec, 1, false).expect("runs"))]);
+        runs.push(vec![summary(&run(spec, 1))]);
     }
     let md = summary_markdown(&[(&pr, &runs[0]), (&kp, &runs[1])]);
     assert!(md.contains(&format!("## Figure 6.3: {}", pr.title)), "{md}");

@@ -139,7 +139,7 @@ const MALFORMED: &[(&str, usize, &str, &str)] = &[
         "after the condition",
     ),
     ("machine m\n  initial s\n  s -> s a]\n", 3, "]", "without"),
-    ("machine m\n  initial s\n  s -> s [and a]\n", 3, ")", "at least two"),
+    ("machine m\n  initial s\n  s -> s [and a]\n", 3, "<end>", "at least two"),
     (
         "machine m\n  initial s\n  s -> s [not]\n",
         3,

@@ -6,19 +6,19 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
 use anyhow::{Context, Result};
 use clap::{Parser, ValueEnum};
 use learnpnp::experiment::args::{DomainName, ExperimentOptions};
 use learnpnp::experiment::spec::Algorithm;
+use learnpnp::interrupt::Interrupt;
 use learnpnp::ipc::namespace::clean_stale;
 use learnpnp::ipc::wait::WaitStrategy;
 use learnpnp::multiprocess::Clock;
 use learnpnp::multiprocess::launch::Binaries;
 use learnpnp::multiprocess::supervisor::{SupervisorConfig, supervise};
+use learnpnp::result_dir::ResultDir;
 
 /// The Keepaway experiments the system runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -49,9 +49,10 @@ struct Args {
     /// Agents checkpoint their values every this many learning episodes.
     #[arg(long, default_value_t = 100)]
     checkpoint_every: u64,
-    /// Round trips of the iceoryx2 floor measurement in every run.
-    #[arg(long, default_value_t = 20_000)]
-    floor_round_trips: usize,
+    /// Round trips of the iceoryx2 floor measurement in every run (default:
+    /// 20,000 in lock-step, 1,000 five milliseconds apart in real time).
+    #[arg(long)]
+    floor_round_trips: Option<usize>,
     /// Seconds without a heartbeat after which a process is taken as hung.
     #[arg(long, default_value_t = 10)]
     heartbeat_timeout: u64,
@@ -78,6 +79,8 @@ fn run(args: Args) -> Result<ExitCode> {
         .or_defaults(Algorithm::SoftSosmc, DEFAULT_RUNS, DEFAULT_EPISODES)
         .spec(domain)?;
     spec.protocol.validate()?;
+    // Checked and locked before any work.
+    let mut out = ResultDir::open(&args.out)?;
     let wait = args.wait.unwrap_or(match args.mode {
         Clock::Lockstep => WaitStrategy::Yield,
         Clock::Realtime => WaitStrategy::Hybrid,
@@ -93,7 +96,10 @@ fn run(args: Args) -> Result<ExitCode> {
         clock: args.mode,
         wait,
         checkpoint_every: args.checkpoint_every,
-        floor_round_trips: args.floor_round_trips,
+        floor_round_trips: args.floor_round_trips.unwrap_or(match args.mode {
+            Clock::Lockstep => 20_000,
+            Clock::Realtime => 1_000,
+        }),
         heartbeat_timeout: Duration::from_secs(args.heartbeat_timeout),
         max_restarts: args.max_restarts,
         binaries: Binaries::beside_current_exe()?,
@@ -112,13 +118,9 @@ fn run(args: Args) -> Result<ExitCode> {
         config.spec.seed,
         args.out.display()
     );
-    let stop = Arc::new(AtomicBool::new(false));
-    for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
-        // A second signal while stopping ends the supervisor at once (its
-        // children die with it; the next launch removes their shared memory).
-        signal_hook::flag::register_conditional_shutdown(signal, 130, Arc::clone(&stop))?;
-        signal_hook::flag::register(signal, Arc::clone(&stop))?;
-    }
+    // A second signal while stopping ends the supervisor at once (its
+    // children die with it; the next launch removes their shared memory).
+    let interrupt = Interrupt::install().context("installing the signal handlers")?;
     let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
         let bar = indicatif::ProgressBar::new(p.episodes * p.runs as u64);
         bar.set_style(
@@ -129,7 +131,7 @@ fn run(args: Args) -> Result<ExitCode> {
     } else {
         None
     };
-    let report = supervise(&config, &args.out, &stop, &|episodes| {
+    let report = supervise(&config, &mut out, interrupt.flag(), &|episodes| {
         if let Some(bar) = &bar {
             bar.set_position(episodes);
         }
@@ -161,7 +163,7 @@ fn run(args: Args) -> Result<ExitCode> {
             "stopped before the end: {} of {} runs completed",
             summary.runs_completed, summary.runs
         );
-        ExitCode::from(130)
+        ExitCode::from(interrupt.exit_status())
     } else {
         ExitCode::SUCCESS
     })

@@ -5,8 +5,15 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use learnpnp::experiment::args::{DomainName, ExperimentOptions};
-use learnpnp::experiment::output::{ci_text, greedy_text, replay_name, with_unit, write_results};
-use learnpnp::experiment::runner::run_experiment;
+use learnpnp::experiment::checkpoint::{ResumePoint, resume_point};
+use learnpnp::experiment::output::{SummaryFile, ci_text, greedy_text, replay_name, with_unit, write_results};
+use learnpnp::experiment::ranges;
+use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
+use learnpnp::experiment::spec::ExperimentSpec;
+use learnpnp::interrupt::Interrupt;
+use learnpnp::result_dir::{Contents, ResultDir};
+
+use super::Interrupted;
 
 #[derive(Args, Debug)]
 pub struct ExperimentArgs {
@@ -15,11 +22,17 @@ pub struct ExperimentArgs {
     domain: DomainName,
     #[command(flatten)]
     options: ExperimentOptions,
-    /// Output directory.
+    /// Output directory (replaced as a whole when the experiment ends; refused
+    /// if another experiment is writing there).
     #[arg(long, default_value = "out/experiment")]
     out: PathBuf,
-    /// Worker threads (default: all cores).
+    /// Continue the interrupted experiment whose partial result is in --out
+    /// (same parameters): only the missing runs are run, and the final
+    /// numbers are those of an uninterrupted experiment.
     #[arg(long)]
+    resume: bool,
+    /// Worker threads (default: all cores; 1 to 256).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::THREADS.parse_usize(s))]
     threads: Option<usize>,
 }
 
@@ -28,38 +41,132 @@ pub fn default_threads() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
+/// How an experiment written into a result directory ended.
+pub enum Finished {
+    /// Every run completed; the results are written.
+    Complete {
+        /// The summary written.
+        summary: Box<SummaryFile>,
+        /// The output it summarises.
+        output: Box<ExperimentOutput>,
+    },
+    /// The directory already held the complete results (with `--resume`).
+    AlreadyComplete,
+}
+
+/// Runs `spec` (continuing a partial result in `dir` when `resume`) and writes
+/// its results into `dir`. A signal stops it: the completed runs are written
+/// as a partial result and [`Interrupted`] is returned.
+pub fn run_into(
+    spec: &ExperimentSpec,
+    dir: &mut ResultDir,
+    resume: bool,
+    threads: usize,
+    interrupt: &Interrupt,
+) -> Result<Finished> {
+    let completed = if resume {
+        match resume_point(dir, spec)? {
+            ResumePoint::Fresh => Completed::default(),
+            ResumePoint::Partial(completed) => {
+                eprintln!(
+                    "{}: resuming with {} of {} runs done",
+                    dir.path().display(),
+                    completed.runs.len(),
+                    spec.protocol.runs
+                );
+                completed
+            }
+            ResumePoint::Complete => return Ok(Finished::AlreadyComplete),
+        }
+    } else {
+        if let Contents::Results(m) = dir.contents()?
+            && !m.complete
+        {
+            eprintln!(
+                "note: replacing the partial result in {} ({} of {} runs; --resume would continue it)",
+                dir.path().display(),
+                m.runs_completed,
+                m.runs_planned
+            );
+        }
+        Completed::default()
+    };
+    let options = RunOptions {
+        threads,
+        progress: true,
+        stop: Some(interrupt.flag()),
+    };
+    let output = run_experiment(spec, options, completed).context("experiment failed")?;
+    let planned = spec.protocol.runs;
+    if output.runs.is_empty() {
+        return Err(Interrupted {
+            status: interrupt.exit_status(),
+            message: format!(
+                "interrupted before any run completed; {} is unchanged",
+                dir.path().display()
+            ),
+        }
+        .into());
+    }
+    let summary = write_results(&output, dir).context("writing results")?;
+    if !output.is_complete() {
+        return Err(Interrupted {
+            status: interrupt.exit_status(),
+            message: format!(
+                "interrupted: {} of {planned} runs completed, kept in {} as a partial result; \
+                 the same command with --resume continues it",
+                output.runs.len(),
+                dir.path().display()
+            ),
+        }
+        .into());
+    }
+    Ok(Finished::Complete {
+        summary: Box::new(summary),
+        output: Box::new(output),
+    })
+}
+
 pub fn run(args: &ExperimentArgs) -> Result<()> {
+    let interrupt = Interrupt::install().context("installing the signal handlers")?;
     let spec = args.options.spec(args.domain)?;
+    // Checked and locked before any work.
+    let mut dir = ResultDir::open(&args.out)?;
     let threads = args.threads.unwrap_or_else(default_threads);
     let configuration = serde_json::to_string_pretty(&spec).context("printing the configuration")?;
     println!(
-        "configuration ({} worker threads; saved in {} with the results):\n{configuration}",
-        threads,
+        "configuration ({threads} worker threads; saved in {} with the results):\n{configuration}",
         args.out.join("summary.json").display()
     );
-    let output = run_experiment(&spec, threads, true).context("experiment failed")?;
-    let summary = write_results(&output, &args.out).context("writing results")?;
-    let unit = spec.domain.score_unit();
-    println!(
-        "{} on {}: final mean {}, 95% CI {}, greedy {}; {} runs in {:.2} s, {:.0} episodes/s; results in {}",
-        spec.label,
-        spec.domain.name(),
-        with_unit(summary.final_mean, unit),
-        ci_text(&summary),
-        greedy_text(&summary),
-        spec.protocol.runs,
-        summary.wall_seconds,
-        summary.episodes_per_second,
-        args.out.display()
-    );
-    if spec.record > 0 {
-        let first = args.out.join("replays").join(replay_name(0, spec.record));
-        println!(
-            "{} recorded episode(s) in {}; watch one with: learnpnp replay {} -o episode.html",
-            spec.record,
-            args.out.join("replays").display(),
-            first.display()
-        );
+    match run_into(&spec, &mut dir, args.resume, threads, &interrupt)? {
+        Finished::AlreadyComplete => println!(
+            "{} already holds the complete results of this experiment; nothing to do",
+            args.out.display()
+        ),
+        Finished::Complete { summary, .. } => {
+            let unit = spec.domain.score_unit();
+            println!(
+                "{} on {}: final mean {}, 95% CI {}, greedy {}; {} runs in {:.2} s, {:.0} episodes/s; results in {}",
+                spec.label,
+                spec.domain.name(),
+                with_unit(summary.final_mean, unit),
+                ci_text(&summary),
+                greedy_text(&summary),
+                spec.protocol.runs,
+                summary.wall_seconds,
+                summary.episodes_per_second,
+                args.out.display()
+            );
+            if spec.record > 0 {
+                let first = args.out.join("replays").join(replay_name(0, spec.record));
+                println!(
+                    "{} recorded episode(s) in {}; watch one with: learnpnp replay {} -o episode.html",
+                    spec.record,
+                    args.out.join("replays").display(),
+                    first.display()
+                );
+            }
+        }
     }
     Ok(())
 }

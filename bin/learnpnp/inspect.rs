@@ -1,5 +1,6 @@
 //! Commands that inspect files and domains: check, dot, convert, plot, values, domains.
 
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -10,29 +11,21 @@ use learnpnp::domains::describe;
 use learnpnp::dot::to_dot_with_values;
 use learnpnp::experiment::output::score_axis;
 use learnpnp::experiment::plot::{Reference, Series, plot_curves, read_curve_csv};
+use learnpnp::experiment::ranges::CountRange;
 use learnpnp::experiment::spec::{DomainSpec, ExperimentSpec};
 use learnpnp::learning::by_choice::{self, group_by_choice};
-use learnpnp::learning::persist;
-use learnpnp::learning::persist::SavedValues;
+use learnpnp::learning::persist::{self, SavedValues};
 use learnpnp::plan::{Plan, Vocabulary, load_plan};
 use learnpnp::pnml::{self, Dialect};
+use learnpnp::result_dir::{self, Contents};
 use learnpnp::schema;
-
-/// Writes `text` to standard output; a reader that closed the pipe (`| head`) is no error.
-pub fn print_out(text: &str) -> std::io::Result<()> {
-    use std::io::Write as _;
-    match std::io::stdout().lock().write_all(text.as_bytes()) {
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-        other => other,
-    }
-}
 
 #[derive(Args, Debug)]
 pub struct CheckArgs {
     /// The plan file (PNML), or a plan schema (.schema).
     plan: PathBuf,
-    /// Most reachable markings to explore.
-    #[arg(long, default_value_t = 100_000)]
+    /// Most reachable markings to explore (at least 1).
+    #[arg(long, allow_hyphen_values = true, default_value_t = analysis::DEFAULT_LIMIT, value_parser = |s: &str| CountRange::new(1, u64::MAX).parse_usize(s))]
     limit: usize,
 }
 
@@ -49,14 +42,18 @@ pub fn check(args: &CheckArgs) -> ExitCode {
         }
     };
     let report = analysis::check(&plan, args.limit);
-    if let Err(e) = print_out(&report.to_string()) {
-        eprintln!("error: {e}");
-        return ExitCode::from(2);
-    }
-    if report.passed() {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(1)
+    print_report(&report, report.passed())
+}
+
+/// Prints a check report (a closed pipe is no error); exit 0 if it passed, 1 if not.
+fn print_report(report: &dyn std::fmt::Display, passed: bool) -> ExitCode {
+    match write!(std::io::stdout().lock(), "{report}") {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+        _ if passed => ExitCode::SUCCESS,
+        _ => ExitCode::from(1),
     }
 }
 
@@ -70,8 +67,7 @@ fn check_schema(args: &CheckArgs) -> ExitCode {
         }
     };
     let (report, passed) = schema::check_report(&process);
-    print!("{report}");
-    if passed { ExitCode::SUCCESS } else { ExitCode::from(1) }
+    print_report(&report, passed)
 }
 
 #[derive(Args, Debug)]
@@ -82,8 +78,8 @@ pub struct DotArgs {
     /// choice point is labelled with its value and updates, the greedy one marked.
     #[arg(long, value_name = "FILE")]
     values: Option<PathBuf>,
-    /// Most reachable markings to explore for the choice points (as check does).
-    #[arg(long, default_value_t = 100_000)]
+    /// Most reachable markings to explore for the choice points, as check does (at least 1).
+    #[arg(long, allow_hyphen_values = true, default_value_t = analysis::DEFAULT_LIMIT, value_parser = |s: &str| CountRange::new(1, u64::MAX).parse_usize(s))]
     limit: usize,
 }
 
@@ -98,10 +94,11 @@ fn load_values(path: &Path) -> Result<SavedValues> {
 
 pub fn dot(args: &DotArgs) -> Result<()> {
     if schema::is_schema_path(&args.plan) {
-        print!(
-            "{}",
-            schema::to_dot(&schema::load_process(&args.plan, Vocabulary::Open)?)
-        );
+        if args.values.is_some() {
+            anyhow::bail!("--values labels the choice points of a Petri Net Plan; give the plan, not a schema");
+        }
+        let dot = schema::to_dot(&schema::load_process(&args.plan, Vocabulary::Open)?);
+        write!(std::io::stdout().lock(), "{dot}")?;
         return Ok(());
     }
     let plan = load_plan(&args.plan, Vocabulary::Open)?;
@@ -118,7 +115,11 @@ pub fn dot(args: &DotArgs) -> Result<()> {
         }
         None => None,
     };
-    print_out(&to_dot_with_values(&plan, args.limit, learned.as_ref()))?;
+    write!(
+        std::io::stdout().lock(),
+        "{}",
+        to_dot_with_values(&plan, args.limit, learned.as_ref())
+    )?;
     Ok(())
 }
 
@@ -156,6 +157,14 @@ pub struct PlotArgs {
     title: String,
 }
 
+fn label_of(dir: &std::path::Path) -> String {
+    let from_summary = std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok())
+        .and_then(|v| v["spec"]["label"].as_str().map(str::to_string));
+    from_summary.unwrap_or_else(|| dir.display().to_string())
+}
+
 /// The experiment spec saved in `dir`'s summary.json, if it can be read.
 fn spec_of(dir: &Path) -> Option<ExperimentSpec> {
     let text = std::fs::read_to_string(dir.join("summary.json")).ok()?;
@@ -164,21 +173,30 @@ fn spec_of(dir: &Path) -> Option<ExperimentSpec> {
 }
 
 pub fn plot(args: &PlotArgs) -> Result<()> {
-    let specs: Vec<Option<ExperimentSpec>> = args.dirs.iter().map(|d| spec_of(d)).collect();
     let series = args
         .dirs
         .iter()
-        .zip(&specs)
-        .map(|(dir, spec)| {
+        .map(|dir| {
+            let mut label = label_of(dir);
+            if let Contents::Results(m) = result_dir::contents(dir)?
+                && !m.complete
+            {
+                eprintln!(
+                    "note: {} is a partial result ({} of {} runs)",
+                    dir.display(),
+                    m.runs_completed,
+                    m.runs_planned
+                );
+                label.push_str(&format!(" (partial: {} of {} runs)", m.runs_completed, m.runs_planned));
+            }
             Ok(Series {
-                label: spec
-                    .as_ref()
-                    .map_or_else(|| dir.display().to_string(), |s| s.label.clone()),
+                label,
                 points: read_curve_csv(&dir.join("curve.csv"))?,
             })
         })
         .collect::<Result<Vec<_>>>()?;
     // The axis and references of the experiments, when they all agree on them.
+    let specs: Vec<Option<ExperimentSpec>> = args.dirs.iter().map(|d| spec_of(d)).collect();
     let known: Vec<&ExperimentSpec> = specs.iter().flatten().collect();
     let axis = match known.first() {
         Some(first) if known.len() == specs.len() && known.iter().all(|s| score_axis(s) == score_axis(first)) => {
@@ -250,7 +268,7 @@ pub fn values(args: &ValuesArgs) -> Result<()> {
             persist::write_csv(&saved, &mut text)?;
         }
     }
-    print_out(&String::from_utf8_lossy(&text))?;
+    std::io::stdout().lock().write_all(&text)?;
     Ok(())
 }
 
@@ -262,7 +280,7 @@ pub struct DomainArgs {
 
 pub fn domains() -> Result<()> {
     let text: Vec<String> = describe::domains().iter().map(ToString::to_string).collect();
-    print_out(&text.join("\n"))?;
+    write!(std::io::stdout().lock(), "{}", text.join("\n"))?;
     Ok(())
 }
 
@@ -271,6 +289,6 @@ pub fn domain(args: &DomainArgs) -> Result<()> {
         let known: Vec<&str> = describe::domains().iter().map(|d| d.name).collect();
         anyhow::bail!("no domain '{}' (known: {})", args.name, known.join(", "));
     };
-    print_out(&d.to_string())?;
+    write!(std::io::stdout().lock(), "{d}")?;
     Ok(())
 }

@@ -49,14 +49,50 @@ enum Command {
     Schema(schema::SchemaArgs),
 }
 
-fn main() -> ExitCode {
-    // Like other command-line tools, stop quietly when the reader of our
-    // output goes away (`learnpnp dot plan | head`) instead of panicking.
-    #[cfg(unix)]
-    // SAFETY: restoring the default action of SIGPIPE before any thread starts.
-    unsafe {
-        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+/// An experiment stopped by a signal: its message, and the exit status
+/// (128 + the signal's number).
+#[derive(Debug)]
+pub struct Interrupted {
+    /// The exit status.
+    pub status: u8,
+    /// What was kept and how to continue.
+    pub message: String,
+}
+
+impl std::fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
     }
+}
+
+impl std::error::Error for Interrupted {}
+
+/// An error and its causes on one line, each cause once: a cause whose text
+/// its parent already shows (`path: error` wrapping `error`) is skipped.
+fn describe(error: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in error.chain() {
+        let part = cause.to_string();
+        if !text.contains(&part) {
+            if !text.is_empty() {
+                text.push_str(": ");
+            }
+            text.push_str(&part);
+        }
+    }
+    text
+}
+
+/// Whether the error is a write to a closed pipe (`learnpnp values f | head`):
+/// the reader has all it wanted, which is no failure.
+fn is_broken_pipe(error: &anyhow::Error) -> bool {
+    error
+        .chain()
+        .filter_map(|c| c.downcast_ref::<std::io::Error>())
+        .any(|e| e.kind() == std::io::ErrorKind::BrokenPipe)
+}
+
+fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Check(args)) => return inspect::check(&args),
@@ -74,23 +110,16 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {}", message(&e));
-            ExitCode::from(2)
-        }
+        Err(e) => match e.downcast_ref::<Interrupted>() {
+            Some(interrupted) => {
+                eprintln!("{interrupted}");
+                ExitCode::from(interrupted.status)
+            }
+            None if is_broken_pipe(&e) => ExitCode::SUCCESS,
+            None => {
+                eprintln!("error: {}", describe(&e));
+                ExitCode::from(2)
+            }
+        },
     }
-}
-
-/// The error and its causes, each cause once: errors that already quote their
-/// source (`path: reason`) do not get it repeated.
-fn message(e: &anyhow::Error) -> String {
-    let mut text = e.to_string();
-    for cause in e.chain().skip(1) {
-        let cause = cause.to_string();
-        if !text.contains(&cause) {
-            text.push_str(": ");
-            text.push_str(&cause);
-        }
-    }
-    text
 }

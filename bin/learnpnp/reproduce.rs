@@ -7,15 +7,18 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use learnpnp::atomic_file::write_atomic;
 use learnpnp::experiment::output::{
-    SummaryFile, bar, bar_axis, ci_text, greedy_text, score_axis, series, unit_suffix, with_unit, write_results,
+    SummaryFile, bar_axis, bar_of, ci_text, greedy_text, score_axis, series, unit_suffix, with_unit,
 };
-use learnpnp::experiment::plot::{plot_bars, plot_curves};
+use learnpnp::experiment::plot::{Series, plot_bars, plot_curves, read_curve_csv};
 use learnpnp::experiment::presets::{self, Figure, FigureKind};
 use learnpnp::experiment::progress::{Rates, clock};
+use learnpnp::experiment::ranges;
 use learnpnp::experiment::report::summary_markdown;
-use learnpnp::experiment::runner::run_experiment;
+use learnpnp::experiment::spec::ExperimentSpec;
+use learnpnp::interrupt::Interrupt;
+use learnpnp::result_dir::ResultDir;
 
-use super::experiment::default_threads;
+use super::experiment::{Finished, default_threads, run_into};
 
 #[derive(Args, Debug)]
 pub struct ReproduceArgs {
@@ -24,12 +27,16 @@ pub struct ReproduceArgs {
     /// Directory for the results (one sub-directory per figure).
     #[arg(long, default_value = "out")]
     out: PathBuf,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
+    /// Worker threads (default: all cores; 1 to 256).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::THREADS.parse_usize(s))]
     threads: Option<usize>,
-    /// Override the number of runs of every curve (for a quick look).
-    #[arg(long)]
+    /// Override the number of runs of every curve (for a quick look; 1 to 100000).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::RUNS.parse_usize(s))]
     runs: Option<usize>,
+    /// Continue an interrupted reproduction: curves already complete are kept,
+    /// a partial curve continues where it stopped.
+    #[arg(long)]
+    resume: bool,
 }
 
 impl Default for ReproduceArgs {
@@ -39,8 +46,42 @@ impl Default for ReproduceArgs {
             out: PathBuf::from("out"),
             threads: None,
             runs: None,
+            resume: false,
         }
     }
+}
+
+/// The summary and series of a curve whose complete results `dir` already holds.
+fn read_back(dir: &ResultDir, label: &str) -> Result<(SummaryFile, Series)> {
+    let v: serde_json::Value = serde_json::from_slice(&dir.read("summary.json")?)
+        .with_context(|| format!("{}: summary.json is not JSON", dir.path().display()))?;
+    let spec: ExperimentSpec = serde_json::from_value(v["spec"].clone())
+        .with_context(|| format!("{}: summary.json has no experiment spec", dir.path().display()))?;
+    // JSON writes non-finite numbers as null.
+    let number = |v: &serde_json::Value| v.as_f64().unwrap_or(f64::NAN);
+    let pair = |v: &serde_json::Value| [number(&v[0]), number(&v[1])];
+    let summary = SummaryFile {
+        spec,
+        final_mean: number(&v["final_mean"]),
+        final_ci95: pair(&v["final_ci95"]),
+        final_greedy_mean: v["final_greedy_mean"].as_f64(),
+        final_greedy_ci95: v["final_greedy_ci95"].is_array().then(|| pair(&v["final_greedy_ci95"])),
+        wall_seconds: number(&v["wall_seconds"]),
+        total_episodes: v["total_episodes"].as_u64().unwrap_or(0),
+        episodes_per_second: number(&v["episodes_per_second"]),
+        actions_per_second: number(&v["actions_per_second"]),
+        cycles_per_second: v["cycles_per_second"].as_f64(),
+        complete: v["complete"].as_bool().unwrap_or(true),
+        runs_completed: v["runs_completed"].as_u64().unwrap_or(0) as usize,
+    };
+    let points = read_curve_csv(&dir.path().join("curve.csv"))?;
+    Ok((
+        summary,
+        Series {
+            label: label.to_string(),
+            points,
+        },
+    ))
 }
 
 fn slug(label: &str) -> String {
@@ -76,62 +117,79 @@ fn selected(names: &[String]) -> Result<Vec<Figure>> {
 }
 
 pub fn run(args: &ReproduceArgs) -> Result<()> {
+    let interrupt = Interrupt::install().context("installing the signal handlers")?;
     let threads = args.threads.unwrap_or_else(default_threads);
-    let mut figures = selected(&args.figures)?;
+    let figures = selected(&args.figures)?;
     if figures.is_empty() {
         bail!("nothing to reproduce");
     }
-    if let Some(runs) = args.runs {
-        for spec in figures.iter_mut().flat_map(|f| f.curves.iter_mut()) {
-            spec.protocol.runs = runs;
+    // Every result directory is checked and locked before any work.
+    let mut plans = Vec::new();
+    for mut figure in figures {
+        let dir = args.out.join(format!("fig{}", figure.id));
+        let mut dirs = Vec::new();
+        for spec in &mut figure.curves {
+            if let Some(runs) = args.runs {
+                spec.protocol.runs = runs;
+            }
+            spec.validate()
+                .with_context(|| format!("figure {}: {}", figure.id, spec.label))?;
+            dirs.push(ResultDir::open(dir.join(slug(&spec.label)))?);
         }
+        plans.push((figure, dir, dirs));
     }
-    let curves: usize = figures.iter().map(|f| f.curves.len()).sum();
+    let total = plans.len();
+    let curves: usize = plans.iter().map(|(f, _, _)| f.curves.len()).sum();
     println!(
-        "{} figure(s), {curves} curve(s) on {threads} worker threads into {}; each curve's full configuration \
-         is in its directory's summary.json",
-        figures.len(),
+        "{total} figure(s), {curves} curve(s) on {threads} worker threads into {}; each curve's full \
+         configuration is in its directory's summary.json",
         args.out.display()
     );
     let started = Instant::now();
     let mut rates = Rates::default();
-    let total = figures.len();
     let mut done: Vec<(Figure, Vec<SummaryFile>)> = Vec::new();
-    for (k, figure) in figures.iter().enumerate() {
-        let dir = args.out.join(format!("fig{}", figure.id));
+    for k in 0..plans.len() {
+        let (head, tail) = plans.split_at_mut(k + 1);
+        let later: Vec<&ExperimentSpec> = tail.iter().flat_map(|(f, _, _)| f.curves.iter()).collect();
+        let (figure, dir, dirs) = &mut head[k];
+        let figure = figure.clone();
         println!("Figure {} ({} of {total}): {}", figure.id, k + 1, figure.title);
         let mut summaries = Vec::new();
         let mut all = Vec::new();
-        let mut bars = Vec::new();
-        for (j, spec) in figure.curves.iter().enumerate() {
-            let remaining = figures[k..].iter().flat_map(|f| &f.curves).skip(j);
+        for (j, (spec, curve_dir)) in figure.curves.iter().zip(dirs.iter_mut()).enumerate() {
+            let estimate = rates.estimate(figure.curves[j..].iter().chain(later.iter().copied()));
             println!(
-                "  [figure {} of {total}, curve {} of {}; {} elapsed, {}] {}",
+                "  [figure {} of {total}, curve {} of {}; {} elapsed, {estimate}] {}",
                 k + 1,
                 j + 1,
                 figure.curves.len(),
                 clock(started.elapsed()),
-                rates.estimate(remaining),
                 spec.label
             );
-            let output =
-                run_experiment(spec, threads, true).with_context(|| format!("figure {}: {}", figure.id, spec.label))?;
-            rates.record(spec, output.wall_seconds);
-            let curve_dir = dir.join(slug(&spec.label));
-            let summary = write_results(&output, &curve_dir)?;
+            let finished = run_into(spec, curve_dir, args.resume, threads, &interrupt)
+                .with_context(|| format!("figure {}: {}", figure.id, spec.label))?;
+            let (summary, curve, note) = match finished {
+                Finished::Complete { summary, output } => {
+                    rates.record(spec, summary.wall_seconds);
+                    let note = format!("{:.0} episodes/s", summary.episodes_per_second);
+                    (*summary, series(&output), note)
+                }
+                Finished::AlreadyComplete => {
+                    let (summary, curve) = read_back(curve_dir, &spec.label)?;
+                    (summary, curve, "(already complete)".to_string())
+                }
+            };
             let unit = spec.domain.score_unit();
             println!(
-                "  {:<28} final {} (95% CI {})  greedy {}  {} runs {:.2} s  {:.0} episodes/s",
+                "  {:<28} final {} (95% CI {})  greedy {}  {} runs {:.2} s  {note}",
                 spec.label,
                 with_unit(summary.final_mean, unit),
                 ci_text(&summary),
                 greedy_text(&summary),
                 spec.protocol.runs,
                 summary.wall_seconds,
-                summary.episodes_per_second
             );
-            all.push(series(&output));
-            bars.push(bar(&output));
+            all.push(curve);
             summaries.push(summary);
         }
         let title = format!("Figure {}: {}", figure.id, figure.title);
@@ -148,17 +206,20 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
                     &references,
                 )
             }
-            (FigureKind::Bars, Some(first)) => plot_bars(
-                &path,
-                &title,
-                &bar_axis(first),
-                &unit_suffix(first.domain.score_unit()),
-                &bars,
-            ),
+            (FigureKind::Bars, Some(first)) => {
+                let bars: Vec<_> = summaries.iter().map(bar_of).collect();
+                plot_bars(
+                    &path,
+                    &title,
+                    &bar_axis(first),
+                    &unit_suffix(first.domain.score_unit()),
+                    &bars,
+                )
+            }
             _ => Ok(()),
         };
         drawn.with_context(|| format!("plotting {}", path.display()))?;
-        done.push((figure.clone(), summaries));
+        done.push((figure, summaries));
     }
     std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
     let path = args.out.join("summary.md");

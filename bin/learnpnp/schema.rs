@@ -1,5 +1,6 @@
 //! `learnpnp schema`: the controllable process constructed from a plan schema.
 
+use std::io::Write as _;
 use std::path::PathBuf;
 
 use anyhow::Result;
@@ -18,10 +19,11 @@ pub struct SchemaArgs {
 
 pub fn run(args: &SchemaArgs) -> Result<()> {
     let process = schema::load_process(&args.schema, Vocabulary::Open)?;
-    if args.dot {
-        print!("{}", schema::to_dot(&process));
+    let text = if args.dot {
+        schema::to_dot(&process)
     } else {
-        print!("{}", schema::describe(&process));
-    }
+        schema::describe(&process)
+    };
+    write!(std::io::stdout().lock(), "{text}")?;
     Ok(())
 }

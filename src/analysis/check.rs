@@ -16,7 +16,7 @@
 use super::choice::choice_points;
 use super::count::{self, Count, OMEGA, Tri};
 use super::diagnosis;
-use super::reachability::{Reachability, StateId, enabled, explore};
+use super::reachability::{MEMORY_LIMIT, Reachability, StateId, enabled, explore};
 use super::report::{CheckReport, Element, Example, Failure, Note, PlaceBound, Property, ReportedChoice, Verdict};
 use crate::net::{PlaceId, TransitionId};
 use crate::plan::Plan;
@@ -24,7 +24,8 @@ use crate::plan::Plan;
 /// How many example markings a failure lists.
 const MAX_EXAMPLES: usize = 3;
 
-/// Explores `plan` (at most `limit` markings) and checks every property.
+/// Explores `plan` (at most `limit` markings, fewer for plans too large for
+/// [`MEMORY_LIMIT`]) and checks every property.
 pub fn check(plan: &Plan, limit: usize) -> CheckReport {
     let graph = explore(plan, limit);
     let bounds: Vec<PlaceBound> = graph
@@ -43,10 +44,20 @@ pub fn check(plan: &Plan, limit: usize) -> CheckReport {
         .collect();
     let mut failures = Vec::new();
     let mut notes = Vec::new();
-    let incomplete = format!(
-        "the marking limit of {} was reached before every marking was explored",
-        graph.limit()
-    );
+    let incomplete = if graph.limit() < limit {
+        format!(
+            "the marking limit, lowered to {} so that markings of {} places fit in {} MiB, \
+             was reached before every marking was explored",
+            graph.limit(),
+            plan.net().places().len(),
+            MEMORY_LIMIT >> 20
+        )
+    } else {
+        format!(
+            "the marking limit of {} was reached before every marking was explored",
+            graph.limit()
+        )
+    };
     let counts: Vec<Count> = bounds.iter().map(|b| b.bound).collect();
     let checker = Checker {
         plan,

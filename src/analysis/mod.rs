@@ -23,5 +23,5 @@ pub use choice::{ChoicePoint, choice_points, structural_choice_points};
 pub use count::Count;
 pub use guards::{MAX_GUARD_ATOMS, jointly_satisfiable};
 pub use options::{ChoiceAt, before, choices_among, choices_at, option_label, option_transitions, transition_name};
-pub use reachability::{DEFAULT_LIMIT, Reachability, StateId, explore};
+pub use reachability::{DEFAULT_LIMIT, MEMORY_LIMIT, Reachability, StateId, explore, marking_limit};
 pub use report::{CheckReport, Element, Example, Failure, Note, PlaceBound, Property, ReportedChoice, Verdict};

@@ -17,6 +17,30 @@ use crate::plan::Plan;
 /// A marking limit large enough for hand-written plans.
 pub const DEFAULT_LIMIT: usize = 100_000;
 
+/// The memory an exploration (and the checks over it) may use for its
+/// markings and edges: 256 MiB. The marking limit is lowered so that the
+/// stored markings fit ([`marking_limit`]); a plan with many places thus
+/// explores fewer markings, and its check becomes inconclusive instead of
+/// exhausting memory.
+pub const MEMORY_LIMIT: usize = 256 << 20;
+
+/// Bytes a stored marking of `places` places costs, with the checks'
+/// bookkeeping: two `u16` copies of every count (the marking and its hash
+/// key) and about a hundred bytes per state.
+const fn state_bytes(places: usize) -> usize {
+    4 * places + 128
+}
+
+/// Bytes an edge costs (its entry, and the predecessor list the checks build).
+const EDGE_BYTES: usize = 16;
+
+/// The number of markings an exploration of a plan with `places` places
+/// stores at most when asked for `limit`: `limit`, lowered to what
+/// [`MEMORY_LIMIT`] holds (at least one).
+pub fn marking_limit(places: usize, limit: usize) -> usize {
+    limit.min(MEMORY_LIMIT / state_bytes(places)).max(1)
+}
+
 /// Index of an explored marking (the initial marking is state 0).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct StateId(u32);
@@ -47,11 +71,15 @@ pub struct Reachability {
 }
 
 /// Explores the markings reachable from `plan`'s initial marking, storing at
-/// most `limit` of them (at least the initial one). Breadth first, transitions
-/// in index order: the result and its state numbering are deterministic.
+/// most `limit` of them (at least the initial one), lowered by
+/// [`marking_limit`] to fit [`MEMORY_LIMIT`]; edges beyond what the memory
+/// left holds also stop the exploration. Breadth first, transitions in index
+/// order: the result and its state numbering are deterministic.
 pub fn explore(plan: &Plan, limit: usize) -> Reachability {
     let incidence = plan.incidence();
     let places = incidence.place_count();
+    let limit = marking_limit(places, limit);
+    let max_edges = MEMORY_LIMIT.saturating_sub(limit * state_bytes(places)) / EDGE_BYTES;
     let mut graph = Reachability {
         places,
         tokens: Vec::new(),
@@ -61,7 +89,7 @@ pub fn explore(plan: &Plan, limit: usize) -> Reachability {
         edge_start: vec![0],
         edges: Vec::new(),
         complete: false,
-        limit: limit.max(1),
+        limit,
     };
     let mut index: FxHashMap<Box<[u16]>, StateId> = FxHashMap::default();
     let initial: Vec<u16> = plan.initial_marking().tokens().iter().map(|&t| u16::from(t)).collect();
@@ -94,6 +122,10 @@ pub fn explore(plan: &Plan, limit: usize) -> Reachability {
                         }
                     }
                 };
+                if graph.edges.len() >= max_edges {
+                    graph.edges.truncate(graph.edge_start[state]);
+                    return graph;
+                }
                 graph.edges.push((t, target));
             }
         }
@@ -190,7 +222,8 @@ impl Reachability {
         self.complete
     }
 
-    /// The marking limit the exploration ran with.
+    /// The marking limit the exploration ran with (lowered by
+    /// [`marking_limit`] for plans with many places).
     pub fn limit(&self) -> usize {
         self.limit
     }

@@ -158,6 +158,9 @@ impl<'a> Parser<'a> {
     }
 
     fn error(&self, message: &str, token: Token<'_>, offset: usize) -> ConditionError {
+        // The ')' wrapping the text is not the user's: there the text ended.
+        let wrapper_close = token == Token::Close && offset + 1 == self.lexer.text.len();
+        let token = if wrapper_close { Token::End } else { token };
         let token = match token {
             Token::Open => "(".to_string(),
             Token::Close => ")".to_string(),
@@ -234,6 +237,23 @@ pub fn parse_condition(text: &str) -> Result<Expr, ConditionError> {
     if text.trim().is_empty() {
         return Ok(Expr::True);
     }
+    // A ')' without its '(' would close the wrapping below: report it here.
+    let mut depth = 0usize;
+    for (offset, byte) in text.bytes().enumerate() {
+        match byte {
+            b'(' => depth += 1,
+            b')' if depth == 0 => {
+                return Err(ConditionError {
+                    message: "')' without a matching '('".to_string(),
+                    token: ")".to_string(),
+                    offset,
+                    text: text.to_string(),
+                });
+            }
+            b')' => depth -= 1,
+            _ => {}
+        }
+    }
     let wrapped = format!("({text})");
     let mut parser = Parser {
         lexer: Lexer { text: &wrapped, pos: 0 },
@@ -287,10 +307,14 @@ mod tests {
         assert_eq!(e.offset, 2);
         let e = parse_condition("(a").unwrap_err();
         assert_eq!(e.token, "<end>");
+        let e = parse_condition("and").unwrap_err();
+        assert_eq!((e.token.as_str(), e.offset), ("<end>", 3));
         let e = parse_condition("3x").unwrap_err();
         assert_eq!(e.token, "3x");
         let e = parse_condition("a)").unwrap_err();
-        assert_eq!(e.token, ")");
+        assert_eq!((e.token.as_str(), e.offset), (")", 1));
+        let e = parse_condition("(a))b").unwrap_err();
+        assert_eq!((e.token.as_str(), e.offset), (")", 3));
         let e = parse_condition("not and").unwrap_err();
         assert_eq!(e.token, "and");
     }

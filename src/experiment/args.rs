@@ -7,12 +7,14 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 
 use super::defaults::{self, AssessmentArg, Overrides, parse_schedule, parse_step_size, parse_threshold};
+use super::ranges;
 use super::spec::{Algorithm, DomainSpec, ExperimentError, ExperimentSpec};
 use crate::domains::keepaway::{FixedPolicy, KeepawayDomainConfig, KeepawayMode};
 use crate::domains::parr_russell::ParrRussellConfig;
 use crate::domains::penalty_kick::{PenaltyKickConfig, Variant};
 use crate::domains::sutton::SuttonConfig;
 use crate::keepaway::params::VisionMode;
+use crate::learning::persist;
 use crate::learning::{Schedule, StepSize, ThresholdRule};
 
 /// The domains of the experiment command.
@@ -49,27 +51,27 @@ pub struct ExperimentOptions {
     /// The learning algorithm (not needed for keepaway-fixed).
     #[arg(long, value_enum)]
     algo: Option<Algorithm>,
-    /// Independent runs (default: the domain's).
-    #[arg(long)]
+    /// Independent runs (default: the domain's; 1 to 100000).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::RUNS.parse_usize(s))]
     runs: Option<usize>,
-    /// Learning episodes per run.
-    #[arg(long)]
+    /// Learning episodes per run (1 to 10^9).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::EPISODES.parse(s))]
     episodes: Option<u64>,
-    /// Learning episodes between evaluations.
-    #[arg(long)]
+    /// Learning episodes between evaluations (1 to --episodes).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::eval_every(u64::MAX).parse(s))]
     eval_every: Option<u64>,
-    /// Episodes per evaluation (values frozen, behaviour as while learning).
-    #[arg(long)]
+    /// Episodes per evaluation (values frozen, behaviour as while learning; 0 to 10^6).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::EVAL_EPISODES.parse_usize(s))]
     eval_episodes: Option<usize>,
-    /// Episodes of each run's final greedy evaluation.
-    #[arg(long)]
+    /// Episodes of each run's final greedy evaluation (0 to 10^6).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::EVAL_EPISODES.parse_usize(s))]
     greedy_episodes: Option<usize>,
     /// Record run 0's traced values every N learning episodes (0: never;
     /// default: about a thousand points).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::WHOLE.parse(s))]
     trace_every: Option<u64>,
     /// Base seed (run i uses a seed derived from it and i); the presets' by default.
-    #[arg(long, default_value_t = defaults::DEFAULT_SEED)]
+    #[arg(long, default_value_t = defaults::DEFAULT_SEED, allow_hyphen_values = true, value_parser = |s: &str| ranges::WHOLE.parse(s))]
     seed: u64,
     /// A label for plots (default: the algorithm).
     #[arg(long)]
@@ -77,18 +79,28 @@ pub struct ExperimentOptions {
     /// Keepaway: save N evaluation episodes of run 0, played after learning,
     /// as RoboCup game logs (DIR/replays/episode-NN.rcg; watch them with
     /// `learnpnp replay` or rcssmonitor).
-    #[arg(long, value_name = "N", default_value_t = 0)]
+    #[arg(long, value_name = "N", default_value_t = 0, allow_hyphen_values = true, value_parser = |s: &str| ranges::RECORD.parse_usize(s))]
     record: usize,
 
     /// Start every run from these saved value tables (values.bin, then
     /// values-agent2.bin, ... for several learning agents) instead of the initial value.
     #[arg(long, num_args = 1..)]
     initial_values: Vec<PathBuf>,
+    /// When an --initial-values file is unusable (corrupt, truncated), start
+    /// from its previous good version (FILE.prev) instead of refusing; the
+    /// summary then names the file used.
+    #[arg(long, requires = "initial_values")]
+    initial_values_fallback: bool,
     /// Use this plan file instead of the domain's built-in plan.
     #[arg(long)]
     plan: Option<PathBuf>,
-    /// Actions after which an episode is cut (grid worlds).
-    #[arg(long)]
+    /// Run a --plan that fails the structural checks of `learnpnp check`
+    /// (for experts: learning in a plan that can deadlock or run an action
+    /// twice at once gives meaningless numbers).
+    #[arg(long, requires = "plan")]
+    unchecked: bool,
+    /// Actions after which an episode is cut (grid worlds; at least 1).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::MAX_ACTIONS.parse_u32(s))]
     max_actions: Option<u32>,
     /// Penalty kick plan variant.
     #[arg(long, value_enum, default_value = "plain")]
@@ -99,57 +111,58 @@ pub struct ExperimentOptions {
     /// Keepaway: what the agents perceive.
     #[arg(long, value_enum, default_value = "full-state")]
     vision: VisionArg,
-    /// Keepaway: distance (m) at which the threshold policy passes.
-    #[arg(long)]
+    /// Keepaway: distance (m) at which the threshold policy passes (0 to 200).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::DISTANCE.parse(s))]
     hold_threshold: Option<f64>,
-    /// Keepaway: threshold (m) of the takers' distance to a pass line.
-    #[arg(long)]
+    /// Keepaway: threshold (m) of the takers' distance to a pass line (0 to 200).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::DISTANCE.parse(s))]
     lane_threshold: Option<f64>,
-    /// Keepaway: threshold (m) of the closest taker's distance.
-    #[arg(long)]
+    /// Keepaway: threshold (m) of the closest taker's distance (0 to 200).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::DISTANCE.parse(s))]
     taker_threshold: Option<f64>,
 
-    /// Discount per executor step.
-    #[arg(long)]
+    /// Discount per executor step (0 to 1).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::GAMMA.parse(s))]
     gamma: Option<f64>,
-    /// Step size.
-    #[arg(long)]
+    /// Step size (above 0, up to 1).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::STEP.parse(s))]
     alpha: Option<f64>,
-    /// Eligibility trace decay.
-    #[arg(long)]
+    /// Eligibility trace decay (0 to 1).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::LAMBDA.parse(s))]
     lambda: Option<f64>,
-    /// Epsilon: VALUE or START:END:OVER (TD: over decisions; SoSMC: assessing episodes).
-    #[arg(long, value_parser = parse_schedule)]
+    /// Epsilon (0 to 1): VALUE or START:END:OVER (TD: over decisions; SoSMC: assessing episodes).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| parse_schedule_in(s, ranges::EPSILON))]
     epsilon: Option<Schedule>,
-    /// Softmax temperature: VALUE or START:END:OVER.
-    #[arg(long, value_parser = parse_schedule)]
+    /// Softmax temperature (above 0, finite): VALUE or START:END:OVER.
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| parse_schedule_in(s, ranges::TEMPERATURE))]
     tau: Option<Schedule>,
     /// Act greedily (TD; with an optimistic --initial-value).
     #[arg(long)]
     greedy: bool,
-    /// Value of unseen markings (a number, or -inf).
-    #[arg(long, allow_hyphen_values = true)]
+    /// Value of unseen markings (a finite number, or -inf).
+    #[arg(long, allow_hyphen_values = true, value_parser = ranges::parse_initial_value)]
     initial_value: Option<f64>,
     /// SoSMC: episodes of the initial exploratory phase.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::WHOLE.parse(s))]
     initial_phase: Option<u64>,
-    /// SoSMC: epsilon or temperature of the initial phase (VALUE or START:END:OVER).
-    #[arg(long, value_parser = parse_schedule)]
+    /// SoSMC: epsilon (0 to 1) or temperature (above 0) of the initial phase
+    /// (VALUE or START:END:OVER).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| parse_schedule_in(s, ranges::EXPLORATION))]
     initial_parameter: Option<Schedule>,
     /// SoSMC: exploration in the assessing phase: never, per-decision, every:N, after:K.
     #[arg(long)]
     assess: Option<AssessmentArg>,
-    /// SoSMC: step size of exploiting updates: a number or 'inverse' (1/n).
-    #[arg(long, value_parser = parse_step_size)]
+    /// SoSMC: step size of exploiting updates: a number above 0, up to 1, or 'inverse' (1/n).
+    #[arg(long, value_parser = parse_step_size, allow_hyphen_values = true)]
     step_size: Option<StepSize>,
     /// SoSMC: suspend exploration while the mean of the last WINDOW exploiting returns is at least THRESHOLD.
-    #[arg(long, value_parser = parse_threshold, value_name = "THRESHOLD:WINDOW")]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_threshold, value_name = "THRESHOLD:WINDOW")]
     threshold: Option<ThresholdRule>,
-    /// MCESP: episodes per explored pair.
-    #[arg(long)]
+    /// MCESP: episodes per explored pair (at least 1).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::STAGE_LENGTH.parse(s))]
     stage_length: Option<u64>,
-    /// MCESP: smallest step size.
-    #[arg(long)]
+    /// MCESP: smallest step size (above 0, up to 1).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::STEP.parse(s))]
     alpha_min: Option<f64>,
     /// TD: repeat the first decision at an observation within an episode.
     #[arg(long)]
@@ -252,12 +265,6 @@ impl ExperimentOptions {
                 )));
             }
         };
-        if self.record > 0 && !matches!(domain, DomainSpec::Keepaway { .. }) {
-            return Err(ExperimentError::Invalid(format!(
-                "--record saves Keepaway episodes as game logs; {} has none",
-                domain.name()
-            )));
-        }
         let mut learner = defaults::default_learner(algo, &domain);
         self.overrides().apply(&mut learner);
         let mut protocol = defaults::default_protocol(&domain);
@@ -267,8 +274,10 @@ impl ExperimentOptions {
         if let Some(v) = self.episodes {
             protocol.episodes = v;
         }
-        if let Some(v) = self.eval_every {
-            protocol.eval_every = v;
+        match self.eval_every {
+            Some(v) => protocol.eval_every = v,
+            // The domain's interval, but no longer than the run.
+            None => protocol.eval_every = protocol.eval_every.min(protocol.episodes),
         }
         if let Some(v) = self.eval_episodes {
             protocol.eval_episodes = v;
@@ -290,15 +299,50 @@ impl ExperimentOptions {
             } => format!("{p:?}").to_lowercase(),
             _ => algo.name().to_string(),
         };
-        Ok(ExperimentSpec {
+        let spec = ExperimentSpec {
             label: self.label.clone().unwrap_or(label),
             domain,
             algorithm: algo,
             learner,
             protocol,
             seed: self.seed,
-            initial_values: self.initial_values.clone(),
+            initial_values: self.initial_values_to_use()?,
             record: self.record,
-        })
+        };
+        spec.validate()?;
+        if !self.unchecked {
+            spec.check_plan()?;
+        }
+        Ok(spec)
     }
+
+    /// The `--initial-values` files, each replaced by its previous good
+    /// version when it is unusable and `--initial-values-fallback` allows it.
+    fn initial_values_to_use(&self) -> Result<Vec<PathBuf>, ExperimentError> {
+        self.initial_values
+            .iter()
+            .map(|path| match persist::load(path) {
+                Ok(_) => Ok(path.clone()),
+                Err(problem) if self.initial_values_fallback => {
+                    let prev = persist::prev_path(path);
+                    persist::load(&prev).map_err(|e| {
+                        ExperimentError::Invalid(format!("{problem}; its previous version is unusable too: {e}"))
+                    })?;
+                    eprintln!("warning: {problem}; starting from {} instead", prev.display());
+                    Ok(prev)
+                }
+                Err(problem) => Err(ExperimentError::Invalid(format!(
+                    "{problem} (--initial-values-fallback starts from its previous good version, {}, if there is one)",
+                    persist::prev_path(path).display()
+                ))),
+            })
+            .collect()
+    }
+}
+
+/// Parses a schedule whose every value must lie in `range`.
+fn parse_schedule_in(text: &str, range: ranges::RealRange) -> Result<Schedule, String> {
+    let schedule = parse_schedule(text)?;
+    range.check_schedule(&schedule)?;
+    Ok(schedule)
 }

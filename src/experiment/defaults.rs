@@ -5,6 +5,7 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
+use super::ranges;
 use super::spec::{Algorithm, DomainSpec, LearnerSpec, Protocol};
 use crate::domains::keepaway::KeepawayMode;
 use crate::learning::{
@@ -214,12 +215,11 @@ impl FromStr for AssessmentArg {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, String> {
-        let number = |n: &str| n.parse::<u64>().map_err(|_| format!("'{n}' is not a whole number"));
         Ok(AssessmentArg(match s.split_once(':') {
             None if s == "never" => Assessment::Never,
             None if s == "per-decision" => Assessment::PerDecision,
-            Some(("every", n)) => Assessment::EveryN(number(n)?),
-            Some(("after", k)) => Assessment::AfterK(number(k)?),
+            Some(("every", n)) => Assessment::EveryN(ranges::WINDOW.parse(n)?),
+            Some(("after", k)) => Assessment::AfterK(ranges::WHOLE.parse(k)?),
             _ => {
                 return Err(format!("'{s}': expected never, per-decision, every:N or after:K"));
             }
@@ -244,24 +244,25 @@ pub fn parse_schedule(s: &str) -> Result<Schedule, String> {
     }
 }
 
-/// Parses a step size: a number, or `inverse` for 1/n.
+/// Parses a step size: a number in [`ranges::STEP`], or `inverse` for 1/n.
 pub fn parse_step_size(s: &str) -> Result<StepSize, String> {
     if s == "inverse" {
         return Ok(StepSize::InverseCount);
     }
-    s.parse::<f64>()
+    ranges::STEP
+        .parse(s)
         .map(StepSize::Constant)
-        .map_err(|_| format!("'{s}': expected a number or 'inverse'"))
+        .map_err(|e| format!("{e}, or 'inverse'"))
 }
 
-/// Parses the threshold rule `THRESHOLD:WINDOW`.
+/// Parses the threshold rule `THRESHOLD:WINDOW` (a finite return, a window of at least one episode).
 pub fn parse_threshold(s: &str) -> Result<ThresholdRule, String> {
     let (t, w) = s
         .split_once(':')
         .ok_or_else(|| format!("'{s}': expected THRESHOLD:WINDOW"))?;
     Ok(ThresholdRule {
-        threshold: t.parse().map_err(|_| format!("'{t}' is not a number"))?,
-        window: w.parse().map_err(|_| format!("'{w}' is not a whole number"))?,
+        threshold: ranges::RETURN.parse(t)?,
+        window: ranges::WINDOW.parse_usize(w)?,
     })
 }
 

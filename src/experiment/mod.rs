@@ -2,11 +2,13 @@
 //! and SVG results.
 
 pub mod args;
+pub mod checkpoint;
 pub mod defaults;
 pub mod output;
 pub mod plot;
 pub mod presets;
 pub mod progress;
+pub mod ranges;
 pub mod report;
 pub mod runner;
 pub mod spec;

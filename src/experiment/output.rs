@@ -1,17 +1,19 @@
 //! Writing an experiment's results: CSV files, a JSON summary, SVG plots and
-//! the learned values of run 0.
+//! the learned values of run 0, published as one set in a
+//! [`ResultDir`].
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use serde::Serialize;
 
+use super::checkpoint;
 use super::plot::{self, CurvePoint, Series};
 use super::runner::ExperimentOutput;
 use super::spec::{ExperimentError, ExperimentSpec};
 use super::stats::{Summary, summarize};
-use crate::atomic_file::write_atomic;
 use crate::learning::persist;
+use crate::result_dir::{Progress, ResultDir, ResultWriter};
 
 /// One named series of (episode, value) points.
 type Scatter = (String, Vec<(f64, f64)>);
@@ -41,6 +43,11 @@ pub struct SummaryFile {
     /// Keepaway: simulated cycles per second over learning episodes.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cycles_per_second: Option<f64>,
+    /// Whether every planned run completed; false for an interrupted
+    /// experiment, whose figures are over the runs it completed.
+    pub complete: bool,
+    /// The runs the figures are over.
+    pub runs_completed: usize,
 }
 
 /// The file name of recorded episode `i` (0-based) of `count`:
@@ -143,14 +150,9 @@ pub fn summary(output: &ExperimentOutput) -> SummaryFile {
         actions_per_second: output.total_actions() as f64 / wall,
         cycles_per_second: matches!(output.spec.domain, crate::experiment::spec::DomainSpec::Keepaway { .. })
             .then(|| output.total_actions() as f64 / wall),
+        complete: output.is_complete(),
+        runs_completed: output.runs.len(),
     }
-}
-
-fn write_text(path: &Path, text: &str) -> Result<(), ExperimentError> {
-    write_atomic(path, text.as_bytes()).map_err(|source| ExperimentError::Io {
-        path: path.to_path_buf(),
-        source,
-    })
 }
 
 /// The curve as a plottable series.
@@ -169,26 +171,46 @@ pub fn series(output: &ExperimentOutput) -> Series {
     }
 }
 
-/// Writes every result file of `output` into `dir` (created if needed) and returns the summary.
-pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFile, ExperimentError> {
-    let io = |path: PathBuf| move |source| ExperimentError::Io { path, source };
-    std::fs::create_dir_all(dir).map_err(io(dir.to_path_buf()))?;
+/// Writes every result file of `output` into `dir` as one set (see
+/// [`crate::result_dir`]: the previous set is replaced whole) and returns the
+/// summary. The output of an interrupted experiment is written as a partial
+/// result: its figures are over the completed runs, `summary.json` says
+/// `"complete": false`, and [`checkpoint::CHECKPOINT`] keeps the runs for `--resume`.
+pub fn write_results(output: &ExperimentOutput, dir: &mut ResultDir) -> Result<SummaryFile, ExperimentError> {
+    let mut files = dir.writer()?;
+    let summary = stage_results(output, &mut files)?;
+    let json = serde_json::to_string_pretty(&summary).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+    files.add_text("summary.json", &json)?;
+    if !output.is_complete() {
+        files.add_bytes(checkpoint::CHECKPOINT, &checkpoint::encode(output)?)?;
+    }
+    files.commit(Progress {
+        completed: output.runs.len() as u64,
+        planned: output.spec.protocol.runs as u64,
+    })?;
+    Ok(summary)
+}
 
+/// Writes every result file of `output` but `summary.json` into `files`
+/// (nothing is committed) and returns the summary: [`write_results`] writes it
+/// as `summary.json`, a caller with a summary of its own (the multi-process
+/// supervisor) embeds it there.
+pub fn stage_results(output: &ExperimentOutput, files: &mut ResultWriter<'_>) -> Result<SummaryFile, ExperimentError> {
     let mut text = String::from("episode,mean,ci_low,ci_high,runs\n");
     for (episode, s) in curve(output) {
         let _ = writeln!(text, "{episode},{},{},{},{}", s.mean, s.ci_low, s.ci_high, s.n);
     }
-    write_text(&dir.join("curve.csv"), &text)?;
+    files.add_text("curve.csv", &text)?;
 
     let mut text = String::from("run,episode,score,greedy\n");
-    for (run, r) in output.runs.iter().enumerate() {
+    for r in &output.runs {
         for (episode, score) in output.eval_points.iter().zip(&r.evals) {
-            let _ = writeln!(text, "{run},{episode},{score},{}", r.greedy);
+            let _ = writeln!(text, "{},{episode},{score},{}", r.run, r.greedy);
         }
     }
-    write_text(&dir.join("runs.csv"), &text)?;
+    files.add_text("runs.csv", &text)?;
 
-    if let Some(first) = output.runs.first() {
+    if let Some(first) = output.first_run() {
         let mut text = String::from("episode,return,actions,steps,exploratory\n");
         for e in &first.episodes {
             let o = e.outcome;
@@ -202,7 +224,7 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
                 u8::from(o.exploratory)
             );
         }
-        write_text(&dir.join("episodes.csv"), &text)?;
+        files.add_text("episodes.csv", &text)?;
 
         if !first.traces.is_empty() {
             let mut text = String::from("episode,name,value\n");
@@ -216,7 +238,7 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
                     }
                 }
             }
-            write_text(&dir.join("traces.csv"), &text)?;
+            files.add_text("traces.csv", &text)?;
             for (_, points) in &mut by_name {
                 points.retain(|(_, v)| v.is_finite());
             }
@@ -250,7 +272,7 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
                         output.spec.domain.score_name()
                     ),
                 };
-                plot::plot_scatter(&dir.join(file), &title, "learning episodes", &axis, series)
+                plot::plot_scatter(&files.path_for(&file)?, &title, "learning episodes", &axis, series)
                     .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
             }
         }
@@ -261,37 +283,31 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
             } else {
                 format!("values-agent{}.bin", agent + 1)
             };
-            persist::save(&dir.join(name), values).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+            let bytes =
+                persist::encode(Path::new(&name), values).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+            files.add_bytes(&name, &bytes)?;
         }
 
-        if !first.replays.is_empty() {
-            let replays = dir.join("replays");
-            std::fs::create_dir_all(&replays).map_err(io(replays.clone()))?;
-            for (i, log) in first.replays.iter().enumerate() {
-                write_text(&replays.join(replay_name(i, first.replays.len())), log)?;
-            }
+        for (i, log) in first.replays.iter().enumerate() {
+            files.add_text(&format!("replays/{}", replay_name(i, first.replays.len())), log)?;
         }
     }
-
-    let summary = summary(output);
-    let json = serde_json::to_string_pretty(&summary).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
-    write_text(&dir.join("summary.json"), &json)?;
 
     let spec = &output.spec;
     let title = format!("{} on {}", spec.label, spec.domain.name());
     if spec.domain.is_fixed_policy() {
         // Nothing learns: one bar, not a curve over "learning" episodes.
         plot::plot_bars(
-            &dir.join("baseline.svg"),
+            &files.path_for("baseline.svg")?,
             &title,
             &bar_axis(spec),
             &unit_suffix(spec.domain.score_unit()),
-            &[bar(output)],
+            &[bar_of(&summary(output))],
         )
     } else {
         let references: Vec<plot::Reference> = spec.domain.reference().into_iter().collect();
         plot::plot_curves(
-            &dir.join("curve.svg"),
+            &files.path_for("curve.svg")?,
             &title,
             "learning episodes",
             &score_axis(spec),
@@ -300,7 +316,7 @@ pub fn write_results(output: &ExperimentOutput, dir: &Path) -> Result<SummaryFil
         )
     }
     .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
-    Ok(summary)
+    Ok(summary(output))
 }
 
 /// The vertical axis of a bar chart of fixed policies like `spec`.
@@ -328,14 +344,13 @@ pub fn unit_suffix(unit: &str) -> String {
     }
 }
 
-/// The experiment's final score as a bar: the mean over runs at the last
+/// An experiment's final score as a bar: the mean over runs at the last
 /// evaluation, with its 95% confidence interval.
-pub fn bar(output: &ExperimentOutput) -> plot::Bar {
-    let last = curve(output).last().map(|(_, s)| *s).unwrap_or_else(|| summarize(&[]));
+pub fn bar_of(summary: &SummaryFile) -> plot::Bar {
     plot::Bar {
-        label: output.spec.label.clone(),
-        mean: last.mean,
-        low: last.ci_low,
-        high: last.ci_high,
+        label: summary.spec.label.clone(),
+        mean: summary.final_mean,
+        low: summary.final_ci95[0],
+        high: summary.final_ci95[1],
     }
 }

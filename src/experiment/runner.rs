@@ -5,7 +5,7 @@
 
 use std::io::IsTerminal;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 use crossbeam::channel;
@@ -28,8 +28,10 @@ pub struct EpisodeRecord {
 }
 
 /// What one run produced.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct RunOutput {
+    /// The run's index (its seeds derive from it).
+    pub run: usize,
     /// The evaluation score at each evaluation point.
     pub evals: Vec<f64>,
     /// The greedy policy's mean return at the end.
@@ -48,16 +50,17 @@ pub struct RunOutput {
     pub replays: Vec<String>,
 }
 
-/// What an experiment produced.
+/// What an experiment produced: every run, or, when it was stopped, the runs
+/// it completed.
 #[derive(Debug, Clone)]
 pub struct ExperimentOutput {
     /// What was run.
     pub spec: ExperimentSpec,
     /// Learning episodes at each evaluation point.
     pub eval_points: Vec<u64>,
-    /// One output per run, in run order.
+    /// The completed runs, in run order.
     pub runs: Vec<RunOutput>,
-    /// Wall-clock seconds.
+    /// Wall-clock seconds (over every session of a resumed experiment).
     pub wall_seconds: f64,
 }
 
@@ -70,6 +73,16 @@ impl ExperimentOutput {
     /// Primitive actions over all runs.
     pub fn total_actions(&self) -> u64 {
         self.runs.iter().map(|r| r.actions).sum()
+    }
+
+    /// Whether every planned run completed.
+    pub fn is_complete(&self) -> bool {
+        self.runs.len() == self.spec.protocol.runs
+    }
+
+    /// Run 0, which records episodes, traces and values, if it completed.
+    pub fn first_run(&self) -> Option<&RunOutput> {
+        self.runs.iter().find(|r| r.run == 0)
     }
 }
 
@@ -92,18 +105,22 @@ pub fn task_rng(spec: &ExperimentSpec, run: usize) -> SimRng {
     seeded(derive_seed(derive_seed(spec.seed, run as u64), 2))
 }
 
-/// Runs one run of `spec` with the plan already loaded.
+/// Runs run `run` of `spec` with the plan already loaded; `None` if `stop`
+/// said so before it finished (checked before every learning episode).
 pub fn run_one(
     spec: &ExperimentSpec,
     plan: Option<Arc<Plan>>,
     initial: &[SavedValues],
     run: usize,
     progress: impl FnMut(u64),
-) -> Result<RunOutput, ExperimentError> {
+    stop: impl Fn() -> bool,
+) -> Result<Option<RunOutput>, ExperimentError> {
     let mut learner = |agent: usize| learner_for(spec, run, agent, initial.get(agent));
     let mut task = spec.domain.task(plan.clone(), &mut learner, task_rng(spec, run))?;
     let mut out = RunOutput::default();
-    run_protocol(spec, task.as_mut(), run, &mut out, progress)?;
+    if !run_protocol(spec, task.as_mut(), run, &mut out, progress, stop)? {
+        return Ok(None);
+    }
     if run == 0 {
         let plans: Vec<&Plan> = plan.as_deref().map(Plan::activation_plans).unwrap_or_default();
         out.values = task
@@ -112,27 +129,34 @@ pub fn run_one(
             .map(|l| SavedValues::new(spec.algorithm.name(), l.values(), &plans))
             .collect();
     }
-    Ok(out)
+    Ok(Some(out))
 }
 
 /// The protocol of one run on `task`, whatever runs it (in this process or
 /// with keepers in other processes): evaluations every `eval_every` learning
-/// episodes, then the greedy score. Results accumulate in `out` as they come,
-/// so an interrupted run keeps what it completed.
+/// episodes, then the greedy score. Results accumulate in `out` (whose `run`
+/// is set) as they come, so an interrupted run keeps what it completed.
+/// Returns false if `stop` said so (checked before every learning episode)
+/// before the protocol ended.
 pub fn run_protocol(
     spec: &ExperimentSpec,
     task: &mut dyn Task,
     run: usize,
     out: &mut RunOutput,
     mut progress: impl FnMut(u64),
-) -> Result<(), ExperimentError> {
+    stop: impl Fn() -> bool,
+) -> Result<bool, ExperimentError> {
     let p = spec.protocol;
     let first = run == 0;
+    out.run = run;
     let eval_cost = p.eval_episodes as u64;
     out.evals.push(task.evaluate(p.eval_episodes)?);
     out.episodes_run += eval_cost;
     let mut since_report = 0;
     for episode in 1..=p.episodes {
+        if stop() {
+            return Ok(false);
+        }
         let outcome = task.episode(EpisodeMode::Learn)?;
         out.episodes_run += 1;
         out.actions += u64::from(outcome.actions);
@@ -162,27 +186,66 @@ pub fn run_protocol(
         // Played last, so that recording changes no result of the run.
         out.replays = task.record(spec.record)?;
     }
-    Ok(())
+    Ok(true)
 }
 
-/// Runs every run of `spec` on `threads` threads; a progress bar is drawn on a
-/// terminal when `progress` is set.
+/// How the runs of an experiment are executed.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RunOptions<'a> {
+    /// Worker threads (at least one is used, and no more than there are runs).
+    pub threads: usize,
+    /// Draw a progress bar when standard error is a terminal.
+    pub progress: bool,
+    /// Once set (by a signal handler, say), no run starts and the runs in
+    /// progress are abandoned: the experiment returns the runs completed so far.
+    pub stop: Option<&'a AtomicBool>,
+}
+
+/// Runs completed in an earlier session of the same experiment (read back
+/// from a partial result), which are not run again.
+#[derive(Debug, Clone, Default)]
+pub struct Completed {
+    /// The runs, each with its index.
+    pub runs: Vec<RunOutput>,
+    /// Wall-clock seconds the earlier sessions took.
+    pub wall_seconds: f64,
+}
+
+/// Runs every run of `spec` not in `completed`, on `options.threads` threads.
+/// Run i draws from seeds derived from the base seed and i alone, so the
+/// output is the same whatever the threads, and whether the experiment ran in
+/// one session or was stopped and resumed.
 pub fn run_experiment(
     spec: &ExperimentSpec,
-    threads: usize,
-    progress: bool,
+    options: RunOptions<'_>,
+    completed: Completed,
 ) -> Result<ExperimentOutput, ExperimentError> {
-    spec.protocol.validate()?;
+    spec.validate()?;
     let plan = spec.domain.load_plan()?;
     let initial = spec.load_initial_values(plan.as_deref())?;
     let start = Instant::now();
-    let runs = spec.protocol.runs;
+    let planned = spec.protocol.runs;
+    let mut results: Vec<Option<RunOutput>> = vec![None; planned];
+    for run in completed.runs {
+        let index = run.run;
+        match results.get_mut(index) {
+            Some(slot @ None) => *slot = Some(run),
+            _ => {
+                return Err(ExperimentError::Invalid(format!(
+                    "completed run {index} is out of range or repeated (the experiment has {planned} runs)"
+                )));
+            }
+        }
+    }
+    let todo: Vec<usize> = (0..planned).filter(|&i| results[i].is_none()).collect();
     let next = AtomicUsize::new(0);
-    let (tx, rx) = channel::unbounded::<Result<(usize, RunOutput), ExperimentError>>();
+    let abort = AtomicBool::new(false);
+    let stopped = || abort.load(Ordering::Relaxed) || options.stop.is_some_and(|s| s.load(Ordering::Relaxed));
+    let (tx, rx) = channel::unbounded::<Result<Option<RunOutput>, ExperimentError>>();
     let (ptx, prx) = channel::unbounded::<u64>();
-    let threads = threads.clamp(1, runs);
-    let bar = if progress && std::io::stderr().is_terminal() {
-        let bar = indicatif::ProgressBar::new(spec.protocol.episodes * runs as u64);
+    let threads = options.threads.clamp(1, todo.len().max(1));
+    let bar = if options.progress && std::io::stderr().is_terminal() {
+        let bar = indicatif::ProgressBar::new(spec.protocol.episodes * todo.len() as u64);
         bar.set_style(
             indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} episodes ({eta})")
                 .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
@@ -192,38 +255,45 @@ pub fn run_experiment(
     } else {
         None
     };
-    let mut results: Vec<Option<RunOutput>> = vec![None; runs];
     let mut failure = None;
     std::thread::scope(|scope| {
         for _ in 0..threads {
-            let (tx, ptx, next, plan, initial) = (tx.clone(), ptx.clone(), &next, plan.clone(), &initial);
+            let (tx, ptx, next, plan, initial, todo, stopped) =
+                (tx.clone(), ptx.clone(), &next, plan.clone(), &initial, &todo, &stopped);
             scope.spawn(move || {
-                loop {
-                    let run = next.fetch_add(1, Ordering::Relaxed);
-                    if run >= runs {
+                while !stopped() {
+                    let Some(&run) = todo.get(next.fetch_add(1, Ordering::Relaxed)) else {
                         break;
-                    }
-                    let result = run_one(spec, plan.clone(), initial, run, |n| {
-                        let _ = ptx.send(n);
-                    });
-                    let failed = result.is_err();
-                    let _ = tx.send(result.map(|r| (run, r)));
-                    if failed {
-                        next.store(runs, Ordering::Relaxed);
-                        break;
-                    }
+                    };
+                    let result = run_one(
+                        spec,
+                        plan.clone(),
+                        initial,
+                        run,
+                        |n| {
+                            let _ = ptx.send(n);
+                        },
+                        stopped,
+                    );
+                    let _ = tx.send(result);
                 }
             });
         }
         drop(tx);
         drop(ptx);
-        let mut done = 0;
-        while done < runs && failure.is_none() {
+        loop {
             channel::select! {
                 recv(prx) -> n => if let (Ok(n), Some(bar)) = (n, &bar) { bar.inc(n) },
                 recv(rx) -> r => match r {
-                    Ok(Ok((i, out))) => { results[i] = Some(out); done += 1; }
-                    Ok(Err(e)) => failure = Some(e),
+                    Ok(Ok(Some(out))) => {
+                        let index = out.run;
+                        results[index] = Some(out);
+                    }
+                    Ok(Ok(None)) => {}
+                    Ok(Err(e)) => {
+                        abort.store(true, Ordering::Relaxed);
+                        failure.get_or_insert(e);
+                    }
                     Err(_) => break,
                 },
             }
@@ -235,14 +305,10 @@ pub fn run_experiment(
     if let Some(e) = failure {
         return Err(e);
     }
-    let runs = results
-        .into_iter()
-        .collect::<Option<Vec<_>>>()
-        .ok_or_else(|| ExperimentError::Invalid("a run did not finish".into()))?;
     Ok(ExperimentOutput {
         spec: spec.clone(),
         eval_points: spec.protocol.eval_points(),
-        runs,
-        wall_seconds: start.elapsed().as_secs_f64(),
+        runs: results.into_iter().flatten().collect(),
+        wall_seconds: completed.wall_seconds + start.elapsed().as_secs_f64(),
     })
 }

@@ -1,20 +1,27 @@
 //! What an experiment runs: a domain, an algorithm with its parameters, and the protocol.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
 use super::plot::Reference;
+use super::ranges;
+use crate::analysis;
 use crate::domains::keepaway::{self, KeepawayDomainConfig, KeepawayMode, KeepawayTask};
 use crate::domains::parr_russell::{self, ParrRussell, ParrRussellConfig};
 use crate::domains::penalty_kick::{self, PenaltyKick, PenaltyKickConfig};
 use crate::domains::sutton::{self, Sutton, SuttonConfig};
 use crate::domains::{Task, TaskError};
 use crate::learning::persist::{self, PlanLabels, SavedValues};
-use crate::learning::{Learner, Mcesp, McespConfig, RandomLearner, SoSmc, SoSmcConfig, TdConfig, TdLearner};
+use crate::learning::{
+    Assessment, Exploration, Learner, Mcesp, McespConfig, RandomLearner, Sigma, SoSmc, SoSmcConfig, StepSize, TdConfig,
+    TdLearner,
+};
 use crate::plan::{LoadError, Plan, Vocabulary, load_plan};
+use crate::result_dir::ResultDirError;
 use crate::rng::SimRng;
+use crate::schema;
 
 /// A domain and its parameters; `plan` replaces the built-in plan with a file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -62,17 +69,51 @@ pub enum ExperimentError {
     /// A parameter is out of range.
     #[error("invalid experiment: {0}")]
     Invalid(String),
-    /// Writing results failed.
-    #[error("{path}: {source}")]
-    Io {
-        /// The file.
+    /// The result directory cannot be used.
+    #[error(transparent)]
+    ResultDir(#[from] ResultDirError),
+    /// A plan file fails the structural checks of `learnpnp check`.
+    #[error(
+        "{}: the plan fails the structural checks (`learnpnp check {}` explains; --unchecked runs it anyway):\n  - {}",
+        path.display(),
+        path.display(),
+        failures.join("\n  - ")
+    )]
+    FailsCheck {
+        /// The plan file.
         path: PathBuf,
-        /// The error.
-        source: std::io::Error,
+        /// Each failure, as `check` words it.
+        failures: Vec<String>,
     },
 }
 
 impl DomainSpec {
+    /// Checks the parameters the command line sets, and the grids' numbers.
+    pub fn validate(&self) -> Result<(), ExperimentError> {
+        match self {
+            DomainSpec::ParrRussell { config, .. } => {
+                field("max-actions", ranges::MAX_ACTIONS.check(u64::from(config.max_actions)))?;
+                field("success probability", ranges::EPSILON.check(config.success))?;
+                field("step reward", ranges::RETURN.check(config.step_reward))?;
+            }
+            DomainSpec::Sutton { config, .. } => {
+                field("max-actions", ranges::MAX_ACTIONS.check(u64::from(config.max_actions)))?;
+            }
+            DomainSpec::PenaltyKick { config, .. } => {
+                field("goal reward", ranges::RETURN.check(config.goal_reward))?;
+            }
+            DomainSpec::Keepaway { config, .. } => {
+                field("hold-threshold", ranges::DISTANCE.check(config.hold_threshold))?;
+                field("lane-threshold", ranges::DISTANCE.check(config.thresholds.pass_line))?;
+                field(
+                    "taker-threshold",
+                    ranges::DISTANCE.check(config.thresholds.closest_taker),
+                )?;
+            }
+        }
+        Ok(())
+    }
+
     /// The domain's command-line name.
     pub fn name(&self) -> &'static str {
         match self {
@@ -128,6 +169,16 @@ impl DomainSpec {
                 })
             }
             _ => None,
+        }
+    }
+
+    /// The plan file replacing the built-in plan, if any.
+    pub fn plan_file(&self) -> Option<&Path> {
+        match self {
+            DomainSpec::ParrRussell { plan, .. }
+            | DomainSpec::Sutton { plan, .. }
+            | DomainSpec::PenaltyKick { plan, .. }
+            | DomainSpec::Keepaway { plan, .. } => plan.as_deref(),
         }
     }
 
@@ -227,7 +278,85 @@ pub enum LearnerSpec {
     Random,
 }
 
+/// An out-of-range parameter as an [`ExperimentError`] naming it.
+fn field<T>(name: &str, result: Result<T, String>) -> Result<(), ExperimentError> {
+    result
+        .map(drop)
+        .map_err(|e| ExperimentError::Invalid(format!("{name}: {e}")))
+}
+
+/// The range of an exploration parameter: epsilon or temperature.
+fn exploration_range(softmax: bool) -> (&'static str, ranges::RealRange) {
+    if softmax {
+        ("temperature", ranges::TEMPERATURE)
+    } else {
+        ("epsilon", ranges::EPSILON)
+    }
+}
+
 impl LearnerSpec {
+    /// Checks every parameter against its range ([`ranges`]).
+    pub fn validate(&self) -> Result<(), ExperimentError> {
+        match self {
+            LearnerSpec::Sosmc(c) => {
+                field("gamma", ranges::GAMMA.check(c.gamma))?;
+                if let StepSize::Constant(a) = c.step_size {
+                    field("step size", ranges::STEP.check(a))?;
+                }
+                field("initial value", ranges::check_initial_value(c.initial_value))?;
+                let (name, range) = exploration_range(c.sigma == Sigma::Softmax);
+                field(
+                    &format!("initial-phase {name}"),
+                    range.check_schedule(&c.initial_parameter),
+                )?;
+                field(
+                    &format!("assessing {name}"),
+                    range.check_schedule(&c.assessing_parameter),
+                )?;
+                if let Assessment::EveryN(n) = c.assessment {
+                    field("assess every:N", ranges::WINDOW.check(n))?;
+                }
+                if let Some(rule) = c.threshold {
+                    field("threshold", ranges::RETURN.check(rule.threshold))?;
+                    field("threshold window", ranges::WINDOW.check(rule.window as u64))?;
+                }
+            }
+            LearnerSpec::Td(c) => {
+                field("gamma", ranges::GAMMA.check(c.gamma))?;
+                field("alpha", ranges::STEP.check(c.alpha))?;
+                field("lambda", ranges::LAMBDA.check(c.lambda))?;
+                field("initial value", ranges::check_initial_value(c.initial_value))?;
+                match c.exploration {
+                    Exploration::Greedy => {}
+                    Exploration::EpsilonGreedy(s) => field("epsilon", ranges::EPSILON.check_schedule(&s))?,
+                    Exploration::Softmax(s) => field("temperature", ranges::TEMPERATURE.check_schedule(&s))?,
+                }
+            }
+            LearnerSpec::Mcesp(c) => {
+                field("gamma", ranges::GAMMA.check(c.gamma))?;
+                field("stage length", ranges::STAGE_LENGTH.check(c.stage_length))?;
+                field("alpha-min", ranges::STEP.check(c.alpha_min))?;
+                field("initial value", ranges::check_initial_value(c.initial_value))?;
+            }
+            LearnerSpec::Random => {}
+        }
+        Ok(())
+    }
+
+    /// Whether this learner is the one `algorithm` names.
+    fn is_for(&self, algorithm: Algorithm) -> bool {
+        matches!(
+            (self, algorithm),
+            (LearnerSpec::Sosmc(_), Algorithm::EpsSosmc | Algorithm::SoftSosmc)
+                | (
+                    LearnerSpec::Td(_),
+                    Algorithm::SarsaLambda | Algorithm::Sarsa0 | Algorithm::QLearning
+                )
+                | (LearnerSpec::Mcesp(_), Algorithm::Mcesp)
+                | (LearnerSpec::Random, Algorithm::Random)
+        )
+    }
+
     /// A learner drawing from `rng`.
     pub fn build(&self, rng: SimRng) -> Box<dyn Learner> {
         match self {
@@ -265,12 +394,23 @@ impl Protocol {
         self.trace_every.unwrap_or((self.episodes / 1000).max(1))
     }
 
-    /// Checks the numbers.
+    /// Checks every number against its range ([`ranges`]).
     pub fn validate(&self) -> Result<(), ExperimentError> {
-        if self.runs == 0 || self.episodes == 0 || self.eval_every == 0 {
-            return Err(ExperimentError::Invalid(
-                "runs, episodes and eval-every must be positive".into(),
-            ));
+        field("runs", ranges::RUNS.check(self.runs as u64))?;
+        field("episodes", ranges::EPISODES.check(self.episodes))?;
+        field(
+            "eval-every",
+            ranges::eval_every(self.episodes).check(self.eval_every).map_err(|e| {
+                format!("{e} (an evaluation interval longer than the run evaluates only the initial policy)")
+            }),
+        )?;
+        field("eval-episodes", ranges::EVAL_EPISODES.check(self.eval_episodes as u64))?;
+        field(
+            "greedy-episodes",
+            ranges::EVAL_EPISODES.check(self.greedy_episodes as u64),
+        )?;
+        if let Some(every) = self.trace_every {
+            field("trace-every", ranges::WHOLE.check(every))?;
         }
         Ok(())
     }
@@ -313,32 +453,179 @@ fn is_zero(n: &usize) -> bool {
 }
 
 impl ExperimentSpec {
-    /// Loads the starting tables, checking each was learned on this plan.
-    /// A corrupt file is reported and its previous good version used.
+    /// Checks every parameter against its range and the learner against the
+    /// algorithm: what [`ExperimentOptions`](super::args::ExperimentOptions)
+    /// guarantees for flags, for specs from anywhere else.
+    pub fn validate(&self) -> Result<(), ExperimentError> {
+        self.protocol.validate()?;
+        self.domain.validate()?;
+        self.learner.validate()?;
+        field("record", ranges::RECORD.check(self.record as u64))?;
+        if self.record > 0 && !matches!(self.domain, DomainSpec::Keepaway { .. }) {
+            return Err(ExperimentError::Invalid(format!(
+                "--record saves Keepaway episodes as game logs; {} has none",
+                self.domain.name()
+            )));
+        }
+        if !self.learner.is_for(self.algorithm) {
+            return Err(ExperimentError::Invalid(format!(
+                "the learner's parameters are not those of {}",
+                self.algorithm.name()
+            )));
+        }
+        Ok(())
+    }
+
+    /// Refuses a plan file that fails the structural checks of `learnpnp
+    /// check` (thesis 2.3: an execution place marked twice, a transition that
+    /// never fires, a marking from which no goal is reachable, a dead marking
+    /// that is neither goal nor fail), exploring at most
+    /// [`analysis::DEFAULT_LIMIT`] markings; a plan schema, the checks of its
+    /// process ([`schema::check_report`]). A check left inconclusive by that
+    /// limit is no refusal. The built-in plans are not checked here (their
+    /// tests check them).
+    pub fn check_plan(&self) -> Result<(), ExperimentError> {
+        let Some(path) = self.domain.plan_file() else {
+            return Ok(());
+        };
+        let Some(plan) = self.domain.load_plan()? else {
+            return Ok(());
+        };
+        let failures: Vec<String> = if schema::is_schema_path(path) {
+            // A schema's process has checks of its own (`learnpnp check x.schema`).
+            let process =
+                schema::load_process(path, Vocabulary::Open).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+            let (report, passed) = schema::check_report(&process);
+            if passed {
+                Vec::new()
+            } else {
+                report
+                    .lines()
+                    .filter_map(|l| l.trim_start().strip_prefix("FAIL "))
+                    .map(str::to_string)
+                    .collect()
+            }
+        } else {
+            let report = analysis::check(&plan, analysis::DEFAULT_LIMIT);
+            report.failures.iter().map(|f| f.to_string()).collect()
+        };
+        if failures.is_empty() {
+            return Ok(());
+        }
+        Err(ExperimentError::FailsCheck {
+            path: path.to_path_buf(),
+            failures,
+        })
+    }
+
+    /// Reads a spec from JSON (as `summary.json` holds it, under `spec`) and
+    /// validates it: the way to load a spec from a file.
+    pub fn from_json(text: &str) -> Result<ExperimentSpec, ExperimentError> {
+        let spec: ExperimentSpec =
+            serde_json::from_str(text).map_err(|e| ExperimentError::Invalid(format!("not an experiment spec: {e}")))?;
+        spec.validate()?;
+        Ok(spec)
+    }
+
+    /// Loads the starting tables, checking each was learned on this plan. A
+    /// file that cannot be used is an error (see
+    /// [`persist::load_latest`] for reading its previous good version instead).
     pub fn load_initial_values(&self, plan: Option<&Plan>) -> Result<Vec<SavedValues>, ExperimentError> {
         let mut tables = Vec::new();
         for path in &self.initial_values {
-            let (saved, problem) = persist::load_latest(path).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
-            if let Some(problem) = problem {
-                eprintln!("warning: {problem}; using {}", persist::prev_path(path).display());
-            }
+            let saved = persist::load(path).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
             let expected: Vec<PlanLabels> = plan
                 .map(|p| p.activation_plans().into_iter().map(PlanLabels::of).collect())
                 .unwrap_or_default();
-            if saved.plans != expected {
+            if let Some(difference) = plan_difference(&saved.plans, &expected) {
                 return Err(ExperimentError::Invalid(format!(
-                    "{}: the values were learned on another plan ({})",
-                    path.display(),
-                    saved
-                        .plans
-                        .iter()
-                        .map(|p| p.name.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", ")
+                    "{}: the values were learned on another plan: {difference}",
+                    path.display()
                 )));
             }
             tables.push(saved);
         }
         Ok(tables)
+    }
+}
+
+/// How the plans a table was learned on differ from the plans it is loaded
+/// into, in words; `None` when they are the same.
+fn plan_difference(saved: &[PlanLabels], expected: &[PlanLabels]) -> Option<String> {
+    let names = |plans: &[PlanLabels]| plans.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ");
+    if saved.len() != expected.len() {
+        return Some(format!(
+            "the table has {} plan(s) ({}), the experiment {} ({})",
+            saved.len(),
+            names(saved),
+            expected.len(),
+            names(expected)
+        ));
+    }
+    for (s, e) in saved.iter().zip(expected) {
+        if s.name != e.name {
+            return Some(format!(
+                "the table's plan is '{}', the experiment's '{}'",
+                s.name, e.name
+            ));
+        }
+        if s.places.len() != e.places.len() {
+            return Some(format!(
+                "plan '{}' has {} place(s) in the table and {} in the experiment",
+                s.name,
+                s.places.len(),
+                e.places.len()
+            ));
+        }
+        if let Some(i) = (0..s.places.len()).find(|&i| s.places[i] != e.places[i]) {
+            let mut sorted_saved = s.places.clone();
+            let mut sorted_expected = e.places.clone();
+            sorted_saved.sort();
+            sorted_expected.sort();
+            let reordered = if sorted_saved == sorted_expected {
+                " (the same places in another order: the plan file was edited or re-saved)"
+            } else {
+                ""
+            };
+            return Some(format!(
+                "in plan '{}', place {i} is '{}' in the table but '{}' in the experiment{reordered}",
+                s.name, s.places[i], e.places[i]
+            ));
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn labels(name: &str, places: &[&str]) -> PlanLabels {
+        PlanLabels {
+            name: name.into(),
+            places: places.iter().map(|p| p.to_string()).collect(),
+        }
+    }
+
+    #[test]
+    fn a_value_table_for_another_plan_is_told_apart_by_its_difference() {
+        let plan = [labels("kick", &["start", "Turn.exec", "goal"])];
+        assert_eq!(plan_difference(&plan, &plan), None);
+        let reordered = [labels("kick", &["Turn.exec", "start", "goal"])];
+        let text = plan_difference(&reordered, &plan).expect("differs");
+        assert!(
+            text.contains("place 0 is 'Turn.exec' in the table but 'start' in the experiment")
+                && text.contains("same places in another order"),
+            "{text}"
+        );
+        let renamed = [labels("kick", &["start", "Walk.exec", "goal"])];
+        let text = plan_difference(&renamed, &plan).expect("differs");
+        assert!(text.contains("place 1") && !text.contains("another order"), "{text}");
+        let text = plan_difference(&[labels("grid", &["a"])], &plan).expect("differs");
+        assert!(text.contains("'grid'") && text.contains("'kick'"), "{text}");
+        let text = plan_difference(&[labels("kick", &["start"])], &plan).expect("differs");
+        assert!(text.contains("1 place(s) in the table and 3"), "{text}");
+        let text = plan_difference(&[], &plan).expect("differs");
+        assert!(text.contains("0 plan(s)"), "{text}");
     }
 }

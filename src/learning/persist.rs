@@ -174,12 +174,12 @@ pub enum PersistError {
         computed: u32,
     },
     /// The payload passed its checksum but cannot be decoded.
-    #[error("{path}: undecodable payload: {source}")]
+    #[error("{path}: undecodable payload: {}", describe_decode_error(error))]
     Decode {
         /// The file.
         path: PathBuf,
         /// The decoder's error.
-        source: bincode::error::DecodeError,
+        error: bincode::error::DecodeError,
     },
     /// The payload decodes to fewer bytes than announced.
     #[error("{path}: undecodable payload: {unused} byte(s) left over after decoding")]
@@ -343,6 +343,22 @@ pub fn prev_path(path: &Path) -> PathBuf {
 /// either the old or the new complete file. If keeping `.prev` fails, the new
 /// table is not written and the error names the `.prev` file.
 pub fn save(path: &Path, values: &SavedValues) -> Result<(), PersistError> {
+    let bytes = encode(path, values)?;
+    let previous = fs::read(path).ok().filter(|old| parse(path, old).is_ok());
+    if let Some(old) = previous {
+        let prev = prev_path(path);
+        crate::atomic_file::write_atomic(&prev, &old).map_err(|source| PersistError::Io { path: prev, source })?;
+    }
+    crate::atomic_file::write_atomic(path, &bytes).map_err(|source| PersistError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// The bytes of a value file holding `values` (for writers that place the
+/// file themselves, such as a result directory); `path` names the file in
+/// errors. The values are checked first ([`SavedValues::validate`]).
+pub fn encode(path: &Path, values: &SavedValues) -> Result<Vec<u8>, PersistError> {
     values.validate().map_err(|source| PersistError::Inconsistent {
         path: path.to_path_buf(),
         source,
@@ -358,16 +374,7 @@ pub fn save(path: &Path, values: &SavedValues) -> Result<(), PersistError> {
     bytes.extend_from_slice(&(payload.len() as u64).to_le_bytes());
     bytes.extend_from_slice(&crc32fast::hash(&payload).to_le_bytes());
     bytes.extend_from_slice(&payload);
-
-    let previous = fs::read(path).ok().filter(|old| parse(path, old).is_ok());
-    if let Some(old) = previous {
-        let prev = prev_path(path);
-        crate::atomic_file::write_atomic(&prev, &old).map_err(|source| PersistError::Io { path: prev, source })?;
-    }
-    crate::atomic_file::write_atomic(path, &bytes).map_err(|source| PersistError::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+    Ok(bytes)
 }
 
 /// Reads the value file at `path`, checking magic, version, length, checksum
@@ -442,9 +449,9 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<SavedValues, PersistError> {
             computed,
         });
     }
-    let (values, used) = decode(rest).map_err(|source| PersistError::Decode {
+    let (values, used) = decode_bounded::<SavedValues>(rest).map_err(|error| PersistError::Decode {
         path: path_buf(),
-        source,
+        error,
     })?;
     if used != rest.len() {
         return Err(PersistError::PayloadTrailingBytes {
@@ -459,7 +466,7 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<SavedValues, PersistError> {
     Ok(values)
 }
 
-/// Decodes a payload, bounding what the decoder may allocate.
+/// Decodes a bincode payload, bounding what the decoder may allocate.
 ///
 /// bincode allocates a string's bytes before reading them, so a corrupt length
 /// could ask for exabytes. Its byte limit counts every claim (a string's
@@ -468,23 +475,48 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<SavedValues, PersistError> {
 /// tiers above that (a limit is a compile-time constant), so a bogus length
 /// fails with `LimitExceeded` instead of allocating more than a small multiple
 /// of the file. Payloads beyond 256 MiB are decoded without a limit.
-fn decode(payload: &[u8]) -> Result<(SavedValues, usize), bincode::error::DecodeError> {
-    fn limited<const LIMIT: usize>(payload: &[u8]) -> Result<(SavedValues, usize), bincode::error::DecodeError> {
+pub(crate) fn decode_bounded<T: serde::de::DeserializeOwned>(
+    payload: &[u8],
+) -> Result<(T, usize), bincode::error::DecodeError> {
+    fn limited<T: serde::de::DeserializeOwned, const LIMIT: usize>(
+        payload: &[u8],
+    ) -> Result<(T, usize), bincode::error::DecodeError> {
         bincode::serde::decode_from_slice(payload, bincode::config::standard().with_limit::<LIMIT>())
     }
     let claims = payload.len().saturating_mul(8).saturating_add(4096);
     if claims <= 1 << 16 {
-        limited::<{ 1 << 16 }>(payload)
+        limited::<T, { 1 << 16 }>(payload)
     } else if claims <= 1 << 20 {
-        limited::<{ 1 << 20 }>(payload)
+        limited::<T, { 1 << 20 }>(payload)
     } else if claims <= 1 << 24 {
-        limited::<{ 1 << 24 }>(payload)
+        limited::<T, { 1 << 24 }>(payload)
     } else if claims <= 1 << 28 {
-        limited::<{ 1 << 28 }>(payload)
+        limited::<T, { 1 << 28 }>(payload)
     } else if claims <= 1 << 31 {
-        limited::<{ 1 << 31 }>(payload)
+        limited::<T, { 1 << 31 }>(payload)
     } else {
-        limited::<{ usize::MAX }>(payload)
+        limited::<T, { usize::MAX }>(payload)
+    }
+}
+
+/// What a bincode decoding error means, in words (bincode's own message is
+/// its debug representation).
+pub(crate) fn describe_decode_error(error: &bincode::error::DecodeError) -> String {
+    use bincode::error::DecodeError as E;
+    match error {
+        E::UnexpectedEnd { additional } => format!("the data ends {additional} byte(s) too early"),
+        E::LimitExceeded => "a length is larger than the file can hold".to_string(),
+        E::InvalidIntegerType { .. } | E::OutsideUsizeRange(_) => "a number is out of range".to_string(),
+        E::UnexpectedVariant { type_name, found, .. } => format!("unknown variant {found} of {type_name}"),
+        E::Utf8 { .. } => "a text is not valid UTF-8".to_string(),
+        E::InvalidCharEncoding(_) => "a character is not valid".to_string(),
+        E::InvalidBooleanValue(b) => format!("{b} is not a boolean"),
+        E::ArrayLengthMismatch { required, found } => {
+            format!("a list has {found} element(s) where {required} are required")
+        }
+        E::Other(message) => (*message).to_string(),
+        E::OtherString(message) => message.clone(),
+        _ => "the data does not have the expected structure".to_string(),
     }
 }
 

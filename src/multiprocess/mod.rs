@@ -84,13 +84,14 @@ impl RunContext {
         Namespace::from_prefix(&self.ipc_prefix)
     }
 
-    /// Reads and checks the experiment spec.
+    /// Reads and checks the experiment spec ([`ExperimentSpec::from_json`]:
+    /// every parameter in its range).
     pub fn load_spec(&self) -> Result<ExperimentSpec, ProcessError> {
         let text = std::fs::read_to_string(&self.spec).map_err(|source| ProcessError::Io {
             path: self.spec.clone(),
             source,
         })?;
-        serde_json::from_str(&text).map_err(|e| ProcessError::Spec {
+        ExperimentSpec::from_json(&text).map_err(|e| ProcessError::Spec {
             path: self.spec.clone(),
             detail: e.to_string(),
         })

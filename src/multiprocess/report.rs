@@ -6,7 +6,6 @@
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use std::path::Path;
 
 use serde::Serialize;
 
@@ -14,12 +13,16 @@ use super::Clock;
 use super::agent::compute_histogram;
 use super::simulator::{AbortedEpisode, FLOOR, ROUND_TRIP};
 use super::supervisor::{Fault, RunRecord, SupervisorConfig, SupervisorError};
-use crate::experiment::output::{SummaryFile, write_results};
+use crate::experiment::output::{SummaryFile, stage_results};
 use crate::experiment::runner::ExperimentOutput;
 use crate::ipc::convert::Rejections;
 use crate::ipc::wait::WaitStrategy;
 use crate::latency::plot::{ReferenceLine, percentile_plot};
 use crate::latency::{Latency, Percentiles};
+use crate::result_dir::{Progress, ResultWriter};
+
+/// The name of the merged compute time of every keeper.
+const ALL_COMPUTE: &str = "compute";
 
 /// `summary.json` of a multi-process run.
 #[derive(Debug, Clone, Serialize)]
@@ -94,7 +97,7 @@ pub fn merged_histograms(records: &[RunRecord]) -> Result<Vec<Latency>, Supervis
             }
         }
     }
-    let mut compute = Latency::new("compute");
+    let mut compute = Latency::new(ALL_COMPUTE);
     for h in merged.iter().filter(|h| h.name().starts_with("compute-")) {
         compute.merge(h)?;
     }
@@ -161,7 +164,7 @@ pub fn summarize(
         },
         latency_us: latency,
         floor_us: floor,
-        compute_us: percentiles("compute"),
+        compute_us: percentiles(ALL_COMPUTE),
         round_trip_over_floor_p50: if floor.p50 > 0.0 { latency.p50 / floor.p50 } else { 0.0 },
         rejected_messages: rejected,
         checkpoint_failures: records.iter().map(|r| r.checkpoint_failures).sum(),
@@ -182,7 +185,7 @@ fn latency_table(histograms: &[Latency], summary: &SystemSummary) -> String {
     let rows = [
         (ROUND_TRIP.to_string(), "round trip".to_string()),
         (FLOOR.to_string(), "iceoryx2 floor".to_string()),
-        ("compute".to_string(), "agent compute".to_string()),
+        (ALL_COMPUTE.to_string(), "agent compute".to_string()),
     ]
     .into_iter()
     .chain((0..crate::keepaway::world::NUM_KEEPERS).map(|k| (compute_histogram(k), format!("  keeper {}", k + 1))));
@@ -213,11 +216,6 @@ fn latency_table(histograms: &[Latency], summary: &SystemSummary) -> String {
     text
 }
 
-fn write(dir: &Path, name: &str, bytes: &[u8]) -> Result<(), SupervisorError> {
-    let path = dir.join(name);
-    crate::atomic_file::write_atomic(&path, bytes).map_err(|source| SupervisorError::Io { path, source })
-}
-
 /// A launch's summary and its histograms (runs merged).
 #[derive(Debug, Clone)]
 pub struct Report {
@@ -234,18 +232,15 @@ impl Report {
     }
 }
 
-/// Writes the run's files into `dir`: the experiment's (when a run completed),
-/// `summary.json`, `latency/*.hgrm` and `latency/*.hdr`, and `latency.svg`.
+/// Writes the run's files into `files` and publishes them as one set: the
+/// experiment's (when a run completed), `summary.json`, `latency/*.hgrm` and
+/// `latency/*.hdr`, and `latency.svg`.
 pub fn write_report(
-    dir: &Path,
+    mut files: ResultWriter<'_>,
     config: &SupervisorConfig,
     records: &[RunRecord],
     wall_seconds: f64,
 ) -> Result<Report, SupervisorError> {
-    std::fs::create_dir_all(dir.join("latency")).map_err(|source| SupervisorError::Io {
-        path: dir.join("latency"),
-        source,
-    })?;
     let completed: Vec<&RunRecord> = records.iter().filter(|r| r.sim.complete).collect();
     let experiment = if completed.is_empty() {
         None
@@ -262,20 +257,18 @@ pub fn write_report(
             runs,
             wall_seconds,
         };
-        Some(write_results(&output, dir).map_err(|e| SupervisorError::Failed(e.to_string()))?)
+        Some(stage_results(&output, &mut files).map_err(|e| SupervisorError::Failed(e.to_string()))?)
     };
     let histograms = merged_histograms(records)?;
     let summary = summarize(config, records, &histograms, experiment, wall_seconds);
     let json = serde_json::to_vec_pretty(&summary).map_err(|e| SupervisorError::Failed(e.to_string()))?;
-    write(dir, "summary.json", &json)?;
+    files.add_bytes("summary.json", &json)?;
     for h in &histograms {
-        write(dir, &format!("latency/{}.hgrm", h.name()), h.to_hgrm().as_bytes())?;
-        write(dir, &format!("latency/{}.hdr", h.name()), &h.to_bytes()?)?;
+        files.add_bytes(&format!("latency/{}.hgrm", h.name()), h.to_hgrm().as_bytes())?;
+        files.add_bytes(&format!("latency/{}.hdr", h.name()), &h.to_bytes()?)?;
     }
-    let shown: Vec<&Latency> = [ROUND_TRIP, FLOOR, "compute"]
-        .iter()
-        .filter_map(|name| find(&histograms, name))
-        .collect();
+    // One line per histogram the processes recorded (not the merged compute).
+    let shown: Vec<&Latency> = histograms.iter().filter(|h| h.name() != ALL_COMPUTE).collect();
     let mut references = vec![ReferenceLine {
         label: "deadline: 100 ms cycle".into(),
         micros: 100_000.0,
@@ -294,6 +287,10 @@ pub fn write_report(
         config.wait.name()
     );
     let svg = percentile_plot(&title, &shown, &references).map_err(|e| SupervisorError::Failed(e.to_string()))?;
-    write(dir, "latency.svg", svg.as_bytes())?;
+    files.add_bytes("latency.svg", svg.as_bytes())?;
+    files.commit(Progress {
+        completed: summary.runs_completed as u64,
+        planned: summary.runs as u64,
+    })?;
     Ok(Report { summary, histograms })
 }

@@ -397,13 +397,23 @@ pub fn floor_ping(run_id: u64, sequence: u64) -> KeeperSnapshot {
     }
 }
 
+/// The pause between two pings of the floor measurement in real time: long
+/// enough for a waiting agent to block, as it does between two 100 ms cycles.
+pub const REALTIME_FLOOR_GAP: Duration = Duration::from_millis(5);
+
 /// Measures the bare iceoryx2 round trip of the snapshot payload with agent 0
 /// (which echoes each ping at once), `round_trips` times, with the run's wait
-/// strategy: the floor our round trips are compared with, measured side by side.
+/// strategy: the floor our round trips are compared with, measured side by
+/// side. In real time the pings are [`REALTIME_FLOOR_GAP`] apart, so the
+/// floor includes waking a process that waits, as every cycle does.
 fn measure_floor(link: &mut Link, round_trips: usize) -> Result<(), TaskError> {
     let run_id = link.context.run_id;
     let strategy = link.context.wait;
+    let gap = (link.context.clock == Clock::Realtime).then_some(REALTIME_FLOOR_GAP);
     for sequence in 1..=round_trips as u64 {
+        if let Some(gap) = gap {
+            std::thread::sleep(gap);
+        }
         let sent = Instant::now();
         send(&link.ports.floor_ping, floor_ping(run_id, sequence)).map_err(remote)?;
         wake(strategy, &link.ports.wake_keepers[0]).map_err(remote)?;
@@ -490,10 +500,12 @@ pub fn run(context: &RunContext, floor_round_trips: usize) -> Result<SimulatorRe
         started = Instant::now();
         let seeds = RunSeeds::draw(&mut task_rng(&spec, context.run));
         let mut task = KeepawayTask::with_team(config, Box::new(team), seeds)?;
-        run_protocol(&spec, &mut task, context.run, &mut output, |_| {}).map_err(|e| match e {
-            crate::experiment::spec::ExperimentError::Task(t) => t,
-            other => TaskError::Remote(other.to_string()),
-        })
+        run_protocol(&spec, &mut task, context.run, &mut output, |_| {}, || false)
+            .map(drop)
+            .map_err(|e| match e {
+                crate::experiment::spec::ExperimentError::Task(t) => t,
+                other => TaskError::Remote(other.to_string()),
+            })
     })();
     let mut link = link.borrow_mut();
     let link = &mut *link;

@@ -5,6 +5,7 @@
 //! simulator aborts the episode in flight), stops everything on request with a
 //! final checkpoint, and removes every shared-memory file of the run.
 
+use crate::result_dir::{self, ResultDir, ResultDirError};
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -83,6 +84,9 @@ pub enum SupervisorError {
     /// A process failed in a way the run cannot survive.
     #[error("{0}")]
     Failed(String),
+    /// The output directory cannot be used.
+    #[error(transparent)]
+    ResultDir(#[from] ResultDirError),
 }
 
 fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> SupervisorError + '_ {
@@ -589,22 +593,35 @@ fn run_in(
     })
 }
 
-/// The directory holding run `run`'s working files (checkpoints, logs,
-/// histograms) inside the output directory `out`.
+/// Where run `run`'s working files (checkpoints, logs, histograms) of the
+/// output directory `out` are: in the `runs` directory of the result set being
+/// written (inside its hidden staging directory, see [`crate::result_dir`])
+/// while the supervisor works, under `out/runs/` once the set is published.
 pub fn run_work_dir(out: &Path, run: usize) -> PathBuf {
-    out.join("runs").join(format!("run-{run}"))
+    let name = format!("run-{run}");
+    result_dir::staging_dirs(out)
+        .into_iter()
+        .map(|staging| staging.join(RUNS_DIR).join(&name))
+        .find(|dir| dir.is_dir())
+        .unwrap_or_else(|| out.join(RUNS_DIR).join(name))
 }
 
+/// The directory of the result set holding every run's working files.
+const RUNS_DIR: &str = "runs";
+
 /// Runs every run of `config`'s experiment one after the other (stopping at
-/// the first that fails, or when `stop` is set) and writes the report into
-/// `out`. `progress` is told the learning episodes completed over all runs.
+/// the first that fails, or when `stop` is set) and publishes the report in
+/// `out` as one set (the runs' working files under `runs/`).
+/// `progress` is told the learning episodes completed over all runs.
 pub fn supervise(
     config: &SupervisorConfig,
-    out: &Path,
+    out: &mut ResultDir,
     stop: &AtomicBool,
     progress: &dyn Fn(u64),
 ) -> Result<super::report::Report, SupervisorError> {
     let started = Instant::now();
+    let mut files = out.writer()?;
+    let runs_dir = files.scratch_dir(RUNS_DIR)?;
     let mut records: Vec<RunRecord> = Vec::new();
     let per_run = config.spec.protocol.episodes;
     for run in 0..config.spec.protocol.runs {
@@ -612,7 +629,8 @@ pub fn supervise(
             break;
         }
         let done_before = run as u64 * per_run;
-        let record = supervise_run(config, run, &run_work_dir(out, run), stop, &|episodes| {
+        let work_dir = runs_dir.join(format!("run-{run}"));
+        let record = supervise_run(config, run, &work_dir, stop, &|episodes| {
             progress(done_before + episodes)
         })?;
         let ended = record.failure.is_some() || !record.sim.complete;
@@ -621,5 +639,5 @@ pub fn supervise(
             break;
         }
     }
-    super::report::write_report(out, config, &records, started.elapsed().as_secs_f64())
+    super::report::write_report(files, config, &records, started.elapsed().as_secs_f64())
 }

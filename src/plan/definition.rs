@@ -107,8 +107,12 @@ pub struct Plan {
 }
 
 impl Plan {
-    /// Interprets `net` as a plan, resolving atoms against `vocabulary`.
+    /// Interprets `net` as a plan, resolving atoms against `vocabulary`. A net
+    /// without places is refused ([`PlanError::Empty`]).
     pub fn from_net(net: PetriNet, vocabulary: Vocabulary<'_>) -> Result<Self, PlanError> {
+        if net.places().is_empty() {
+            return Err(PlanError::Empty);
+        }
         let incidence = Incidence::new(&net);
         let mut actions: Vec<ActionInfo> = Vec::new();
         let mut by_name: HashMap<String, ActionId> = HashMap::new();

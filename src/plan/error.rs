@@ -9,6 +9,10 @@ pub enum PlanError {
     /// The net itself is malformed.
     #[error(transparent)]
     Net(#[from] NetError),
+    /// The net has no places: nothing could ever run (an empty file, or XML
+    /// whose net holds no place this reader recognises).
+    #[error("the net has no places: there is no plan to run")]
+    Empty,
     /// A place label is malformed.
     #[error("place '{place}' (label '{label}'): {reason}: '{token}'")]
     PlaceLabel {

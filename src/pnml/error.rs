@@ -19,6 +19,16 @@ pub enum PnmlError {
         /// The XML parser's description.
         message: String,
     },
+    /// Elements nest deeper than [`MAX_NESTING`](super::MAX_NESTING).
+    #[error("elements nest deeper than {limit} levels at line {line}, column {column}; no plan file needs that many")]
+    TooDeep {
+        /// 1-based line of the first element too deep.
+        line: u32,
+        /// 1-based column of that element.
+        column: u32,
+        /// The bound.
+        limit: usize,
+    },
     /// The root element is not `pnml`.
     #[error("the root element is <{found}>, not <pnml>")]
     NotPnml {

@@ -20,5 +20,5 @@ mod write;
 pub use dialect::Dialect;
 pub use error::{PnmlError, PnmlFileError, UnknownDialect};
 pub use file::{read_file, write_file};
-pub use read::parse;
+pub use read::{MAX_NESTING, parse};
 pub use write::write;

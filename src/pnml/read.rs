@@ -32,16 +32,21 @@ pub(super) const PLAN_NAME_PREFIX: &str = "PLAN NAME:";
 /// everything [`PetriNet::new`] checks is checked. Never panics.
 pub fn parse(text: &str, fallback_name: &str) -> Result<PetriNet, PnmlError> {
     let doc = Document::parse(text).map_err(|e| {
-        let pos = e.pos();
         let message = e.to_string();
+        let pos = match e {
+            // roxmltree reports these at 1:1; the fault is where the text ends.
+            roxmltree::Error::UnexpectedEndOfStream | roxmltree::Error::UnclosedRootNode => end_of(text),
+            _ => e.pos(),
+        };
         // The position is in the variant's own fields; drop roxmltree's copy.
-        let suffix = format!(" at {pos}");
+        let suffix = format!(" at {}", e.pos());
         PnmlError::Xml {
             line: pos.row,
             column: pos.col,
             message: message.strip_suffix(&suffix).unwrap_or(&message).to_string(),
         }
     })?;
+    check_nesting(&doc)?;
     let root = doc.root_element();
     if !is(root, "pnml") {
         return Err(PnmlError::NotPnml {
@@ -124,6 +129,44 @@ pub fn parse(text: &str, fallback_name: &str) -> Result<PetriNet, PnmlError> {
         .map(|(id, source, target, weight)| (id.as_str(), source.as_str(), target.as_str(), *weight))
         .collect();
     Ok(PetriNet::new(name, places, transitions, &specs)?)
+}
+
+/// The deepest element nesting a plan file may have. PNML needs a handful of
+/// levels (`pnml/net/page/place/name/text`, pages nested a few times); a
+/// deeper document is refused rather than read, whatever it holds.
+pub const MAX_NESTING: usize = 100;
+
+/// Refuses a document whose elements nest deeper than [`MAX_NESTING`],
+/// naming the first element beyond it.
+fn check_nesting(doc: &Document) -> Result<(), PnmlError> {
+    // Node ids follow document order, so a parent's depth is known before its children's.
+    let mut depth: Vec<u32> = Vec::new();
+    for node in doc.root().descendants() {
+        let d = node
+            .parent()
+            .and_then(|p| depth.get(p.id().get_usize()))
+            .map_or(0, |&d| d + u32::from(node.is_element()));
+        if d as usize > MAX_NESTING {
+            let pos = doc.text_pos_at(node.range().start);
+            return Err(PnmlError::TooDeep {
+                line: pos.row,
+                column: pos.col,
+                limit: MAX_NESTING,
+            });
+        }
+        depth.push(d);
+    }
+    Ok(())
+}
+
+/// The position just past the end of `text`.
+fn end_of(text: &str) -> roxmltree::TextPos {
+    let line = text.matches('\n').count() + 1;
+    let last = text.rsplit('\n').next().unwrap_or("");
+    roxmltree::TextPos::new(
+        u32::try_from(line).unwrap_or(u32::MAX),
+        u32::try_from(last.chars().count() + 1).unwrap_or(u32::MAX),
+    )
 }
 
 /// The dialect of a document: standard if it uses the PNML namespace or net
