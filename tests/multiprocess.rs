@@ -582,6 +582,8 @@ fn corrupt_checkpoint_at_restart_resumes_from_the_previous_one() {
     let s = summary(&out);
     assert_eq!(s["complete"], true);
     assert_eq!(s["restarts"], 1);
+    assert_eq!(s["resumes"][0]["source"], "previous checkpoint");
+    assert_eq!(s["values_survived"], true, "{}", s["resumes"]);
     sandbox.assert_clean(&prefixes(&s));
 }
 

@@ -16,12 +16,15 @@ struct Args {
     /// Round trips of the floor measurement before the first episode.
     #[arg(long, default_value_t = 20_000)]
     floor_round_trips: usize,
+    /// Continue a killed simulator's run from its journal (the last episode boundary).
+    #[arg(long)]
+    resume: bool,
 }
 
 fn main() -> ExitCode {
     iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
     let args = Args::parse();
-    match simulator::run(&args.context, args.floor_round_trips).context("simulator") {
+    match simulator::run(&args.context, args.floor_round_trips, args.resume).context("simulator") {
         Ok(result) => {
             if let Some(error) = &result.error {
                 eprintln!("simulator: the run ended early: {error}");

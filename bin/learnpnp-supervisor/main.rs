@@ -17,7 +17,7 @@ use learnpnp::ipc::namespace::clean_stale;
 use learnpnp::ipc::wait::WaitStrategy;
 use learnpnp::multiprocess::Clock;
 use learnpnp::multiprocess::launch::Binaries;
-use learnpnp::multiprocess::supervisor::{SupervisorConfig, supervise};
+use learnpnp::multiprocess::supervisor::{Progress, SupervisorConfig, supervise};
 use learnpnp::result_dir::ResultDir;
 
 /// The Keepaway experiments the system runs.
@@ -102,6 +102,7 @@ fn run(args: Args) -> Result<ExitCode> {
         }),
         heartbeat_timeout: Duration::from_secs(args.heartbeat_timeout),
         max_restarts: args.max_restarts,
+        restart_simulator: false,
         binaries: Binaries::beside_current_exe()?,
     };
     let p = config.spec.protocol;
@@ -131,11 +132,13 @@ fn run(args: Args) -> Result<ExitCode> {
     } else {
         None
     };
-    let report = supervise(&config, &mut out, interrupt.flag(), &|episodes| {
+    let per_run = p.episodes;
+    let mut progress = Progress(|run: usize, episodes: u64| {
         if let Some(bar) = &bar {
-            bar.set_position(episodes);
+            bar.set_position(run as u64 * per_run + episodes);
         }
-    })?;
+    });
+    let report = supervise(&config, &mut out, interrupt.flag(), &mut progress)?;
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }

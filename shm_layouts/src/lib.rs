@@ -300,6 +300,9 @@ pub mod control {
     /// To the simulator: keeper `target` was lost; abort the episode and wait
     /// for its replacement (process [`super::Control::pid`]).
     pub const KEEPER_LOST: u32 = 3;
+    /// To the agents: the simulator was restarted; drop the episode in
+    /// progress and say you are ready again.
+    pub const SIM_RESTARTED: u32 = 4;
     /// [`super::Control::target`] of a command for every process.
     pub const ALL: u32 = u32::MAX;
 }

@@ -541,6 +541,9 @@ pub enum Order {
     Stop,
     /// Checkpoint now.
     Checkpoint,
+    /// The simulator was restarted (to the agents): drop the episode in
+    /// progress and say you are ready.
+    SimulatorRestarted,
     /// Keeper `keeper` was lost (to the simulator); process `pid` replaces it.
     KeeperLost {
         /// The keeper.
@@ -555,6 +558,7 @@ pub fn control_message(order: Order, target: Option<Role>, sequence: u64, run_id
     let (command, target, pid) = match order {
         Order::Stop => (control::STOP, target.map_or(control::ALL, Role::sender), 0),
         Order::Checkpoint => (control::CHECKPOINT, target.map_or(control::ALL, Role::sender), 0),
+        Order::SimulatorRestarted => (control::SIM_RESTARTED, control::ALL, 0),
         Order::KeeperLost { keeper, pid } => (control::KEEPER_LOST, keeper as u32, pid),
     };
     Control {
@@ -579,6 +583,9 @@ pub fn read_control(msg: &Control, me: Role, run_id: u64) -> Result<Option<Order
                 keeper: msg.target as usize,
                 pid: msg.pid,
             }))
+        }
+        control::SIM_RESTARTED if msg.target == control::ALL => {
+            Ok((me != Role::Simulator).then_some(Order::SimulatorRestarted))
         }
         control::STOP | control::CHECKPOINT => Ok(None),
         _ => Err(Rejection::Content),
@@ -756,5 +763,11 @@ mod tests {
         let lost = control_message(order, None, 3, 3);
         assert_eq!(read_control(&lost, Role::Simulator, 3), Ok(Some(order)));
         assert_eq!(read_control(&lost, Role::Keeper(1), 3), Ok(None));
+        let restarted = control_message(Order::SimulatorRestarted, None, 4, 3);
+        assert_eq!(
+            read_control(&restarted, Role::Keeper(2), 3),
+            Ok(Some(Order::SimulatorRestarted))
+        );
+        assert_eq!(read_control(&restarted, Role::Simulator, 3), Ok(None));
     }
 }

@@ -61,6 +61,16 @@ impl Simulator {
         self.ended
     }
 
+    /// The random generator's state (between episodes: all a restart needs).
+    pub fn rng(&self) -> &SimRng {
+        &self.rng
+    }
+
+    /// Restores a random state saved with [`Simulator::rng`].
+    pub fn set_rng(&mut self, rng: SimRng) {
+        self.rng = rng;
+    }
+
     /// The current state.
     pub fn world(&self) -> &World {
         &self.world

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use super::simulator::{FLOOR_END, keepaway_config};
+use super::simulator::{FLOOR_END, histogram_file, keepaway_config};
 use super::{HEARTBEAT_EVERY, Pacemaker, ProcessError, RunContext};
 use crate::domains::keepaway::{KeepawayDomainConfig, PlanKeeper, RunSeeds, registry};
 use crate::experiment::runner::{learner_for, task_rng};
@@ -43,6 +43,12 @@ pub fn checkpoint_name(k: usize) -> String {
     } else {
         format!("values-agent{}.bin", k + 1)
     }
+}
+
+/// Where a restarted agent writes the values it resumed with:
+/// `resumed-keeper<k>.<pid>.bin` in the run's work directory.
+pub fn resumed_file(dir: &Path, k: usize, pid: u32) -> PathBuf {
+    dir.join(format!("resumed-keeper{}.{pid}.bin", k + 1))
 }
 
 /// An agent's settings beyond the run's.
@@ -202,7 +208,6 @@ struct Agent {
     pacemaker: Pacemaker,
     compute: Latency,
     checkpoint: PathBuf,
-    histogram_file: PathBuf,
     /// No episode event or ping has come since the agent started: it keeps
     /// saying it is ready (the simulator may have subscribed after the first time).
     announcing: bool,
@@ -229,10 +234,11 @@ impl Agent {
                 }
             }
         }
+        let file = histogram_file(&self.context.work_dir, self.compute.name());
         match self.compute.to_bytes() {
             Ok(bytes) => {
-                if let Err(e) = crate::atomic_file::write_atomic(&self.histogram_file, &bytes) {
-                    eprintln!("error: {}: {e}", self.histogram_file.display());
+                if let Err(e) = crate::atomic_file::write_atomic(&file, &bytes) {
+                    eprintln!("error: {}: {e}", file.display());
                 }
             }
             Err(e) => eprintln!("error: {e}"),
@@ -246,6 +252,12 @@ impl Agent {
             match order {
                 Ok(Some(Order::Stop)) => return Ok(true),
                 Ok(Some(Order::Checkpoint)) => self.save(),
+                // The new simulator starts from the last episode boundary: the
+                // episode in progress is dropped (the learner is not told its end).
+                Ok(Some(Order::SimulatorRestarted)) => {
+                    self.episode = 0;
+                    self.announcing = true;
+                }
                 Ok(Some(Order::KeeperLost { .. }) | None) => {}
                 Err(why) => self.count(why),
             }
@@ -463,16 +475,20 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
         brain,
         pacemaker: Pacemaker::new(Role::Keeper(k), context.run_id),
         compute: Latency::new(compute_histogram(k)),
-        histogram_file: context
-            .work_dir
-            .join(format!("{}.{}.hdr", compute_histogram(k), std::process::id())),
         checkpoint,
         announcing: true,
         episode: 0,
         start: EpisodeStart::LEARN,
         learning_episodes: 0,
     };
-    if !settings.resume {
+    if settings.resume {
+        // What the learner holds now, for the supervisor to compare with the
+        // checkpoint it resumed from.
+        if let Some(values) = agent.brain.values() {
+            let path = resumed_file(&context.work_dir, k, std::process::id());
+            persist::save(&path, &values)?;
+        }
+    } else {
         agent.save();
     }
     agent.announce()?;

@@ -15,6 +15,7 @@
 //! See docs/ARCHITECTURE.md for one snapshot's way through the processes.
 
 pub mod agent;
+pub mod journal;
 pub mod launch;
 pub mod report;
 pub mod simulator;

@@ -12,7 +12,7 @@ use serde::Serialize;
 use super::Clock;
 use super::agent::compute_histogram;
 use super::simulator::{AbortedEpisode, FLOOR, ROUND_TRIP};
-use super::supervisor::{Fault, RunRecord, SupervisorConfig, SupervisorError};
+use super::supervisor::{Fault, ResumeCheck, RunRecord, SupervisorConfig, SupervisorError};
 use crate::experiment::output::{SummaryFile, stage_results};
 use crate::experiment::runner::ExperimentOutput;
 use crate::ipc::convert::Rejections;
@@ -53,6 +53,10 @@ pub struct SystemSummary {
     pub late_commands: u64,
     /// Agents restarted.
     pub restarts: u32,
+    /// Every restarted agent resumed with exactly the values checkpointed before it was lost.
+    pub values_survived: bool,
+    /// Each agent restart and what it resumed with.
+    pub resumes: Vec<ResumeCheck>,
     /// Episodes aborted because a keeper was lost.
     pub aborted_episodes: usize,
     /// The aborted episodes.
@@ -123,9 +127,9 @@ pub fn summarize(
         .map(|c| c.simulator().server.cycle_seconds)
         .unwrap_or(0.1);
     let learning_cycles: u64 = records.iter().map(|r| r.sim.output.actions).sum();
-    let learning_episodes: u64 = records.iter().map(|r| r.sim.learning_episodes).sum();
-    let loop_seconds: f64 = records.iter().map(|r| r.sim.seconds).sum();
-    let cycles: u64 = records.iter().map(|r| r.sim.cycles).sum();
+    let learning_episodes: u64 = records.iter().map(|r| r.sim.totals.learning_episodes).sum();
+    let loop_seconds: f64 = records.iter().map(|r| r.sim.totals.seconds).sum();
+    let cycles: u64 = records.iter().map(|r| r.sim.totals.cycles).sum();
     let failure = records.iter().find_map(|r| r.failure.clone());
     let mut rejected: BTreeMap<String, Rejections> = BTreeMap::new();
     for record in records {
@@ -145,18 +149,23 @@ pub fn summarize(
         runs_completed: records.iter().filter(|r| r.sim.complete).count(),
         episodes: learning_episodes,
         episodes_played: records.iter().map(|r| r.sim.output.episodes_run).sum::<u64>()
-            + records.iter().map(|r| r.sim.aborted.len() as u64).sum::<u64>(),
+            + records.iter().map(|r| r.sim.totals.aborted.len() as u64).sum::<u64>(),
         cycles,
         cycles_per_second: if loop_seconds > 0.0 {
             cycles as f64 / loop_seconds
         } else {
             0.0
         },
-        missed_deadlines: records.iter().map(|r| r.sim.missed_deadlines).sum(),
-        late_commands: records.iter().map(|r| r.sim.late_commands).sum(),
+        missed_deadlines: records.iter().map(|r| r.sim.totals.missed_deadlines).sum(),
+        late_commands: records.iter().map(|r| r.sim.totals.late_commands).sum(),
         restarts: records.iter().map(|r| r.restarts).sum(),
-        aborted_episodes: records.iter().map(|r| r.sim.aborted.len()).sum(),
-        aborted: records.iter().flat_map(|r| r.sim.aborted.iter().cloned()).collect(),
+        values_survived: records.iter().flat_map(|r| &r.resumes).all(|c| c.survived),
+        resumes: records.iter().flat_map(|r| r.resumes.iter().cloned()).collect(),
+        aborted_episodes: records.iter().map(|r| r.sim.totals.aborted.len()).sum(),
+        aborted: records
+            .iter()
+            .flat_map(|r| r.sim.totals.aborted.iter().cloned())
+            .collect(),
         mean_episode_seconds: if learning_episodes > 0 {
             learning_cycles as f64 * seconds_per_cycle / learning_episodes as f64
         } else {

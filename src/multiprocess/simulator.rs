@@ -7,16 +7,18 @@
 //! in-process episodes.
 
 use std::cell::RefCell;
-use std::path::Path;
+use std::collections::VecDeque;
+use std::path::{Path, PathBuf};
 use std::rc::Rc;
 use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
 use shm_layouts::{Header, KeeperSnapshot, PROTOCOL_VERSION, SENDER_SIMULATOR};
 
+use super::journal::{self, JOURNAL_FILE, Journal, JournalEntry};
 use super::{Clock, Pacemaker, ProcessError, RunContext};
-use crate::domains::TaskError;
 use crate::domains::keepaway::{KeepawayDomainConfig, KeepawayTask, KeeperTeam, RunSeeds, TeamStep};
+use crate::domains::{EpisodeOutcome, Task, TaskError};
 use crate::experiment::runner::{RunOutput, run_protocol, task_rng};
 use crate::experiment::spec::{DomainSpec, ExperimentSpec};
 use crate::ipc::convert::{
@@ -57,15 +59,14 @@ pub struct AbortedEpisode {
     pub keepers: Vec<usize>,
 }
 
-/// What the simulator hands the supervisor when it ends.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
-pub struct SimulatorResult {
-    /// Whether the protocol ran to its end (false: stopped or failed).
-    pub complete: bool,
-    /// Why it did not complete.
-    pub error: Option<String>,
-    /// The run's evaluations, episodes and greedy score so far.
-    pub output: RunOutput,
+/// The simulator's counters. They survive a restart: the journal carries
+/// them from one whole episode to the next.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct SimTotals {
+    /// The last episode's sequence number (every episode played, aborted ones included).
+    pub episode_seq: u64,
+    /// The last cycle's sequence number.
+    pub cycle_seq: u64,
     /// Learning episodes completed.
     pub learning_episodes: u64,
     /// Cycles played (every episode, aborted ones included).
@@ -84,6 +85,20 @@ pub struct SimulatorResult {
     pub idle_cycles: u64,
 }
 
+/// What the simulator hands the supervisor when it ends.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct SimulatorResult {
+    /// Whether the protocol ran to its end (false: stopped or failed).
+    pub complete: bool,
+    /// Why it did not complete.
+    pub error: Option<String>,
+    /// The run's evaluations, episodes and greedy score so far.
+    pub output: RunOutput,
+    /// The counters.
+    #[serde(flatten)]
+    pub totals: SimTotals,
+}
+
 /// The state the remote team and the simulator's main loop share.
 struct Link {
     context: RunContext,
@@ -100,16 +115,23 @@ struct Link {
     stop: bool,
     round_trip: Latency,
     floor: Latency,
-    result: SimulatorResult,
+    totals: SimTotals,
 }
 
 impl Link {
     fn count(&mut self, why: Rejection) {
-        self.pacemaker.pulse.rejected.count(why);
+        self.totals.rejected.count(why);
     }
 
     /// Heartbeat if due, then the supervisor's commands.
     fn housekeeping(&mut self) -> Result<(), TaskError> {
+        let pulse = &mut self.pacemaker.pulse;
+        let totals = &self.totals;
+        pulse.episodes = totals.learning_episodes;
+        pulse.cycles = totals.cycles;
+        pulse.rejected = totals.rejected;
+        pulse.missed_deadlines = totals.missed_deadlines;
+        pulse.aborted_episodes = totals.aborted.len() as u64;
         self.pacemaker.tick(&self.ports.heartbeat).map_err(remote)?;
         let run_id = self.context.run_id;
         while let Some(order) =
@@ -123,7 +145,7 @@ impl Link {
                     // The replacement may have said it is ready before this was read.
                     self.awaiting[keeper] = self.ready[keeper] != Some(pid);
                 }
-                Ok(Some(Order::Checkpoint) | None) => {}
+                Ok(Some(Order::Checkpoint | Order::SimulatorRestarted) | None) => {}
                 Err(why) => self.count(why),
             }
         }
@@ -202,8 +224,6 @@ struct RemoteTeam {
     link: Rc<RefCell<Link>>,
     period: Duration,
     seconds_per_cycle: f64,
-    episode: u64,
-    cycle_seq: u64,
     start: EpisodeStart,
     cycles: u32,
 }
@@ -213,16 +233,16 @@ impl RemoteTeam {
     fn abort(&self, link: &mut Link) -> Result<TeamStep, TaskError> {
         let run_id = link.context.run_id;
         let news = EpisodeNews::Abort { cycles: self.cycles };
-        send(&link.ports.episode, episode_event(self.episode, news, run_id)).map_err(remote)?;
+        let episode = link.totals.episode_seq;
+        send(&link.ports.episode, episode_event(episode, news, run_id)).map_err(remote)?;
         link.wake_keepers()?;
         let keepers = (0..NUM_KEEPERS).filter(|&k| link.lost[k]).map(|k| k + 1).collect();
-        link.result.aborted.push(AbortedEpisode {
-            episode: self.episode,
+        link.totals.aborted.push(AbortedEpisode {
+            episode,
             mode: self.start.mode,
             cycles: self.cycles,
             keepers,
         });
-        link.pacemaker.pulse.aborted_episodes += 1;
         link.wait_ready()?;
         link.lost = [false; NUM_KEEPERS];
         // Commands of the discarded episode still queued are not rejections.
@@ -244,10 +264,10 @@ impl KeeperTeam for RemoteTeam {
         let mut link = self.link.borrow_mut();
         link.wait_ready()?;
         link.lost = [false; NUM_KEEPERS];
-        self.episode += 1;
+        link.totals.episode_seq += 1;
         self.start = start;
         self.cycles = 0;
-        let event = episode_event(self.episode, EpisodeNews::Begin(start), link.context.run_id);
+        let event = episode_event(link.totals.episode_seq, EpisodeNews::Begin(start), link.context.run_id);
         send(&link.ports.episode, event).map_err(remote)?;
         link.wake_keepers()
     }
@@ -261,12 +281,12 @@ impl KeeperTeam for RemoteTeam {
         if link.lost.contains(&true) {
             return self.abort(link);
         }
-        self.cycle_seq += 1;
+        link.totals.cycle_seq += 1;
         self.cycles += 1;
-        let run_id = link.context.run_id;
+        let (run_id, episode, cycle_seq) = (link.context.run_id, link.totals.episode_seq, link.totals.cycle_seq);
         let meta = SnapshotMeta {
-            episode: self.episode,
-            cycle_seq: self.cycle_seq,
+            episode,
+            cycle_seq,
             reward: seconds_per_cycle,
             start: self.start,
         };
@@ -288,13 +308,13 @@ impl KeeperTeam for RemoteTeam {
                         break;
                     };
                     match reading {
-                        Ok(c) if c.episode == self.episode && c.cycle_seq == self.cycle_seq => {
+                        Ok(c) if c.episode == episode && c.cycle_seq == cycle_seq => {
                             link.round_trip.record(published[k].elapsed());
-                            link.result.idle_cycles += u64::from(c.idle);
+                            link.totals.idle_cycles += u64::from(c.idle);
                             commands[k] = Some(c.command);
                         }
-                        Ok(c) if c.cycle_seq < self.cycle_seq && link.context.clock == Clock::Realtime => {
-                            link.result.late_commands += 1;
+                        Ok(c) if c.cycle_seq < cycle_seq && link.context.clock == Clock::Realtime => {
+                            link.totals.late_commands += 1;
                         }
                         Ok(_) => link.count(Rejection::Sequence),
                         Err(why) => link.count(why),
@@ -307,9 +327,7 @@ impl KeeperTeam for RemoteTeam {
             if let Some(deadline) = deadline
                 && Instant::now() >= deadline
             {
-                let missed = commands.iter().filter(|c| c.is_none()).count() as u64;
-                link.result.missed_deadlines += missed;
-                link.pacemaker.pulse.missed_deadlines += missed;
+                link.totals.missed_deadlines += commands.iter().filter(|c| c.is_none()).count() as u64;
                 break;
             }
             link.housekeeping()?;
@@ -325,8 +343,7 @@ impl KeeperTeam for RemoteTeam {
         if let Some(deadline) = deadline {
             std::thread::sleep(deadline.saturating_duration_since(Instant::now()));
         }
-        link.result.cycles += 1;
-        link.pacemaker.pulse.cycles += 1;
+        link.totals.cycles += 1;
         Ok(TeamStep::Commands(commands.map(|c| c.unwrap_or(Command::None))))
     }
 
@@ -337,13 +354,14 @@ impl KeeperTeam for RemoteTeam {
             cycles,
             seconds: f64::from(cycles) * self.seconds_per_cycle,
         };
-        send(&link.ports.episode, episode_event(self.episode, news, run_id)).map_err(remote)?;
+        let episode = link.totals.episode_seq;
+        send(&link.ports.episode, episode_event(episode, news, run_id)).map_err(remote)?;
         link.wake_keepers()?;
         let mut ended = [None; NUM_KEEPERS];
         let mut idle = Idle::new(link.context.wait);
         loop {
             link.housekeeping()?;
-            link.read_reports(self.episode, &mut ended)?;
+            link.read_reports(episode, &mut ended)?;
             if link.stop {
                 return Err(TaskError::Stopped);
             }
@@ -355,7 +373,7 @@ impl KeeperTeam for RemoteTeam {
             idle.pause(&link.ports.wake, MAX_BLOCK).map_err(remote)?;
         }
         if self.start.mode == EpisodeMode::Learn {
-            link.pacemaker.pulse.episodes += 1;
+            link.totals.learning_episodes += 1;
         }
         Ok(ended[0].unwrap_or(false))
     }
@@ -369,7 +387,7 @@ impl KeeperTeam for RemoteTeam {
     }
 
     fn idle_cycles(&self) -> u64 {
-        self.link.borrow().result.idle_cycles
+        self.link.borrow().totals.idle_cycles
     }
 }
 
@@ -455,13 +473,82 @@ pub fn keepaway_config(spec: &ExperimentSpec) -> Result<KeepawayDomainConfig, Pr
     }
 }
 
+/// How often (in whole episodes) the simulator saves its histograms, so that
+/// a killed simulator loses at most this many episodes' latencies.
+const SAVE_HISTOGRAMS_EVERY: u64 = 200;
+
+/// The task the protocol runs: Keepaway with the remote team, journaling each
+/// whole episode, and first replaying the journal of a previous incarnation.
+struct JournaledTask {
+    task: KeepawayTask,
+    link: Rc<RefCell<Link>>,
+    journal: Journal,
+    replay: VecDeque<JournalEntry>,
+    /// Episode-loop seconds of earlier incarnations, and when this one's began.
+    seconds_before: f64,
+    started: Instant,
+    work_dir: PathBuf,
+}
+
+impl Task for JournaledTask {
+    fn episode(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
+        if let Some(entry) = self.replay.pop_front() {
+            if entry.mode != mode {
+                return Err(TaskError::Invalid(format!(
+                    "the journal does not follow the protocol: a {:?} episode where a {mode:?} one is due",
+                    entry.mode
+                )));
+            }
+            if self.replay.is_empty() {
+                // The last whole episode: play on from its state.
+                self.task.set_simulator_rng(entry.rng);
+            }
+            return Ok(entry.outcome);
+        }
+        let outcome = self.task.episode(mode)?;
+        let mut link = self.link.borrow_mut();
+        link.totals.seconds = self.seconds_before + self.started.elapsed().as_secs_f64();
+        let entry = JournalEntry {
+            mode,
+            outcome,
+            rng: self.task.simulator_rng().clone(),
+            totals: link.totals.clone(),
+        };
+        self.journal
+            .append(&entry)
+            .map_err(|e| TaskError::Remote(e.to_string()))?;
+        if link.totals.episode_seq.is_multiple_of(SAVE_HISTOGRAMS_EVERY) {
+            save_histograms(&self.work_dir, &link).map_err(|e| TaskError::Remote(e.to_string()))?;
+        }
+        Ok(outcome)
+    }
+
+    fn traced_values(&self) -> Vec<(String, f64)> {
+        Vec::new()
+    }
+
+    fn learners(&self) -> Vec<&dyn crate::learning::Learner> {
+        Vec::new()
+    }
+}
+
 /// Runs the simulator of `context`'s run: waits for the agents, measures the
-/// floor with `floor_round_trips` pings, plays the experiment's protocol, and
-/// writes [`RESULT_FILE`] and the histograms into the work directory. A run
-/// that is stopped or fails still writes what it completed.
-pub fn run(context: &RunContext, floor_round_trips: usize) -> Result<SimulatorResult, ProcessError> {
+/// floor with `floor_round_trips` pings, plays the experiment's protocol
+/// (journaling every whole episode), and writes [`RESULT_FILE`] and the
+/// histograms into the work directory. With `resume` it continues the run of
+/// a killed simulator from the journal's last episode boundary (no floor
+/// measurement). A run that is stopped or fails still writes what it completed.
+pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Result<SimulatorResult, ProcessError> {
     let spec = context.load_spec()?;
     let config = keepaway_config(&spec)?;
+    let journal_path = context.work_dir.join(JOURNAL_FILE);
+    let replay = if resume {
+        journal::read(&journal_path).map_err(|e| ProcessError::Invalid(e.to_string()))?
+    } else {
+        Vec::new()
+    };
+    let journal = Journal::open(&journal_path, &replay).map_err(|e| ProcessError::Invalid(e.to_string()))?;
+    let totals = replay.last().map(|e| e.totals.clone()).unwrap_or_default();
     let namespace = context.namespace()?;
     let node = node(&namespace, "simulator")?;
     let ports = SimPorts::open(&node)?;
@@ -476,30 +563,36 @@ pub fn run(context: &RunContext, floor_round_trips: usize) -> Result<SimulatorRe
         stop: false,
         round_trip: Latency::new(ROUND_TRIP),
         floor: Latency::new(FLOOR),
-        result: SimulatorResult::default(),
+        totals,
     }));
     let seconds_per_cycle = config.simulator().server.cycle_seconds;
     let team = RemoteTeam {
         link: Rc::clone(&link),
         period: Duration::from_secs_f64(seconds_per_cycle),
         seconds_per_cycle,
-        episode: 0,
-        cycle_seq: 0,
         start: EpisodeStart::LEARN,
         cycles: 0,
     };
     let mut output = RunOutput::default();
-    let mut started = Instant::now();
     let outcome = (|| -> Result<(), TaskError> {
         {
             let mut link = link.borrow_mut();
             link.wait_ready()?;
             link.pacemaker.pulse.state = ProcessState::Running;
-            measure_floor(&mut link, floor_round_trips)?;
+            if !resume {
+                measure_floor(&mut link, floor_round_trips)?;
+            }
         }
-        started = Instant::now();
         let seeds = RunSeeds::draw(&mut task_rng(&spec, context.run));
-        let mut task = KeepawayTask::with_team(config, Box::new(team), seeds)?;
+        let mut task = JournaledTask {
+            task: KeepawayTask::with_team(config, Box::new(team), seeds)?,
+            link: Rc::clone(&link),
+            journal,
+            seconds_before: replay.last().map_or(0.0, |e| e.totals.seconds),
+            replay: replay.into(),
+            started: Instant::now(),
+            work_dir: context.work_dir.clone(),
+        };
         run_protocol(&spec, &mut task, context.run, &mut output, |_| {}, || false)
             .map(drop)
             .map_err(|e| match e {
@@ -509,28 +602,32 @@ pub fn run(context: &RunContext, floor_round_trips: usize) -> Result<SimulatorRe
     })();
     let mut link = link.borrow_mut();
     let link = &mut *link;
-    link.result.seconds = started.elapsed().as_secs_f64();
-    link.result.output = output;
-    link.result.complete = outcome.is_ok();
-    link.result.error = outcome.err().map(|e| e.to_string());
-    link.result.rejected = link.pacemaker.pulse.rejected;
-    link.result.learning_episodes = link.pacemaker.pulse.episodes;
     link.pacemaker.pulse.state = ProcessState::Stopping;
     link.pacemaker.beat(&link.ports.heartbeat)?;
-    write_files(&context.work_dir, link)?;
-    Ok(link.result.clone())
+    let result = SimulatorResult {
+        complete: outcome.is_ok(),
+        error: outcome.err().map(|e| e.to_string()),
+        output,
+        totals: link.totals.clone(),
+    };
+    save_histograms(&context.work_dir, link)?;
+    let json = serde_json::to_vec_pretty(&result).map_err(|e| ProcessError::Invalid(e.to_string()))?;
+    let path = context.work_dir.join(RESULT_FILE);
+    crate::atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })?;
+    Ok(result)
 }
 
-fn write_files(dir: &Path, link: &Link) -> Result<(), ProcessError> {
-    let write = |name: &str, bytes: &[u8]| {
-        let path = dir.join(name);
-        crate::atomic_file::write_atomic(&path, bytes).map_err(|source| ProcessError::Io { path, source })
-    };
-    let json = serde_json::to_vec_pretty(&link.result).map_err(|e| ProcessError::Invalid(e.to_string()))?;
-    write(RESULT_FILE, &json)?;
+/// The file of histogram `name` recorded by this process: `<name>.<pid>.hdr`
+/// (every incarnation of a process writes its own; the supervisor merges them).
+pub fn histogram_file(dir: &Path, name: &str) -> PathBuf {
+    dir.join(format!("{name}.{}.hdr", std::process::id()))
+}
+
+fn save_histograms(dir: &Path, link: &Link) -> Result<(), ProcessError> {
     for histogram in [&link.round_trip, &link.floor] {
         let bytes = histogram.to_bytes().map_err(|e| ProcessError::Invalid(e.to_string()))?;
-        write(&format!("{}.hdr", histogram.name()), &bytes)?;
+        let path = histogram_file(dir, histogram.name());
+        crate::atomic_file::write_atomic(&path, &bytes).map_err(|source| ProcessError::Io { path, source })?;
     }
     Ok(())
 }

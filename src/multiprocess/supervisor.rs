@@ -16,7 +16,7 @@ use std::time::{Duration, Instant};
 use rand::RngExt;
 use serde::Serialize;
 
-use super::agent::{checkpoint_name, compute_histogram};
+use super::agent::{checkpoint_name, compute_histogram, resumed_file};
 use super::launch::{Binaries, LaunchError, Process, spawn};
 use super::simulator::{FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult};
 use super::{Clock, RunContext};
@@ -52,8 +52,11 @@ pub struct SupervisorConfig {
     pub floor_round_trips: usize,
     /// A process silent for this long is taken as hung and killed.
     pub heartbeat_timeout: Duration,
-    /// Restarts of one keeper in one run before the run is given up.
+    /// Restarts of one keeper (or of the simulator) in one run before the run is given up.
     pub max_restarts: u32,
+    /// Restart a simulator that dies, from its journal's last episode boundary
+    /// (chaos soaks); otherwise a dead simulator ends the run.
+    pub restart_simulator: bool,
     /// The simulator's and agents' binaries.
     pub binaries: Binaries,
 }
@@ -109,6 +112,32 @@ pub struct Fault {
     pub outcome: String,
 }
 
+/// Whether a restarted agent resumed with exactly the values checkpointed
+/// before it was lost.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ResumeCheck {
+    /// The run.
+    pub run: usize,
+    /// The keeper (1-based).
+    pub keeper: usize,
+    /// The replacement's process id.
+    pub pid: u32,
+    /// What it should have loaded: "checkpoint", or "previous checkpoint" when
+    /// the last one was unusable.
+    pub source: String,
+    /// It loaded exactly those values.
+    pub survived: bool,
+}
+
+/// The checkpoint a replacement agent is to resume from, as it was when the
+/// supervisor started the replacement.
+#[derive(Debug)]
+struct PendingResume {
+    keeper: usize,
+    pid: u32,
+    expected: Option<(SavedValues, &'static str)>,
+}
+
 /// What one run of the system produced.
 #[derive(Debug)]
 pub struct RunRecord {
@@ -121,8 +150,10 @@ pub struct RunRecord {
     pub failure: Option<String>,
     /// Faults and restarts, in order.
     pub faults: Vec<Fault>,
-    /// Agents restarted.
+    /// Processes restarted (agents and, in chaos soaks, the simulator).
     pub restarts: u32,
+    /// For each agent restart: did it resume with the checkpointed values?
+    pub resumes: Vec<ResumeCheck>,
     /// The run's histograms: round trip, floor, and each keeper's compute time.
     pub histograms: Vec<Latency>,
     /// Messages refused, by process (the simulator and each keeper, all incarnations).
@@ -187,9 +218,57 @@ fn log_tail(path: &Path) -> String {
     lines[lines.len().saturating_sub(3)..].join(" | ")
 }
 
+/// A supervised run at a moment, as an observer sees it.
+#[derive(Debug)]
+pub struct RunView<'a> {
+    /// The run's index.
+    pub run: usize,
+    /// Seconds since its processes were started.
+    pub seconds: f64,
+    /// Its iceoryx2 namespace.
+    pub namespace: &'a Namespace,
+    /// Its working directory (checkpoints, logs, histograms).
+    pub work_dir: &'a Path,
+    /// Its id (every message carries it).
+    pub run_id: u64,
+    /// The processes alive now, with their ids.
+    pub processes: Vec<(Role, u32)>,
+    /// The current simulator's last heartbeat.
+    pub simulator: Option<&'a Pulse>,
+}
+
+/// Watches supervised runs from the supervisor's loop (about every 10 ms):
+/// progress bars, soak sampling, fault injection.
+pub trait RunObserver {
+    /// Looks at the run; `false` asks it to stop (as Ctrl-C does).
+    fn observe(&mut self, view: &RunView<'_>) -> bool;
+
+    /// Adds the observer's files to the result set before it is published.
+    fn finish(
+        &mut self,
+        _files: &mut crate::result_dir::ResultWriter<'_>,
+        _records: &[RunRecord],
+    ) -> Result<(), SupervisorError> {
+        Ok(())
+    }
+}
+
+/// An observer that only reports the learning episodes done in each run.
+pub struct Progress<F: Fn(usize, u64)>(pub F);
+
+impl<F: Fn(usize, u64)> RunObserver for Progress<F> {
+    fn observe(&mut self, view: &RunView<'_>) -> bool {
+        if let Some(pulse) = view.simulator {
+            (self.0)(view.run, pulse.episodes);
+        }
+        true
+    }
+}
+
 /// One run being supervised.
 struct Watch<'a> {
     config: &'a SupervisorConfig,
+    namespace: &'a Namespace,
     context: RunContext,
     ports: SupervisorPorts,
     fleet: Fleet,
@@ -198,6 +277,8 @@ struct Watch<'a> {
     pulses: BTreeMap<(Role, u32), Pulse>,
     faults: Vec<Fault>,
     restarts: [u32; NUM_KEEPERS],
+    simulator_restarts: u32,
+    resumes: Vec<PendingResume>,
     control_sequence: u64,
 }
 
@@ -212,6 +293,9 @@ impl Watch<'_> {
 
     fn start(&mut self, role: Role, resume: bool) -> Result<(), SupervisorError> {
         let mut args = self.context.to_args();
+        if resume {
+            args.push("--resume".into());
+        }
         let binary = match role {
             Role::Simulator => {
                 args.push("--floor-round-trips".into());
@@ -223,9 +307,6 @@ impl Watch<'_> {
                 args.push((k + 1).to_string().into());
                 args.push("--checkpoint-every".into());
                 args.push(self.config.checkpoint_every.to_string().into());
-                if resume {
-                    args.push("--resume".into());
-                }
                 &self.config.binaries.agent
             }
         };
@@ -255,10 +336,9 @@ impl Watch<'_> {
         Ok(())
     }
 
-    /// Reads the heartbeats; returns the simulator's learning episodes so far.
-    fn heartbeats(&mut self) -> Result<Option<u64>, SupervisorError> {
+    /// Reads the heartbeats.
+    fn heartbeats(&mut self) -> Result<(), SupervisorError> {
         let run_id = self.context.run_id;
-        let mut episodes = None;
         while let Some(reading) = receive(&self.ports.heartbeats, |m| read_heartbeat(m, run_id))? {
             // Heartbeats that do not read are a foreign process's: ignored here,
             // counted by the processes that must act on such messages.
@@ -271,13 +351,10 @@ impl Watch<'_> {
                 if from_current {
                     self.last_heard.insert(pulse.role, Instant::now());
                 }
-                if pulse.role == Role::Simulator {
-                    episodes = Some(pulse.episodes);
-                }
                 self.pulses.insert((pulse.role, pulse.pid), pulse);
             }
         }
-        Ok(episodes)
+        Ok(())
     }
 
     /// Replaces keeper `k`'s agent after it `what` (exited or hung).
@@ -292,25 +369,80 @@ impl Watch<'_> {
                 log_tail(&self.log(Role::Keeper(k)))
             )));
         }
+        let checkpoint = self.context.work_dir.join(checkpoint_name(k));
+        // What the replacement must load: the checkpoint, or the previous one if it is unusable.
+        let expected = match persist::load(&checkpoint) {
+            Ok(values) => Some((values, "checkpoint")),
+            Err(_) => persist::load(&persist::prev_path(&checkpoint))
+                .ok()
+                .map(|values| (values, "previous checkpoint")),
+        };
         self.start(Role::Keeper(k), true)?;
         let pid = self.fleet.processes.get(&Role::Keeper(k)).map_or(0, Process::pid);
         self.order(Order::KeeperLost { keeper: k, pid }, Some(Role::Simulator))?;
-        let checkpoint = self.context.work_dir.join(checkpoint_name(k));
+        self.resumes.push(PendingResume {
+            keeper: k,
+            pid,
+            expected,
+        });
         self.fault(what, format!("restarted from its checkpoint {}", checkpoint.display()));
         Ok(())
     }
 
+    fn may_restart_simulator(&self, stop: &AtomicBool) -> bool {
+        self.config.restart_simulator && !stop.load(Ordering::Relaxed)
+    }
+
+    /// Replaces the simulator after it `what`: the new one continues from its
+    /// journal's last episode boundary; the agents drop the episode in progress.
+    fn restart_simulator(&mut self, what: String) -> Result<(), SupervisorError> {
+        self.simulator_restarts += 1;
+        if self.simulator_restarts > self.config.max_restarts {
+            self.fault(
+                what.clone(),
+                format!("not restarted: {} restarts already", self.config.max_restarts),
+            );
+            return Err(SupervisorError::Failed(format!("{what}: run given up")));
+        }
+        self.order(Order::SimulatorRestarted, None)?;
+        self.start(Role::Simulator, true)?;
+        self.fault(what, "restarted from its journal's last episode boundary".into());
+        Ok(())
+    }
+
+    /// What an observer sees now.
+    fn view(&self) -> RunView<'_> {
+        let simulator = self
+            .fleet
+            .processes
+            .get(&Role::Simulator)
+            .and_then(|p| self.pulses.get(&(Role::Simulator, p.pid())));
+        RunView {
+            run: self.context.run,
+            seconds: self.started.elapsed().as_secs_f64(),
+            namespace: self.namespace,
+            work_dir: &self.context.work_dir,
+            run_id: self.context.run_id,
+            processes: self.fleet.processes.iter().map(|(role, p)| (*role, p.pid())).collect(),
+            simulator,
+        }
+    }
+
     /// Watches until the simulator exits; restarts agents on the way.
-    fn watch(&mut self, stop: &AtomicBool, progress: &dyn Fn(u64)) -> Result<ExitStatus, SupervisorError> {
+    fn watch(&mut self, stop: &AtomicBool, observer: &mut dyn RunObserver) -> Result<ExitStatus, SupervisorError> {
         let mut stop_sent = false;
         loop {
-            if let Some(episodes) = self.heartbeats()? {
-                progress(episodes);
-            }
-            if stop.load(Ordering::Relaxed) && !stop_sent {
+            self.heartbeats()?;
+            let go_on = observer.observe(&self.view());
+            if !stop_sent && (stop.load(Ordering::Relaxed) || !go_on) {
                 stop_sent = true;
                 self.order(Order::Stop, Some(Role::Simulator))?;
-                self.fault("stop requested (signal)".into(), "the simulator ends the run".into());
+                let why = if go_on {
+                    "stop requested (signal)"
+                } else {
+                    "stop requested (observer)"
+                };
+                self.fault(why.into(), "the simulator ends the run".into());
             }
             let mut exited = Vec::new();
             for (role, process) in &mut self.fleet.processes {
@@ -321,6 +453,9 @@ impl Watch<'_> {
             for (role, status) in exited {
                 self.fleet.processes.remove(&role);
                 match role {
+                    Role::Simulator if !status.success() && self.may_restart_simulator(stop) => {
+                        self.restart_simulator(format!("the simulator exited: {}", describe(status)))?;
+                    }
                     Role::Simulator => return Ok(status),
                     Role::Keeper(k) => {
                         let what = format!("{role} exited: {}", describe(status));
@@ -352,6 +487,7 @@ impl Watch<'_> {
                         describe(status)
                     );
                     match role {
+                        Role::Simulator if self.may_restart_simulator(stop) => self.restart_simulator(what)?,
                         Role::Simulator => {
                             self.fault(what.clone(), "run given up".into());
                             return Err(SupervisorError::Failed(what));
@@ -406,7 +542,7 @@ impl Watch<'_> {
     /// Messages refused, summed over every incarnation of each process.
     fn rejected(&self, sim: &SimulatorResult) -> BTreeMap<String, Rejections> {
         let mut by_process: BTreeMap<String, Rejections> = BTreeMap::new();
-        by_process.insert(Role::Simulator.to_string(), sim.rejected);
+        by_process.insert(Role::Simulator.to_string(), sim.totals.rejected);
         for ((role, _), pulse) in &self.pulses {
             if let Role::Keeper(_) = role {
                 let entry = by_process.entry(role.to_string()).or_default();
@@ -417,44 +553,29 @@ impl Watch<'_> {
     }
 }
 
-/// Reads every histogram the run's processes wrote into `dir`, the keepers'
-/// incarnations merged.
+/// Reads every histogram the run's processes wrote into `dir`, the
+/// incarnations of each process merged (`<name>.<pid>.hdr`).
 fn read_histograms(dir: &Path) -> Result<Vec<Latency>, SupervisorError> {
-    let read = |path: &Path, name: &str| -> Result<Option<Latency>, SupervisorError> {
-        match fs::read(path) {
-            Ok(bytes) => Ok(Some(Latency::from_bytes(name, &bytes)?)),
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
-            Err(source) => Err(SupervisorError::Io {
-                path: path.to_path_buf(),
-                source,
-            }),
-        }
-    };
-    let mut histograms = Vec::new();
-    for name in [ROUND_TRIP, FLOOR] {
-        if let Some(h) = read(&dir.join(format!("{name}.hdr")), name)? {
-            histograms.push(h);
-        }
-    }
-    let mut entries: Vec<PathBuf> = fs::read_dir(dir)
+    let mut files: Vec<PathBuf> = fs::read_dir(dir)
         .map_err(io_error(dir))?
         .flatten()
         .map(|e| e.path())
         .collect();
-    entries.sort();
-    for k in 0..NUM_KEEPERS {
-        let name = compute_histogram(k);
+    files.sort();
+    let names = [ROUND_TRIP.to_string(), FLOOR.to_string()]
+        .into_iter()
+        .chain((0..NUM_KEEPERS).map(compute_histogram));
+    let mut histograms = Vec::new();
+    for name in names {
         let mut merged = Latency::new(name.clone());
-        for path in &entries {
+        for path in &files {
             let file = path
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_default();
-            if file.starts_with(&format!("{name}."))
-                && file.ends_with(".hdr")
-                && let Some(h) = read(path, &name)?
-            {
-                merged.merge(&h)?;
+            if file.starts_with(&format!("{name}.")) && file.ends_with(".hdr") {
+                let bytes = fs::read(path).map_err(io_error(path))?;
+                merged.merge(&Latency::from_bytes(name.clone(), &bytes)?)?;
             }
         }
         histograms.push(merged);
@@ -471,14 +592,14 @@ pub fn supervise_run(
     run: usize,
     work_dir: &Path,
     stop: &AtomicBool,
-    progress: &dyn Fn(u64),
+    observer: &mut dyn RunObserver,
 ) -> Result<RunRecord, SupervisorError> {
     fs::create_dir_all(work_dir).map_err(io_error(work_dir))?;
     let spec_path = work_dir.join("spec.json");
     let spec_json = serde_json::to_vec_pretty(&config.spec).map_err(|e| SupervisorError::Failed(e.to_string()))?;
     crate::atomic_file::write_atomic(&spec_path, &spec_json).map_err(io_error(&spec_path))?;
     let owner = Namespace::claim_unique()?;
-    let outcome = run_in(config, run, work_dir, &spec_path, &owner, stop, progress);
+    let outcome = run_in(config, run, work_dir, &spec_path, &owner, stop, observer);
     let prefix = owner.namespace().prefix().to_string();
     let namespace = owner.namespace().clone();
     let released = owner.release();
@@ -496,7 +617,7 @@ fn run_in(
     spec_path: &Path,
     owner: &NamespaceOwner,
     stop: &AtomicBool,
-    progress: &dyn Fn(u64),
+    observer: &mut dyn RunObserver,
 ) -> Result<RunRecord, SupervisorError> {
     let namespace = owner.namespace();
     let node = node(namespace, "supervisor")?;
@@ -516,6 +637,7 @@ fn run_in(
         .map_err(io_error(&identity_path))?;
     let mut watch = Watch {
         config,
+        namespace,
         ports: SupervisorPorts::open(&node)?,
         context,
         fleet: Fleet {
@@ -526,13 +648,15 @@ fn run_in(
         pulses: BTreeMap::new(),
         faults: Vec::new(),
         restarts: [0; NUM_KEEPERS],
+        simulator_restarts: 0,
+        resumes: Vec::new(),
         control_sequence: 0,
     };
     watch.start(Role::Simulator, false)?;
     for k in 0..NUM_KEEPERS {
         watch.start(Role::Keeper(k), false)?;
     }
-    let watched = watch.watch(stop, progress);
+    let watched = watch.watch(stop, observer);
     watch.stop_agents(Duration::from_secs(10))?;
     let failure = match watched {
         Ok(status) if status.success() => None,
@@ -577,12 +701,32 @@ fn run_in(
         }
     }
     let checkpoint_failures = watch.pulses.values().map(|p| p.checkpoint_failures).sum();
+    let resumes = watch
+        .resumes
+        .iter()
+        .filter(|r| r.expected.is_some() || r.keeper < learning)
+        .map(|r| {
+            let loaded = persist::load(&resumed_file(work_dir, r.keeper, r.pid)).ok();
+            let (source, survived) = match &r.expected {
+                Some((values, source)) => (source.to_string(), loaded.as_ref() == Some(values)),
+                None => ("none usable".to_string(), false),
+            };
+            ResumeCheck {
+                run,
+                keeper: r.keeper + 1,
+                pid: r.pid,
+                source,
+                survived,
+            }
+        })
+        .collect();
     Ok(RunRecord {
         run,
         rejected: watch.rejected(&sim),
         sim,
         failure,
-        restarts: watch.restarts.iter().sum(),
+        restarts: watch.restarts.iter().sum::<u32>() + watch.simulator_restarts,
+        resumes,
         faults: std::mem::take(&mut watch.faults),
         histograms: read_histograms(work_dir)?,
         checkpoint_failures,
@@ -610,34 +754,31 @@ pub fn run_work_dir(out: &Path, run: usize) -> PathBuf {
 const RUNS_DIR: &str = "runs";
 
 /// Runs every run of `config`'s experiment one after the other (stopping at
-/// the first that fails, or when `stop` is set) and publishes the report in
-/// `out` as one set (the runs' working files under `runs/`).
-/// `progress` is told the learning episodes completed over all runs.
+/// the first that fails, or when `stop` is set or `observer` asks) and
+/// publishes the report in `out` as one set (the runs' working files under
+/// `runs/`, then the observer's files).
 pub fn supervise(
     config: &SupervisorConfig,
     out: &mut ResultDir,
     stop: &AtomicBool,
-    progress: &dyn Fn(u64),
+    observer: &mut dyn RunObserver,
 ) -> Result<super::report::Report, SupervisorError> {
     let started = Instant::now();
     let mut files = out.writer()?;
     let runs_dir = files.scratch_dir(RUNS_DIR)?;
     let mut records: Vec<RunRecord> = Vec::new();
-    let per_run = config.spec.protocol.episodes;
     for run in 0..config.spec.protocol.runs {
         if stop.load(Ordering::Relaxed) {
             break;
         }
-        let done_before = run as u64 * per_run;
         let work_dir = runs_dir.join(format!("run-{run}"));
-        let record = supervise_run(config, run, &work_dir, stop, &|episodes| {
-            progress(done_before + episodes)
-        })?;
+        let record = supervise_run(config, run, &work_dir, stop, observer)?;
         let ended = record.failure.is_some() || !record.sim.complete;
         records.push(record);
         if ended {
             break;
         }
     }
+    observer.finish(&mut files, &records)?;
     super::report::write_report(files, config, &records, started.elapsed().as_secs_f64())
 }

@@ -147,6 +147,16 @@ impl KeepawayTask {
         &self.config
     }
 
+    /// The simulator's random state (between episodes: what a restart resumes from).
+    pub fn simulator_rng(&self) -> &SimRng {
+        self.sim.rng()
+    }
+
+    /// Restores the simulator's random state.
+    pub fn set_simulator_rng(&mut self, rng: SimRng) {
+        self.sim.set_rng(rng);
+    }
+
     /// Cycles in which a plan-driven keeper issued no command, over the run.
     pub fn idle_cycles(&self) -> u64 {
         self.team.idle_cycles()
