@@ -6,6 +6,11 @@
 
 #![deny(missing_docs)]
 
+/// The README's code blocks, compiled and run as doc-tests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
+
 pub mod analysis;
 pub mod atomic_file;
 pub mod condition;

@@ -133,12 +133,19 @@ fn a_dead_end_branch_fails_only_the_markings_after_it() {
             markings: 1,
             examples,
             ending_in_fail: 0,
+            why,
         },
     ] = failures_of(&report, Property::Effectiveness)[..]
     else {
         panic!("only 'lost' cannot reach the goal: {report}");
     };
     assert_eq!(examples[0].marking, "lost");
+    assert_eq!(why, &["the plan can stop before its goal (see deadlock)"]);
+    let text = report.to_string();
+    assert!(
+        text.contains("because no transition leaves p4 'lost': add one, or label it 'goal' (or 'fail')"),
+        "{text}"
+    );
     assert_eq!(examples[0].trace, ["look.start", "look.end [not ok]"]);
     let [Failure::DeadMarkings { markings: 1, .. }] = failures_of(&report, Property::Deadlock)[..] else {
         panic!("'lost' is dead: {report}");
@@ -170,9 +177,20 @@ fn a_transition_whose_input_is_never_marked_fails_minimality() {
     b.transition("never", &[(orphan, 1)], &[(goal, 1)]);
     let report = check(&build(b), LIMIT);
     assert_eq!(verdict(&report, Property::Minimality), &Verdict::Failed);
-    let [Failure::DeadTransition { transition, element }] = failures_of(&report, Property::Minimality)[..] else {
+    let [
+        Failure::DeadTransition {
+            transition,
+            element,
+            why,
+        },
+    ] = failures_of(&report, Property::Minimality)[..]
+    else {
         panic!("one dead transition expected: {report}");
     };
+    assert_eq!(
+        why,
+        &["its input place p4 'orphan' is never marked: no arc leads into it and it starts empty"]
+    );
     assert_eq!(*transition, TransitionId::new(2));
     assert_eq!((element.id.as_str(), element.label.as_str()), ("t3", "never"));
     for property in [Property::Safety, Property::Effectiveness, Property::Deadlock] {
@@ -414,6 +432,86 @@ fn reports_are_deterministic() {
     let a = check(&sequence(), LIMIT).to_string();
     let b = check(&sequence(), LIMIT).to_string();
     assert_eq!(a, b);
+}
+
+/// Plans like the public PNP library's ROS demos: a loop that never marks the
+/// goal place, which no arc reaches.
+#[test]
+fn a_plan_that_loops_for_ever_is_explained_by_its_goal_place_and_its_loop() {
+    let mut b = PlanBuilder::new("patrol");
+    let init = b.initial_place("init");
+    let there = b.place("there");
+    b.action_into(init, "goto", there);
+    b.action_into(there, "home", init);
+    b.goal_place();
+    let report = check(&build(b), LIMIT);
+    assert_eq!(verdict(&report, Property::Effectiveness), &Verdict::Failed);
+    let text = report.to_string();
+    assert!(
+        text.contains("because the goal place p5 'goal' has no incoming arc: no transition ever marks it"),
+        "{text}"
+    );
+    assert!(
+        text.contains("and from [init] the plan loops for ever without reaching its goal: goto.start → goto.end → home.start → home.end leads back to it"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_join_waiting_for_a_token_that_never_comes_is_named() {
+    // Two exclusive branches joined as if both ran (the library's enabledTransitions plan).
+    let mut b = PlanBuilder::new("bad_join");
+    let init = b.initial_place("init");
+    let a = b.place("after_a");
+    let c = b.place("after_b");
+    b.action_into(init, "A", a);
+    b.action_into(init, "B", c);
+    let goal = b.goal_place();
+    b.transition("join", &[(a, 1), (c, 1)], &[(goal, 1)]);
+    let report = check(&build(b), LIMIT);
+    let text = report.to_string();
+    assert!(text.contains("transition t5 'join' can never fire"), "{text}");
+    assert!(
+        text.contains("because its input places p2 'after_a', p3 'after_b' are never marked at the same time"),
+        "{text}"
+    );
+    assert!(
+        text.contains("the goal place p6 'goal' is never marked: the transitions into it (t5 'join') never fire"),
+        "{text}"
+    );
+    assert!(
+        text.contains("t5 'join', which takes the token of p2 'after_a', also needs a token in p3 'after_b': the plan waits there for ever"),
+        "{text}"
+    );
+}
+
+#[test]
+fn passing_deadlock_without_a_goal_place_says_what_it_means() {
+    let mut b = PlanBuilder::new("forever");
+    let init = b.initial_place("init");
+    let there = b.place("there");
+    b.action_into(init, "goto", there);
+    b.action_into(there, "home", init);
+    let report = check(&build(b), LIMIT);
+    assert!(report.passed(), "{report}");
+    let text = report.to_string();
+    assert!(
+        text.contains("deadlock       passed         no reachable marking stops the plan: with no goal place it runs until stopped from outside"),
+        "{text}"
+    );
+}
+
+#[test]
+fn an_empty_initial_marking_is_named() {
+    let mut b = PlanBuilder::new("empty");
+    let start = b.place("start");
+    let goal = b.goal_place();
+    b.action_into(start, "A", goal);
+    let text = check(&build(b), LIMIT).to_string();
+    assert!(
+        text.contains("because no place holds a token at the start: give the initial place a token"),
+        "{text}"
+    );
 }
 
 #[test]

@@ -178,7 +178,7 @@ fn an_experiment_writes_its_results_and_replays_with_its_seed() {
     assert!(values.status.success());
     let csv = text(&values.stdout);
     assert!(
-        csv.starts_with("plan,marking,value,visits") && csv.contains("MoveNorth.exec"),
+        csv.starts_with("plan,choice_point,at,option,marking,value,visits,greedy") && csv.contains("MoveNorth.start"),
         "{csv}"
     );
 

@@ -112,3 +112,38 @@ fn complementary_sensing_outcomes_are_no_choice_point() {
 fn output_is_deterministic() {
     assert_eq!(to_dot(&demo()), to_dot(&demo()));
 }
+
+/// `check` and `dot` agree on the choice points of every shipped plan: the
+/// double circles are the places `check` lists.
+#[test]
+fn dot_draws_the_choice_points_check_reports() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("plans");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .expect("plans/")
+        .map(|e| e.expect("an entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "pnml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 10);
+    for file in files {
+        let plan = learnpnp::plan::load_plan(&file, Vocabulary::Open).expect("a shipped plan loads");
+        let report = learnpnp::analysis::check(&plan, learnpnp::analysis::DEFAULT_LIMIT);
+        let mut reported: Vec<String> = report.choice_points.iter().map(|c| c.element.id.clone()).collect();
+        reported.sort();
+        let dot = to_dot(&plan);
+        let mut drawn: Vec<String> = dot
+            .lines()
+            .filter(|l| l.contains("shape=doublecircle"))
+            .map(|l| {
+                l.trim_start()
+                    .trim_start_matches('"')
+                    .split('"')
+                    .next()
+                    .unwrap_or("")
+                    .to_string()
+            })
+            .collect();
+        drawn.sort();
+        assert_eq!(drawn, reported, "{}", file.display());
+    }
+}

@@ -189,3 +189,23 @@ fn eps_sosmc_converges_to_the_optimal_policy_in_most_runs() {
         "{top_two} of {runs} runs in the two best policies; exact values {values:?}"
     );
 }
+
+/// The library's optimum, drawn as the reference line of the grid's curves,
+/// is the one computed independently here.
+#[test]
+fn the_reference_line_is_this_optimum() {
+    use learnpnp::domains::grid::Direction;
+    let (policy, value) = optimum();
+    let (lib_policy, lib_value) =
+        parr_russell::optimum::optimum(&ParrRussellConfig::default()).expect("some policy terminates");
+    let moves = [Direction::North, Direction::South, Direction::East, Direction::West];
+    assert_eq!(lib_policy, policy.map(|m| moves[m]));
+    assert!((lib_value - value).abs() < 1e-12, "{lib_value} against {value}");
+    let domain = DomainSpec::ParrRussell {
+        config: ParrRussellConfig::default(),
+        plan: None,
+    };
+    let reference = domain.reference().expect("a reference");
+    assert!((reference.value - value).abs() < 1e-12);
+    assert!(reference.label.contains("0.263"), "{}", reference.label);
+}

@@ -88,17 +88,9 @@ fn transition_label_errors_name_the_transition_and_token() {
             "goto.strat",
             "unknown transition function",
         ),
-        ("goto.start", "fly.end", "t2", "fly.end", "no execution place"),
         ("goto.start", "goto.end [a] [b]", "t2", "[b]", "at most one guard"),
         ("goto.start", "goto.end [a", "t2", "goto.end [a", "unbalanced"),
         ("end", "goto.end", "t1", "end", "no adjacent execution place"),
-        (
-            "goto.start",
-            "goto.end [fly.finished]",
-            "t2",
-            "fly.finished",
-            "no execution place names",
-        ),
     ];
     for (start, end, id, token, reason) in cases {
         let err = transition_error(start, end);
@@ -107,6 +99,41 @@ fn transition_label_errors_name_the_transition_and_token() {
         assert!(msg.contains(&format!("'{token}'")), "{msg}");
         assert!(msg.contains(reason), "{msg}");
     }
+}
+
+#[test]
+fn calls_of_actions_no_place_executes_are_accepted_with_a_warning() {
+    // As the PNP library does: executables are called and asked by name.
+    for (start, end, token) in [
+        ("goto.start", "fly.end", "fly.end"),
+        ("goto.start", "goto.end [fly.finished]", "fly.finished"),
+    ] {
+        let plan = load(action_net(start, end)).expect("accepted");
+        assert!(plan.action_named("fly").is_some(), "{end}");
+        assert!(plan.action(plan.action_named("fly").unwrap()).exec_places.is_empty());
+        let warnings: Vec<String> = plan.warnings().iter().map(|w| w.to_string()).collect();
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        assert!(
+            warnings[0].contains("transition 't2'") && warnings[0].contains("no execution place names action 'fly'"),
+            "{warnings:?}"
+        );
+        assert!(warnings[0].contains(token), "{warnings:?}");
+    }
+    // A start into another action's place, an end taking another's token.
+    let plan = load(action_net("fly.start", "goto.end")).expect("accepted");
+    assert!(
+        plan.warnings()[0]
+            .message
+            .contains("marks the execution place of 'goto'"),
+        "{:?}",
+        plan.warnings()
+    );
+    assert!(
+        load(action_net("goto.start", "goto.end"))
+            .unwrap()
+            .warnings()
+            .is_empty()
+    );
 }
 
 #[test]

@@ -398,7 +398,7 @@ impl Chooser for Wild {
 fn errors_name_the_machine() {
     let p = plan("machine m\n initial s {nothing}\n");
     match Executor::new(p, &registry()) {
-        Err(ExecError::UnknownAction { plan, action }) => {
+        Err(ExecError::UnknownAction { plan, action, .. }) => {
             assert_eq!((plan.as_str(), action.as_str()), ("m", "nothing"))
         }
         other => panic!("{:?}", other.err()),

@@ -220,8 +220,12 @@ fn run_system(
     print!("{}", report.latency_table());
     if let Some(e) = &summary.experiment {
         println!(
-            "learning: final evaluation {:.2} s of possession (95% CI {:.2} .. {:.2}), greedy {:.2} s, mean episode {:.2} s",
-            e.final_mean, e.final_ci95[0], e.final_ci95[1], e.final_greedy_mean, summary.mean_episode_seconds
+            "learning: final evaluation {:.2} s of possession (95% CI {:.2} .. {:.2}), greedy {}, mean episode {:.2} s",
+            e.final_mean,
+            e.final_ci95[0],
+            e.final_ci95[1],
+            learnpnp::experiment::output::greedy_text(e),
+            summary.mean_episode_seconds
         );
     }
     println!(

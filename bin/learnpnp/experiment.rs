@@ -6,7 +6,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use learnpnp::experiment::args::{DomainName, ExperimentOptions};
 use learnpnp::experiment::checkpoint::{ResumePoint, resume_point};
-use learnpnp::experiment::output::{SummaryFile, write_results};
+use learnpnp::experiment::output::{SummaryFile, ci_text, greedy_text, replay_name, with_unit, write_results};
 use learnpnp::experiment::ranges;
 use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
 use learnpnp::experiment::spec::ExperimentSpec;
@@ -133,24 +133,40 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
     // Checked and locked before any work.
     let mut dir = ResultDir::open(&args.out)?;
     let threads = args.threads.unwrap_or_else(default_threads);
+    let configuration = serde_json::to_string_pretty(&spec).context("printing the configuration")?;
+    println!(
+        "configuration ({threads} worker threads; saved in {} with the results):\n{configuration}",
+        args.out.join("summary.json").display()
+    );
     match run_into(&spec, &mut dir, args.resume, threads, &interrupt)? {
         Finished::AlreadyComplete => println!(
             "{} already holds the complete results of this experiment; nothing to do",
             args.out.display()
         ),
-        Finished::Complete { summary, .. } => println!(
-            "{} on {}: final mean {:.4} (95% CI {:.4} .. {:.4}), greedy {:.4}; {} runs in {:.2} s, {:.0} episodes/s; results in {}",
-            spec.label,
-            spec.domain.name(),
-            summary.final_mean,
-            summary.final_ci95[0],
-            summary.final_ci95[1],
-            summary.final_greedy_mean,
-            spec.protocol.runs,
-            summary.wall_seconds,
-            summary.episodes_per_second,
-            args.out.display()
-        ),
+        Finished::Complete { summary, .. } => {
+            let unit = spec.domain.score_unit();
+            println!(
+                "{} on {}: final mean {}, 95% CI {}, greedy {}; {} runs in {:.2} s, {:.0} episodes/s; results in {}",
+                spec.label,
+                spec.domain.name(),
+                with_unit(summary.final_mean, unit),
+                ci_text(&summary),
+                greedy_text(&summary),
+                spec.protocol.runs,
+                summary.wall_seconds,
+                summary.episodes_per_second,
+                args.out.display()
+            );
+            if spec.record > 0 {
+                let first = args.out.join("replays").join(replay_name(0, spec.record));
+                println!(
+                    "{} recorded episode(s) in {}; watch one with: learnpnp replay {} -o episode.html",
+                    spec.record,
+                    args.out.join("replays").display(),
+                    first.display()
+                );
+            }
+        }
     }
     Ok(())
 }

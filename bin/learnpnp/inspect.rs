@@ -1,17 +1,21 @@
-//! Commands that inspect files: check, dot, convert, plot, values.
+//! Commands that inspect files and domains: check, dot, convert, plot, values, domains.
 
 use std::io::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use clap::Args;
 use learnpnp::analysis;
-use learnpnp::dot::to_dot;
-use learnpnp::experiment::plot::{Series, plot_curves, read_curve_csv};
+use learnpnp::domains::describe;
+use learnpnp::dot::to_dot_with_values;
+use learnpnp::experiment::output::score_axis;
+use learnpnp::experiment::plot::{Reference, Series, plot_curves, read_curve_csv};
 use learnpnp::experiment::ranges::CountRange;
-use learnpnp::learning::persist;
-use learnpnp::plan::{Vocabulary, load_plan};
+use learnpnp::experiment::spec::{DomainSpec, ExperimentSpec};
+use learnpnp::learning::by_choice::{self, group_by_choice};
+use learnpnp::learning::persist::{self, SavedValues};
+use learnpnp::plan::{Plan, Vocabulary, load_plan};
 use learnpnp::pnml::{self, Dialect};
 use learnpnp::result_dir::{self, Contents};
 use learnpnp::schema;
@@ -70,16 +74,52 @@ fn check_schema(args: &CheckArgs) -> ExitCode {
 pub struct DotArgs {
     /// The plan file (PNML), or a plan schema (.schema: its process is drawn).
     plan: PathBuf,
+    /// A value table learned on this plan (DIR/values.bin): each option of a
+    /// choice point is labelled with its value and updates, the greedy one marked.
+    #[arg(long, value_name = "FILE")]
+    values: Option<PathBuf>,
+    /// Most reachable markings to explore for the choice points, as check does (at least 1).
+    #[arg(long, allow_hyphen_values = true, default_value_t = analysis::DEFAULT_LIMIT, value_parser = |s: &str| CountRange::new(1, u64::MAX).parse_usize(s))]
+    limit: usize,
+}
+
+/// A saved table, the previous good copy if the file is damaged (with a warning).
+fn load_values(path: &Path) -> Result<SavedValues> {
+    let (saved, problem) = persist::load_latest(path)?;
+    if let Some(e) = problem {
+        eprintln!("warning: {e}; using the previous good table");
+    }
+    Ok(saved)
 }
 
 pub fn dot(args: &DotArgs) -> Result<()> {
     if schema::is_schema_path(&args.plan) {
+        if args.values.is_some() {
+            anyhow::bail!("--values labels the choice points of a Petri Net Plan; give the plan, not a schema");
+        }
         let dot = schema::to_dot(&schema::load_process(&args.plan, Vocabulary::Open)?);
         write!(std::io::stdout().lock(), "{dot}")?;
         return Ok(());
     }
     let plan = load_plan(&args.plan, Vocabulary::Open)?;
-    write!(std::io::stdout().lock(), "{}", to_dot(&plan))?;
+    for w in plan.warnings() {
+        eprintln!("warning: {w}");
+    }
+    let learned = match &args.values {
+        Some(path) => {
+            let saved = load_values(path)?;
+            Some(
+                group_by_choice(&[&plan], &saved)
+                    .with_context(|| format!("{} and {}", path.display(), args.plan.display()))?,
+            )
+        }
+        None => None,
+    };
+    write!(
+        std::io::stdout().lock(),
+        "{}",
+        to_dot_with_values(&plan, args.limit, learned.as_ref())
+    )?;
     Ok(())
 }
 
@@ -125,6 +165,13 @@ fn label_of(dir: &std::path::Path) -> String {
     from_summary.unwrap_or_else(|| dir.display().to_string())
 }
 
+/// The experiment spec saved in `dir`'s summary.json, if it can be read.
+fn spec_of(dir: &Path) -> Option<ExperimentSpec> {
+    let text = std::fs::read_to_string(dir.join("summary.json")).ok()?;
+    let json: serde_json::Value = serde_json::from_str(&text).ok()?;
+    serde_json::from_value(json["spec"].clone()).ok()
+}
+
 pub fn plot(args: &PlotArgs) -> Result<()> {
     let series = args
         .dirs
@@ -148,12 +195,28 @@ pub fn plot(args: &PlotArgs) -> Result<()> {
             })
         })
         .collect::<Result<Vec<_>>>()?;
+    // The axis and references of the experiments, when they all agree on them.
+    let specs: Vec<Option<ExperimentSpec>> = args.dirs.iter().map(|d| spec_of(d)).collect();
+    let known: Vec<&ExperimentSpec> = specs.iter().flatten().collect();
+    let axis = match known.first() {
+        Some(first) if known.len() == specs.len() && known.iter().all(|s| score_axis(s) == score_axis(first)) => {
+            score_axis(first)
+        }
+        _ => "evaluation score (mean over runs, 95% CI)".to_string(),
+    };
+    let mut references: Vec<Reference> = Vec::new();
+    for r in known.iter().filter_map(|s| s.domain.reference()) {
+        if !references.contains(&r) {
+            references.push(r);
+        }
+    }
     plot_curves(
         &args.output,
         &args.title,
         "learning episodes",
-        "evaluation return (mean, 95% CI)",
+        &axis,
         &series,
+        &references,
     )?;
     Ok(())
 }
@@ -162,14 +225,70 @@ pub fn plot(args: &PlotArgs) -> Result<()> {
 pub struct ValuesArgs {
     /// A value table saved by an experiment (values.bin).
     file: PathBuf,
+    /// The plan the values were learned on (default: the plan of the
+    /// experiment, from summary.json next to the table).
+    #[arg(long)]
+    plan: Option<PathBuf>,
+}
+
+/// The plan of the experiment whose results directory holds `values`, from
+/// its summary.json; `None` when there is none.
+fn experiment_plan(values: &Path) -> Result<Option<Plan>> {
+    let summary = values.with_file_name("summary.json");
+    let Ok(text) = std::fs::read_to_string(&summary) else {
+        return Ok(None);
+    };
+    let json: serde_json::Value =
+        serde_json::from_str(&text).with_context(|| format!("{} is not JSON", summary.display()))?;
+    let domain: DomainSpec = serde_json::from_value(json["spec"]["domain"].clone())
+        .with_context(|| format!("{}: no experiment domain in 'spec'", summary.display()))?;
+    let plan = domain
+        .load_plan()
+        .with_context(|| format!("loading the plan named by {}", summary.display()))?;
+    Ok(plan.map(|p| (*p).clone()))
 }
 
 pub fn values(args: &ValuesArgs) -> Result<()> {
-    let (saved, problem) = persist::load_latest(&args.file)?;
-    if let Some(e) = problem {
-        eprintln!("warning: {e}; showing the previous good table");
+    let saved = load_values(&args.file)?;
+    let plan = match &args.plan {
+        Some(path) => Some(load_plan(path, Vocabulary::Open)?),
+        None => experiment_plan(&args.file)?,
+    };
+    let mut text = Vec::new();
+    match plan {
+        Some(plan) => {
+            let learned = group_by_choice(&[&plan], &saved).with_context(|| format!("{}", args.file.display()))?;
+            by_choice::write_csv(&learned, &saved, &mut text)?;
+        }
+        None => {
+            eprintln!(
+                "warning: no plan for {} (give --plan PLAN): one row per marking, not grouped by choice point",
+                args.file.display()
+            );
+            persist::write_csv(&saved, &mut text)?;
+        }
     }
-    let stdout = std::io::stdout();
-    persist::write_csv(&saved, &mut stdout.lock())?;
+    std::io::stdout().lock().write_all(&text)?;
+    Ok(())
+}
+
+#[derive(Args, Debug)]
+pub struct DomainArgs {
+    /// The domain's name, as `learnpnp experiment` takes it.
+    name: String,
+}
+
+pub fn domains() -> Result<()> {
+    let text: Vec<String> = describe::domains().iter().map(ToString::to_string).collect();
+    write!(std::io::stdout().lock(), "{}", text.join("\n"))?;
+    Ok(())
+}
+
+pub fn domain(args: &DomainArgs) -> Result<()> {
+    let Some(d) = describe::domain(&args.name) else {
+        let known: Vec<&str> = describe::domains().iter().map(|d| d.name).collect();
+        anyhow::bail!("no domain '{}' (known: {})", args.name, known.join(", "));
+    };
+    write!(std::io::stdout().lock(), "{d}")?;
     Ok(())
 }

@@ -4,6 +4,7 @@
 
 mod experiment;
 mod inspect;
+mod replay;
 mod reproduce;
 mod schema;
 
@@ -38,6 +39,12 @@ enum Command {
     Plot(inspect::PlotArgs),
     /// Print a saved value table as CSV.
     Values(inspect::ValuesArgs),
+    /// Write a RoboCup game log (.rcg) as one self-contained HTML page to watch.
+    Replay(replay::ReplayArgs),
+    /// What a plan may use in every domain: actions, atoms, reward, episode end.
+    Domains,
+    /// What a plan may use in one domain (e.g. keepaway-pass).
+    Domain(inspect::DomainArgs),
     /// Print the controllable process constructed from a plan schema (thesis chapter 3).
     Schema(schema::SchemaArgs),
 }
@@ -95,6 +102,9 @@ fn main() -> ExitCode {
         Some(Command::Reproduce(args)) => reproduce::run(&args),
         Some(Command::Plot(args)) => inspect::plot(&args),
         Some(Command::Values(args)) => inspect::values(&args),
+        Some(Command::Replay(args)) => replay::run(&args),
+        Some(Command::Domains) => inspect::domains(),
+        Some(Command::Domain(args)) => inspect::domain(&args),
         Some(Command::Schema(args)) => schema::run(&args),
         None => reproduce::run(&reproduce::ReproduceArgs::default()),
     };

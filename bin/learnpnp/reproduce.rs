@@ -1,15 +1,20 @@
 //! `learnpnp reproduce`: the thesis's figures from their presets.
 
-use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use learnpnp::atomic_file::write_atomic;
-use learnpnp::experiment::output::series;
-use learnpnp::experiment::plot::{Series, plot_curves, read_curve_csv};
+use learnpnp::experiment::output::{
+    SummaryFile, bar_axis, bar_of, ci_text, greedy_text, score_axis, series, unit_suffix, with_unit,
+};
+use learnpnp::experiment::plot::{Series, plot_bars, plot_curves, read_curve_csv};
 use learnpnp::experiment::presets::{self, Figure, FigureKind};
+use learnpnp::experiment::progress::{Rates, clock};
 use learnpnp::experiment::ranges;
+use learnpnp::experiment::report::summary_markdown;
+use learnpnp::experiment::spec::ExperimentSpec;
 use learnpnp::interrupt::Interrupt;
 use learnpnp::result_dir::ResultDir;
 
@@ -46,28 +51,32 @@ impl Default for ReproduceArgs {
     }
 }
 
-/// The figures of a curve in the summary table.
-struct Row {
-    final_mean: f64,
-    ci: [f64; 2],
-    greedy: f64,
-    seconds: f64,
-}
-
-/// The row and series of a curve whose complete results `dir` already holds.
-fn read_back(dir: &ResultDir, label: &str) -> Result<(Row, Series)> {
-    let summary: serde_json::Value = serde_json::from_slice(&dir.read("summary.json")?)
+/// The summary and series of a curve whose complete results `dir` already holds.
+fn read_back(dir: &ResultDir, label: &str) -> Result<(SummaryFile, Series)> {
+    let v: serde_json::Value = serde_json::from_slice(&dir.read("summary.json")?)
         .with_context(|| format!("{}: summary.json is not JSON", dir.path().display()))?;
+    let spec: ExperimentSpec = serde_json::from_value(v["spec"].clone())
+        .with_context(|| format!("{}: summary.json has no experiment spec", dir.path().display()))?;
+    // JSON writes non-finite numbers as null.
     let number = |v: &serde_json::Value| v.as_f64().unwrap_or(f64::NAN);
-    let row = Row {
-        final_mean: number(&summary["final_mean"]),
-        ci: [number(&summary["final_ci95"][0]), number(&summary["final_ci95"][1])],
-        greedy: number(&summary["final_greedy_mean"]),
-        seconds: number(&summary["wall_seconds"]),
+    let pair = |v: &serde_json::Value| [number(&v[0]), number(&v[1])];
+    let summary = SummaryFile {
+        spec,
+        final_mean: number(&v["final_mean"]),
+        final_ci95: pair(&v["final_ci95"]),
+        final_greedy_mean: v["final_greedy_mean"].as_f64(),
+        final_greedy_ci95: v["final_greedy_ci95"].is_array().then(|| pair(&v["final_greedy_ci95"])),
+        wall_seconds: number(&v["wall_seconds"]),
+        total_episodes: v["total_episodes"].as_u64().unwrap_or(0),
+        episodes_per_second: number(&v["episodes_per_second"]),
+        actions_per_second: number(&v["actions_per_second"]),
+        cycles_per_second: v["cycles_per_second"].as_f64(),
+        complete: v["complete"].as_bool().unwrap_or(true),
+        runs_completed: v["runs_completed"].as_u64().unwrap_or(0) as usize,
     };
     let points = read_curve_csv(&dir.path().join("curve.csv"))?;
     Ok((
-        row,
+        summary,
         Series {
             label: label.to_string(),
             points,
@@ -116,78 +125,111 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
     }
     // Every result directory is checked and locked before any work.
     let mut plans = Vec::new();
-    for figure in figures {
+    for mut figure in figures {
         let dir = args.out.join(format!("fig{}", figure.id));
-        let mut curves = Vec::new();
-        for mut spec in figure.curves.clone() {
+        let mut dirs = Vec::new();
+        for spec in &mut figure.curves {
             if let Some(runs) = args.runs {
                 spec.protocol.runs = runs;
             }
             spec.validate()
                 .with_context(|| format!("figure {}: {}", figure.id, spec.label))?;
-            let curve_dir = ResultDir::open(dir.join(slug(&spec.label)))?;
-            curves.push((spec, curve_dir));
+            dirs.push(ResultDir::open(dir.join(slug(&spec.label)))?);
         }
-        plans.push((figure, dir, curves));
+        plans.push((figure, dir, dirs));
     }
-    let mut table = String::from(
-        "| figure | curve | final mean | 95% CI | greedy mean | runs | seconds |\n|---|---|---|---|---|---|---|\n",
+    let total = plans.len();
+    let curves: usize = plans.iter().map(|(f, _, _)| f.curves.len()).sum();
+    println!(
+        "{total} figure(s), {curves} curve(s) on {threads} worker threads into {}; each curve's full \
+         configuration is in its directory's summary.json",
+        args.out.display()
     );
-    for (figure, dir, curves) in plans {
-        println!("Figure {}: {}", figure.id, figure.title);
+    let started = Instant::now();
+    let mut rates = Rates::default();
+    let mut done: Vec<(Figure, Vec<SummaryFile>)> = Vec::new();
+    for k in 0..plans.len() {
+        let (head, tail) = plans.split_at_mut(k + 1);
+        let later: Vec<&ExperimentSpec> = tail.iter().flat_map(|(f, _, _)| f.curves.iter()).collect();
+        let (figure, dir, dirs) = &mut head[k];
+        let figure = figure.clone();
+        println!("Figure {} ({} of {total}): {}", figure.id, k + 1, figure.title);
+        let mut summaries = Vec::new();
         let mut all = Vec::new();
-        for (spec, mut curve_dir) in curves {
-            let finished = run_into(&spec, &mut curve_dir, args.resume, threads, &interrupt)
+        for (j, (spec, curve_dir)) in figure.curves.iter().zip(dirs.iter_mut()).enumerate() {
+            let estimate = rates.estimate(figure.curves[j..].iter().chain(later.iter().copied()));
+            println!(
+                "  [figure {} of {total}, curve {} of {}; {} elapsed, {estimate}] {}",
+                k + 1,
+                j + 1,
+                figure.curves.len(),
+                clock(started.elapsed()),
+                spec.label
+            );
+            let finished = run_into(spec, curve_dir, args.resume, threads, &interrupt)
                 .with_context(|| format!("figure {}: {}", figure.id, spec.label))?;
-            let (row, curve, note) = match finished {
-                Finished::Complete { summary, output } => (
-                    Row {
-                        final_mean: summary.final_mean,
-                        ci: summary.final_ci95,
-                        greedy: summary.final_greedy_mean,
-                        seconds: summary.wall_seconds,
-                    },
-                    series(&output),
-                    format!("{:>9.0} episodes/s", summary.episodes_per_second),
-                ),
+            let (summary, curve, note) = match finished {
+                Finished::Complete { summary, output } => {
+                    rates.record(spec, summary.wall_seconds);
+                    let note = format!("{:.0} episodes/s", summary.episodes_per_second);
+                    (*summary, series(&output), note)
+                }
                 Finished::AlreadyComplete => {
-                    let (row, curve) = read_back(&curve_dir, &spec.label)?;
-                    (row, curve, "(already complete)".to_string())
+                    let (summary, curve) = read_back(curve_dir, &spec.label)?;
+                    (summary, curve, "(already complete)".to_string())
                 }
             };
+            let unit = spec.domain.score_unit();
             println!(
-                "  {:<28} final {:>9.4} [{:.4}, {:.4}]  greedy {:>9.4}  {:>4} runs {:>7.2} s  {note}",
-                spec.label, row.final_mean, row.ci[0], row.ci[1], row.greedy, spec.protocol.runs, row.seconds,
-            );
-            let _ = writeln!(
-                table,
-                "| {} | {} | {:.4} | [{:.4}, {:.4}] | {:.4} | {} | {:.2} |",
-                figure.id,
+                "  {:<28} final {} (95% CI {})  greedy {}  {} runs {:.2} s  {note}",
                 spec.label,
-                row.final_mean,
-                row.ci[0],
-                row.ci[1],
-                row.greedy,
+                with_unit(summary.final_mean, unit),
+                ci_text(&summary),
+                greedy_text(&summary),
                 spec.protocol.runs,
-                row.seconds
+                summary.wall_seconds,
             );
             all.push(curve);
+            summaries.push(summary);
         }
-        if figure.kind == FigureKind::Curves {
-            let path = dir.join("figure.svg");
-            plot_curves(
-                &path,
-                &format!("Figure {}: {}", figure.id, figure.title),
-                "learning episodes",
-                "evaluation return (mean, 95% CI)",
-                &all,
-            )
-            .with_context(|| format!("plotting {}", path.display()))?;
-        }
+        let title = format!("Figure {}: {}", figure.id, figure.title);
+        let path = dir.join("figure.svg");
+        let drawn = match (figure.kind, figure.curves.first()) {
+            (FigureKind::Curves, Some(first)) => {
+                let references: Vec<_> = first.domain.reference().into_iter().collect();
+                plot_curves(
+                    &path,
+                    &title,
+                    "learning episodes",
+                    &score_axis(first),
+                    &all,
+                    &references,
+                )
+            }
+            (FigureKind::Bars, Some(first)) => {
+                let bars: Vec<_> = summaries.iter().map(bar_of).collect();
+                plot_bars(
+                    &path,
+                    &title,
+                    &bar_axis(first),
+                    &unit_suffix(first.domain.score_unit()),
+                    &bars,
+                )
+            }
+            _ => Ok(()),
+        };
+        drawn.with_context(|| format!("plotting {}", path.display()))?;
+        done.push((figure, summaries));
     }
     std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
     let path = args.out.join("summary.md");
-    write_atomic(&path, table.as_bytes())?;
-    println!("summary table: {}", path.display());
+    let listed: Vec<(&Figure, &[SummaryFile])> = done.iter().map(|(f, s)| (f, s.as_slice())).collect();
+    write_atomic(&path, summary_markdown(&listed).as_bytes())?;
+    println!(
+        "summary table: {} ({} figures in {})",
+        path.display(),
+        done.len(),
+        clock(started.elapsed())
+    );
     Ok(())
 }

@@ -14,7 +14,8 @@
 //! never read (counters only written), otherwise a pass is inconclusive.
 
 use super::choice::choice_points;
-use super::count::{self, OMEGA, Tri};
+use super::count::{self, Count, OMEGA, Tri};
+use super::diagnosis;
 use super::reachability::{MEMORY_LIMIT, Reachability, StateId, enabled, explore};
 use super::report::{CheckReport, Element, Example, Failure, Note, PlaceBound, Property, ReportedChoice, Verdict};
 use crate::net::{PlaceId, TransitionId};
@@ -57,9 +58,11 @@ pub fn check(plan: &Plan, limit: usize) -> CheckReport {
             graph.limit()
         )
     };
+    let counts: Vec<Count> = bounds.iter().map(|b| b.bound).collect();
     let checker = Checker {
         plan,
         graph: &graph,
+        bounds: &counts,
         incomplete: &incomplete,
     };
     let verdicts = vec![
@@ -91,12 +94,15 @@ pub fn check(plan: &Plan, limit: usize) -> CheckReport {
         verdicts,
         failures,
         notes,
+        warnings: plan.warnings().iter().map(ToString::to_string).collect(),
+        has_goal: !plan.goal().is_empty(),
     }
 }
 
 struct Checker<'a> {
     plan: &'a Plan,
     graph: &'a Reachability,
+    bounds: &'a [Count],
     incomplete: &'a str,
 }
 
@@ -191,6 +197,7 @@ impl Checker<'_> {
         failures.extend(never.into_iter().map(|t| Failure::DeadTransition {
             transition: t,
             element: Element::transition(self.plan, t),
+            why: diagnosis::dead_transition(self.plan, self.graph, self.bounds, t),
         }));
         Verdict::Failed
     }
@@ -237,6 +244,7 @@ impl Checker<'_> {
             failures.push(Failure::NoGoalReachable {
                 markings: stuck.len(),
                 ending_in_fail: stuck.iter().filter(|s| may_fail[s.index()]).count(),
+                why: diagnosis::no_goal(self.plan, self.graph, self.bounds, &stuck),
                 examples: self.examples(&stuck),
             });
             return Verdict::Failed;
@@ -287,6 +295,7 @@ impl Checker<'_> {
         if !dead.is_empty() {
             failures.push(Failure::DeadMarkings {
                 markings: dead.len(),
+                why: diagnosis::dead_marking(self.plan, self.graph, dead[0]),
                 examples: self.examples(&dead),
             });
         }
@@ -297,7 +306,6 @@ impl Checker<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::Count;
     use crate::plan::{PlanBuilder, Vocabulary};
 
     #[test]

@@ -12,7 +12,9 @@
 mod check;
 mod choice;
 mod count;
+mod diagnosis;
 mod guards;
+mod options;
 mod reachability;
 mod report;
 
@@ -20,5 +22,6 @@ pub use check::check;
 pub use choice::{ChoicePoint, choice_points, structural_choice_points};
 pub use count::Count;
 pub use guards::{MAX_GUARD_ATOMS, jointly_satisfiable};
+pub use options::{ChoiceAt, before, choices_among, choices_at, option_label, option_transitions, transition_name};
 pub use reachability::{DEFAULT_LIMIT, MEMORY_LIMIT, Reachability, StateId, explore, marking_limit};
 pub use report::{CheckReport, Element, Example, Failure, Note, PlaceBound, Property, ReportedChoice, Verdict};

@@ -308,14 +308,9 @@ impl Reachability {
             .enumerate()
             .filter(|&(_, &t)| t > 0)
             .map(|(i, &t)| {
-                let place = plan.net().place(PlaceId::new(i));
-                let name = if place.label.is_empty() {
-                    &place.id
-                } else {
-                    &place.label
-                };
+                let name = plan.place_name(PlaceId::new(i));
                 match t {
-                    1 => name.clone(),
+                    1 => name.to_string(),
                     OMEGA => format!("{name}*ω"),
                     n => format!("{name}*{n}"),
                 }

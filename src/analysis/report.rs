@@ -37,16 +37,20 @@ impl Element {
         }
     }
 
-    /// The label, or the id when the label is empty.
+    /// The label, or the id when the label is blank.
     pub fn name(&self) -> &str {
-        if self.label.is_empty() { &self.id } else { &self.label }
+        if self.label.trim().is_empty() {
+            &self.id
+        } else {
+            &self.label
+        }
     }
 }
 
-/// `id 'label'`, or `id` alone when the label is empty.
+/// `id 'label'`, or `id` alone when the label is blank.
 impl fmt::Display for Element {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.label.is_empty() {
+        if self.label.trim().is_empty() {
             f.write_str(&self.id)
         } else {
             write!(f, "{} '{}'", self.id, self.label)
@@ -214,6 +218,8 @@ pub enum Failure {
         transition: TransitionId,
         /// Its id and label.
         element: Element,
+        /// Why, in the drawing's terms (an input place never marked...).
+        why: Vec<String>,
     },
     /// Reachable markings, not fail markings, from which no goal marking is
     /// reachable (effectiveness).
@@ -222,6 +228,8 @@ pub enum Failure {
         markings: usize,
         /// How many of them can still end in a fail marking.
         ending_in_fail: usize,
+        /// Why, in the drawing's terms (a goal place with no incoming arc, a loop...).
+        why: Vec<String>,
         /// A few of them, nearest to the initial marking first.
         examples: Vec<Example>,
     },
@@ -230,6 +238,8 @@ pub enum Failure {
     DeadMarkings {
         /// How many explored markings.
         markings: usize,
+        /// Why the first of them stops, in the drawing's terms.
+        why: Vec<String>,
         /// A few of them, nearest to the initial marking first.
         examples: Vec<Example>,
     },
@@ -250,6 +260,14 @@ impl Failure {
 fn write_examples(f: &mut fmt::Formatter<'_>, examples: &[Example]) -> fmt::Result {
     for example in examples {
         write!(f, "\n      e.g. {example}")?;
+    }
+    Ok(())
+}
+
+fn write_why(f: &mut fmt::Formatter<'_>, why: &[String]) -> fmt::Result {
+    for (i, reason) in why.iter().enumerate() {
+        let lead = if i == 0 { "because" } else { "and" };
+        write!(f, "\n      {lead} {reason}")?;
     }
     Ok(())
 }
@@ -277,25 +295,33 @@ impl fmt::Display for Failure {
                 )?;
                 write_examples(f, std::slice::from_ref(example))
             }
-            Failure::DeadTransition { element, .. } => {
-                write!(f, "transition {element} can never fire")
+            Failure::DeadTransition { element, why, .. } => {
+                write!(f, "transition {element} can never fire")?;
+                write_why(f, why)
             }
             Failure::NoGoalReachable {
                 markings,
                 ending_in_fail,
+                why,
                 examples,
             } => {
                 write!(f, "{markings} reachable marking(s) cannot reach a goal marking")?;
                 if *ending_in_fail > 0 {
                     write!(f, " ({ending_in_fail} of them can still end in a fail marking)")?;
                 }
+                write_why(f, why)?;
                 write_examples(f, examples)
             }
-            Failure::DeadMarkings { markings, examples } => {
+            Failure::DeadMarkings {
+                markings,
+                why,
+                examples,
+            } => {
                 write!(
                     f,
                     "{markings} reachable marking(s) enable no transition and are neither goal nor fail markings"
                 )?;
+                write_why(f, why)?;
                 write_examples(f, examples)
             }
         }
@@ -370,6 +396,10 @@ pub struct CheckReport {
     pub failures: Vec<Failure>,
     /// What is worth knowing and not wrong.
     pub notes: Vec<Note>,
+    /// What is unusual in the plan but accepted (as the PNP library accepts it).
+    pub warnings: Vec<String>,
+    /// Whether the plan has goal places (a plan without runs until stopped).
+    pub has_goal: bool,
 }
 
 impl CheckReport {
@@ -443,14 +473,18 @@ impl fmt::Display for CheckReport {
                 "  unbounded places are counted as ω: markings form a coverability graph"
             )?;
         }
+        for w in &self.warnings {
+            writeln!(f, "warning: {w}")?;
+        }
         for (property, verdict) in &self.verdicts {
-            writeln!(
-                f,
-                "{:<14} {:<15}{}",
-                property.name(),
-                verdict.summary(),
-                property.meaning()
-            )?;
+            let meaning = match (property, verdict, self.has_goal) {
+                // Without a goal place a plan never ends by itself: say what passing means.
+                (Property::Deadlock, Verdict::Passed, false) => {
+                    "no reachable marking stops the plan: with no goal place it runs until stopped from outside"
+                }
+                _ => property.meaning(),
+            };
+            writeln!(f, "{:<14} {:<15}{}", property.name(), verdict.summary(), meaning)?;
             if let Some(why) = verdict.reason() {
                 writeln!(f, "{:<15}({why})", "")?;
             }

@@ -4,6 +4,7 @@
 //! A domain is a [`Task`]: it runs episodes of a plan with a learner choosing at
 //! its choice points, and reports what each episode earned.
 
+pub mod describe;
 mod driver;
 pub mod grid;
 pub mod keepaway;
@@ -36,6 +37,12 @@ pub trait Task {
 
     /// The learners of the task (one per learning agent).
     fn learners(&self) -> Vec<&dyn Learner>;
+
+    /// Plays `episodes` evaluation episodes, each written as a RoboCup game
+    /// log (`.rcg` text); a domain with no such log returns none.
+    fn record(&mut self, _episodes: usize) -> Result<Vec<String>, TaskError> {
+        Ok(Vec::new())
+    }
 }
 
 fn mean_return<T: Task + ?Sized>(task: &mut T, mode: EpisodeMode, episodes: usize) -> Result<f64, TaskError> {

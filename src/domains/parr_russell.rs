@@ -6,6 +6,8 @@
 //! obstacle or the border stays. Every action costs 0.04. The agent observes
 //! only whether a wall (obstacle or border) is immediately west and east.
 
+pub mod optimum;
+
 use std::sync::Arc;
 
 use rand::RngExt;

@@ -4,12 +4,14 @@
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum ExecError {
     /// No registered action or sub-plan provides a name the plan uses.
-    #[error("plan '{plan}': no action or sub-plan is registered for '{action}'")]
+    #[error("plan '{plan}': no action or sub-plan is registered for '{action}' (registered: {registered})")]
     UnknownAction {
         /// The plan naming it.
         plan: String,
         /// The action name.
         action: String,
+        /// What the registry provides, comma-separated (`learnpnp domain NAME` lists them).
+        registered: String,
     },
     /// A guard asks an action for a condition it does not declare.
     #[error("plan '{plan}': action '{action}' declares no internal condition '{condition}' (it declares: {declared})")]

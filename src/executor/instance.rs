@@ -95,10 +95,7 @@ impl<W: World> PlanInstance<W> {
                     declared_lists.push(None);
                 }
                 None => {
-                    return Err(ExecError::UnknownAction {
-                        plan: plan.name().to_string(),
-                        action: info.name.clone(),
-                    });
+                    return Err(registry.unknown_action(plan.name(), &info.name));
                 }
             }
         }

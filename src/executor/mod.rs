@@ -32,7 +32,7 @@ pub use chooser::{Chooser, PlanKey, RandomChooser};
 pub use error::ExecError;
 pub use instance::Status;
 pub(crate) use registry::Entry;
-pub use registry::Registry;
+pub use registry::{Registered, RegisteredKind, Registry};
 
 use instance::PlanInstance;
 

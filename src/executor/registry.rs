@@ -27,6 +27,39 @@ struct Primitive<W> {
     factory: Factory<W>,
 }
 
+/// What a registry provides under one name.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum RegisteredKind {
+    /// An action of exactly this name.
+    Action,
+    /// Every action named `name` or `name_<parameters>`.
+    Family,
+    /// A sub-plan.
+    SubPlan,
+}
+
+/// One name a registry provides, for listings and error messages.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Registered {
+    /// The name (a family's prefix).
+    pub name: String,
+    /// What it is.
+    pub kind: RegisteredKind,
+    /// The internal conditions its guards may test (`name.cond`), besides
+    /// `finished` and `failed`.
+    pub conditions: Vec<String>,
+}
+
+impl Registered {
+    /// How a plan names it: `name`, `name_<parameters>` for a family.
+    pub fn pattern(&self) -> String {
+        match self.kind {
+            RegisteredKind::Family => format!("{}_<parameters>", self.name),
+            _ => self.name.clone(),
+        }
+    }
+}
+
 /// Maps action names to factories and sub-plans.
 ///
 /// A name resolves, in order: an exact registration; a family registered for
@@ -99,6 +132,43 @@ impl<W> Registry<W> {
     /// The sub-plans in key order (key 1 first).
     pub fn sub_plans(&self) -> &[Arc<Plan>] {
         &self.plans
+    }
+
+    /// Every name provided: actions and families by name, then sub-plans in key order.
+    pub fn entries(&self) -> Vec<Registered> {
+        let mut out: Vec<Registered> = self
+            .actions
+            .iter()
+            .map(|(name, p)| (name, p, RegisteredKind::Action))
+            .chain(self.families.iter().map(|(name, p)| (name, p, RegisteredKind::Family)))
+            .map(|(name, p, kind)| Registered {
+                name: name.clone(),
+                kind,
+                conditions: p.declared.clone(),
+            })
+            .collect();
+        out.sort_by(|a, b| a.name.cmp(&b.name));
+        out.extend(self.plans.iter().map(|p| Registered {
+            name: p.name().to_string(),
+            kind: RegisteredKind::SubPlan,
+            conditions: Vec::new(),
+        }));
+        out
+    }
+
+    /// The error for `action`, used by `plan`, that nothing here provides: it
+    /// lists what is registered.
+    pub(crate) fn unknown_action(&self, plan: &str, action: &str) -> super::ExecError {
+        let names: Vec<String> = self.entries().into_iter().map(|e| e.pattern()).collect();
+        super::ExecError::UnknownAction {
+            plan: plan.to_string(),
+            action: action.to_string(),
+            registered: if names.is_empty() {
+                "nothing".to_string()
+            } else {
+                names.join(", ")
+            },
+        }
     }
 
     fn primitive(&self, name: &str) -> Option<&Primitive<W>> {

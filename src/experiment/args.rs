@@ -70,12 +70,17 @@ pub struct ExperimentOptions {
     /// default: about a thousand points).
     #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::WHOLE.parse(s))]
     trace_every: Option<u64>,
-    /// Base seed (run i uses a seed derived from it and i).
-    #[arg(long, default_value_t = 1, allow_hyphen_values = true, value_parser = |s: &str| ranges::WHOLE.parse(s))]
+    /// Base seed (run i uses a seed derived from it and i); the presets' by default.
+    #[arg(long, default_value_t = defaults::DEFAULT_SEED, allow_hyphen_values = true, value_parser = |s: &str| ranges::WHOLE.parse(s))]
     seed: u64,
     /// A label for plots (default: the algorithm).
     #[arg(long)]
     label: Option<String>,
+    /// Keepaway: save N evaluation episodes of run 0, played after learning,
+    /// as RoboCup game logs (DIR/replays/episode-NN.rcg; watch them with
+    /// `learnpnp replay` or rcssmonitor).
+    #[arg(long, value_name = "N", default_value_t = 0, allow_hyphen_values = true, value_parser = |s: &str| ranges::RECORD.parse_usize(s))]
+    record: usize,
 
     /// Start every run from these saved value tables (values.bin, then
     /// values-agent2.bin, ... for several learning agents) instead of the initial value.
@@ -302,6 +307,7 @@ impl ExperimentOptions {
             protocol,
             seed: self.seed,
             initial_values: self.initial_values_to_use()?,
+            record: self.record,
         };
         spec.validate()?;
         if !self.unchecked {

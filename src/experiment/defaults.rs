@@ -155,9 +155,22 @@ pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec
     }
 }
 
-/// A default protocol for interactive runs of `domain` (presets set the thesis's).
+/// The base seed of experiments and of the thesis's presets.
+pub const DEFAULT_SEED: u64 = 2011;
+
+/// A default protocol for interactive runs of `domain` (presets set the
+/// thesis's; fixed Keepaway policies use the baselines preset's).
 pub fn default_protocol(domain: &DomainSpec) -> Protocol {
     match domain {
+        // Nothing learns: 50 episodes, then 50 evaluated ones, in each of 20 runs.
+        DomainSpec::Keepaway { .. } if domain.is_fixed_policy() => Protocol {
+            runs: 20,
+            episodes: 50,
+            eval_every: 50,
+            eval_episodes: 50,
+            greedy_episodes: 0,
+            trace_every: Some(0),
+        },
         DomainSpec::ParrRussell { .. } => Protocol {
             runs: 20,
             episodes: 1000,

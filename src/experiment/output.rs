@@ -27,10 +27,11 @@ pub struct SummaryFile {
     pub final_mean: f64,
     /// Its 95% confidence interval over runs.
     pub final_ci95: [f64; 2],
-    /// Mean return of each run's greedy policy at the end, averaged over runs.
-    pub final_greedy_mean: f64,
+    /// Mean return of each run's greedy policy at the end, averaged over runs;
+    /// `None` (`null`) where it does not apply ([`greedy_not_applicable`]).
+    pub final_greedy_mean: Option<f64>,
     /// Its 95% confidence interval over runs.
-    pub final_greedy_ci95: [f64; 2],
+    pub final_greedy_ci95: Option<[f64; 2]>,
     /// Wall-clock seconds for all runs.
     pub wall_seconds: f64,
     /// Episodes of every kind (learning, evaluation, greedy) executed.
@@ -49,6 +50,13 @@ pub struct SummaryFile {
     pub runs_completed: usize,
 }
 
+/// The file name of recorded episode `i` (0-based) of `count`:
+/// `episode-1.rcg`, or `episode-01.rcg` ... when there are ten or more.
+pub fn replay_name(i: usize, count: usize) -> String {
+    let width = count.to_string().len();
+    format!("episode-{:0width$}.rcg", i + 1)
+}
+
 /// The curve: mean and 95% CI over runs at each evaluation point.
 pub fn curve(output: &ExperimentOutput) -> Vec<(u64, Summary)> {
     output
@@ -62,19 +70,80 @@ pub fn curve(output: &ExperimentOutput) -> Vec<(u64, Summary)> {
         .collect()
 }
 
+/// Why an experiment has no greedy score, if it has none: a fixed policy
+/// learns nothing to be greedy about, and a protocol may play no greedy episode.
+pub fn greedy_not_applicable(spec: &ExperimentSpec) -> Option<&'static str> {
+    if spec.domain.is_fixed_policy() {
+        Some("n/a: a fixed policy learns nothing")
+    } else if spec.protocol.greedy_episodes == 0 {
+        Some("not measured (no greedy episode)")
+    } else {
+        None
+    }
+}
+
+/// A score with its unit, e.g. `16.2 s` (four decimals without a unit).
+pub fn with_unit(value: f64, unit: &str) -> String {
+    if unit.is_empty() {
+        format!("{value:.4}")
+    } else {
+        format!("{value:.2} {unit}")
+    }
+}
+
+/// The final score's 95% confidence interval as text, with its unit, or why there is none.
+pub fn ci_text(summary: &SummaryFile) -> String {
+    let unit = summary.spec.domain.score_unit();
+    if summary.spec.protocol.runs < 2 {
+        "n/a (one run)".to_string()
+    } else {
+        format!(
+            "{} .. {}",
+            with_unit(summary.final_ci95[0], unit),
+            with_unit(summary.final_ci95[1], unit)
+        )
+    }
+}
+
+/// The greedy score of `summary` as text: the value with its unit, or why it does not apply.
+pub fn greedy_text(summary: &SummaryFile) -> String {
+    match (summary.final_greedy_mean, greedy_not_applicable(&summary.spec)) {
+        (Some(mean), None) => with_unit(mean, summary.spec.domain.score_unit()),
+        (_, Some(why)) => why.to_string(),
+        (None, None) => "n/a".to_string(),
+    }
+}
+
+/// The vertical axis of a learning curve over `runs` runs: what is measured,
+/// its unit, and whether a mean and interval are drawn.
+pub fn score_axis(spec: &ExperimentSpec) -> String {
+    let unit = spec.domain.score_unit();
+    let name = if unit.is_empty() {
+        format!("evaluation {}", spec.domain.score_name())
+    } else {
+        format!("{} ({unit}), evaluation", spec.domain.score_name())
+    };
+    if spec.protocol.runs > 1 {
+        format!("{name}: mean of {} runs, 95% CI", spec.protocol.runs)
+    } else {
+        format!("{name}: one run")
+    }
+}
+
 /// The summary of an experiment.
 pub fn summary(output: &ExperimentOutput) -> SummaryFile {
     let last = curve(output).last().map(|(_, s)| *s).unwrap_or_else(|| summarize(&[]));
     let greedy: Vec<f64> = output.runs.iter().map(|r| r.greedy).collect();
     let greedy = summarize(&greedy);
+    let greedy_applies = greedy_not_applicable(&output.spec).is_none();
     let total = output.total_episodes();
     let wall = output.wall_seconds.max(1e-9);
     SummaryFile {
         spec: output.spec.clone(),
         final_mean: last.mean,
         final_ci95: [last.ci_low, last.ci_high],
-        final_greedy_mean: greedy.mean,
-        final_greedy_ci95: [greedy.ci_low, greedy.ci_high],
+        final_greedy_mean: greedy_applies.then_some(greedy.mean),
+        final_greedy_ci95: greedy_applies.then_some([greedy.ci_low, greedy.ci_high]),
         wall_seconds: output.wall_seconds,
         total_episodes: total,
         episodes_per_second: total as f64 / wall,
@@ -196,7 +265,14 @@ pub fn stage_results(output: &ExperimentOutput, files: &mut ResultWriter<'_>) ->
                         format!("{}: values of the traced options (run 0)", output.spec.label),
                     ),
                 };
-                plot::plot_scatter(&files.path_for(&file)?, &title, "episode", "value", series)
+                let axis = match output.spec.domain.score_unit() {
+                    "" => "value".to_string(),
+                    unit => format!(
+                        "value: expected {} still to come ({unit})",
+                        output.spec.domain.score_name()
+                    ),
+                };
+                plot::plot_scatter(&files.path_for(&file)?, &title, "learning episodes", &axis, series)
                     .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
             }
         }
@@ -211,15 +287,70 @@ pub fn stage_results(output: &ExperimentOutput, files: &mut ResultWriter<'_>) ->
                 persist::encode(Path::new(&name), values).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
             files.add_bytes(&name, &bytes)?;
         }
+
+        for (i, log) in first.replays.iter().enumerate() {
+            files.add_text(&format!("replays/{}", replay_name(i, first.replays.len())), log)?;
+        }
     }
 
-    plot::plot_curves(
-        &files.path_for("curve.svg")?,
-        &format!("{} on {}", output.spec.label, output.spec.domain.name()),
-        "learning episodes",
-        "evaluation return (mean, 95% CI)",
-        &[series(output)],
-    )
+    let spec = &output.spec;
+    let title = format!("{} on {}", spec.label, spec.domain.name());
+    if spec.domain.is_fixed_policy() {
+        // Nothing learns: one bar, not a curve over "learning" episodes.
+        plot::plot_bars(
+            &files.path_for("baseline.svg")?,
+            &title,
+            &bar_axis(spec),
+            &unit_suffix(spec.domain.score_unit()),
+            &[bar_of(&summary(output))],
+        )
+    } else {
+        let references: Vec<plot::Reference> = spec.domain.reference().into_iter().collect();
+        plot::plot_curves(
+            &files.path_for("curve.svg")?,
+            &title,
+            "learning episodes",
+            &score_axis(spec),
+            &[series(output)],
+            &references,
+        )
+    }
     .map_err(|e| ExperimentError::Invalid(e.to_string()))?;
     Ok(summary(output))
+}
+
+/// The vertical axis of a bar chart of fixed policies like `spec`.
+pub fn bar_axis(spec: &ExperimentSpec) -> String {
+    let unit = spec.domain.score_unit();
+    let unit = if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" ({unit})")
+    };
+    format!(
+        "mean {}{unit}, {} episodes per run, 95% CI over {} runs",
+        spec.domain.score_name(),
+        spec.protocol.eval_episodes,
+        spec.protocol.runs
+    )
+}
+
+/// A unit written after a number on a chart (` s`), or nothing.
+pub fn unit_suffix(unit: &str) -> String {
+    if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    }
+}
+
+/// An experiment's final score as a bar: the mean over runs at the last
+/// evaluation, with its 95% confidence interval.
+pub fn bar_of(summary: &SummaryFile) -> plot::Bar {
+    plot::Bar {
+        label: summary.spec.label.clone(),
+        mean: summary.final_mean,
+        low: summary.final_ci95[0],
+        high: summary.final_ci95[1],
+    }
 }

@@ -1,8 +1,11 @@
-//! SVG plots of experiment results: learning curves with confidence bands, and
-//! per-episode scatter plots of values.
+//! SVG plots of experiment results: learning curves with confidence bands and
+//! reference lines, per-episode scatter plots of values, and bar charts of
+//! fixed policies with confidence intervals.
 //!
-//! Plots are drawn with plotters into a string and written atomically
-//! (temporary file, then rename), so a reader never sees half a plot.
+//! Every plot has its title above the chart, wrapped to fit the width, and
+//! its legend below the chart, where it covers no data. Plots are drawn with
+//! plotters into a string and written atomically (temporary file, then
+//! rename), so a reader never sees half a plot.
 
 use std::io;
 use std::ops::Range;
@@ -11,11 +14,46 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::atomic_file::write_atomic;
 
-/// Width and height of every plot, in pixels.
+/// Width of every plot, and its height with a one-line title and one row of
+/// legend (longer titles and legends add rows), in pixels.
 pub const PLOT_SIZE: (u32, u32) = (900, 560);
+
+/// Title font size and the height of one title line.
+const TITLE_SIZE: u32 = 20;
+const TITLE_LINE: u32 = 26;
+/// Legend font size and the height of one legend row.
+const LEGEND_SIZE: u32 = 14;
+const LEGEND_ROW: u32 = 24;
+/// Space above the title and below the legend.
+const PAD: u32 = 10;
+/// Horizontal margin of title and legend.
+const SIDE: u32 = 18;
+
+/// A horizontal line at a known value (an optimum, a published result).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reference {
+    /// The legend text.
+    pub label: String,
+    /// Its height on the vertical axis.
+    pub value: f64,
+}
+
+/// One bar of a bar chart: a mean and its confidence interval.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bar {
+    /// The label under the bar.
+    pub label: String,
+    /// The bar's height.
+    pub mean: f64,
+    /// Lower end of the interval (NaN: none drawn).
+    pub low: f64,
+    /// Upper end of the interval.
+    pub high: f64,
+}
 
 /// One point of a learning curve: the mean over runs and its confidence interval.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -140,14 +178,23 @@ pub(crate) const FONT: &str = "sans-serif";
 
 /// Draws learning curves into an SVG file at `path`: one coloured line per
 /// series (its mean), a translucent band of the same colour for its
-/// confidence interval, a legend and labelled axes.
+/// confidence interval (none where an interval has no width, as for a single
+/// run), a dashed grey line per reference, the title above and the legend
+/// below the chart.
 ///
-/// The x range spans the data; the y range spans every finite mean and
-/// interval end with a 5% margin. Points with a non-finite `x` or `mean` are
-/// skipped and break the line; points with a non-finite `low` or `high` break
-/// the band. Fails with [`PlotError::NoSeries`] or [`PlotError::NoFinitePoints`]
-/// when there is nothing to draw.
-pub fn plot_curves(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[Series]) -> Result<(), PlotError> {
+/// The x range spans the data; the y range spans every finite mean, interval
+/// end and reference with a 5% margin. Points with a non-finite `x` or `mean`
+/// are skipped and break the line; points with a non-finite `low` or `high`
+/// break the band. Fails with [`PlotError::NoSeries`] or
+/// [`PlotError::NoFinitePoints`] when there is nothing to draw.
+pub fn plot_curves(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    references: &[Reference],
+) -> Result<(), PlotError> {
     if series.is_empty() {
         return Err(PlotError::NoSeries {
             path: path.to_path_buf(),
@@ -155,27 +202,57 @@ pub fn plot_curves(path: &Path, title: &str, x_label: &str, y_label: &str, serie
     }
     let drawn = |p: &CurvePoint| p.x.is_finite() && p.mean.is_finite();
     let banded = |p: &CurvePoint| drawn(p) && p.low.is_finite() && p.high.is_finite();
-    let xy: Vec<(f64, f64)> = series
+    let mut xy: Vec<(f64, f64)> = series
         .iter()
         .flat_map(|s| &s.points)
         .filter(|p| drawn(p))
         .flat_map(|p| [(p.x, p.mean), (p.x, p.low), (p.x, p.high)])
         .filter(|(_, y)| y.is_finite())
         .collect();
+    let Some(&(x0, _)) = xy.first() else {
+        return Err(PlotError::NoFinitePoints {
+            path: path.to_path_buf(),
+        });
+    };
+    xy.extend(references.iter().filter(|r| r.value.is_finite()).map(|r| (x0, r.value)));
     let Some(frame) = Frame::of(&xy, 0.0, 0.05) else {
         return Err(PlotError::NoFinitePoints {
             path: path.to_path_buf(),
         });
     };
-    write_svg(path, |root| {
-        let mut chart = frame.chart(root, title, x_label, y_label)?;
+    let mut legend: Vec<(String, Swatch)> = series
+        .iter()
+        .enumerate()
+        .map(|(i, s)| (s.label.clone(), Swatch::Line(colour(i))))
+        .collect();
+    legend.extend(
+        references
+            .iter()
+            .filter(|r| r.value.is_finite())
+            .map(|r| (r.label.clone(), Swatch::Dashed(REFERENCE))),
+    );
+    write_svg(path, title, &legend, |area| {
+        let mut chart = frame.chart(area, x_label, y_label)?;
         for (i, s) in series.iter().enumerate() {
             let band = colour(i).mix(0.2).filled();
-            chart.draw_series(s.points.split(|p| !banded(p)).filter(|run| run.len() > 1).map(|run| {
-                let upper = run.iter().map(|p| (p.x, p.high));
-                let lower = run.iter().rev().map(|p| (p.x, p.low));
-                Polygon::new(upper.chain(lower).collect::<Vec<_>>(), band)
-            }))?;
+            chart.draw_series(
+                s.points
+                    .split(|p| !banded(p))
+                    .filter(|run| run.len() > 1 && run.iter().any(|p| p.high > p.low))
+                    .map(|run| {
+                        let upper = run.iter().map(|p| (p.x, p.high));
+                        let lower = run.iter().rev().map(|p| (p.x, p.low));
+                        Polygon::new(upper.chain(lower).collect::<Vec<_>>(), band)
+                    }),
+            )?;
+        }
+        for r in references.iter().filter(|r| r.value.is_finite()) {
+            chart.draw_series(DashedLineSeries::new(
+                [(frame.x.start, r.value), (frame.x.end, r.value)],
+                8,
+                6,
+                REFERENCE.stroke_width(2),
+            ))?;
         }
         for (i, s) in series.iter().enumerate() {
             let line = colour(i).stroke_width(2);
@@ -186,24 +263,21 @@ pub fn plot_curves(path: &Path, title: &str, x_label: &str, y_label: &str, serie
                     .flat_map(|run| run.iter())
                     .map(|p| Circle::new((p.x, p.mean), 2, line.filled())),
             )?;
-            chart
-                .draw_series(
-                    runs.iter()
-                        .filter(|run| run.len() > 1)
-                        .map(|run| PathElement::new(run.iter().map(|p| (p.x, p.mean)).collect::<Vec<_>>(), line)),
-                )?
-                .label(s.label.as_str())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], line));
+            chart.draw_series(
+                runs.iter()
+                    .filter(|run| run.len() > 1)
+                    .map(|run| PathElement::new(run.iter().map(|p| (p.x, p.mean)).collect::<Vec<_>>(), line)),
+            )?;
         }
-        frame.legend(&mut chart)
+        Ok(())
     })
 }
 
 /// Draws points into an SVG file at `path`: one colour per `(label, points)`
 /// series, small dots (e.g. one per episode: the values of the actions in the
-/// initial observation, as in the thesis's Figures 6.5 to 6.10), a legend and
-/// labelled axes. Points with a non-finite coordinate are skipped; both
-/// ranges span the data with a small margin. Fails with
+/// initial observation, as in the thesis's Figures 6.5 to 6.10), the title
+/// above and the legend below the chart. Points with a non-finite coordinate
+/// are skipped; both ranges span the data with a small margin. Fails with
 /// [`PlotError::NoSeries`] or [`PlotError::NoFinitePoints`] when there is
 /// nothing to draw.
 pub fn plot_scatter(
@@ -229,27 +303,135 @@ pub fn plot_scatter(
             path: path.to_path_buf(),
         });
     };
-    write_svg(path, |root| {
-        let mut chart = frame.chart(root, title, x_label, y_label)?;
-        for (i, (label, points)) in series.iter().enumerate() {
+    let legend: Vec<(String, Swatch)> = series
+        .iter()
+        .enumerate()
+        .map(|(i, (label, _))| (label.clone(), Swatch::Dot(colour(i))))
+        .collect();
+    write_svg(path, title, &legend, |area| {
+        let mut chart = frame.chart(area, x_label, y_label)?;
+        for (i, (_, points)) in series.iter().enumerate() {
             let dot = colour(i).mix(0.75).filled();
-            chart
-                .draw_series(points.iter().copied().filter(finite).map(|p| Circle::new(p, 2, dot)))?
-                .label(label.as_str())
-                .legend(move |(x, y)| Circle::new((x + 12, y), 4, colour(i).filled()));
+            chart.draw_series(points.iter().copied().filter(finite).map(|p| Circle::new(p, 2, dot)))?;
         }
-        frame.legend(&mut chart)
+        Ok(())
     })
 }
 
-/// The ranges of a plot and where its legend goes.
+/// Draws a bar chart into an SVG file at `path`: one bar per entry with its
+/// confidence interval as an error bar, its value written above it, the title
+/// above and the bars' labels along the horizontal axis. The vertical axis
+/// starts at zero (or below, for negative values). Fails with
+/// [`PlotError::NoSeries`] when there is no bar and
+/// [`PlotError::NoFinitePoints`] when no mean is finite.
+pub fn plot_bars(path: &Path, title: &str, y_label: &str, unit: &str, bars: &[Bar]) -> Result<(), PlotError> {
+    if bars.is_empty() {
+        return Err(PlotError::NoSeries {
+            path: path.to_path_buf(),
+        });
+    }
+    let mut ys: Vec<f64> = vec![0.0];
+    ys.extend(
+        bars.iter()
+            .flat_map(|b| [b.mean, b.low, b.high])
+            .filter(|v| v.is_finite()),
+    );
+    if !bars.iter().any(|b| b.mean.is_finite()) {
+        return Err(PlotError::NoFinitePoints {
+            path: path.to_path_buf(),
+        });
+    }
+    let low = ys.iter().copied().fold(f64::INFINITY, f64::min);
+    let high = ys.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let span = (high - low).max(1e-9);
+    let frame = Frame {
+        x: -0.5..bars.len() as f64 - 0.5,
+        y: (if low < 0.0 { low - 0.05 * span } else { 0.0 })..high + 0.12 * span,
+    };
+    let names: Vec<String> = bars.iter().map(|b| b.label.clone()).collect();
+    write_svg(path, title, &[], |area| {
+        let mut chart = ChartBuilder::on(area)
+            .margin(SIDE)
+            .x_label_area_size(40)
+            .y_label_area_size(76)
+            .build_cartesian_2d(frame.x.clone(), frame.y.clone())?;
+        let y_decimals = decimals(&frame.y);
+        let y_tick = move |v: &f64| tick(*v, y_decimals);
+        let x_tick = |v: &f64| {
+            let i = v.round();
+            if (v - i).abs() < 1e-6 && i >= 0.0 {
+                names.get(i as usize).cloned().unwrap_or_default()
+            } else {
+                String::new()
+            }
+        };
+        chart
+            .configure_mesh()
+            .disable_x_mesh()
+            .x_labels(bars.len() * 2 + 1)
+            .y_labels(TICKS)
+            .x_label_formatter(&x_tick)
+            .y_label_formatter(&y_tick)
+            .y_desc(y_label)
+            .axis_desc_style((FONT, 16))
+            .label_style((FONT, 14))
+            .bold_line_style(BLACK.mix(0.12))
+            .light_line_style(BLACK.mix(0.04))
+            .draw()?;
+        let value_decimals = y_decimals.max(1);
+        for (i, bar) in bars.iter().enumerate().filter(|(_, b)| b.mean.is_finite()) {
+            let x = i as f64;
+            chart.draw_series([Rectangle::new(
+                [(x - 0.32, 0.0), (x + 0.32, bar.mean)],
+                colour(i).mix(0.85).filled(),
+            )])?;
+            let whisker = BLACK.stroke_width(2);
+            if bar.low.is_finite() && bar.high.is_finite() && bar.high > bar.low {
+                chart.draw_series([
+                    PathElement::new(vec![(x, bar.low), (x, bar.high)], whisker),
+                    PathElement::new(vec![(x - 0.08, bar.low), (x + 0.08, bar.low)], whisker),
+                    PathElement::new(vec![(x - 0.08, bar.high), (x + 0.08, bar.high)], whisker),
+                ])?;
+            }
+            let top = if bar.high.is_finite() {
+                bar.high.max(bar.mean)
+            } else {
+                bar.mean
+            };
+            let text = format!("{:.value_decimals$}{unit}", bar.mean);
+            chart.draw_series([Text::new(
+                text,
+                (x, top + 0.03 * span),
+                (FONT, 14)
+                    .into_font()
+                    .color(&BLACK)
+                    .pos(Pos::new(HPos::Center, VPos::Bottom)),
+            )])?;
+        }
+        Ok(())
+    })
+}
+
+/// The colour of reference lines.
+const REFERENCE: RGBColor = RGBColor(90, 90, 90);
+
+/// How a legend entry is drawn.
+#[derive(Debug, Clone, Copy)]
+enum Swatch {
+    /// A line segment (a curve).
+    Line(RGBColor),
+    /// A dashed segment (a reference).
+    Dashed(RGBColor),
+    /// A dot (a scatter series).
+    Dot(RGBColor),
+}
+
+/// The ranges of a plot.
 struct Frame {
     /// Horizontal range.
     x: Range<f64>,
     /// Vertical range.
     y: Range<f64>,
-    /// The corner with the fewest data points.
-    legend: SeriesLabelPosition,
 }
 
 /// A chart drawn on an SVG string.
@@ -267,23 +449,22 @@ impl Frame {
             y0 = y0.min(y);
             y1 = y1.max(y);
         }
-        let x = padded(x0, x1, x_margin);
-        let y = padded(y0, y1, y_margin);
-        let legend = legend_corner(xy, &x, &y);
-        Some(Frame { x, y, legend })
+        Some(Frame {
+            x: padded(x0, x1, x_margin),
+            y: padded(y0, y1, y_margin),
+        })
     }
 
-    /// A titled chart with labelled axes and a light grid.
+    /// A chart with labelled axes and a light grid (the title and the legend
+    /// are drawn around it).
     fn chart<'a, 'b>(
         &self,
         root: &'a DrawingArea<SVGBackend<'b>, Shift>,
-        title: &str,
         x_label: &str,
         y_label: &str,
     ) -> Result<Chart<'a, 'b>, DrawingAreaErrorKind<io::Error>> {
         let mut chart = ChartBuilder::on(root)
-            .caption(title, (FONT, 22))
-            .margin(18)
+            .margin(SIDE)
             .x_label_area_size(52)
             .y_label_area_size(76)
             .build_cartesian_2d(self.x.clone(), self.y.clone())?;
@@ -304,18 +485,6 @@ impl Frame {
             .light_line_style(BLACK.mix(0.04))
             .draw()?;
         Ok(chart)
-    }
-
-    /// Draws the legend of the labelled series.
-    fn legend<'a, 'b: 'a>(&self, chart: &mut Chart<'a, 'b>) -> DrawResult {
-        chart
-            .configure_series_labels()
-            .position(self.legend.clone())
-            .margin(12)
-            .label_font((FONT, 14))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .draw()
     }
 }
 
@@ -357,49 +526,139 @@ fn padded(min: f64, max: f64, margin: f64) -> Range<f64> {
     }
 }
 
-/// The corner of the plot holding the fewest points (upper right on ties),
-/// where the legend hides the least data.
-fn legend_corner(xy: &[(f64, f64)], x: &Range<f64>, y: &Range<f64>) -> SeriesLabelPosition {
-    let width = x.end - x.start;
-    let height = y.end - y.start;
-    let corners = [
-        (SeriesLabelPosition::UpperRight, true, true),
-        (SeriesLabelPosition::LowerRight, true, false),
-        (SeriesLabelPosition::UpperLeft, false, true),
-        (SeriesLabelPosition::LowerLeft, false, false),
-    ];
-    let inside = |&(px, py): &(f64, f64), right: bool, upper: bool| {
-        let u = (px - x.start) / width;
-        let v = (py - y.start) / height;
-        let in_x = if right { u > 0.6 } else { u < 0.4 };
-        let in_y = if upper { v > 0.65 } else { v < 0.35 };
-        in_x && in_y
-    };
-    corners
-        .into_iter()
-        .map(|(pos, right, upper)| {
-            let count = xy.iter().filter(|p| inside(p, right, upper)).count();
-            (count, pos)
+/// A generous estimate of the width of `text` at font size `size`, in pixels
+/// (sans-serif glyphs average about half the size; capitals and digits more).
+pub fn text_width(text: &str, size: u32) -> f64 {
+    text.chars()
+        .map(|c| match c {
+            'i' | 'l' | 'j' | '.' | ',' | ':' | ';' | '\'' | '|' | '!' | ' ' | '(' | ')' | '[' | ']' => 0.33,
+            'm' | 'w' | 'M' | 'W' => 0.9,
+            c if c.is_uppercase() || c.is_ascii_digit() => 0.66,
+            _ => 0.56,
         })
-        .min_by_key(|(count, _)| *count)
-        .map_or(SeriesLabelPosition::UpperRight, |(_, pos)| pos)
+        .sum::<f64>()
+        * f64::from(size)
 }
 
-/// Renders a plot into a string with `draw`, then writes it to `path` atomically.
+/// `title` broken at spaces into lines no wider than `width` pixels at `size`.
+pub fn wrap(title: &str, width: f64, size: u32) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    let mut line = String::new();
+    for word in title.split_whitespace() {
+        let candidate = if line.is_empty() {
+            word.to_string()
+        } else {
+            format!("{line} {word}")
+        };
+        if !line.is_empty() && text_width(&candidate, size) > width {
+            lines.push(std::mem::replace(&mut line, word.to_string()));
+        } else {
+            line = candidate;
+        }
+    }
+    if !line.is_empty() || lines.is_empty() {
+        lines.push(line);
+    }
+    lines
+}
+
+/// The legend's entries laid out in rows no wider than `width`: per row, the
+/// entries with their x offsets.
+fn legend_rows(entries: &[(String, Swatch)], width: f64) -> Vec<Vec<(f64, usize)>> {
+    let mut rows: Vec<Vec<(f64, usize)>> = Vec::new();
+    let mut x = 0.0;
+    for (i, (label, _)) in entries.iter().enumerate() {
+        let w = 34.0 + text_width(label, LEGEND_SIZE) + 24.0;
+        if rows.is_empty() || (x + w > width && x > 0.0) {
+            rows.push(Vec::new());
+            x = 0.0;
+        }
+        if let Some(row) = rows.last_mut() {
+            row.push((x, i));
+        }
+        x += w;
+    }
+    rows
+}
+
+/// Renders a plot into a string, then writes it to `path` atomically: the
+/// title (wrapped) on top, the chart drawn by `draw` in the middle, the legend
+/// below. The height grows with the title's lines and the legend's rows.
 fn write_svg(
     path: &Path,
+    title: &str,
+    legend: &[(String, Swatch)],
     draw: impl FnOnce(&DrawingArea<SVGBackend<'_>, Shift>) -> DrawResult,
 ) -> Result<(), PlotError> {
+    let (width, base_height) = PLOT_SIZE;
+    let inner = f64::from(width - 2 * SIDE);
+    let lines = wrap(title, inner, TITLE_SIZE);
+    let rows = legend_rows(legend, inner);
+    let title_height = PAD + TITLE_LINE * lines.len() as u32;
+    let legend_height = if rows.is_empty() {
+        0
+    } else {
+        LEGEND_ROW * rows.len() as u32 + PAD
+    };
+    // A one-line title and a one-row legend give the base height.
+    let chart_height = base_height - (PAD + TITLE_LINE) - (LEGEND_ROW + PAD);
+    let height = title_height + chart_height + legend_height;
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, PLOT_SIZE).into_drawing_area();
-        root.fill(&WHITE)
-            .and_then(|()| draw(&root))
-            .and_then(|()| root.present())
-            .map_err(|source| PlotError::Draw {
-                path: path.to_path_buf(),
-                source,
-            })?;
+        let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
+        let result = (|| -> DrawResult {
+            root.fill(&WHITE)?;
+            let (top, rest) = root.split_vertically(title_height);
+            let (middle, bottom) = rest.split_vertically(chart_height);
+            let style = (FONT, TITLE_SIZE)
+                .into_font()
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Center, VPos::Top));
+            for (i, line) in lines.iter().enumerate() {
+                top.draw(&Text::new(
+                    line.clone(),
+                    ((width / 2) as i32, (PAD + TITLE_LINE * i as u32) as i32),
+                    style.clone(),
+                ))?;
+            }
+            draw(&middle)?;
+            for (r, row) in rows.iter().enumerate() {
+                let row_width = row
+                    .last()
+                    .map_or(0.0, |&(x, i)| x + 34.0 + text_width(&legend[i].0, LEGEND_SIZE));
+                let left = (f64::from(width) - row_width).max(0.0) / 2.0;
+                let y = (LEGEND_ROW * r as u32 + LEGEND_ROW / 2) as i32;
+                for &(x, i) in row {
+                    let x = (left + x) as i32;
+                    let (label, swatch) = &legend[i];
+                    match *swatch {
+                        Swatch::Line(c) => {
+                            bottom.draw(&PathElement::new(vec![(x, y), (x + 26, y)], c.stroke_width(3)))?;
+                        }
+                        Swatch::Dashed(c) => {
+                            for k in 0..3 {
+                                let from = x + k * 10;
+                                bottom.draw(&PathElement::new(vec![(from, y), (from + 6, y)], c.stroke_width(2)))?;
+                            }
+                        }
+                        Swatch::Dot(c) => bottom.draw(&Circle::new((x + 13, y), 4, c.filled()))?,
+                    }
+                    bottom.draw(&Text::new(
+                        label.clone(),
+                        (x + 34, y),
+                        (FONT, LEGEND_SIZE)
+                            .into_font()
+                            .color(&BLACK)
+                            .pos(Pos::new(HPos::Left, VPos::Center)),
+                    ))?;
+                }
+            }
+            root.present()
+        })();
+        result.map_err(|source| PlotError::Draw {
+            path: path.to_path_buf(),
+            source,
+        })?;
     }
     write_atomic(path, svg.as_bytes()).map_err(|source| PlotError::Io {
         path: path.to_path_buf(),
@@ -488,14 +747,14 @@ mod tests {
     }
 
     #[test]
-    fn the_legend_goes_where_the_data_is_not() {
-        let rising: Vec<(f64, f64)> = (0..100).map(|i| (f64::from(i), f64::from(i))).collect();
-        let frame = Frame::of(&rising, 0.0, 0.05).expect("points");
-        assert!(matches!(frame.legend, SeriesLabelPosition::LowerRight));
-        let falling: Vec<(f64, f64)> = rising.iter().map(|&(x, y)| (x, -y)).collect();
-        let frame = Frame::of(&falling, 0.0, 0.05).expect("points");
-        assert!(matches!(frame.legend, SeriesLabelPosition::UpperRight));
-        assert!(Frame::of(&[], 0.0, 0.0).is_none());
+    fn long_titles_wrap_within_the_width() {
+        let title = "Figure 6.3: Parr and Russell's grid, short term: Sarsa(0.9) and epsilon-SoSMC without exploration after the initial phase";
+        let lines = wrap(title, 864.0, 20);
+        assert!(lines.len() >= 2, "{lines:?}");
+        assert!(lines.iter().all(|l| text_width(l, 20) <= 864.0), "{lines:?}");
+        assert_eq!(lines.join(" "), title);
+        assert_eq!(wrap("short", 864.0, 20), ["short"]);
+        assert_eq!(wrap("", 864.0, 20), [""]);
     }
 
     #[test]

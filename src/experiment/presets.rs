@@ -2,7 +2,7 @@
 //! where it gives them and documented choices where it does not
 //! (docs/results/RESULTS.md lists both).
 
-use super::defaults::default_learner;
+use super::defaults::{default_learner, default_protocol};
 use super::spec::{Algorithm, DomainSpec, ExperimentSpec, LearnerSpec, Protocol};
 use crate::domains::keepaway::{FixedPolicy, KeepawayDomainConfig, KeepawayMode};
 use crate::domains::parr_russell::ParrRussellConfig;
@@ -16,6 +16,8 @@ pub enum FigureKind {
     Curves,
     /// The values of the options in the initial observation during one run.
     Traces,
+    /// Fixed policies: one bar per policy, its mean score with a 95% CI.
+    Bars,
 }
 
 /// A figure of the thesis and the experiments that draw it.
@@ -33,7 +35,9 @@ pub struct Figure {
     pub curves: Vec<ExperimentSpec>,
 }
 
-const SEED: u64 = 2011;
+/// The presets' seed, also `learnpnp experiment`'s default: an experiment
+/// with a preset's parameters gives the preset's numbers.
+pub const SEED: u64 = super::defaults::DEFAULT_SEED;
 
 fn parr_russell() -> DomainSpec {
     DomainSpec::ParrRussell {
@@ -64,6 +68,7 @@ fn experiment(
         protocol,
         seed: SEED,
         initial_values: Vec::new(),
+        record: 0,
     }
 }
 
@@ -396,16 +401,11 @@ fn figure_7_6() -> Figure {
     }
 }
 
-/// The fixed keeper policies of chapter 7, for the RESULTS table.
+/// The fixed keeper policies of chapter 7, for the RESULTS table: the
+/// protocol `learnpnp experiment keepaway-fixed` uses by default, so that both
+/// give the same numbers.
 fn keepaway_baselines() -> Figure {
-    let p = Protocol {
-        runs: 20,
-        episodes: 50,
-        eval_every: 50,
-        eval_episodes: 50,
-        greedy_episodes: 0,
-        trace_every: Some(0),
-    };
+    let p = default_protocol(&keepaway(KeepawayMode::Fixed(FixedPolicy::Handcoded)));
     let curve = |label: &str, policy: FixedPolicy| {
         experiment(
             label,
@@ -419,7 +419,7 @@ fn keepaway_baselines() -> Figure {
         id: "7.baselines",
         title: "Keepaway: mean episode duration of the fixed keeper policies",
         claim: "The framework's hand-coded policy measures about 16 s on the thesis's system; the thesis's simple threshold policy, played by all keepers, beats the best published results",
-        kind: FigureKind::Curves,
+        kind: FigureKind::Bars,
         curves: vec![
             curve("random", FixedPolicy::Random),
             curve("always hold", FixedPolicy::AlwaysHold),

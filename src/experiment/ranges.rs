@@ -192,6 +192,8 @@ pub const STAGE_LENGTH: CountRange = CountRange::new(1, u64::MAX);
 pub const WINDOW: CountRange = CountRange::new(1, 1_000_000_000);
 /// Worker threads.
 pub const THREADS: CountRange = CountRange::new(1, 256);
+/// Episodes recorded as game logs (each is a few hundred kilobytes).
+pub const RECORD: CountRange = CountRange::new(0, 1000);
 
 /// The learning episodes between evaluations of a run of `episodes` episodes:
 /// at least one, at most the run (a longer interval would only evaluate the

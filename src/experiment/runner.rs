@@ -46,6 +46,8 @@ pub struct RunOutput {
     pub episodes_run: u64,
     /// Primitive actions (moves, cycles) over those episodes.
     pub actions: u64,
+    /// Game logs (`.rcg` text) of the recorded episodes (run 0 only).
+    pub replays: Vec<String>,
 }
 
 /// What an experiment produced: every run, or, when it was stopped, the runs
@@ -180,6 +182,10 @@ pub fn run_protocol(
     progress(since_report);
     out.greedy = task.greedy_score(p.greedy_episodes)?;
     out.episodes_run += p.greedy_episodes as u64;
+    if first {
+        // Played last, so that recording changes no result of the run.
+        out.replays = task.record(spec.record)?;
+    }
     Ok(true)
 }
 

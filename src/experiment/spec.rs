@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
+use super::plot::Reference;
 use super::ranges;
 use crate::analysis;
 use crate::domains::keepaway::{self, KeepawayDomainConfig, KeepawayMode, KeepawayTask};
@@ -127,6 +128,50 @@ impl DomainSpec {
         }
     }
 
+    /// What an episode's return measures, for axis labels and tables.
+    pub fn score_name(&self) -> &'static str {
+        match self {
+            DomainSpec::Keepaway { .. } => "episode duration",
+            _ => "return",
+        }
+    }
+
+    /// The unit of the score: seconds in Keepaway, none elsewhere.
+    pub fn score_unit(&self) -> &'static str {
+        match self {
+            DomainSpec::Keepaway { .. } => "s",
+            _ => "",
+        }
+    }
+
+    /// Whether nothing learns: the keepers follow a fixed policy.
+    pub fn is_fixed_policy(&self) -> bool {
+        matches!(
+            self,
+            DomainSpec::Keepaway {
+                config: KeepawayDomainConfig {
+                    mode: KeepawayMode::Fixed(_),
+                    ..
+                },
+                ..
+            }
+        )
+    }
+
+    /// A known optimum to draw beside the curves: in Parr and Russell's grid
+    /// with the thesis's plan, the exact value of the best memoryless policy.
+    pub fn reference(&self) -> Option<Reference> {
+        match self {
+            DomainSpec::ParrRussell { config, plan: None } => {
+                parr_russell::optimum::optimum(config).map(|(_, value)| Reference {
+                    label: format!("best memoryless policy, exact: {value:.3}"),
+                    value,
+                })
+            }
+            _ => None,
+        }
+    }
+
     /// The plan file replacing the built-in plan, if any.
     pub fn plan_file(&self) -> Option<&Path> {
         match self {
@@ -152,6 +197,9 @@ impl DomainSpec {
             DomainSpec::PenaltyKick { plan: Some(p), .. } => load_plan(p, Vocabulary::Open)?,
             DomainSpec::PenaltyKick { config, plan: None } => penalty_kick::plan(config.variant)?,
         };
+        for w in plan.warnings() {
+            eprintln!("warning: {w}");
+        }
         Ok(Some(Arc::new(plan)))
     }
 
@@ -394,6 +442,14 @@ pub struct ExperimentSpec {
     /// experiment saves them), instead of the initial value.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub initial_values: Vec<PathBuf>,
+    /// Keepaway: evaluation episodes of run 0, played after its last
+    /// evaluation, to save as RoboCup game logs (they change no result).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub record: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 impl ExperimentSpec {
@@ -404,6 +460,13 @@ impl ExperimentSpec {
         self.protocol.validate()?;
         self.domain.validate()?;
         self.learner.validate()?;
+        field("record", ranges::RECORD.check(self.record as u64))?;
+        if self.record > 0 && !matches!(self.domain, DomainSpec::Keepaway { .. }) {
+            return Err(ExperimentError::Invalid(format!(
+                "--record saves Keepaway episodes as game logs; {} has none",
+                self.domain.name()
+            )));
+        }
         if !self.learner.is_for(self.algorithm) {
             return Err(ExperimentError::Invalid(format!(
                 "the learner's parameters are not those of {}",

@@ -14,7 +14,9 @@
 //!   ball asks a pluggable [`keeper::KeeperPolicy`];
 //! - [`policies`]: random, always-hold, hand-coded and the thesis's threshold policy;
 //! - [`state_vars`], [`features`], [`positions`]: abstractions for plans and learners;
-//! - [`episode`]: running episodes.
+//! - [`episode`]: running episodes;
+//! - [`rcg`], [`replay`]: RoboCup game logs (`.rcg`) of episodes, for rcssmonitor,
+//!   and a self-contained HTML page replaying one.
 
 pub mod command;
 pub mod episode;
@@ -25,7 +27,9 @@ pub mod params;
 pub mod perception;
 pub mod policies;
 pub mod positions;
+pub mod rcg;
 pub mod referee;
+pub mod replay;
 pub mod simulator;
 pub mod skills;
 pub mod state_vars;

@@ -6,6 +6,7 @@
 //! it identifies the thesis's observation-action pair, while plans that lead to
 //! the same marking deliberately share one value (see docs/ARCHITECTURE.md).
 
+pub mod by_choice;
 mod mcesp;
 mod monte_carlo;
 pub mod persist;

@@ -5,8 +5,8 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::PlanError;
 use super::labels::{Function, TransitionToken, parse_place_label, transition_tokens};
+use super::{PlanError, PlanWarning};
 use crate::condition::{AtomRef, AtomTable, Condition, parse_condition};
 use crate::net::{Incidence, Marking, PetriNet, PlaceId, TransitionId};
 
@@ -102,6 +102,7 @@ pub struct Plan {
     transitions: Vec<TransitionInfo>,
     internal: Vec<InternalCondition>,
     atoms: AtomTable,
+    warnings: Vec<PlanWarning>,
     schema: Option<Arc<crate::schema::Process>>,
 }
 
@@ -151,6 +152,7 @@ impl Plan {
             Vocabulary::Closed(table) => table.clone(),
         };
         let mut internal: Vec<InternalCondition> = Vec::new();
+        let mut warnings = Vec::new();
         let mut transitions = Vec::with_capacity(net.transitions().len());
         for (i, node) in net.transitions().iter().enumerate() {
             let tid = TransitionId::new(i);
@@ -172,12 +174,33 @@ impl Plan {
                         }
                     }
                     TransitionToken::Call(name, function) => {
-                        let action = *by_name.get(name).ok_or_else(|| {
-                            label_error(
-                                &format!("{name}.{}", function.as_str()),
-                                "no execution place names this action",
-                            )
-                        })?;
+                        let warn = |message: String| PlanWarning {
+                            transition: node.id.clone(),
+                            label: node.label.clone(),
+                            message,
+                        };
+                        let known = by_name.get(name).copied();
+                        if let Some(message) =
+                            unusual_call(&incidence, &place_action, tid, name, function, known, &actions)
+                        {
+                            warnings.push(warn(message));
+                        }
+                        let action = match known {
+                            Some(action) => action,
+                            None => {
+                                // The PNP library calls executables by name: an action
+                                // no execution place names is started or ended all the
+                                // same, and never stepped.
+                                actions.push(ActionInfo {
+                                    agent: name.split_once('#').map(|(a, _)| a.to_string()),
+                                    name: name.to_string(),
+                                    exec_places: Vec::new(),
+                                });
+                                let id = ActionId(actions.len() as u32 - 1);
+                                by_name.insert(name.to_string(), id);
+                                id
+                            }
+                        };
                         calls.push(Call { function, action });
                     }
                     TransitionToken::BareCall(function) => {
@@ -200,6 +223,26 @@ impl Plan {
                 }
             }
             let mut resolve = |atom: &str| -> Result<AtomRef, PlanError> {
+                if let Some((name, _)) = atom.split_once('.').filter(|_| atom.matches('.').count() == 1)
+                    && !name.is_empty()
+                    && !by_name.contains_key(name)
+                {
+                    // As for calls: the PNP library asks the executable by name.
+                    warnings.push(PlanWarning {
+                        transition: node.id.clone(),
+                        label: node.label.clone(),
+                        message: format!(
+                            "no execution place names action '{name}', whose condition '{atom}' the guard \
+                             tests; as the PNP library does, '{name}' is asked by name and never stepped"
+                        ),
+                    });
+                    actions.push(ActionInfo {
+                        agent: name.split_once('#').map(|(a, _)| a.to_string()),
+                        name: name.to_string(),
+                        exec_places: Vec::new(),
+                    });
+                    by_name.insert(name.to_string(), ActionId(actions.len() as u32 - 1));
+                }
                 resolve_atom(atom, &by_name, &mut atoms, vocabulary, &mut internal)
                     .map_err(|reason| label_error(atom, &reason))
             };
@@ -230,6 +273,7 @@ impl Plan {
             transitions,
             internal,
             atoms,
+            warnings,
             schema: None,
         })
     }
@@ -256,6 +300,21 @@ impl Plan {
             .iter()
             .flat_map(|p| p.machines().iter().skip(1).map(|m| m.plan()));
         std::iter::once(self).chain(called).collect()
+    }
+
+    /// What is unusual in the plan but accepted, as the PNP library accepts it.
+    pub fn warnings(&self) -> &[PlanWarning] {
+        &self.warnings
+    }
+
+    /// The name of place `p` for a reader: its label, or its id when the label is blank.
+    pub fn place_name(&self, p: PlaceId) -> &str {
+        let place = self.net.place(p);
+        if place.label.trim().is_empty() {
+            &place.id
+        } else {
+            &place.label
+        }
     }
 
     /// The plan's name.
@@ -361,13 +420,12 @@ impl Plan {
         let parts: Vec<String> = m
             .marked()
             .map(|(p, n)| {
-                let place = self.net.place(p);
-                let name = if place.label.is_empty() {
-                    &place.id
+                let name = self.place_name(p);
+                if n == 1 {
+                    name.to_string()
                 } else {
-                    &place.label
-                };
-                if n == 1 { name.clone() } else { format!("{name}*{n}") }
+                    format!("{name}*{n}")
+                }
             })
             .collect();
         if parts.is_empty() {
@@ -376,6 +434,50 @@ impl Plan {
             parts.join(" ")
         }
     }
+}
+
+/// Why a call of `function` on `action` (named `name`, `None` when no
+/// execution place names it) by transition `t` is unusual, if it is: a start
+/// or resume that marks none of the action's execution places, or an end, fail
+/// or interrupt that takes its token from none of them.
+fn unusual_call(
+    incidence: &Incidence,
+    place_action: &[Option<ActionId>],
+    t: TransitionId,
+    name: &str,
+    function: Function,
+    action: Option<ActionId>,
+    actions: &[ActionInfo],
+) -> Option<String> {
+    let outputs = function.binds_output();
+    let adjacent = adjacent_actions(incidence, place_action, t, outputs);
+    if action.is_some_and(|a| adjacent.contains(&a)) {
+        return None;
+    }
+    let call = format!("{name}.{}", function.as_str());
+    let others: Vec<&str> = adjacent.iter().map(|a| actions[a.index()].name.as_str()).collect();
+    let place = match (outputs, others.is_empty()) {
+        (true, true) => String::new(),
+        (true, false) => format!(
+            " (it marks the execution place of '{}', which thus runs without being started)",
+            others.join("', '")
+        ),
+        (false, true) => String::new(),
+        (false, false) => format!(" (it takes the token of '{}')", others.join("', '")),
+    };
+    Some(match action {
+        None => format!(
+            "no execution place names action '{name}'{place}; as the PNP library does, '{call}' is \
+             called by name and '{name}' is never stepped"
+        ),
+        Some(_) if outputs => format!(
+            "'{call}' marks no execution place of '{name}'{place}; as the PNP library does, it is called by name"
+        ),
+        Some(_) => format!(
+            "'{call}' takes its token from no execution place of '{name}'{place}; as the PNP library does, \
+             it is called by name"
+        ),
+    })
 }
 
 /// Actions of the execution places adjacent to `t` (outputs or inputs).

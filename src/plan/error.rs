@@ -48,3 +48,16 @@ pub enum PlanError {
         source: Box<ConditionError>,
     },
 }
+
+/// Something unusual in a plan that the public PNP library accepts, and so do
+/// we: the transition, its label and what is unusual.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("transition '{transition}' (label '{label}'): {message}")]
+pub struct PlanWarning {
+    /// The transition id.
+    pub transition: String,
+    /// Its label.
+    pub label: String,
+    /// What is unusual and what it does.
+    pub message: String,
+}

@@ -84,10 +84,7 @@ impl<W: World> MachineRun<W> {
                         declared_lists.push(declared.to_vec());
                     }
                     _ => {
-                        return Err(ExecError::UnknownAction {
-                            plan: mp.name().to_string(),
-                            action: action.name.clone(),
-                        });
+                        return Err(registry.unknown_action(mp.name(), &action.name));
                     }
                 },
             }

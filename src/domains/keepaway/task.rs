@@ -10,6 +10,7 @@ use super::team::{KeeperTeam, LocalTeam, TeamStep};
 use crate::domains::{EpisodeOutcome, Task, TaskError};
 use crate::keepaway::command::Command;
 use crate::keepaway::perception::{PlayerId, perceive};
+use crate::keepaway::rcg::GameLogWriter;
 use crate::keepaway::simulator::Simulator;
 use crate::keepaway::taker::{TakerMemory, taker_command};
 use crate::keepaway::world::{NUM_KEEPERS, NUM_PLAYERS, NUM_TAKERS};
@@ -79,14 +80,36 @@ impl KeepawayTask {
     /// Plays one episode; an episode the team aborts is discarded and played again.
     fn play(&mut self, start: EpisodeStart) -> Result<EpisodeOutcome, TaskError> {
         loop {
-            if let Some(outcome) = self.play_once(start)? {
+            if let Some(outcome) = self.play_once(start, None)? {
                 return Ok(outcome);
             }
         }
     }
 
-    /// One episode from a fresh start, or `None` if the team aborted it.
-    fn play_once(&mut self, start: EpisodeStart) -> Result<Option<EpisodeOutcome>, TaskError> {
+    /// Plays one episode in `mode` while writing it as a RoboCup game log
+    /// (`.rcg` text, see [`crate::keepaway::rcg`]), with the plan-driven
+    /// keepers' current actions and choices where the team knows them.
+    pub fn record_episode(&mut self, mode: EpisodeMode) -> Result<(EpisodeOutcome, String), TaskError> {
+        self.team.set_noting(true);
+        let result = loop {
+            let mut log = GameLogWriter::new(self.sim.config());
+            match self.play_once(EpisodeStart::of(mode), Some(&mut log)) {
+                Ok(Some(outcome)) => break Ok((outcome, log.finish(self.sim.episode_cycles(), self.sim.ended()))),
+                Ok(None) => continue,
+                Err(e) => break Err(e),
+            }
+        };
+        self.team.set_noting(false);
+        result
+    }
+
+    /// One episode from a fresh start, or `None` if the team aborted it;
+    /// every cycle is written to `log` when one is given.
+    fn play_once(
+        &mut self,
+        start: EpisodeStart,
+        mut log: Option<&mut GameLogWriter>,
+    ) -> Result<Option<EpisodeOutcome>, TaskError> {
         self.sim.reset();
         self.takers = [TakerMemory::default(); NUM_TAKERS];
         self.team.begin_episode(start)?;
@@ -105,9 +128,16 @@ impl KeepawayTask {
                     *command = taker_command(&perceive(&world, id, &cfg), &cfg, memory);
                 }
             }
+            if let Some(log) = log.as_deref_mut() {
+                log.show(&world, &self.team.notes());
+                log.commands(&world, &commands);
+            }
             if self.sim.step(&commands).is_some() {
                 break;
             }
+        }
+        if let Some(log) = log {
+            log.show(self.sim.world(), &self.team.notes());
         }
         let cycles = self.sim.episode_cycles();
         let exploratory = self.team.end_episode(cycles)?;
@@ -151,5 +181,11 @@ impl Task for KeepawayTask {
 
     fn learners(&self) -> Vec<&dyn Learner> {
         self.team.learners()
+    }
+
+    fn record(&mut self, episodes: usize) -> Result<Vec<String>, TaskError> {
+        (0..episodes)
+            .map(|_| self.record_episode(EpisodeMode::Evaluate).map(|(_, log)| log))
+            .collect()
     }
 }

@@ -14,6 +14,7 @@ use crate::keepaway::keeper::{KeeperMemory, keeper_command};
 use crate::keepaway::params::KeepawayConfig;
 use crate::keepaway::perception::PlayerView;
 use crate::keepaway::policies::BaselinePolicy;
+use crate::keepaway::rcg::KeeperNote;
 use crate::keepaway::world::NUM_KEEPERS;
 use crate::learning::{EpisodeStart, Learner, StateKey};
 use crate::plan::{Plan, catalog};
@@ -48,6 +49,18 @@ pub trait KeeperTeam {
 
     /// Cycles in which a plan-driven keeper issued no command, over the run.
     fn idle_cycles(&self) -> u64;
+
+    /// Starts or stops noting what the plan-driven keepers decide, for
+    /// [`KeeperTeam::notes`] (off by default: it costs time). A team that
+    /// cannot see its keepers' decisions ignores it.
+    fn set_noting(&mut self, _on: bool) {}
+
+    /// What each keeper is doing, at index k for keeper k: its current action
+    /// and last choice. `None` where the team cannot know it (fixed-policy
+    /// keepers, keepers in other processes).
+    fn notes(&self) -> [Option<KeeperNote>; NUM_KEEPERS] {
+        Default::default()
+    }
 }
 
 /// The keepers in this process: the learning keepers execute the plan, the
@@ -163,5 +176,19 @@ impl KeeperTeam for LocalTeam {
 
     fn idle_cycles(&self) -> u64 {
         self.keepers.iter().map(PlanKeeper::idle_cycles).sum()
+    }
+
+    fn set_noting(&mut self, on: bool) {
+        for k in &mut self.keepers {
+            k.set_noting(on);
+        }
+    }
+
+    fn notes(&self) -> [Option<KeeperNote>; NUM_KEEPERS] {
+        let mut notes: [Option<KeeperNote>; NUM_KEEPERS] = Default::default();
+        for (k, (slot, keeper)) in notes.iter_mut().zip(&self.keepers).enumerate() {
+            *slot = Some(keeper.note(k as u8 + 1));
+        }
+        notes
     }
 }
