@@ -19,7 +19,7 @@ use learnpnp::ipc::namespace::{Namespace, clean_stale};
 use learnpnp::ipc::wait::WaitStrategy;
 use learnpnp::multiprocess::Clock;
 use learnpnp::multiprocess::bench_latency::{bench_latency, configurations};
-use learnpnp::multiprocess::chaos::{Chaos, GARBAGE_COMMAND, publish_garbage};
+use learnpnp::multiprocess::chaos::{Chaos, GARBAGE_COMMAND, SoakLength, publish_garbage};
 use learnpnp::multiprocess::launch::Binaries;
 use learnpnp::multiprocess::soak::{Soak, SoakLimits};
 use learnpnp::multiprocess::supervisor::{Progress, RunObserver, SupervisorConfig, supervise};
@@ -111,8 +111,9 @@ struct SoakArgs {
     /// Stop after this many cycles (864,000 cycles: one simulated day).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     cycles: Option<u64>,
-    /// Inject faults at times drawn from this seed (needs --duration); a
-    /// killed simulator is restarted from its last episode boundary.
+    /// Inject faults at points drawn from this seed, spread over the soak's
+    /// --duration (or its --cycles); a killed simulator is restarted from its
+    /// last episode boundary.
     #[arg(long)]
     chaos: Option<u64>,
     #[command(flatten)]
@@ -265,22 +266,23 @@ fn run(args: RunArgs) -> Result<ExitCode> {
 }
 
 fn soak(args: SoakArgs) -> Result<ExitCode> {
-    if args.duration.is_none() && args.cycles.is_none() {
-        bail!("a soak needs --duration SECONDS or --cycles N");
-    }
+    let length = match (args.duration, args.cycles) {
+        (Some(seconds), _) => SoakLength::Time(Duration::from_secs(seconds)),
+        (None, Some(cycles)) => SoakLength::Cycles(cycles),
+        (None, None) => bail!("a soak needs --duration SECONDS or --cycles N"),
+    };
     let interrupt = Interrupt::install().context("installing the signal handlers")?;
     let (mut config, mut out) = prepare(&args.run, UNBOUNDED_EPISODES)?;
-    let chaos = match (args.chaos, args.duration) {
-        (Some(seed), Some(duration)) => {
+    let chaos = match args.chaos {
+        Some(seed) => {
             config.restart_simulator = true;
-            let chaos = Chaos::new(seed, Duration::from_secs(duration), config.clock);
+            let chaos = Chaos::new(seed, length, config.clock);
             for (at, kind) in chaos.schedule() {
-                eprintln!("chaos: {kind:?} at {at:.1} s");
+                eprintln!("chaos: {kind:?} at {:.1}% of the soak", 100.0 * at);
             }
             Some(chaos)
         }
-        (Some(_), None) => bail!("--chaos needs --duration (the faults are spread over it)"),
-        (None, _) => None,
+        None => None,
     };
     let limits = SoakLimits {
         duration: args.duration.map(Duration::from_secs),

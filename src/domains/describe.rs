@@ -4,7 +4,7 @@
 
 use std::fmt;
 
-use super::keepaway::{self, KeepawayDomainConfig, KeepawayMode, POSITIONING_TAKER_THRESHOLD};
+use super::keepaway::{self, KeepawayDomainConfig, KeepawayMode};
 use super::parr_russell::{self, ParrRussellConfig};
 use super::penalty_kick::{self, PenaltyKickConfig};
 use super::sutton::{self, SuttonConfig};
@@ -63,7 +63,10 @@ fn keepaway(name: &'static str, mode: KeepawayMode) -> DomainDescription {
             "the ball leaves the region, or a taker holds it (within {} m) for {TURNOVER_TIME} consecutive cycles{}",
             sim.server.kickable_distance(),
             if mode == KeepawayMode::Position {
-                format!("; the ball holder passes when a taker is within {POSITIONING_TAKER_THRESHOLD} m")
+                format!(
+                    "; the ball holder passes when a taker is within {} m",
+                    config.hold_threshold
+                )
             } else {
                 String::new()
             }

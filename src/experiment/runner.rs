@@ -118,7 +118,7 @@ pub fn run_one(
     let mut learner = |agent: usize| learner_for(spec, run, agent, initial.get(agent));
     let mut task = spec.domain.task(plan.clone(), &mut learner, task_rng(spec, run))?;
     let mut out = RunOutput::default();
-    if !run_protocol(spec, task.as_mut(), run, &mut out, progress, stop)? {
+    if !run_protocol(spec, task.as_mut(), run, true, &mut out, progress, stop)? {
         return Ok(None);
     }
     if run == 0 {
@@ -136,12 +136,15 @@ pub fn run_one(
 /// with keepers in other processes): evaluations every `eval_every` learning
 /// episodes, then the greedy score. Results accumulate in `out` (whose `run`
 /// is set) as they come, so an interrupted run keeps what it completed.
-/// Returns false if `stop` said so (checked before every learning episode)
-/// before the protocol ended.
+/// Run 0 also keeps every learning episode in `out.episodes`, unless
+/// `keep_episodes` is false (a long-running process that journals its
+/// episodes elsewhere keeps its memory flat). Returns false if `stop` said so
+/// (checked before every learning episode) before the protocol ended.
 pub fn run_protocol(
     spec: &ExperimentSpec,
     task: &mut dyn Task,
     run: usize,
+    keep_episodes: bool,
     out: &mut RunOutput,
     mut progress: impl FnMut(u64),
     stop: impl Fn() -> bool,
@@ -160,7 +163,7 @@ pub fn run_protocol(
         let outcome = task.episode(EpisodeMode::Learn)?;
         out.episodes_run += 1;
         out.actions += u64::from(outcome.actions);
-        if first {
+        if first && keep_episodes {
             out.episodes.push(EpisodeRecord { episode, outcome });
         }
         if first && p.trace_interval() > 0 && episode % p.trace_interval() == 0 {

@@ -25,7 +25,7 @@ pub enum WaitStrategy {
     Yield,
     /// Block on the process's wake-up event until a sender notifies it.
     Block,
-    /// Yield between polls for [`HYBRID_YIELD`], then block.
+    /// Yield between polls for a while (`HYBRID_YIELD`), then block.
     Hybrid,
 }
 

@@ -13,8 +13,9 @@
 //!   last good checkpoint must be kept and the run go on;
 //! - CPU load beside the run: a busy thread per core for ten seconds.
 //!
-//! The schedule depends only on the seed and the soak's duration: one round of
-//! every fault per ten minutes, at uniform random times in the middle 70% of it.
+//! The schedule depends only on the seed and the soak's length: one round of
+//! every fault per ten minutes (or, for a soak of so many cycles, per eight
+//! simulated hours), at uniform random points in the middle 70% of the round.
 
 use std::collections::VecDeque;
 use std::process::{Child, Stdio};
@@ -54,6 +55,36 @@ const GARBAGE_FOR: Duration = Duration::from_millis(500);
 
 /// Soak seconds per round of faults.
 const ROUND_SECONDS: f64 = 600.0;
+
+/// Soak cycles per round of faults (eight simulated hours).
+const ROUND_CYCLES: u64 = 288_000;
+
+/// How long a soak lasts, which its faults are spread over.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SoakLength {
+    /// Wall-clock time.
+    Time(Duration),
+    /// Simulated cycles (over every run).
+    Cycles(u64),
+}
+
+impl SoakLength {
+    fn rounds(self) -> usize {
+        match self {
+            SoakLength::Time(d) => (d.as_secs_f64() / ROUND_SECONDS).ceil().max(1.0) as usize,
+            SoakLength::Cycles(c) => c.div_ceil(ROUND_CYCLES).max(1) as usize,
+        }
+    }
+}
+
+/// Where a soak stands: its wall-clock seconds and cycles so far.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SoakClock {
+    /// Seconds since the soak began.
+    pub seconds: f64,
+    /// Cycles simulated so far (over every run).
+    pub cycles: u64,
+}
 
 /// A fault to inject.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -147,6 +178,8 @@ enum Active {
 /// The fault injector (driven by the soak observer).
 pub struct Chaos {
     rng: SimRng,
+    length: SoakLength,
+    /// (share of the soak's length, fault), in order.
     schedule: VecDeque<(f64, FaultKind)>,
     records: Vec<ChaosRecord>,
     active: Vec<Active>,
@@ -192,23 +225,21 @@ fn limit_file_size(pid: u32, bytes: Option<u64>) -> bool {
 }
 
 impl Chaos {
-    /// The faults of a `duration` soak in `clock` mode, at times drawn from `seed`.
-    pub fn new(seed: u64, duration: Duration, clock: Clock) -> Self {
+    /// The faults of a soak of `length` in `clock` mode, at points drawn from `seed`.
+    pub fn new(seed: u64, length: SoakLength, clock: Clock) -> Self {
         let mut rng = seeded(seed);
-        let seconds = duration.as_secs_f64();
-        let rounds = (seconds / ROUND_SECONDS).ceil().max(1.0) as usize;
+        let rounds = length.rounds();
         let mut schedule: Vec<(f64, FaultKind)> = Vec::new();
         for round in 0..rounds {
-            let start = seconds * round as f64 / rounds as f64;
-            let span = seconds / rounds as f64;
             for kind in FaultKind::all(clock) {
-                let at = start + span * (0.15 + 0.7 * rng.random::<f64>());
+                let at = (round as f64 + 0.15 + 0.7 * rng.random::<f64>()) / rounds as f64;
                 schedule.push((at, kind));
             }
         }
         schedule.sort_by(|a, b| a.0.total_cmp(&b.0));
         Chaos {
             rng,
+            length,
             schedule: schedule.into(),
             records: Vec::new(),
             active: Vec::new(),
@@ -216,9 +247,17 @@ impl Chaos {
         }
     }
 
-    /// The planned faults: (seconds, kind).
+    /// The planned faults: (share of the soak's length, from 0 to 1; kind).
     pub fn schedule(&self) -> impl Iterator<Item = &(f64, FaultKind)> {
         self.schedule.iter()
+    }
+
+    /// The share of the soak's length behind it at `now`.
+    fn progress(&self, now: SoakClock) -> f64 {
+        match self.length {
+            SoakLength::Time(d) => now.seconds / d.as_secs_f64().max(f64::MIN_POSITIVE),
+            SoakLength::Cycles(c) => now.cycles as f64 / c.max(1) as f64,
+        }
     }
 
     fn record(&mut self, kind: String, time: f64, check: Check) -> usize {
@@ -238,11 +277,13 @@ impl Chaos {
         r.survived = survived;
     }
 
-    /// Injects the faults that are due at `seconds` and ends those whose time
+    /// Injects the faults that are due at `now` and ends those whose time
     /// is up; returns what the supervisor must do for them.
-    pub fn tick(&mut self, seconds: f64, view: &RunView<'_>) -> Vec<Request> {
+    pub fn tick(&mut self, now: SoakClock, view: &RunView<'_>) -> Vec<Request> {
+        let seconds = now.seconds;
+        let progress = self.progress(now);
         let mut requests = Vec::new();
-        while self.schedule.front().is_some_and(|(at, _)| *at <= seconds) {
+        while self.schedule.front().is_some_and(|(at, _)| *at <= progress) {
             if let Some((_, kind)) = self.schedule.pop_front() {
                 requests.extend(self.inject(kind, seconds, view));
             }
@@ -679,19 +720,36 @@ mod tests {
 
     #[test]
     fn the_schedule_depends_on_the_seed_alone() {
-        let times = |seed| {
-            Chaos::new(seed, Duration::from_secs(120), Clock::Realtime)
+        let points = |seed| {
+            Chaos::new(seed, SoakLength::Time(Duration::from_secs(120)), Clock::Realtime)
                 .schedule()
                 .copied()
                 .collect::<Vec<_>>()
         };
-        assert_eq!(times(3), times(3));
-        assert_ne!(times(3), times(4));
-        let plan = times(3);
+        assert_eq!(points(3), points(3));
+        assert_ne!(points(3), points(4));
+        let plan = points(3);
         assert_eq!(plan.len(), FaultKind::all(Clock::Realtime).len());
-        assert!(plan.iter().all(|(t, _)| (18.0..=102.0).contains(t)), "{plan:?}");
-        let lockstep = Chaos::new(3, Duration::from_secs(1800), Clock::Lockstep);
+        assert!(plan.iter().all(|(at, _)| (0.15..=0.85).contains(at)), "{plan:?}");
+        let lockstep = Chaos::new(3, SoakLength::Time(Duration::from_secs(1800)), Clock::Lockstep);
         assert_eq!(lockstep.schedule().count(), 3 * FaultKind::all(Clock::Lockstep).len());
         assert!(!lockstep.schedule().any(|(_, k)| *k == FaultKind::StopAgent));
+        let day = Chaos::new(3, SoakLength::Cycles(864_000), Clock::Lockstep);
+        assert_eq!(day.schedule().count(), 3 * FaultKind::all(Clock::Lockstep).len());
+    }
+
+    #[test]
+    fn faults_fall_due_by_the_soaks_own_measure() {
+        let day = Chaos::new(5, SoakLength::Cycles(1000), Clock::Lockstep);
+        let at = |seconds, cycles| day.progress(SoakClock { seconds, cycles });
+        assert_eq!(at(1e6, 500), 0.5);
+        let hour = Chaos::new(5, SoakLength::Time(Duration::from_secs(100)), Clock::Lockstep);
+        assert_eq!(
+            hour.progress(SoakClock {
+                seconds: 25.0,
+                cycles: 7
+            }),
+            0.25
+        );
     }
 }

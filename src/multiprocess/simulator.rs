@@ -19,7 +19,7 @@ use super::journal::{self, JOURNAL_FILE, Journal, JournalEntry};
 use super::{Clock, Pacemaker, ProcessError, RunContext};
 use crate::domains::keepaway::{KeepawayDomainConfig, KeepawayTask, KeeperTeam, RunSeeds, TeamStep};
 use crate::domains::{EpisodeOutcome, Task, TaskError};
-use crate::experiment::runner::{RunOutput, run_protocol, task_rng};
+use crate::experiment::runner::{EpisodeRecord, RunOutput, run_protocol, task_rng};
 use crate::experiment::spec::{DomainSpec, ExperimentSpec};
 use crate::ipc::convert::{
     AgentNews, EpisodeNews, Order, ProcessState, Rejection, Rejections, Role, SnapshotMeta, episode_event,
@@ -490,6 +490,13 @@ struct JournaledTask {
     work_dir: PathBuf,
 }
 
+impl JournaledTask {
+    /// Seconds of the episode loop over every incarnation so far.
+    fn loop_seconds(&self) -> f64 {
+        self.seconds_before + self.started.elapsed().as_secs_f64()
+    }
+}
+
 impl Task for JournaledTask {
     fn episode(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
         if let Some(entry) = self.replay.pop_front() {
@@ -502,12 +509,13 @@ impl Task for JournaledTask {
             if self.replay.is_empty() {
                 // The last whole episode: play on from its state.
                 self.task.set_simulator_rng(entry.rng);
+                self.replay.shrink_to_fit();
             }
             return Ok(entry.outcome);
         }
         let outcome = self.task.episode(mode)?;
         let mut link = self.link.borrow_mut();
-        link.totals.seconds = self.seconds_before + self.started.elapsed().as_secs_f64();
+        link.totals.seconds = self.loop_seconds();
         let entry = JournalEntry {
             mode,
             outcome,
@@ -593,13 +601,18 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
             started: Instant::now(),
             work_dir: context.work_dir.clone(),
         };
-        run_protocol(&spec, &mut task, context.run, &mut output, |_| {}, || false)
-            .map(drop)
-            .map_err(|e| match e {
-                crate::experiment::spec::ExperimentError::Task(t) => t,
-                other => TaskError::Remote(other.to_string()),
-            })
+        // Episodes are journaled; `episodes` below reads them back at the end.
+        let played = run_protocol(&spec, &mut task, context.run, false, &mut output, |_| {}, || false);
+        // The cycles of an unfinished last episode count too.
+        link.borrow_mut().totals.seconds = task.loop_seconds();
+        played.map(drop).map_err(|e| match e {
+            crate::experiment::spec::ExperimentError::Task(t) => t,
+            other => TaskError::Remote(other.to_string()),
+        })
     })();
+    if context.run == 0 {
+        output.episodes = learning_episodes(&journal_path).map_err(|e| ProcessError::Invalid(e.to_string()))?;
+    }
     let mut link = link.borrow_mut();
     let link = &mut *link;
     link.pacemaker.pulse.state = ProcessState::Stopping;
@@ -615,6 +628,21 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
     let path = context.work_dir.join(RESULT_FILE);
     crate::atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })?;
     Ok(result)
+}
+
+/// Every learning episode of the journal at `path`, numbered as the protocol
+/// numbers them.
+fn learning_episodes(path: &Path) -> Result<Vec<EpisodeRecord>, journal::JournalError> {
+    let learning = journal::read(path)?
+        .into_iter()
+        .filter(|e| e.mode == EpisodeMode::Learn);
+    Ok((1..)
+        .zip(learning)
+        .map(|(episode, e)| EpisodeRecord {
+            episode,
+            outcome: e.outcome,
+        })
+        .collect())
 }
 
 /// The file of histogram `name` recorded by this process: `<name>.<pid>.hdr`

@@ -5,9 +5,10 @@
 //! `soak.svg` and `soak.json`, and a verdict line.
 //!
 //! Memory growth is measured after a warm-up (the first fifth of each
-//! process's life: a restarted process warms up again): for each process, the
-//! mean of its last five samples against the mean of its first five after the
-//! warm-up; the largest over processes is reported.
+//! process's life, at least 15 s: a restarted process warms up again): for
+//! each process, the mean of its last five samples against the mean of its
+//! first five after the warm-up (descriptors: the medians); the largest over
+//! processes is reported.
 
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
@@ -15,7 +16,7 @@ use std::time::{Duration, Instant};
 use plotters::prelude::*;
 use serde::Serialize;
 
-use super::chaos::{Chaos, ChaosRecord};
+use super::chaos::{Chaos, ChaosRecord, SoakClock};
 use super::supervisor::{Fault, Request, RunObserver, RunRecord, RunView, SupervisorError};
 use crate::experiment::plot::{FONT, PLOT_SIZE, colour};
 use crate::ipc::namespace::SHM_DIR;
@@ -23,6 +24,11 @@ use crate::result_dir::ResultWriter;
 
 /// Share of each process's life treated as warm-up.
 const WARM_UP_SHARE: f64 = 0.2;
+
+/// The shortest warm-up, in seconds: a run opens some shared-memory
+/// connections only when its episode loop begins, after the floor measurement
+/// (five seconds in real time).
+const WARM_UP_MIN_SECONDS: f64 = 15.0;
 
 /// Samples averaged at each end of the post-warm-up window.
 const ENDS: usize = 5;
@@ -166,16 +172,20 @@ impl RunObserver for Soak {
             self.sample(seconds, view);
             self.next_sample = seconds.floor() + 1.0;
         }
-        let mut requests = match &mut self.chaos {
-            Some(chaos) => chaos.tick(seconds, view),
-            None => Vec::new(),
-        };
         let cycles = view.simulator.map_or(0, |p| p.cycles);
         if self.last_run != Some(view.run) {
             self.cycles_done += self.last_cycles;
             self.last_run = Some(view.run);
         }
         self.last_cycles = cycles;
+        let now = SoakClock {
+            seconds,
+            cycles: self.cycles_done + cycles,
+        };
+        let mut requests = match &mut self.chaos {
+            Some(chaos) => chaos.tick(now, view),
+            None => Vec::new(),
+        };
         let timed_out = self.limits.duration.is_some_and(|d| seconds >= d.as_secs_f64());
         let cycled = self.limits.cycles.is_some_and(|c| self.cycles_done + cycles >= c);
         if timed_out || cycled {
@@ -250,7 +260,7 @@ fn growth(samples: &[Sample]) -> Vec<(String, f64, i64)> {
                 .filter(|s| s.pid == pid && s.process == process)
                 .collect();
             let (born, died) = (life.first()?.seconds, life.last()?.seconds);
-            let warm_up = born + WARM_UP_SHARE * (died - born);
+            let warm_up = born + (WARM_UP_SHARE * (died - born)).max(WARM_UP_MIN_SECONDS);
             let after: Vec<&Sample> = life.into_iter().filter(|s| s.seconds >= warm_up).collect();
             if after.len() < 2 * ENDS {
                 return None;
@@ -258,7 +268,13 @@ fn growth(samples: &[Sample]) -> Vec<(String, f64, i64)> {
             let rss = |xs: &[&Sample]| mean(&xs.iter().map(|s| s.rss_kib as f64).collect::<Vec<_>>());
             let (first, last) = (&after[..ENDS], &after[after.len() - ENDS..]);
             let percent = 100.0 * (rss(last) - rss(first)) / rss(first).max(1.0);
-            let fds = after[after.len() - 1].open_fds as i64 - after[0].open_fds as i64;
+            // Medians: a peer's restart opens and closes connections for a moment.
+            let fds = |xs: &[&Sample]| {
+                let mut fds: Vec<i64> = xs.iter().map(|s| s.open_fds as i64).collect();
+                fds.sort_unstable();
+                fds[fds.len() / 2]
+            };
+            let fds = fds(last) - fds(first);
             Some((format!("{process} (pid {pid})"), percent, fds))
         })
         .collect()

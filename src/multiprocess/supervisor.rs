@@ -398,7 +398,15 @@ impl Watch<'_> {
             pid,
             expected,
         });
-        self.fault(what, format!("restarted from its checkpoint {}", checkpoint.display()));
+        // Named as in the result directory (the staging path is gone once it is committed).
+        let run_dir = self.context.work_dir.file_name().unwrap_or_default().to_string_lossy();
+        self.fault(
+            what,
+            format!(
+                "restarted from its checkpoint {RUNS_DIR}/{run_dir}/{}",
+                checkpoint_name(k)
+            ),
+        );
         Ok(())
     }
 
