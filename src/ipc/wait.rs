@@ -9,7 +9,7 @@
 
 use std::time::{Duration, Instant};
 
-use iceoryx2::port::listener::Listener;
+use iceoryx2::port::listener::{Listener, ListenerWaitError};
 use iceoryx2::port::notifier::Notifier;
 use serde::{Deserialize, Serialize};
 
@@ -76,10 +76,12 @@ impl Idle {
             WaitStrategy::Spin => std::hint::spin_loop(),
             WaitStrategy::Yield => std::thread::yield_now(),
             WaitStrategy::Hybrid if since.elapsed() < HYBRID_YIELD => std::thread::yield_now(),
-            WaitStrategy::Block | WaitStrategy::Hybrid => {
-                wake.timed_wait(|_| {}, limit.min(MAX_BLOCK))
-                    .map_err(fail("waiting on the wake-up event"))?;
-            }
+            WaitStrategy::Block | WaitStrategy::Hybrid => match wake.timed_wait(|_| {}, limit.min(MAX_BLOCK)) {
+                // A signal (SIGCONT after a stop, SIGTERM) ends the wait early:
+                // the caller polls again and sees any stop it asked for.
+                Ok(_) | Err(ListenerWaitError::InterruptSignal) => {}
+                Err(e) => return Err(fail("waiting on the wake-up event")(e)),
+            },
         }
         Ok(())
     }

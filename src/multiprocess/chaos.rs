@@ -44,6 +44,9 @@ use crate::rng::{SimRng, seeded};
 /// How long an agent stays stopped.
 const STOP_FOR: Duration = Duration::from_secs(2);
 
+/// How long a resumed agent has to show it caught up (acted again).
+const CATCH_UP: Duration = Duration::from_secs(3);
+
 /// How long the CPU load lasts.
 const LOAD_FOR: Duration = Duration::from_secs(10);
 
@@ -154,6 +157,14 @@ enum Active {
         missed_before: u64,
         cycles_before: u64,
     },
+    /// A stopped agent, continued: judged once it has had time to act again.
+    Resumed {
+        record: usize,
+        pid: u32,
+        until: f64,
+        acted_before: u64,
+        while_stopped: String,
+    },
     Garbage {
         record: usize,
         until: f64,
@@ -202,6 +213,11 @@ fn refused(view: &RunView<'_>) -> u64 {
 
 fn missed(view: &RunView<'_>) -> u64 {
     view.simulator.map_or(0, |p| p.missed_deadlines)
+}
+
+/// Cycles process `pid` has reported acting in (its heartbeat's counter).
+fn acted(view: &RunView<'_>, pid: u32) -> u64 {
+    view.pulses.iter().find(|p| p.pid == pid).map_or(0, |p| p.cycles)
 }
 
 fn pid_of(view: &RunView<'_>, role: Role) -> Option<u32> {
@@ -423,22 +439,49 @@ impl Chaos {
             Active::Stopped {
                 record,
                 pid,
+                until,
                 missed_before,
                 cycles_before,
-                ..
             } => {
                 signal(pid, libc::SIGCONT);
-                let alive = view.processes.iter().any(|(_, p)| *p == pid);
                 let cycles = view.simulator.map_or(0, |p| p.cycles).saturating_sub(cycles_before);
                 let missed = missed(view).saturating_sub(missed_before);
-                self.conclude(
+                self.active.push(Active::Resumed {
                     record,
-                    format!(
-                        "{missed} missed deadlines while it was stopped; the others played {cycles} cycles; it went on{}",
-                        if alive { "" } else { " (but it was replaced)" }
+                    pid,
+                    until: until + CATCH_UP.as_secs_f64(),
+                    acted_before: acted(view, pid),
+                    while_stopped: format!(
+                        "{missed} missed deadlines while it was stopped; the others played {cycles} cycles"
                     ),
-                    alive && cycles > 0,
-                );
+                });
+                if cycles == 0 {
+                    self.conclude(record, "the others stopped too".into(), false);
+                }
+            }
+            Active::Resumed {
+                record,
+                pid,
+                acted_before,
+                while_stopped,
+                ..
+            } => {
+                if !self.records[record].outcome.is_empty() {
+                    return;
+                }
+                let alive = view.processes.iter().any(|(_, p)| *p == pid);
+                let acted = acted(view, pid).saturating_sub(acted_before);
+                let caught_up = if !alive {
+                    "it did not come back (replaced)".to_string()
+                } else if acted == 0 {
+                    format!("it has not acted in the {} s since", CATCH_UP.as_secs())
+                } else {
+                    format!(
+                        "it caught up: {acted} cycles acted in the {} s since",
+                        CATCH_UP.as_secs()
+                    )
+                };
+                self.conclude(record, format!("{while_stopped}; {caught_up}"), alive && acted > 0);
             }
             Active::Garbage {
                 record,
@@ -525,6 +568,14 @@ impl Chaos {
                 Active::Load { record, .. } => {
                     self.conclude(record, "the soak ended meanwhile".into(), true);
                 }
+                Active::Resumed {
+                    record, while_stopped, ..
+                } => {
+                    if self.records[record].outcome.is_empty() {
+                        let outcome = format!("{while_stopped}; the soak ended before it could catch up");
+                        self.conclude(record, outcome, true);
+                    }
+                }
             }
         }
         let failed = records.iter().find_map(|r| r.failure.clone());
@@ -576,6 +627,7 @@ impl Chaos {
 fn until(active: &Active) -> f64 {
     match active {
         Active::Stopped { until, .. }
+        | Active::Resumed { until, .. }
         | Active::Garbage { until, .. }
         | Active::FailingWrites { until, .. }
         | Active::Load { until, .. } => *until,

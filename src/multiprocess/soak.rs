@@ -5,10 +5,11 @@
 //! `soak.svg` and `soak.json`, and a verdict line.
 //!
 //! Memory growth is measured after a warm-up (the first fifth of each
-//! process's life, at least 15 s: a restarted process warms up again): for
-//! each process, the mean of its last five samples against the mean of its
-//! first five after the warm-up (descriptors: the medians); the largest over
-//! processes is reported.
+//! process's life, at least 15 s: a restarted process warms up again) and
+//! outside the five seconds after each fault: for each process, the sum of
+//! its steps from one sample to the next in those stretches, against the mean
+//! of its first five samples after the warm-up (descriptors: the same sum);
+//! the largest over processes is reported.
 
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
@@ -30,8 +31,14 @@ const WARM_UP_SHARE: f64 = 0.2;
 /// (five seconds in real time).
 const WARM_UP_MIN_SECONDS: f64 = 15.0;
 
-/// Samples averaged at each end of the post-warm-up window.
+/// Samples averaged for the base of the post-warm-up window (and the fewest
+/// it needs at each end).
 const ENDS: usize = 5;
+
+/// Seconds after a fault (injected, or a process's exit) during which growth
+/// is not counted: a first restart pages in code not run before and makes
+/// the survivors connect to the new process, once.
+const FAULT_SETTLE_SECONDS: f64 = 5.0;
 
 /// The verdict's memory-growth limit, in percent.
 pub const RSS_GROWTH_LIMIT: f64 = 1.0;
@@ -56,6 +63,9 @@ pub struct Sample {
     pub pid: u32,
     /// Resident memory, KiB.
     pub rss_kib: u64,
+    /// Its anonymous part (heap and stacks: what a leak grows), KiB; the
+    /// rest is the program's own pages and mapped shared memory.
+    pub anon_kib: u64,
     /// Open file descriptors.
     pub open_fds: u64,
     /// Files of the run's namespace in `/dev/shm`.
@@ -156,6 +166,7 @@ impl Soak {
                     process,
                     pid,
                     rss_kib,
+                    anon_kib: anon_kib(pid).unwrap_or(0),
                     open_fds,
                     shm_files,
                     shm_bytes,
@@ -198,12 +209,12 @@ impl RunObserver for Soak {
         let seconds = self.started.elapsed().as_secs_f64();
         let injected: Vec<ChaosRecord> = self.chaos.as_mut().map(|c| c.finish(records)).unwrap_or_default();
         let report = analyse(&self.samples, &injected, records, seconds);
-        let mut csv = String::from("seconds,process,pid,rss_kib,open_fds,shm_files,shm_bytes\n");
+        let mut csv = String::from("seconds,process,pid,rss_kib,anon_kib,open_fds,shm_files,shm_bytes\n");
         for s in &self.samples {
             let _ = writeln!(
                 csv,
-                "{:.1},{},{},{},{},{},{}",
-                s.seconds, s.process, s.pid, s.rss_kib, s.open_fds, s.shm_files, s.shm_bytes
+                "{:.1},{},{},{},{},{},{},{}",
+                s.seconds, s.process, s.pid, s.rss_kib, s.anon_kib, s.open_fds, s.shm_files, s.shm_bytes
             );
         }
         files.add_text("soak.csv", &csv)?;
@@ -222,6 +233,13 @@ fn rss_kib(pid: u32) -> Option<u64> {
     // SAFETY: sysconf only reads a system constant.
     let page = unsafe { libc::sysconf(libc::_SC_PAGESIZE) };
     Some(pages * u64::try_from(page).ok()? / 1024)
+}
+
+/// Anonymous resident memory of `pid` (`RssAnon` of its status), KiB.
+fn anon_kib(pid: u32) -> Option<u64> {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    let line = status.lines().find(|l| l.starts_with("RssAnon:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
 }
 
 /// Open file descriptors of `pid`.
@@ -248,7 +266,8 @@ fn mean(values: &[f64]) -> f64 {
 }
 
 /// Growth of each process incarnation after its warm-up: (process, rss %, fds).
-fn growth(samples: &[Sample]) -> Vec<(String, f64, i64)> {
+fn growth(samples: &[Sample], faults: &[f64]) -> Vec<(String, f64, i64)> {
+    let quiet = |t: f64| !faults.iter().any(|&f| (f..f + FAULT_SETTLE_SECONDS).contains(&t));
     let mut incarnations: Vec<(String, u32)> = samples.iter().map(|s| (s.process.clone(), s.pid)).collect();
     incarnations.sort();
     incarnations.dedup();
@@ -265,24 +284,27 @@ fn growth(samples: &[Sample]) -> Vec<(String, f64, i64)> {
             if after.len() < 2 * ENDS {
                 return None;
             }
-            let rss = |xs: &[&Sample]| mean(&xs.iter().map(|s| s.rss_kib as f64).collect::<Vec<_>>());
-            let (first, last) = (&after[..ENDS], &after[after.len() - ENDS..]);
-            let percent = 100.0 * (rss(last) - rss(first)) / rss(first).max(1.0);
-            // Medians: a peer's restart opens and closes connections for a moment.
-            let fds = |xs: &[&Sample]| {
-                let mut fds: Vec<i64> = xs.iter().map(|s| s.open_fds as i64).collect();
-                fds.sort_unstable();
-                fds[fds.len() / 2]
-            };
-            let fds = fds(last) - fds(first);
-            Some((format!("{process} (pid {pid})"), percent, fds))
+            let base = mean(&after[..ENDS].iter().map(|s| s.rss_kib as f64).collect::<Vec<_>>());
+            let steps = after.windows(2).filter(|w| quiet(w[0].seconds) && quiet(w[1].seconds));
+            let (rss, fds) = steps.fold((0.0, 0), |(rss, fds), w| {
+                (
+                    rss + w[1].rss_kib as f64 - w[0].rss_kib as f64,
+                    fds + w[1].open_fds as i64 - w[0].open_fds as i64,
+                )
+            });
+            Some((format!("{process} (pid {pid})"), 100.0 * rss / base.max(1.0), fds))
         })
         .collect()
 }
 
 /// The soak's report from its samples, the faults injected, and the runs.
 fn analyse(samples: &[Sample], injected: &[ChaosRecord], records: &[RunRecord], seconds: f64) -> SoakReport {
-    let growth = growth(samples);
+    let faults: Vec<f64> = injected
+        .iter()
+        .map(|f| f.time)
+        .chain(records.iter().flat_map(|r| r.faults.iter().map(|f| f.seconds)))
+        .collect();
+    let growth = growth(samples, &faults);
     let (rss_growth_process, rss_growth_percent) = growth
         .iter()
         .max_by(|a, b| a.1.total_cmp(&b.1))
@@ -459,6 +481,7 @@ mod tests {
                 process: process.into(),
                 pid,
                 rss_kib: rss(i),
+                anon_kib: rss(i) / 4,
                 open_fds: 12,
                 shm_files: 40,
                 shm_bytes: 1 << 20,
@@ -470,13 +493,34 @@ mod tests {
     fn growth_is_measured_after_the_warm_up() {
         // Flat after a warm-up climb: no growth.
         let flat = samples("keeper 1", 7, |i| if i < 6 { 1000 + 100 * i as u64 } else { 2000 });
-        let g = growth(&flat);
+        let g = growth(&flat, &[]);
         assert_eq!(g.len(), 1);
         assert!(g[0].1.abs() < 1e-9, "{g:?}");
-        // A steady leak of 10 KiB a second on 2000 KiB.
+        // A steady leak of 10 KiB a second on about 2170 KiB, over the
+        // 14 s after a 15 s warm-up.
         let leak = samples("simulator", 8, |i| 2000 + 10 * i as u64);
-        let g = growth(&leak);
-        assert!(g[0].1 > 5.0, "{g:?}");
+        let g = growth(&leak, &[]);
+        assert!((6.0..7.0).contains(&g[0].1), "{g:?}");
+        // A step at a fault is not counted; the steady leak still is.
+        let mut step = samples("supervisor", 1, |_| 2000);
+        step[20..].iter_mut().for_each(|s| s.rss_kib += 100);
+        assert!(growth(&step, &[19.5])[0].1.abs() < 1e-9);
+        assert!(growth(&step, &[])[0].1 > 4.0);
+        assert!(growth(&leak, &[19.5])[0].1 > 3.0);
+    }
+
+    #[test]
+    fn descriptors_count_when_they_stay_open() {
+        // A peer's restart: one sample with more descriptors.
+        let mut blip = samples("keeper 2", 9, |_| 2000);
+        blip[27].open_fds += 6;
+        assert_eq!(growth(&blip, &[])[0].2, 0);
+        // One more descriptor every second: a leak.
+        let mut leak = samples("keeper 2", 9, |_| 2000);
+        for (i, s) in leak.iter_mut().enumerate() {
+            s.open_fds += i as u64;
+        }
+        assert_eq!(growth(&leak, &[])[0].2, 14);
     }
 
     #[test]
