@@ -11,7 +11,9 @@
 //! of its first five samples after the warm-up (descriptors: the same sum);
 //! the largest over processes is reported.
 
-use std::fmt::Write as _;
+use std::fs::File;
+use std::io::{BufRead, BufReader, BufWriter, Write};
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use plotters::prelude::*;
@@ -126,7 +128,9 @@ pub struct Soak {
     limits: SoakLimits,
     started: Instant,
     next_sample: f64,
-    samples: Vec<Sample>,
+    /// Samples go straight to `soak.csv` (kept in memory, they would be the
+    /// supervisor's growth); it is read back at the end.
+    log: Option<SampleLog>,
     chaos: Option<Chaos>,
     cycles_done: u64,
     last_run: Option<usize>,
@@ -141,7 +145,7 @@ impl Soak {
             limits,
             started: Instant::now(),
             next_sample: 0.0,
-            samples: Vec::new(),
+            log: None,
             chaos,
             cycles_done: 0,
             last_run: None,
@@ -156,12 +160,15 @@ impl Soak {
     }
 
     fn sample(&mut self, seconds: f64, view: &RunView<'_>) {
+        let Some(log) = &mut self.log else {
+            return;
+        };
         let (shm_files, shm_bytes) = shm_usage(view.namespace.prefix());
         let me = ("supervisor".to_string(), std::process::id());
         let processes = std::iter::once(me).chain(view.processes.iter().map(|(role, pid)| (role.to_string(), *pid)));
         for (process, pid) in processes {
             if let (Some(rss_kib), Some(open_fds)) = (rss_kib(pid), open_fds(pid)) {
-                self.samples.push(Sample {
+                log.write(&Sample {
                     seconds,
                     process,
                     pid,
@@ -173,7 +180,83 @@ impl Soak {
                 });
             }
         }
+        log.flush();
     }
+}
+
+/// `soak.csv`, written as the samples are taken.
+#[derive(Debug)]
+struct SampleLog {
+    path: PathBuf,
+    file: BufWriter<File>,
+    /// The first write that failed (reported when the soak ends).
+    error: Option<std::io::Error>,
+}
+
+/// The header of `soak.csv`.
+const CSV_HEADER: &str = "seconds,process,pid,rss_kib,anon_kib,open_fds,shm_files,shm_bytes";
+
+impl SampleLog {
+    fn create(path: PathBuf) -> std::io::Result<Self> {
+        let mut file = BufWriter::new(File::create(&path)?);
+        writeln!(file, "{CSV_HEADER}")?;
+        Ok(SampleLog {
+            path,
+            file,
+            error: None,
+        })
+    }
+
+    fn write(&mut self, s: &Sample) {
+        let written = writeln!(
+            self.file,
+            "{:.1},{},{},{},{},{},{},{}",
+            s.seconds, s.process, s.pid, s.rss_kib, s.anon_kib, s.open_fds, s.shm_files, s.shm_bytes
+        );
+        if let Err(e) = written {
+            self.error.get_or_insert(e);
+        }
+    }
+
+    fn flush(&mut self) {
+        if let Err(e) = self.file.flush() {
+            self.error.get_or_insert(e);
+        }
+    }
+
+    /// Every sample written, read back.
+    fn finish(mut self) -> Result<Vec<Sample>, String> {
+        self.flush();
+        let what = |e: &dyn std::fmt::Display| format!("{}: {e}", self.path.display());
+        if let Some(e) = &self.error {
+            return Err(what(e));
+        }
+        let file = File::open(&self.path).map_err(|e| what(&e))?;
+        let mut samples = Vec::new();
+        for line in BufReader::new(file).lines().skip(1) {
+            let line = line.map_err(|e| what(&e))?;
+            samples.push(parse_sample(&line).ok_or_else(|| what(&format!("unreadable sample {line:?}")))?);
+        }
+        Ok(samples)
+    }
+}
+
+/// One line of `soak.csv`.
+fn parse_sample(line: &str) -> Option<Sample> {
+    let f: Vec<&str> = line.split(',').collect();
+    let [seconds, process, pid, rss_kib, anon_kib, open_fds, shm_files, shm_bytes] = f.as_slice() else {
+        return None;
+    };
+    Some(Sample {
+        seconds: seconds.parse().ok()?,
+        process: process.to_string(),
+        pid: pid.parse().ok()?,
+        rss_kib: rss_kib.parse().ok()?,
+        anon_kib: anon_kib.parse().ok()?,
+        open_fds: open_fds.parse().ok()?,
+        shm_files: shm_files.parse().ok()?,
+        shm_bytes: shm_bytes.parse().ok()?,
+    })
 }
 
 impl RunObserver for Soak {
@@ -205,20 +288,23 @@ impl RunObserver for Soak {
         requests
     }
 
+    fn start(&mut self, files: &mut ResultWriter<'_>) -> Result<(), SupervisorError> {
+        let path = files.path_for("soak.csv")?;
+        let log =
+            SampleLog::create(path.clone()).map_err(|e| SupervisorError::Failed(format!("{}: {e}", path.display())))?;
+        self.log = Some(log);
+        Ok(())
+    }
+
     fn finish(&mut self, files: &mut ResultWriter<'_>, records: &[RunRecord]) -> Result<(), SupervisorError> {
         let seconds = self.started.elapsed().as_secs_f64();
         let injected: Vec<ChaosRecord> = self.chaos.as_mut().map(|c| c.finish(records)).unwrap_or_default();
-        let report = analyse(&self.samples, &injected, records, seconds);
-        let mut csv = String::from("seconds,process,pid,rss_kib,anon_kib,open_fds,shm_files,shm_bytes\n");
-        for s in &self.samples {
-            let _ = writeln!(
-                csv,
-                "{:.1},{},{},{},{},{},{},{}",
-                s.seconds, s.process, s.pid, s.rss_kib, s.anon_kib, s.open_fds, s.shm_files, s.shm_bytes
-            );
-        }
-        files.add_text("soak.csv", &csv)?;
-        files.add_text("soak.svg", &plot(&self.samples).map_err(SupervisorError::Failed)?)?;
+        let samples = match self.log.take() {
+            Some(log) => log.finish().map_err(SupervisorError::Failed)?,
+            None => Vec::new(),
+        };
+        let report = analyse(&samples, &injected, records, seconds);
+        files.add_text("soak.svg", &plot(&samples).map_err(SupervisorError::Failed)?)?;
         let json = serde_json::to_string_pretty(&report).map_err(|e| SupervisorError::Failed(e.to_string()))?;
         files.add_text("soak.json", &json)?;
         self.report = Some(report);
@@ -507,6 +593,19 @@ mod tests {
         assert!(growth(&step, &[19.5])[0].1.abs() < 1e-9);
         assert!(growth(&step, &[])[0].1 > 4.0);
         assert!(growth(&leak, &[19.5])[0].1 > 3.0);
+    }
+
+    #[test]
+    fn samples_read_back_as_written() {
+        let dir = std::env::temp_dir().join(format!("learnpnp-soak-log-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut log = SampleLog::create(dir.join("soak.csv")).unwrap();
+        let written = samples("keeper 3", 11, |i| 4000 + i as u64);
+        written.iter().for_each(|s| log.write(s));
+        let read = log.finish().unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(read, written);
+        assert!(parse_sample("1.0,keeper 1,5,10,3,4,NaN,8").is_none());
     }
 
     #[test]

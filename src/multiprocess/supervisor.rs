@@ -254,6 +254,12 @@ pub trait RunObserver {
     /// Looks at the run; returns what it asks of the supervisor (usually nothing).
     fn observe(&mut self, view: &RunView<'_>) -> Vec<Request>;
 
+    /// Called once before the first run, with the result set the observer may
+    /// claim files in (to write them as it goes).
+    fn start(&mut self, _files: &mut crate::result_dir::ResultWriter<'_>) -> Result<(), SupervisorError> {
+        Ok(())
+    }
+
     /// Adds the observer's files to the result set before it is published.
     fn finish(
         &mut self,
@@ -799,6 +805,7 @@ pub fn supervise(
     let started = Instant::now();
     let mut files = out.writer()?;
     let runs_dir = files.scratch_dir(RUNS_DIR)?;
+    observer.start(&mut files)?;
     let mut records: Vec<RunRecord> = Vec::new();
     for run in 0..config.spec.protocol.runs {
         if stop.load(Ordering::Relaxed) {
