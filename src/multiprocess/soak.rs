@@ -421,6 +421,12 @@ fn analyse(samples: &[Sample], injected: &[ChaosRecord], records: &[RunRecord], 
             }),
     );
     let mut problems = Vec::new();
+    if growth.is_empty() {
+        problems.push(format!(
+            "too short to judge memory: no process lived {} samples past its warm-up (at least {WARM_UP_MIN_SECONDS} s)",
+            2 * ENDS
+        ));
+    }
     if rss_growth_percent >= RSS_GROWTH_LIMIT {
         problems.push(format!(
             "resident memory of {rss_growth_process} grew {rss_growth_percent:.2}% after warm-up (limit {RSS_GROWTH_LIMIT}%)"
@@ -632,5 +638,12 @@ mod tests {
         let report = analyse(&leak, &[], &[], 30.0);
         assert!(!report.passed && report.verdict.contains("grew"), "{}", report.verdict);
         assert!(plot(&leak).unwrap().contains("resident memory per process"));
+        let short: Vec<Sample> = s.into_iter().filter(|x| x.seconds < 20.0).collect();
+        let report = analyse(&short, &[], &[], 20.0);
+        assert!(
+            !report.passed && report.verdict.contains("too short"),
+            "{}",
+            report.verdict
+        );
     }
 }
