@@ -130,6 +130,8 @@ pub struct ChaosRecord {
     pub kind: String,
     /// Seconds since the soak began.
     pub time: f64,
+    /// When it was over (a stop, load or failing writes last a while).
+    pub ended: f64,
     /// What came of it.
     pub outcome: String,
     /// The system survived it.
@@ -280,6 +282,7 @@ impl Chaos {
         self.records.push(ChaosRecord {
             kind,
             time,
+            ended: time,
             outcome: String::new(),
             survived: false,
             check,
@@ -309,6 +312,7 @@ impl Chaos {
             .partition(|a| seconds >= until(a));
         self.active = waiting;
         for active in due {
+            self.records[record_of(&active)].ended = seconds;
             self.end(active, view);
         }
         requests
@@ -621,6 +625,16 @@ impl Chaos {
             }
         }
         self.records.clone()
+    }
+}
+
+fn record_of(active: &Active) -> usize {
+    match active {
+        Active::Stopped { record, .. }
+        | Active::Resumed { record, .. }
+        | Active::Garbage { record, .. }
+        | Active::FailingWrites { record, .. }
+        | Active::Load { record, .. } => *record,
     }
 }
 

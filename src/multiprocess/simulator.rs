@@ -473,9 +473,10 @@ pub fn keepaway_config(spec: &ExperimentSpec) -> Result<KeepawayDomainConfig, Pr
     }
 }
 
-/// How often (in whole episodes) the simulator saves its histograms, so that
-/// a killed simulator loses at most this many episodes' latencies.
-const SAVE_HISTOGRAMS_EVERY: u64 = 200;
+/// How often the simulator saves its histograms (at the end of a whole
+/// episode, once this much time has passed since the last save), so that a
+/// killed simulator loses at most about this much of its latencies.
+const SAVE_HISTOGRAMS_EVERY: Duration = Duration::from_secs(10);
 
 /// The task the protocol runs: Keepaway with the remote team, journaling each
 /// whole episode, and first replaying the journal of a previous incarnation.
@@ -487,6 +488,8 @@ struct JournaledTask {
     /// Episode-loop seconds of earlier incarnations, and when this one's began.
     seconds_before: f64,
     started: Instant,
+    /// When the histograms were last saved.
+    saved: Instant,
     work_dir: PathBuf,
 }
 
@@ -525,8 +528,9 @@ impl Task for JournaledTask {
         self.journal
             .append(&entry)
             .map_err(|e| TaskError::Remote(e.to_string()))?;
-        if link.totals.episode_seq.is_multiple_of(SAVE_HISTOGRAMS_EVERY) {
+        if self.saved.elapsed() >= SAVE_HISTOGRAMS_EVERY {
             save_histograms(&self.work_dir, &link).map_err(|e| TaskError::Remote(e.to_string()))?;
+            self.saved = Instant::now();
         }
         Ok(outcome)
     }
@@ -589,6 +593,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
             link.pacemaker.pulse.state = ProcessState::Running;
             if !resume {
                 measure_floor(&mut link, floor_round_trips)?;
+                save_histograms(&context.work_dir, &link).map_err(|e| TaskError::Remote(e.to_string()))?;
             }
         }
         let seeds = RunSeeds::draw(&mut task_rng(&spec, context.run));
@@ -599,6 +604,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
             seconds_before: replay.last().map_or(0.0, |e| e.totals.seconds),
             replay: replay.into(),
             started: Instant::now(),
+            saved: Instant::now(),
             work_dir: context.work_dir.clone(),
         };
         // Episodes are journaled; `episodes` below reads them back at the end.

@@ -6,7 +6,7 @@
 //!
 //! Memory growth is measured after a warm-up (the first fifth of each
 //! process's life, at least 15 s: a restarted process warms up again) and
-//! outside the five seconds after each fault: for each process, the sum of
+//! outside each fault and the five seconds after it: for each process, the sum of
 //! its steps from one sample to the next in those stretches, against the mean
 //! of its first five samples after the warm-up (descriptors: the same sum);
 //! the largest over processes is reported.
@@ -37,9 +37,10 @@ const WARM_UP_MIN_SECONDS: f64 = 15.0;
 /// it needs at each end).
 const ENDS: usize = 5;
 
-/// Seconds after a fault (injected, or a process's exit) during which growth
-/// is not counted: a first restart pages in code not run before and makes
-/// the survivors connect to the new process, once.
+/// Seconds after a fault (injected, or a process's exit) is over during
+/// which growth is not counted (nor while it lasts): a first restart pages in
+/// code not run before and makes the survivors connect to the new process,
+/// and CPU load runs threads in the supervisor, once.
 const FAULT_SETTLE_SECONDS: f64 = 5.0;
 
 /// The verdict's memory-growth limit, in percent.
@@ -352,8 +353,12 @@ fn mean(values: &[f64]) -> f64 {
 }
 
 /// Growth of each process incarnation after its warm-up: (process, rss %, fds).
-fn growth(samples: &[Sample], faults: &[f64]) -> Vec<(String, f64, i64)> {
-    let quiet = |t: f64| !faults.iter().any(|&f| (f..f + FAULT_SETTLE_SECONDS).contains(&t));
+fn growth(samples: &[Sample], faults: &[(f64, f64)]) -> Vec<(String, f64, i64)> {
+    let quiet = |t: f64| {
+        !faults
+            .iter()
+            .any(|&(began, ended)| (began..ended + FAULT_SETTLE_SECONDS).contains(&t))
+    };
     let mut incarnations: Vec<(String, u32)> = samples.iter().map(|s| (s.process.clone(), s.pid)).collect();
     incarnations.sort();
     incarnations.dedup();
@@ -385,10 +390,14 @@ fn growth(samples: &[Sample], faults: &[f64]) -> Vec<(String, f64, i64)> {
 
 /// The soak's report from its samples, the faults injected, and the runs.
 fn analyse(samples: &[Sample], injected: &[ChaosRecord], records: &[RunRecord], seconds: f64) -> SoakReport {
-    let faults: Vec<f64> = injected
+    let faults: Vec<(f64, f64)> = injected
         .iter()
-        .map(|f| f.time)
-        .chain(records.iter().flat_map(|r| r.faults.iter().map(|f| f.seconds)))
+        .map(|f| (f.time, f.ended))
+        .chain(
+            records
+                .iter()
+                .flat_map(|r| r.faults.iter().map(|f| (f.seconds, f.seconds))),
+        )
         .collect();
     let growth = growth(samples, &faults);
     let (rss_growth_process, rss_growth_percent) = growth
@@ -596,9 +605,13 @@ mod tests {
         // A step at a fault is not counted; the steady leak still is.
         let mut step = samples("supervisor", 1, |_| 2000);
         step[20..].iter_mut().for_each(|s| s.rss_kib += 100);
-        assert!(growth(&step, &[19.5])[0].1.abs() < 1e-9);
+        assert!(growth(&step, &[(19.5, 19.5)])[0].1.abs() < 1e-9);
         assert!(growth(&step, &[])[0].1 > 4.0);
-        assert!(growth(&leak, &[19.5])[0].1 > 3.0);
+        assert!(growth(&leak, &[(19.5, 19.5)])[0].1 > 3.0);
+        // A fault that lasts: its whole span is left out.
+        let mut late = samples("supervisor", 1, |_| 2000);
+        late[27..].iter_mut().for_each(|s| s.rss_kib += 100);
+        assert!(growth(&late, &[(16.5, 26.5)])[0].1.abs() < 1e-9);
     }
 
     #[test]
