@@ -310,6 +310,12 @@ impl KeeperTeam for RemoteTeam {
                     match reading {
                         Ok(c) if c.episode == episode && c.cycle_seq == cycle_seq => {
                             link.round_trip.record(published[k].elapsed());
+                            if deadline.is_some_and(|d| Instant::now() > d) {
+                                // Read after its cycle's deadline (whoever was
+                                // late, the keeper or the simulator itself):
+                                // dropped, and counted below as missed.
+                                break;
+                            }
                             link.totals.idle_cycles += u64::from(c.idle);
                             commands[k] = Some(c.command);
                         }
