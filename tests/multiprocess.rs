@@ -637,6 +637,9 @@ fn sigterm_stops_the_run_with_a_final_checkpoint() {
     sleep(Duration::from_secs(2));
     let work = run_work_dir(&out, 0);
     let start = learnpnp::learning::persist::load(&work.join("values.bin")).unwrap();
+    // Twice at once, as `timeout` sends it (to the process, then to its
+    // group): still one orderly stop, not the second signal's exit at once.
+    kill(child.id() as i32, libc::SIGTERM);
     kill(child.id() as i32, libc::SIGTERM);
     let output = finish(child);
     assert_eq!(output.status.code(), Some(143), "{}", text(&output.stderr));
@@ -695,6 +698,7 @@ fn a_minute_of_lockstep_soak_leaks_nothing() {
     assert_eq!(report["restarts"], 0);
     assert_eq!(report["leftover_shm_files"], 0);
     assert!(report["episodes"].as_u64().unwrap() > 0, "{report}");
+    assert_eq!(s["scheduling"], "normal", "lock-step is never real-time scheduled");
     let csv = fs::read_to_string(sandbox.out("soak").join("soak.csv")).unwrap();
     let mut lines = csv.lines();
     assert_eq!(
@@ -767,5 +771,13 @@ fn realtime_chaos_a_stopped_agent_catches_up() {
     // Only the two kills restarted anything: the stopped agent did not die.
     assert_eq!(report["restarts"], 2, "{report}");
     assert_eq!(report["leftover_shm_files"], 0);
+    // The floor is sampled in the cycles of a real-time run, beside the round
+    // trips, and the report says how the processes were scheduled.
+    assert!(s["floor_us"]["p50"].as_f64().unwrap() > 0.0, "{s}");
+    let scheduling = s["scheduling"].as_str().unwrap();
+    assert!(
+        scheduling == "SCHED_FIFO 10" || scheduling.starts_with("normal (SCHED_FIFO 10 refused: "),
+        "{scheduling}"
+    );
     sandbox.assert_clean(&prefixes(&s));
 }

@@ -88,16 +88,23 @@ struct RunArgs {
     /// Agents checkpoint their values every this many learning episodes.
     #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..=1_000_000_000))]
     checkpoint_every: u64,
-    /// Round trips of the iceoryx2 floor measurement in every run (default:
-    /// 20,000 in lock-step, 1,000 five milliseconds apart in real time).
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
-    floor_round_trips: Option<u64>,
+    /// Round trips of the iceoryx2 floor measurement before each lock-step
+    /// run (in real time the floor is sampled once in every cycle instead).
+    #[arg(long, default_value_t = 20_000, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    floor_round_trips: u64,
     /// Seconds without a heartbeat after which a process is taken as hung.
     #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(3..=3600))]
     heartbeat_timeout: u64,
     /// Restarts of one process in one run before the run is given up.
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(0..=1000))]
     max_restarts: u32,
+    /// Real time: the SCHED_FIFO priority of the simulator and the agents, so
+    /// that a woken process runs ahead of other work on its core (0: normal
+    /// scheduling; only with the block and hybrid waits, which sleep between
+    /// cycles). Needs CAP_SYS_NICE or `ulimit -r`; if refused, the run goes on
+    /// normally scheduled and its report says why.
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u8).range(0..=99))]
+    rt_priority: u8,
     #[command(flatten)]
     options: ExperimentOptions,
 }
@@ -171,10 +178,8 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
         clock: args.mode,
         wait,
         checkpoint_every: args.checkpoint_every,
-        floor_round_trips: args.floor_round_trips.unwrap_or(match args.mode {
-            Clock::Lockstep => 20_000,
-            Clock::Realtime => 1_000,
-        }) as usize,
+        rt_priority: args.rt_priority,
+        floor_round_trips: args.floor_round_trips as usize,
         heartbeat_timeout: Duration::from_secs(args.heartbeat_timeout),
         max_restarts: args.max_restarts,
         restart_simulator: false,

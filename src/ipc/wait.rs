@@ -55,6 +55,13 @@ pub const HYBRID_YIELD: Duration = Duration::from_micros(200);
 /// heartbeat, the supervisor's commands and deadlines).
 pub const MAX_BLOCK: Duration = Duration::from_millis(20);
 
+/// How much later than asked a blocking pause may return. iceoryx2's
+/// listener times out through a socket receive timeout, which the kernel
+/// counts in scheduler ticks (4 ms at the common HZ=250), so a timed wait can
+/// overshoot by a tick or two. A wait that must end on time blocks only until
+/// this long before its end ([`Idle::pause_until`]).
+pub const TIMED_WAIT_SLACK: Duration = Duration::from_millis(10);
+
 /// One wait: call [`Idle::pause`] each time a poll found nothing.
 #[derive(Debug)]
 pub struct Idle {
@@ -69,8 +76,14 @@ impl Idle {
     }
 
     /// Pauses once between two polls; a blocking pause returns when `wake` is
-    /// notified or after at most `limit` (and [`MAX_BLOCK`]).
+    /// notified or after about `limit` (at most [`MAX_BLOCK`], and possibly
+    /// [`TIMED_WAIT_SLACK`] late). A zero `limit` only yields: a zero socket
+    /// timeout would mean no timeout at all.
     pub fn pause(&mut self, wake: &Listener<Ipc>, limit: Duration) -> Result<(), IpcError> {
+        if limit.is_zero() {
+            std::thread::yield_now();
+            return Ok(());
+        }
         let since = *self.since.get_or_insert_with(Instant::now);
         match self.strategy {
             WaitStrategy::Spin => std::hint::spin_loop(),
@@ -84,6 +97,16 @@ impl Idle {
             },
         }
         Ok(())
+    }
+}
+
+impl Idle {
+    /// Pauses once, returning by `deadline`: a blocking pause blocks only
+    /// while the deadline is more than [`TIMED_WAIT_SLACK`] away; in the last
+    /// stretch it yields.
+    pub fn pause_until(&mut self, wake: &Listener<Ipc>, deadline: Instant) -> Result<(), IpcError> {
+        let left = deadline.saturating_duration_since(Instant::now());
+        self.pause(wake, left.saturating_sub(TIMED_WAIT_SLACK))
     }
 }
 

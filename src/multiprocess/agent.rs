@@ -3,14 +3,16 @@
 //! the mode's fixed policy. Each cycle it takes its snapshot, credits the
 //! reward, thinks until an action issues the cycle's command, and sends it.
 //! A learning keeper checkpoints its values every N learning episodes and on
-//! the supervisor's request, atomically, in the `persist` format.
+//! the supervisor's request, atomically, in the `persist` format. In real
+//! time it sleeps between cycles and is polling again shortly before its next
+//! snapshot is due ([`EXPECT_EARLY`]).
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::simulator::{FLOOR_END, histogram_file, keepaway_config};
-use super::{HEARTBEAT_EVERY, Pacemaker, ProcessError, RunContext};
+use super::{Clock, HEARTBEAT_EVERY, Pacemaker, ProcessError, RunContext};
 use crate::domains::keepaway::{KeepawayDomainConfig, PlanKeeper, RunSeeds, registry};
 use crate::experiment::runner::{learner_for, task_rng};
 use crate::experiment::spec::ExperimentSpec;
@@ -19,7 +21,7 @@ use crate::ipc::convert::{
     command_message, read_control, read_episode_event, read_snapshot,
 };
 use crate::ipc::services::{AgentPorts, node, receive, send};
-use crate::ipc::wait::{Idle, MAX_BLOCK, wake};
+use crate::ipc::wait::{Idle, MAX_BLOCK, TIMED_WAIT_SLACK, wake};
 use crate::keepaway::command::Command;
 use crate::keepaway::keeper::{KeeperMemory, keeper_command};
 use crate::keepaway::params::KeepawayConfig;
@@ -38,6 +40,17 @@ macro_rules! report {
         let _ = writeln!(std::io::stderr(), $($arg)*);
     }};
 }
+
+/// Real time: how long before a message is due (a snapshot, or agent 0's
+/// floor ping, one cycle after the previous one) the agent stops sleeping and
+/// polls, so that the message finds it awake rather than waiting for a
+/// wake-up (on a virtual machine a sleeping core can take milliseconds to wake).
+pub const EXPECT_EARLY: Duration = Duration::from_millis(1);
+
+/// Real time: how long after a message was due the agent keeps polling for it
+/// before it goes back to sleep (the first snapshot of an episode comes after
+/// the episode's begin, later than one cycle after the last one).
+pub const EXPECT_LATE: Duration = Duration::from_millis(2);
 
 /// The name of keeper `k`'s compute-time histogram.
 pub fn compute_histogram(k: usize) -> String {
@@ -224,6 +237,10 @@ struct Agent {
     episode: u64,
     start: EpisodeStart,
     learning_episodes: u64,
+    /// Real time: the cycle's length.
+    cycle: Option<Duration>,
+    /// Real time: when the next snapshot and the next floor ping are due.
+    expected: [Option<Instant>; 2],
 }
 
 impl Agent {
@@ -350,9 +367,27 @@ impl Agent {
         Ok(read)
     }
 
+    /// Real time: how long until the agent should poll for a message it
+    /// expects (zero: now), or none if it expects none.
+    fn until_expected(&mut self) -> Option<Duration> {
+        self.cycle?;
+        let now = Instant::now();
+        for due in &mut self.expected {
+            if due.is_some_and(|t| now > t + EXPECT_LATE) {
+                *due = None;
+            }
+        }
+        self.expected
+            .iter()
+            .flatten()
+            .map(|&t| t.checked_sub(EXPECT_EARLY).unwrap_or(t).saturating_duration_since(now))
+            .min()
+    }
+
     /// Thinks about `view` (crediting `reward`) and sends the command.
     fn act(&mut self, meta: SnapshotMeta, view: PlayerView, reward: f64) -> Result<(), ProcessError> {
         let started = Instant::now();
+        self.expected[0] = self.cycle.map(|c| started + c);
         let (command, idle) = self.brain.act(view, reward)?;
         self.compute.record(started.elapsed());
         let reading = CommandReading {
@@ -403,6 +438,7 @@ impl Agent {
                     send(&self.ports.floor_pong, pong)?;
                     wake(self.context.wait, &self.ports.wake_sim)?;
                     last = Instant::now();
+                    self.expected[1] = self.cycle.map(|c| last + c);
                     idle = Idle::new(self.context.wait);
                 }
                 Some(None) => self.count(Rejection::Run),
@@ -452,7 +488,14 @@ impl Agent {
             if busy {
                 idle = Idle::new(self.context.wait);
             } else {
-                idle.pause(&self.ports.wake, MAX_BLOCK)?;
+                match self.until_expected() {
+                    Some(Duration::ZERO) => std::thread::yield_now(),
+                    // A timed wait on the listener may overshoot: the last
+                    // stretch is slept precisely (nothing is expected in it).
+                    Some(wait) if wait <= TIMED_WAIT_SLACK => std::thread::sleep(wait),
+                    Some(wait) => idle.pause(&self.ports.wake, wait - TIMED_WAIT_SLACK)?,
+                    None => idle.pause(&self.ports.wake, MAX_BLOCK)?,
+                }
             }
         }
         self.pacemaker.pulse.state = ProcessState::Stopping;
@@ -489,6 +532,9 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
         episode: 0,
         start: EpisodeStart::LEARN,
         learning_episodes: 0,
+        cycle: (context.clock == Clock::Realtime)
+            .then(|| Duration::from_secs_f64(config.simulator().server.cycle_seconds)),
+        expected: [None; 2],
     };
     if settings.resume {
         // What the learner holds now, for the supervisor to compare with the

@@ -35,6 +35,9 @@ pub struct SystemSummary {
     pub mode: Clock,
     /// How processes waited.
     pub wait: WaitStrategy,
+    /// How the simulator and the agents were scheduled (`normal`, `SCHED_FIFO 10`,
+    /// or normal with the reason the real-time priority was refused).
+    pub scheduling: String,
     /// Runs asked for.
     pub runs: usize,
     /// Runs that ended normally.
@@ -145,6 +148,7 @@ pub fn summarize(
         failure,
         mode: config.clock,
         wait: config.wait,
+        scheduling: records.first().map(|r| r.scheduling.clone()).unwrap_or_default(),
         runs: config.spec.protocol.runs,
         runs_completed: records.iter().filter(|r| r.sim.complete).count(),
         episodes: learning_episodes,
@@ -222,6 +226,9 @@ fn latency_table(histograms: &[Latency], summary: &SystemSummary) -> String {
         summary.restarts,
         summary.aborted_episodes
     );
+    if summary.mode == Clock::Realtime {
+        let _ = writeln!(text, "scheduling: {}", summary.scheduling);
+    }
     text
 }
 

@@ -115,6 +115,8 @@ struct Link {
     stop: bool,
     round_trip: Latency,
     floor: Latency,
+    /// Real time: the floor pings sent so far (their sequence numbers).
+    floor_pings: u64,
     totals: SimTotals,
 }
 
@@ -343,10 +345,14 @@ impl KeeperTeam for RemoteTeam {
             if link.lost.contains(&true) {
                 return self.abort(link);
             }
-            let limit = deadline.map_or(MAX_BLOCK, |d| d.saturating_duration_since(Instant::now()));
-            idle.pause(&link.ports.wake, limit).map_err(remote)?;
+            match deadline {
+                Some(deadline) => idle.pause_until(&link.ports.wake, deadline),
+                None => idle.pause(&link.ports.wake, MAX_BLOCK),
+            }
+            .map_err(remote)?;
         }
         if let Some(deadline) = deadline {
+            sample_floor(link, published[0] + self.period / 2, deadline)?;
             std::thread::sleep(deadline.saturating_duration_since(Instant::now()));
         }
         link.totals.cycles += 1;
@@ -421,36 +427,40 @@ pub fn floor_ping(run_id: u64, sequence: u64) -> KeeperSnapshot {
     }
 }
 
-/// The pause between two pings of the floor measurement in real time: long
-/// enough for a waiting agent to block, as it does between two 100 ms cycles.
-pub const REALTIME_FLOOR_GAP: Duration = Duration::from_millis(5);
-
-/// Measures the bare iceoryx2 round trip of the snapshot payload with agent 0
-/// (which echoes each ping at once), `round_trips` times, with the run's wait
-/// strategy: the floor our round trips are compared with, measured side by
-/// side. In real time the pings are [`REALTIME_FLOOR_GAP`] apart, so the
-/// floor includes waking a process that waits, as every cycle does.
-fn measure_floor(link: &mut Link, round_trips: usize) -> Result<(), TaskError> {
+/// Sends floor ping `sequence` to agent 0 and notifies it; with `alone`, the
+/// end marker follows at once, so that the agent answers this one ping and
+/// goes back to waiting for its snapshots.
+fn send_ping(link: &Link, sequence: u64, alone: bool) -> Result<Instant, TaskError> {
     let run_id = link.context.run_id;
-    let strategy = link.context.wait;
-    let gap = (link.context.clock == Clock::Realtime).then_some(REALTIME_FLOOR_GAP);
-    for sequence in 1..=round_trips as u64 {
-        if let Some(gap) = gap {
-            std::thread::sleep(gap);
+    let sent = Instant::now();
+    send(&link.ports.floor_ping, floor_ping(run_id, sequence)).map_err(remote)?;
+    if alone {
+        send(&link.ports.floor_ping, floor_ping(run_id, FLOOR_END)).map_err(remote)?;
+    }
+    wake(link.context.wait, &link.ports.wake_keepers[0]).map_err(remote)?;
+    Ok(sent)
+}
+
+/// Takes the echo of ping `sequence` if it has come (older echoes are dropped).
+fn echoed(link: &Link, sequence: u64) -> Result<bool, TaskError> {
+    while let Some(echo) = receive(&link.ports.floor_pong, |m| m.cycle_seq).map_err(remote)? {
+        if echo == sequence {
+            return Ok(true);
         }
-        let sent = Instant::now();
-        send(&link.ports.floor_ping, floor_ping(run_id, sequence)).map_err(remote)?;
-        wake(strategy, &link.ports.wake_keepers[0]).map_err(remote)?;
-        let mut idle = Idle::new(strategy);
+    }
+    Ok(false)
+}
+
+/// Lock-step: measures the bare iceoryx2 round trip of the snapshot payload
+/// with agent 0 (which echoes each ping at once), `round_trips` times back to
+/// back with the run's wait strategy, before the first episode: the floor our
+/// round trips, also back to back, are compared with.
+fn measure_floor(link: &mut Link, round_trips: usize) -> Result<(), TaskError> {
+    for sequence in 1..=round_trips as u64 {
+        let sent = send_ping(link, sequence, false)?;
+        let mut idle = Idle::new(link.context.wait);
         let mut checked = sent;
-        loop {
-            if let Some(echo) = receive(&link.ports.floor_pong, |m| m.cycle_seq).map_err(remote)? {
-                if echo == sequence {
-                    link.floor.record(sent.elapsed());
-                    break;
-                }
-                continue;
-            }
+        while !echoed(link, sequence)? {
             if checked.elapsed() > Duration::from_millis(10) {
                 checked = Instant::now();
                 link.housekeeping()?;
@@ -460,9 +470,36 @@ fn measure_floor(link: &mut Link, round_trips: usize) -> Result<(), TaskError> {
             }
             idle.pause(&link.ports.wake, MAX_BLOCK).map_err(remote)?;
         }
+        link.floor.record(sent.elapsed());
     }
-    send(&link.ports.floor_ping, floor_ping(run_id, FLOOR_END)).map_err(remote)?;
-    wake(strategy, &link.ports.wake_keepers[0]).map_err(remote)
+    send(&link.ports.floor_ping, floor_ping(link.context.run_id, FLOOR_END)).map_err(remote)?;
+    wake(link.context.wait, &link.ports.wake_keepers[0]).map_err(remote)
+}
+
+/// Real time: one floor sample per cycle, at `at` (halfway between two
+/// snapshots), while the agents wait for the next cycle. Agent 0 waits for
+/// the ping, one cycle after the last one, as every agent waits for its
+/// snapshot (see [`super::agent::EXPECT_EARLY`]), on the same machine at the
+/// same moment of the run: the floor and the round trips are measured side by
+/// side over the whole run. An echo not back by the cycle's `deadline` is
+/// given up (none is recorded); a cycle that ran past `at` takes no sample.
+fn sample_floor(link: &mut Link, at: Instant, deadline: Instant) -> Result<(), TaskError> {
+    let Some(wait) = at.checked_duration_since(Instant::now()) else {
+        return Ok(());
+    };
+    std::thread::sleep(wait);
+    link.floor_pings += 1;
+    let sequence = link.floor_pings;
+    let sent = send_ping(link, sequence, true)?;
+    let mut idle = Idle::new(link.context.wait);
+    while !echoed(link, sequence)? {
+        if Instant::now() >= deadline {
+            return Ok(());
+        }
+        idle.pause_until(&link.ports.wake, deadline).map_err(remote)?;
+    }
+    link.floor.record(sent.elapsed());
+    Ok(())
 }
 
 /// The Keepaway configuration of `spec`, if the multi-process system can run it.
@@ -551,11 +588,12 @@ impl Task for JournaledTask {
 }
 
 /// Runs the simulator of `context`'s run: waits for the agents, measures the
-/// floor with `floor_round_trips` pings, plays the experiment's protocol
+/// floor (lock-step: `floor_round_trips` pings before the first episode; real
+/// time: one ping in every cycle), plays the experiment's protocol
 /// (journaling every whole episode), and writes [`RESULT_FILE`] and the
 /// histograms into the work directory. With `resume` it continues the run of
-/// a killed simulator from the journal's last episode boundary (no floor
-/// measurement). A run that is stopped or fails still writes what it completed.
+/// a killed simulator from the journal's last episode boundary (no lock-step
+/// floor measurement). A run that is stopped or fails still writes what it completed.
 pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Result<SimulatorResult, ProcessError> {
     let spec = context.load_spec()?;
     let config = keepaway_config(&spec)?;
@@ -581,6 +619,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
         stop: false,
         round_trip: Latency::new(ROUND_TRIP),
         floor: Latency::new(FLOOR),
+        floor_pings: 0,
         totals,
     }));
     let seconds_per_cycle = config.simulator().server.cycle_seconds;
@@ -597,7 +636,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
             let mut link = link.borrow_mut();
             link.wait_ready()?;
             link.pacemaker.pulse.state = ProcessState::Running;
-            if !resume {
+            if !resume && context.clock == Clock::Lockstep {
                 measure_floor(&mut link, floor_round_trips)?;
                 save_histograms(&context.work_dir, &link).map_err(|e| TaskError::Remote(e.to_string()))?;
             }

@@ -17,7 +17,7 @@ use rand::RngExt;
 use serde::Serialize;
 
 use super::agent::{checkpoint_name, compute_histogram, resumed_file};
-use super::launch::{Binaries, LaunchError, Process, spawn};
+use super::launch::{Binaries, LaunchError, Process, set_fifo_priority, spawn};
 use super::simulator::{FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult};
 use super::{Clock, RunContext};
 use crate::experiment::spec::ExperimentSpec;
@@ -48,8 +48,15 @@ pub struct SupervisorConfig {
     pub wait: WaitStrategy,
     /// Agents checkpoint every this many learning episodes.
     pub checkpoint_every: u64,
-    /// Round trips of the floor measurement in every run.
+    /// Round trips of the floor measurement before each lock-step run (real
+    /// time samples the floor in every cycle).
     pub floor_round_trips: usize,
+    /// Real time: the SCHED_FIFO priority of the simulator and the agents
+    /// when they sleep between cycles (`block`, `hybrid`; 0: normal
+    /// scheduling). Lock-step runs, and real-time ones that spin or yield, are
+    /// always scheduled normally: real-time processes that never sleep would
+    /// starve the rest of the machine.
+    pub rt_priority: u8,
     /// A process silent for this long is taken as hung and killed.
     pub heartbeat_timeout: Duration,
     /// Restarts of one keeper (or of the simulator) in one run before the run is given up.
@@ -168,6 +175,8 @@ pub struct RunRecord {
     pub leftover_files: usize,
     /// The run's iceoryx2 prefix.
     pub prefix: String,
+    /// How the simulator and the agents were scheduled.
+    pub scheduling: String,
 }
 
 /// How an exit status reads in a report.
@@ -299,6 +308,8 @@ struct Watch<'a> {
     stop_requested: bool,
     resumes: Vec<PendingResume>,
     control_sequence: u64,
+    /// Why the real-time priority could not be given (the first refusal).
+    fifo_refused: Option<String>,
 }
 
 impl Watch<'_> {
@@ -330,9 +341,33 @@ impl Watch<'_> {
             }
         };
         let process = spawn(binary, role, &args, &self.log(role))?;
+        if let Some(priority) = self.fifo_priority()
+            && let Err(e) = set_fifo_priority(process.pid(), priority)
+        {
+            self.fifo_refused.get_or_insert(e.to_string());
+        }
         self.fleet.processes.insert(role, process);
         self.last_heard.insert(role, Instant::now());
         Ok(())
+    }
+
+    /// The SCHED_FIFO priority the run's processes get, if any: only in real
+    /// time, and only when they sleep between cycles (`block`, `hybrid`): a
+    /// real-time process that spins or yields without end would hold its core
+    /// against the rest of the machine.
+    fn fifo_priority(&self) -> Option<u8> {
+        let sleeps = self.config.wait.notifies();
+        (self.config.clock == Clock::Realtime && sleeps && self.config.rt_priority > 0)
+            .then_some(self.config.rt_priority)
+    }
+
+    /// How the run's processes were scheduled, as the report says it.
+    fn scheduling(&self) -> String {
+        match (self.fifo_priority(), &self.fifo_refused) {
+            (None, _) => "normal".to_string(),
+            (Some(priority), None) => format!("SCHED_FIFO {priority}"),
+            (Some(priority), Some(why)) => format!("normal (SCHED_FIFO {priority} refused: {why})"),
+        }
     }
 
     fn fault(&mut self, kind: String, outcome: String) {
@@ -690,6 +725,7 @@ fn run_in(
         stop_requested: false,
         resumes: Vec::new(),
         control_sequence: 0,
+        fifo_refused: None,
     };
     watch.start(Role::Simulator, false)?;
     for k in 0..NUM_KEEPERS {
@@ -773,6 +809,7 @@ fn run_in(
         seconds,
         leftover_files: 0,
         prefix: String::new(),
+        scheduling: watch.scheduling(),
     })
 }
 
