@@ -98,9 +98,7 @@ impl Idle {
         }
         Ok(())
     }
-}
 
-impl Idle {
     /// Pauses once, returning by `deadline`: a blocking pause blocks only
     /// while the deadline is more than [`TIMED_WAIT_SLACK`] away; in the last
     /// stretch it yields.
