@@ -274,7 +274,12 @@ impl KeeperTeam for RemoteTeam {
         link.wake_keepers()
     }
 
-    fn act(&mut self, views: &[PlayerView; NUM_KEEPERS], seconds_per_cycle: f64) -> Result<TeamStep, TaskError> {
+    fn act(
+        &mut self,
+        views: &[PlayerView; NUM_KEEPERS],
+        seconds_per_cycle: f64,
+        meanwhile: &mut dyn FnMut() -> bool,
+    ) -> Result<TeamStep, TaskError> {
         let link = &mut *self.link.borrow_mut();
         link.housekeeping()?;
         if link.stop {
@@ -299,6 +304,7 @@ impl KeeperTeam for RemoteTeam {
             wake(link.context.wait, &link.ports.wake_keepers[k]).map_err(remote)?;
         }
         let deadline = (link.context.clock == Clock::Realtime).then(|| published[0] + self.period);
+        let mut work_left = true;
         let mut commands: [Option<Command>; NUM_KEEPERS] = [None; NUM_KEEPERS];
         let mut idle = Idle::new(link.context.wait);
         loop {
@@ -338,6 +344,11 @@ impl KeeperTeam for RemoteTeam {
                 link.totals.missed_deadlines += commands.iter().filter(|c| c.is_none()).count() as u64;
                 break;
             }
+            if work_left {
+                // The takers decide while the keepers think, one between two polls.
+                work_left = meanwhile();
+                continue;
+            }
             link.housekeeping()?;
             if link.stop {
                 return Err(TaskError::Stopped);
@@ -350,6 +361,9 @@ impl KeeperTeam for RemoteTeam {
                 None => idle.pause(&link.ports.wake, MAX_BLOCK),
             }
             .map_err(remote)?;
+        }
+        while work_left {
+            work_left = meanwhile();
         }
         if let Some(deadline) = deadline {
             sample_floor(link, published[0] + self.period / 2, deadline)?;

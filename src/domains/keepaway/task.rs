@@ -118,16 +118,27 @@ impl KeepawayTask {
         loop {
             let world = *self.sim.world();
             let keeper_views = PlayerId::KEEPERS.map(|id| perceive(&world, id, &cfg));
-            let TeamStep::Commands(keeper_commands) = self.team.act(&keeper_views, seconds_per_cycle)? else {
+            let mut commands = [Command::None; NUM_PLAYERS];
+            let (keepers, takers) = commands.split_at_mut(NUM_KEEPERS);
+            let memories = &mut self.takers;
+            // One taker's decision per step: a remote team polls between them.
+            let mut next = 0;
+            let mut decide_taker = || {
+                if let (Some(command), Some(memory), Some(id)) = (
+                    takers.get_mut(next),
+                    memories.get_mut(next),
+                    PlayerId::new(NUM_KEEPERS + next),
+                ) {
+                    *command = taker_command(&perceive(&world, id, &cfg), &cfg, memory);
+                    next += 1;
+                }
+                next < NUM_TAKERS
+            };
+            let step = self.team.act(&keeper_views, seconds_per_cycle, &mut decide_taker)?;
+            let TeamStep::Commands(keeper_commands) = step else {
                 return Ok(None);
             };
-            let mut commands = [Command::None; NUM_PLAYERS];
-            commands[..NUM_KEEPERS].copy_from_slice(&keeper_commands);
-            for ((i, command), memory) in commands.iter_mut().enumerate().skip(NUM_KEEPERS).zip(&mut self.takers) {
-                if let Some(id) = PlayerId::new(i) {
-                    *command = taker_command(&perceive(&world, id, &cfg), &cfg, memory);
-                }
-            }
+            keepers.copy_from_slice(&keeper_commands);
             if let Some(log) = log.as_deref_mut() {
                 log.show(&world, &self.team.notes());
                 log.commands(&world, &commands);

@@ -34,8 +34,18 @@ pub trait KeeperTeam {
     fn begin_episode(&mut self, start: EpisodeStart) -> Result<(), TaskError>;
 
     /// The commands for the cycle in which keeper k sees `views[k]`; each
-    /// keeper is first credited `seconds_per_cycle` of reward (the time elapsed).
-    fn act(&mut self, views: &[PlayerView; NUM_KEEPERS], seconds_per_cycle: f64) -> Result<TeamStep, TaskError>;
+    /// keeper is first credited `seconds_per_cycle` of reward (the time
+    /// elapsed). `meanwhile` is the simulator's own work for the cycle (the
+    /// takers' decisions), which does not depend on the keepers', in steps:
+    /// each call does one and says whether more remain. The team runs them all,
+    /// while its keepers think when they think elsewhere (between its polls
+    /// for their commands); only a cycle that is not played skips them.
+    fn act(
+        &mut self,
+        views: &[PlayerView; NUM_KEEPERS],
+        seconds_per_cycle: f64,
+        meanwhile: &mut dyn FnMut() -> bool,
+    ) -> Result<TeamStep, TaskError>;
 
     /// The episode is over after `cycles` cycles: the learners update. Returns
     /// whether the first learning keeper's episode was exploratory.
@@ -140,7 +150,12 @@ impl KeeperTeam for LocalTeam {
         Ok(())
     }
 
-    fn act(&mut self, views: &[PlayerView; NUM_KEEPERS], seconds_per_cycle: f64) -> Result<TeamStep, TaskError> {
+    fn act(
+        &mut self,
+        views: &[PlayerView; NUM_KEEPERS],
+        seconds_per_cycle: f64,
+        meanwhile: &mut dyn FnMut() -> bool,
+    ) -> Result<TeamStep, TaskError> {
         let mut commands = [Command::None; NUM_KEEPERS];
         for (k, (command, view)) in commands.iter_mut().zip(views).enumerate() {
             *command = match self.keepers.get_mut(k) {
@@ -148,6 +163,7 @@ impl KeeperTeam for LocalTeam {
                 None => keeper_command(view, &self.sim_config, &mut self.memories[k], &mut self.fixed),
             };
         }
+        while meanwhile() {}
         Ok(TeamStep::Commands(commands))
     }
 
