@@ -117,7 +117,7 @@ fn output_is_deterministic() {
 /// double circles are the places `check` lists.
 #[test]
 fn dot_draws_the_choice_points_check_reports() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("plans");
+    let dir = crate::util::root().join("plans");
     let mut files: Vec<_> = std::fs::read_dir(&dir)
         .expect("plans/")
         .map(|e| e.expect("an entry").path())

@@ -87,14 +87,14 @@ fn net() -> impl Strategy<Value = PetriNet> {
 
 /// Valid PNML texts to mutate: every fixture and a written net in each dialect.
 static SEEDS: LazyLock<Vec<String>> = LazyLock::new(|| {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/pnml");
+    let dir = crate::util::root().join("tests/fixtures/pnml");
     let mut seeds: Vec<String> = std::fs::read_dir(dir)
         .expect("fixture directory")
         .map(|e| std::fs::read_to_string(e.expect("fixture").path()).expect("fixture text"))
         .collect();
     seeds.sort();
-    let net = pnml::read_file(&Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/pnml/fetch_choice.pnml"))
-        .expect("valid fixture");
+    let net =
+        pnml::read_file(&crate::util::root().join("tests/fixtures/pnml/fetch_choice.pnml")).expect("valid fixture");
     seeds.push(pnml::write(&net, Dialect::Jarp));
     seeds.push(pnml::write(&net, Dialect::Standard));
     seeds

@@ -1,24 +1,11 @@
 //! Reading and writing plan files in PNML: both dialects, errors, files, round trips.
 
+use crate::util::{fixture, temp_dir};
 use std::fs;
 use std::path::{Path, PathBuf};
 
 use learnpnp::net::{NetError, NodeRef, PetriNet, PlaceNode, Position, TransitionNode};
 use learnpnp::pnml::{self, Dialect, PnmlError, PnmlFileError};
-
-fn fixture(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures/pnml")
-        .join(name)
-}
-
-/// A fresh, empty directory for one test.
-fn temp_dir(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("learnpnp-pnml-{tag}-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 fn ids<T>(items: &[T], id: impl Fn(&T) -> &str) -> Vec<&str> {
     items.iter().map(id).collect()
@@ -37,7 +24,7 @@ fn parse_err(text: &str) -> PnmlError {
 
 #[test]
 fn reads_a_hand_written_jarp_plan() {
-    let net = pnml::read_file(&fixture("fetch_choice.pnml")).unwrap();
+    let net = pnml::read_file(&fixture("pnml/fetch_choice.pnml")).unwrap();
     assert_eq!(net.name(), "fetch_choice", "from the PLAN NAME comment, trimmed");
     assert_eq!(ids(net.places(), |p| &p.id), ["p1", "p2", "p3", "p4", "p5"]);
     assert_eq!(ids(net.transitions(), |t| &t.id), ["t1", "t2", "t3"]);
@@ -70,7 +57,7 @@ fn reads_a_hand_written_jarp_plan() {
 
 #[test]
 fn plan_name_falls_back_to_the_file_name() {
-    let net = pnml::read_file(&fixture("untitled.v2.pnml")).unwrap();
+    let net = pnml::read_file(&fixture("pnml/untitled.v2.pnml")).unwrap();
     assert_eq!(
         net.name(),
         "untitled",
@@ -97,7 +84,7 @@ fn keeps_labels_verbatim() {
 
 #[test]
 fn reads_standard_pnml_with_nested_pages() {
-    let net = pnml::read_file(&fixture("nested_pages.pnml")).unwrap();
+    let net = pnml::read_file(&fixture("pnml/nested_pages.pnml")).unwrap();
     assert_eq!(net.name(), "patrol", "net/name/text, trimmed");
     assert_eq!(
         ids(net.places(), |p| &p.id),
@@ -322,7 +309,7 @@ fn net_level_errors_are_wrapped() {
 
 #[test]
 fn file_errors_start_with_the_path() {
-    let path = fixture("place_to_place.pnml");
+    let path = fixture("pnml/place_to_place.pnml");
     let err = pnml::read_file(&path).unwrap_err();
     assert!(matches!(err, PnmlFileError::Pnml { .. }));
     assert_eq!(err.path(), path);
@@ -332,7 +319,7 @@ fn file_errors_start_with_the_path() {
         "{message}"
     );
 
-    let missing = fixture("no_such_plan.pnml");
+    let missing = fixture("pnml/no_such_plan.pnml");
     let err = pnml::read_file(&missing).unwrap_err();
     assert!(matches!(err, PnmlFileError::Io { .. }), "{err}");
     assert!(
@@ -408,7 +395,7 @@ fn round_trips_in_both_dialects() {
 #[test]
 fn round_trips_real_layouts_across_dialects() {
     for name in ["fetch_choice.pnml", "nested_pages.pnml", "untitled.v2.pnml"] {
-        let net = pnml::read_file(&fixture(name)).unwrap();
+        let net = pnml::read_file(&fixture(&format!("pnml/{name}"))).unwrap();
         let standard = pnml::write(&net, Dialect::Standard);
         let via_standard = pnml::parse(&standard, "lost").unwrap();
         assert_eq!(via_standard, net, "{name}: jarp -> standard");

@@ -2,6 +2,7 @@
 //! writer; every malformed input is refused with its line and token; the
 //! builder makes the same schemas as the reader.
 
+use crate::util::shipped;
 use std::path::Path;
 
 use learnpnp::plan::{Vocabulary, load_plan};
@@ -21,14 +22,10 @@ const SHIPPED: [&str; 8] = [
     "keepaway_position",
 ];
 
-fn shipped(name: &str) -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("plans/{name}.schema"))
-}
-
 #[test]
 fn shipped_schemas_round_trip_through_the_writer() {
     for name in SHIPPED {
-        let schema = read_schema(&shipped(name)).unwrap_or_else(|e| panic!("{e}"));
+        let schema = read_schema(&shipped(&format!("{name}.schema"))).unwrap_or_else(|e| panic!("{e}"));
         let text = write_schema(&schema);
         let again = parse_schema(&text).unwrap_or_else(|e| panic!("{name}: {e}\n{text}"));
         assert_eq!(write_schema(&again), text, "{name}");
@@ -43,11 +40,14 @@ fn shipped_schemas_round_trip_through_the_writer() {
 #[test]
 fn shipped_schemas_load_as_plans() {
     for name in SHIPPED {
-        let plan = load_plan(&shipped(name), Vocabulary::Open).unwrap_or_else(|e| panic!("{e}"));
+        let plan = load_plan(&shipped(&format!("{name}.schema")), Vocabulary::Open).unwrap_or_else(|e| panic!("{e}"));
         assert!(plan.schema_process().is_some(), "{name}");
         assert_eq!(
             plan.activation_plans().len(),
-            read_schema(&shipped(name)).unwrap().machines().len()
+            read_schema(&shipped(&format!("{name}.schema")))
+                .unwrap()
+                .machines()
+                .len()
         );
     }
 }
@@ -67,7 +67,7 @@ fn the_builder_makes_what_the_reader_reads() {
         .edge("turn", "kick", Some("Turn.finished"), None)
         .edge("kick", "done", Some("Kick.finished"), None);
     let built = b.build().unwrap();
-    let read = read_schema(&shipped("penalty_kick")).unwrap();
+    let read = read_schema(&shipped("penalty_kick.schema")).unwrap();
     assert_eq!(write_schema(&built), write_schema(&read));
 }
 

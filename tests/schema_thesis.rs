@@ -2,6 +2,7 @@
 //! (Figures 3.1 - 3.5), the penalty kick's non-Markovian reward (Figures 3.6
 //! and 3.7), and a schema learning exactly as the equivalent Petri Net Plan.
 
+use crate::util::shipped;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -23,12 +24,12 @@ use learnpnp::schema::{
     MachineProcess, Process, ProcessState, ProcessTransition, condition_constituents, parse_schema, read_schema,
 };
 
-fn shipped(name: &str) -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("plans/{name}.schema"))
-}
-
 fn process(name: &str) -> Process {
-    Process::new(&read_schema(&shipped(name)).unwrap(), Vocabulary::Open).unwrap()
+    Process::new(
+        &read_schema(&shipped(&format!("{name}.schema"))).unwrap(),
+        Vocabulary::Open,
+    )
+    .unwrap()
 }
 
 fn atoms(names: &[&str]) -> Vec<Expr> {
@@ -186,7 +187,7 @@ fn figure_3_3_kick_is_a_machine_with_the_choice() {
 /// A penalty-kick run of `schema` with `learner`, after `episodes` learning
 /// episodes: the values of the two options of the first choice and the greedy return.
 fn kick(schema: &str, learner: Box<dyn Learner>, episodes: usize) -> (f64, f64, f64) {
-    let plan = Arc::new(load_plan(&shipped(schema), Vocabulary::Open).unwrap());
+    let plan = Arc::new(load_plan(&shipped(&format!("{schema}.schema")), Vocabulary::Open).unwrap());
     let mut task = PenaltyKick::new(PenaltyKickConfig::default(), Arc::clone(&plan), learner).unwrap();
     for _ in 0..episodes {
         task.episode(EpisodeMode::Learn).unwrap();
@@ -341,7 +342,7 @@ fn a_schema_and_the_equivalent_plan_learn_the_same_policy_with_the_same_seed() {
             .collect()
     };
     let atoms = parr_russell::atoms();
-    let schema_plan = || load_plan(&shipped("parr_russell"), Vocabulary::Closed(&atoms)).unwrap();
+    let schema_plan = || load_plan(&shipped("parr_russell.schema"), Vocabulary::Closed(&atoms)).unwrap();
     let schema_options = |west: bool, east: bool| -> Vec<Marking> {
         let plan = schema_plan();
         let observation = format!(

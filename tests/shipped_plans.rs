@@ -9,7 +9,7 @@ use learnpnp::plan::{Vocabulary, catalog, load_plan};
 use learnpnp::pnml::{self, Dialect};
 
 fn plans_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("plans")
+    crate::util::root().to_path_buf().join("plans")
 }
 
 #[test]

@@ -4,9 +4,9 @@
 use std::process::ExitCode;
 
 use clap::Parser;
-use learnpnp::multiprocess::agent::{self, AgentSettings};
-use learnpnp::multiprocess::supervisor::EXIT_CANNOT_RESUME;
-use learnpnp::multiprocess::{ProcessError, RunContext};
+use learnpnp_system::multiprocess::agent::{self, AgentSettings};
+use learnpnp_system::multiprocess::supervisor::EXIT_CANNOT_RESUME;
+use learnpnp_system::multiprocess::{ProcessError, RunContext};
 
 /// One keeper: its plan, learner and executor, behind iceoryx2 services.
 #[derive(Parser)]

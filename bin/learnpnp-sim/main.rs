@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use clap::Parser;
-use learnpnp::multiprocess::{RunContext, simulator};
+use learnpnp_system::multiprocess::{RunContext, simulator};
 
 /// The Keepaway simulator behind iceoryx2 services.
 #[derive(Parser)]

@@ -12,18 +12,19 @@ use std::time::Duration;
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use learnpnp::experiment::args::{DomainName, ExperimentOptions};
+use learnpnp::experiment::options::DomainName;
 use learnpnp::experiment::spec::Algorithm;
-use learnpnp::interrupt::Interrupt;
-use learnpnp::ipc::namespace::{Namespace, clean_stale};
-use learnpnp::ipc::wait::WaitStrategy;
-use learnpnp::multiprocess::Clock;
-use learnpnp::multiprocess::bench_latency::{bench_latency, configurations};
-use learnpnp::multiprocess::chaos::{Chaos, GARBAGE_COMMAND, SoakLength, publish_garbage};
-use learnpnp::multiprocess::launch::Binaries;
-use learnpnp::multiprocess::soak::{Soak, SoakLimits};
-use learnpnp::multiprocess::supervisor::{Progress, RunObserver, SupervisorConfig, supervise};
 use learnpnp::result_dir::ResultDir;
+use learnpnp_cli::args::ExperimentFlags;
+use learnpnp_cli::interrupt::Interrupt;
+use learnpnp_system::ipc::namespace::{Namespace, clean_stale};
+use learnpnp_system::ipc::wait::WaitStrategy;
+use learnpnp_system::multiprocess::Clock;
+use learnpnp_system::multiprocess::bench_latency::{bench_latency, configurations};
+use learnpnp_system::multiprocess::chaos::{Chaos, GARBAGE_COMMAND, SoakLength, publish_garbage};
+use learnpnp_system::multiprocess::launch::Binaries;
+use learnpnp_system::multiprocess::soak::{Soak, SoakLimits};
+use learnpnp_system::multiprocess::supervisor::{Progress, RunObserver, SupervisorConfig, supervise};
 
 /// The Keepaway experiments the system runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -106,7 +107,7 @@ struct RunArgs {
     #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u8).range(0..=99))]
     rt_priority: u8,
     #[command(flatten)]
-    options: ExperimentOptions,
+    flags: ExperimentFlags,
 }
 
 /// A soak: the system for a set time, sampled once a second.
@@ -157,8 +158,8 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
         Domain::KeepawayPass => DomainName::KeepawayPass,
     };
     let spec = args
-        .options
-        .clone()
+        .flags
+        .options()
         .or_defaults(Algorithm::SoftSosmc, DEFAULT_RUNS, episodes)
         .spec(domain)?;
     spec.protocol.validate()?;
@@ -221,7 +222,7 @@ fn run_system(
     out: &mut ResultDir,
     interrupt: &Interrupt,
     observer: &mut dyn RunObserver,
-) -> Result<learnpnp::multiprocess::report::Report> {
+) -> Result<learnpnp_system::multiprocess::report::Report> {
     let report = supervise(config, out, interrupt.flag(), observer)?;
     let summary = &report.summary;
     print!("{}", report.latency_table());

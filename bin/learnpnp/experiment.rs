@@ -4,24 +4,25 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use learnpnp::experiment::args::{DomainName, ExperimentOptions};
 use learnpnp::experiment::checkpoint::{ResumePoint, resume_point};
+use learnpnp::experiment::options::DomainName;
 use learnpnp::experiment::output::{SummaryFile, ci_text, greedy_text, replay_name, with_unit, write_results};
 use learnpnp::experiment::ranges;
 use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
 use learnpnp::experiment::spec::ExperimentSpec;
-use learnpnp::interrupt::Interrupt;
 use learnpnp::result_dir::{Contents, ResultDir};
+use learnpnp_cli::args::{ExperimentFlags, named};
+use learnpnp_cli::interrupt::Interrupt;
 
 use super::Interrupted;
 
 #[derive(Args, Debug)]
 pub struct ExperimentArgs {
     /// The domain.
-    #[arg(value_enum)]
+    #[arg(value_parser = named::<DomainName>())]
     domain: DomainName,
     #[command(flatten)]
-    options: ExperimentOptions,
+    flags: ExperimentFlags,
     /// Output directory (replaced as a whole when the experiment ends; refused
     /// if another experiment is writing there).
     #[arg(long, default_value = "out/experiment")]
@@ -129,7 +130,7 @@ pub fn run_into(
 
 pub fn run(args: &ExperimentArgs) -> Result<()> {
     let interrupt = Interrupt::install().context("installing the signal handlers")?;
-    let spec = args.options.spec(args.domain)?;
+    let spec = args.flags.options().spec(args.domain)?;
     // Checked and locked before any work.
     let mut dir = ResultDir::open(&args.out)?;
     let threads = args.threads.unwrap_or_else(default_threads);

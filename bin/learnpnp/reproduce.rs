@@ -15,8 +15,8 @@ use learnpnp::experiment::progress::{Rates, clock};
 use learnpnp::experiment::ranges;
 use learnpnp::experiment::report::summary_markdown;
 use learnpnp::experiment::spec::ExperimentSpec;
-use learnpnp::interrupt::Interrupt;
 use learnpnp::result_dir::ResultDir;
+use learnpnp_cli::interrupt::Interrupt;
 
 use super::experiment::{Finished, default_threads, run_into};
 

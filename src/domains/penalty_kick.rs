@@ -13,18 +13,33 @@ use super::driver::{EpisodeOutcome, PlanAgent, TaskError, marking_with, traced};
 use crate::condition::{AtomId, KnowledgeBase};
 use crate::executor::{Action, PlanKey, Registry, World};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};
+use crate::named::Named;
 use crate::net::{NetError, PetriNet};
 use crate::plan::{Plan, Vocabulary, catalog};
 
 /// Which plan drives the kick.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Variant {
     /// Figure 3.6: both choices lead to one Kick marking.
+    #[default]
     Plain,
     /// Figure 5.3: Kick duplicated after each choice.
     Tree,
     /// Figure 5.4: memory places record the choice.
     Memory,
+}
+
+impl Named for Variant {
+    const KIND: &'static str = "variant";
+    const ALL: &'static [Self] = &[Variant::Plain, Variant::Tree, Variant::Memory];
+
+    fn name(self) -> &'static str {
+        match self {
+            Variant::Plain => "plain",
+            Variant::Tree => "tree",
+            Variant::Memory => "memory",
+        }
+    }
 }
 
 impl Variant {

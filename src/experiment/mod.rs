@@ -1,9 +1,9 @@
 //! Experiments: the thesis's protocol over many seeded runs, with CSV, JSON
 //! and SVG results.
 
-pub mod args;
 pub mod checkpoint;
 pub mod defaults;
+pub mod options;
 pub mod output;
 pub mod plot;
 pub mod presets;

@@ -169,12 +169,12 @@ const PALETTE: [RGBColor; 10] = [
 ];
 
 /// The colour of the `i`-th series.
-pub(crate) fn colour(i: usize) -> RGBColor {
+pub fn colour(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]
 }
 
 /// Font family of every text.
-pub(crate) const FONT: &str = "sans-serif";
+pub const FONT: &str = "sans-serif";
 
 /// Draws learning curves into an SVG file at `path`: one coloured line per
 /// series (its mean), a translucent band of the same colour for its

@@ -3,6 +3,7 @@
 //! Run i draws every random number from seeds derived from the base seed and
 //! i, so results are identical whatever the number of threads.
 
+use crate::named::Named;
 use std::io::IsTerminal;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};

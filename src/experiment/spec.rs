@@ -18,6 +18,7 @@ use crate::learning::{
     Assessment, Exploration, Learner, Mcesp, McespConfig, RandomLearner, Sigma, SoSmc, SoSmcConfig, StepSize, TdConfig,
     TdLearner,
 };
+use crate::named::Named;
 use crate::plan::{LoadError, Plan, Vocabulary, load_plan};
 use crate::result_dir::ResultDirError;
 use crate::rng::SimRng;
@@ -230,7 +231,7 @@ impl DomainSpec {
 }
 
 /// The algorithms of the experiment command.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Algorithm {
     /// SoSMC with epsilon-greedy exploration.
@@ -249,9 +250,19 @@ pub enum Algorithm {
     Random,
 }
 
-impl Algorithm {
-    /// The command-line name.
-    pub fn name(self) -> &'static str {
+impl Named for Algorithm {
+    const KIND: &'static str = "algorithm";
+    const ALL: &'static [Self] = &[
+        Algorithm::EpsSosmc,
+        Algorithm::SoftSosmc,
+        Algorithm::SarsaLambda,
+        Algorithm::Sarsa0,
+        Algorithm::QLearning,
+        Algorithm::Mcesp,
+        Algorithm::Random,
+    ];
+
+    fn name(self) -> &'static str {
         match self {
             Algorithm::EpsSosmc => "eps-sosmc",
             Algorithm::SoftSosmc => "soft-sosmc",

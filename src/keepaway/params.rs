@@ -242,6 +242,18 @@ pub enum VisionMode {
     Quantised,
 }
 
+impl crate::named::Named for VisionMode {
+    const KIND: &'static str = "vision";
+    const ALL: &'static [Self] = &[VisionMode::FullState, VisionMode::Quantised];
+
+    fn name(self) -> &'static str {
+        match self {
+            VisionMode::FullState => "full-state",
+            VisionMode::Quantised => "quantised",
+        }
+    }
+}
+
 /// The keepaway framework's skill settings (its `PlayerSettings` defaults and the
 /// constants of its keepaway skills).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

@@ -9,10 +9,11 @@ use crate::keepaway::features::FeatureThresholds;
 use crate::keepaway::params::{KeepawayConfig, VisionMode};
 use crate::keepaway::policies::{BaselinePolicy, DEFAULT_HOLD_THRESHOLD};
 use crate::keepaway::world::NUM_KEEPERS;
+use crate::named::Named;
 use crate::plan::{Plan, Vocabulary, catalog};
 
 /// The keepers' fixed decision policies (`keepaway-fixed --policy`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum FixedPolicy {
     /// Uniform over hold, pass 1 and pass 2.
@@ -20,9 +21,29 @@ pub enum FixedPolicy {
     /// Always hold.
     AlwaysHold,
     /// The keepaway framework's hand-coded policy.
+    #[default]
     Handcoded,
     /// The thesis's simple policy: hold until a taker is near, then pass to the safest lane.
     Threshold,
+}
+
+impl Named for FixedPolicy {
+    const KIND: &'static str = "policy";
+    const ALL: &'static [Self] = &[
+        FixedPolicy::Random,
+        FixedPolicy::AlwaysHold,
+        FixedPolicy::Handcoded,
+        FixedPolicy::Threshold,
+    ];
+
+    fn name(self) -> &'static str {
+        match self {
+            FixedPolicy::Random => "random",
+            FixedPolicy::AlwaysHold => "always-hold",
+            FixedPolicy::Handcoded => "handcoded",
+            FixedPolicy::Threshold => "threshold",
+        }
+    }
 }
 
 /// Who decides what.

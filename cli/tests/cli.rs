@@ -1,0 +1,230 @@
+//! The `learnpnp` binary end to end: exit codes and the files it writes.
+
+use crate::util::{learnpnp, shipped_arg, temp_dir, text};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use learnpnp::plan::PlanBuilder;
+use learnpnp::pnml::{self, Dialect};
+
+#[test]
+fn check_exit_codes() {
+    let ok = learnpnp(&["check", &shipped_arg("penalty_kick_memory.pnml")]);
+    assert_eq!(ok.status.code(), Some(0), "{}", text(&ok.stdout));
+    assert!(text(&ok.stdout).contains("result: passed"));
+
+    // Two starts into one execution place after a fork: unsafe.
+    let dir = temp_dir("check");
+    let mut b = PlanBuilder::new("unsafe");
+    let start = b.initial_place("start");
+    let branches = b.fork(start, 2);
+    let exec = b.place("twice.exec");
+    b.transition("twice.start", &[(branches[0], 1)], &[(exec, 1)]);
+    b.transition("twice.start", &[(branches[1], 1)], &[(exec, 1)]);
+    let goal = b.goal_place();
+    b.transition("twice.end", &[(exec, 2)], &[(goal, 1)]);
+    let bad = dir.join("unsafe.pnml");
+    pnml::write_file(&b.build_net().unwrap(), Dialect::Jarp, &bad).unwrap();
+    let fails = learnpnp(&["check", bad.to_str().unwrap()]);
+    assert_eq!(fails.status.code(), Some(1), "{}", text(&fails.stdout));
+    assert!(text(&fails.stdout).contains("safety"), "{}", text(&fails.stdout));
+
+    let garbage = dir.join("garbage.pnml");
+    std::fs::write(
+        &garbage,
+        "<pnml><net><place id='p1'><name><value>[oops</value></name></place></net></pnml>",
+    )
+    .unwrap();
+    let unreadable = learnpnp(&["check", garbage.to_str().unwrap()]);
+    assert_eq!(unreadable.status.code(), Some(2));
+    let err = text(&unreadable.stderr);
+    assert!(
+        err.contains("garbage.pnml") && err.contains("p1") && err.contains("[oops"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn convert_round_trips_between_dialects() {
+    let dir = temp_dir("convert");
+    let standard = dir.join("sutton.std.pnml");
+    let back = dir.join("sutton.jarp.pnml");
+    let out = learnpnp(&[
+        "convert",
+        &shipped_arg("sutton.pnml"),
+        "--to",
+        "standard",
+        "-o",
+        standard.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(std::fs::read_to_string(&standard).unwrap().contains("<page"));
+    let out = learnpnp(&[
+        "convert",
+        standard.to_str().unwrap(),
+        "--to",
+        "jarp",
+        "-o",
+        back.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(
+        pnml::read_file(&back).unwrap(),
+        pnml::read_file(Path::new(&shipped_arg("sutton.pnml"))).unwrap()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn dot_marks_choice_points() {
+    let out = learnpnp(&["dot", &shipped_arg("choice_point.pnml")]);
+    assert!(out.status.success());
+    let dot = text(&out.stdout);
+    assert!(dot.contains("digraph") && dot.contains("doublecircle"), "{dot}");
+}
+
+#[test]
+fn an_experiment_writes_its_results_and_replays_with_its_seed() {
+    let dir = temp_dir("experiment");
+    let run = |out: &Path, threads: &str| {
+        let o = learnpnp(&[
+            "experiment",
+            "parr-russell",
+            "--algo",
+            "eps-sosmc",
+            "--runs",
+            "4",
+            "--episodes",
+            "200",
+            "--eval-every",
+            "50",
+            "--seed",
+            "7",
+            "--threads",
+            threads,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+    };
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    run(&a, "1");
+    run(&b, "2");
+    for file in [
+        "curve.csv",
+        "runs.csv",
+        "episodes.csv",
+        "summary.json",
+        "curve.svg",
+        "traces.csv",
+        "values.bin",
+    ] {
+        assert!(a.join(file).exists(), "{file} missing");
+    }
+    // Same seed, any thread count: same numbers.
+    for file in ["curve.csv", "runs.csv", "episodes.csv"] {
+        assert_eq!(
+            std::fs::read(a.join(file)).unwrap(),
+            std::fs::read(b.join(file)).unwrap(),
+            "{file} differs"
+        );
+    }
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(a.join("summary.json")).unwrap()).unwrap();
+    for key in [
+        "final_mean",
+        "final_ci95",
+        "final_greedy_mean",
+        "wall_seconds",
+        "episodes_per_second",
+    ] {
+        assert!(!summary[key].is_null(), "{key} missing");
+    }
+    assert_eq!(summary["spec"]["seed"], 7);
+    let curve = std::fs::read_to_string(a.join("curve.csv")).unwrap();
+    assert_eq!(
+        curve.lines().count(),
+        1 + 5,
+        "header and evaluations at 0, 50, 100, 150, 200"
+    );
+
+    let values = learnpnp(&["values", a.join("values.bin").to_str().unwrap()]);
+    assert!(values.status.success());
+    let csv = text(&values.stdout);
+    assert!(
+        csv.starts_with("plan,choice_point,at,option,marking,value,visits,greedy") && csv.contains("MoveNorth.start"),
+        "{csv}"
+    );
+
+    // A later experiment can start from the learned table; one learned on
+    // another plan is refused.
+    let resumed = dir.join("resumed");
+    let values_file = a.join("values.bin");
+    let o = learnpnp(&[
+        "experiment",
+        "parr-russell",
+        "--algo",
+        "eps-sosmc",
+        "--runs",
+        "2",
+        "--episodes",
+        "50",
+        "--eval-every",
+        "50",
+        "--initial-values",
+        values_file.to_str().unwrap(),
+        "--out",
+        resumed.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let o = learnpnp(&[
+        "experiment",
+        "sutton",
+        "--algo",
+        "eps-sosmc",
+        "--runs",
+        "1",
+        "--episodes",
+        "10",
+        "--initial-values",
+        values_file.to_str().unwrap(),
+        "--out",
+        dir.join("wrong").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o.stderr).contains("another plan"), "{}", text(&o.stderr));
+
+    let svg = dir.join("both.svg");
+    let plot = learnpnp(&[
+        "plot",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "-o",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(plot.status.success(), "{}", text(&plot.stderr));
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("eps-sosmc"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_arguments_and_corrupt_tables_are_reported() {
+    let dir = temp_dir("bad");
+    let corrupt = dir.join("values.bin");
+    std::fs::write(&corrupt, b"not a value table").unwrap();
+    let out = learnpnp(&["values", corrupt.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("values.bin"));
+    let out = learnpnp(&[
+        "experiment",
+        "parr-russell",
+        "--algo",
+        "eps-sosmc",
+        "--assess",
+        "sometimes",
+    ]);
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("sometimes"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

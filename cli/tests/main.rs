@@ -1,0 +1,19 @@
+//! The learnpnp command's tests, one binary: every subcommand run as a user runs it, its flags, its files and its errors.
+
+// Each crate's test binary includes the workspace's shared helpers; each uses a subset.
+#[allow(dead_code)]
+#[path = "../../tests/util.rs"]
+mod util;
+
+mod bad_input;
+mod cli;
+mod domain_descriptions;
+mod experiment_options;
+mod experiment_resume;
+mod keepaway_replay;
+mod learned_values;
+mod pnp_library_plans;
+mod replay_browser;
+mod reproduce_summary;
+mod result_dirs;
+mod schema_cli;

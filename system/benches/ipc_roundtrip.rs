@@ -1,0 +1,153 @@
+//! The snapshot/command round trip between two processes over iceoryx2, as
+//! the multi-process system does it, against the bare transport:
+//!
+//! - `bare`: a snapshot-sized sample out, a command-sized sample back (the
+//!   run's floor measurement);
+//! - `validated`: a keeper's `PlayerView` converted into a snapshot, read and
+//!   validated by the other process, answered with a command that is read and
+//!   validated in turn (the simulator's and agent's work per cycle, without
+//!   the keeper's thinking).
+//!
+//! Both processes poll and yield between polls (the lock-step default). The
+//! echoing process is this bench binary, started again with
+//! `LEARNPNP_BENCH_ECHO` set to the namespace's prefix.
+//!
+//! `cargo bench --bench ipc_roundtrip`
+
+use std::time::{Duration, Instant};
+
+use criterion::Criterion;
+use learnpnp::keepaway::command::Command;
+use learnpnp::keepaway::params::KeepawayConfig;
+use learnpnp::keepaway::perception::{PlayerId, perceive};
+use learnpnp::keepaway::simulator::Simulator;
+use learnpnp::learning::EpisodeStart;
+use learnpnp_system::ipc::convert::{
+    CommandReading, SnapshotMeta, command_message, read_command, read_snapshot, snapshot,
+};
+use learnpnp_system::ipc::namespace::Namespace;
+use learnpnp_system::ipc::services::{AgentPorts, RunServices, SimPorts, node, receive, send};
+use learnpnp_system::multiprocess::simulator::{FLOOR_END, floor_ping};
+
+const ECHO: &str = "LEARNPNP_BENCH_ECHO";
+const RUN_ID: u64 = 42;
+
+/// The other process: answers pings on the floor services raw, and
+/// snapshots of keeper 1 with a validated command, until the end marker.
+fn echo(prefix: &str) {
+    let namespace = Namespace::from_prefix(prefix).expect("prefix");
+    let node = node(&namespace, "echo").expect("node");
+    let ports = AgentPorts::open(&node, 0).expect("ports");
+    loop {
+        if let Some(sequence) = receive(&ports.floor_ping, |m| m.cycle_seq).expect("receive") {
+            if sequence == FLOOR_END {
+                return;
+            }
+            let pong = CommandReading {
+                episode: 0,
+                cycle_seq: sequence,
+                command: Command::None,
+                idle: false,
+            };
+            send(&ports.floor_pong, command_message(&pong, 0, RUN_ID)).expect("send");
+            continue;
+        }
+        if let Some(reading) = receive(&ports.snapshot, |m| read_snapshot(m, 0, RUN_ID)).expect("receive") {
+            let (meta, view) = reading.expect("a valid snapshot");
+            let answer = CommandReading {
+                episode: meta.episode,
+                cycle_seq: meta.cycle_seq,
+                command: Command::Dash { power: view.ball.pos.x },
+                idle: false,
+            };
+            send(&ports.command, command_message(&answer, 0, RUN_ID)).expect("send");
+            continue;
+        }
+        std::thread::yield_now();
+    }
+}
+
+fn bench(c: &mut Criterion) {
+    learnpnp_system::ipc::namespace::clean_stale().expect("cleaning what killed runs left");
+    let owner = Namespace::claim_unique().expect("namespace");
+    let prefix = owner.namespace().prefix().to_string();
+    let node = node(owner.namespace(), "bench").expect("node");
+    let _services = RunServices::create(&node).expect("services");
+    let ports = SimPorts::open(&node).expect("ports");
+    let mut child = std::process::Command::new(std::env::current_exe().expect("exe"))
+        .env(ECHO, &prefix)
+        .spawn()
+        .expect("the echo process starts");
+
+    let config = KeepawayConfig::default();
+    let sim = Simulator::new(config, 7).expect("simulator");
+    let view = perceive(sim.world(), PlayerId::keeper(0).expect("keeper"), &config);
+    // The echo process subscribes some time after it starts: ping until it answers.
+    let mut sequence = 0u64;
+    'connect: loop {
+        send(&ports.floor_ping, floor_ping(RUN_ID, sequence)).expect("send");
+        let sent = Instant::now();
+        while sent.elapsed() < Duration::from_millis(10) {
+            if receive(&ports.floor_pong, |m| m.cycle_seq).expect("receive") == Some(sequence) {
+                break 'connect;
+            }
+            std::thread::yield_now();
+        }
+    }
+    let mut group = c.benchmark_group("ipc_roundtrip");
+    group.bench_function("bare", |b| {
+        b.iter_custom(|iters| {
+            let started = Instant::now();
+            for _ in 0..iters {
+                sequence += 1;
+                send(&ports.floor_ping, floor_ping(RUN_ID, sequence)).expect("send");
+                while receive(&ports.floor_pong, |m| m.cycle_seq).expect("receive") != Some(sequence) {
+                    std::thread::yield_now();
+                }
+            }
+            started.elapsed()
+        })
+    });
+    group.bench_function("validated", |b| {
+        b.iter_custom(|iters| {
+            let started = Instant::now();
+            for _ in 0..iters {
+                sequence += 1;
+                let meta = SnapshotMeta {
+                    episode: 1,
+                    cycle_seq: sequence,
+                    reward: 0.1,
+                    start: EpisodeStart::LEARN,
+                };
+                send(&ports.snapshots[0], snapshot(&view, &meta, RUN_ID)).expect("send");
+                loop {
+                    match receive(&ports.commands[0], |m| read_command(m, 0, RUN_ID)).expect("receive") {
+                        Some(Ok(c)) if c.cycle_seq == sequence => break,
+                        Some(_) => {}
+                        None => std::thread::yield_now(),
+                    }
+                }
+            }
+            started.elapsed()
+        })
+    });
+    group.finish();
+    send(&ports.floor_ping, floor_ping(RUN_ID, FLOOR_END)).expect("send");
+    let _ = child.wait();
+    drop(ports);
+    drop(_services);
+    drop(node);
+    owner.release().expect("cleanup");
+}
+
+fn main() {
+    if let Ok(prefix) = std::env::var(ECHO) {
+        echo(&prefix);
+        return;
+    }
+    let mut criterion = Criterion::default()
+        .configure_from_args()
+        .measurement_time(Duration::from_secs(5));
+    bench(&mut criterion);
+    criterion.final_summary();
+}

@@ -1,0 +1,821 @@
+//! Chaos: faults injected at seeded random times during a soak, each
+//! reported with what came of it.
+//!
+//! - SIGKILL of a random agent, and of the simulator (the supervisor restarts
+//!   both: the agent from its checkpoint, the simulator from its journal);
+//! - SIGSTOP of an agent for two seconds (real time only: the others go on,
+//!   its missed deadlines are counted, it catches up);
+//! - a burst of garbage on every service (wrong version, NaN, ids out of
+//!   range, a keeper's command on another's service), which every process
+//!   must refuse and count;
+//! - a checkpoint write that fails: the agent's file-size limit is set to zero
+//!   (as a full disk would refuse the write) and it is asked to checkpoint; its
+//!   last good checkpoint must be kept and the run go on;
+//! - CPU load beside the run: a busy thread per core for ten seconds.
+//!
+//! The schedule depends only on the seed and the soak's length: one round of
+//! every fault per ten minutes (or, for a soak of so many cycles, per eight
+//! simulated hours), at uniform random points in the middle 70% of the round.
+
+use std::collections::VecDeque;
+use std::process::{Child, Stdio};
+use std::time::Duration;
+
+use iceoryx2::node::Node;
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::prelude::{ServiceName, ZeroCopySend};
+use rand::RngExt;
+use shm_layouts::{
+    AgentReport, Control, EpisodeEvent, Header, KeeperCommand, KeeperSnapshot, PROTOCOL_VERSION, SENDER_SIMULATOR,
+    SENDER_SUPERVISOR, services,
+};
+
+use super::Clock;
+use super::agent::checkpoint_name;
+use super::load::CpuLoad;
+use super::simulator::floor_ping;
+use super::supervisor::{Request, RunRecord, RunView};
+use crate::ipc::convert::{Order, Role};
+use crate::ipc::namespace::Namespace;
+use crate::ipc::services::{Ipc, node};
+use learnpnp::learning::persist;
+use learnpnp::rng::{SimRng, seeded};
+
+/// How long an agent stays stopped.
+const STOP_FOR: Duration = Duration::from_secs(2);
+
+/// How long a resumed agent has to show it caught up (acted again).
+const CATCH_UP: Duration = Duration::from_secs(3);
+
+/// How long the CPU load lasts.
+const LOAD_FOR: Duration = Duration::from_secs(10);
+
+/// How long a checkpoint write is made to fail.
+const FAIL_WRITES_FOR: Duration = Duration::from_secs(2);
+
+/// How long the garbage publishers live (their samples live in their memory).
+const GARBAGE_FOR: Duration = Duration::from_millis(500);
+
+/// Soak seconds per round of faults.
+const ROUND_SECONDS: f64 = 600.0;
+
+/// Soak cycles per round of faults (eight simulated hours).
+const ROUND_CYCLES: u64 = 288_000;
+
+/// How long a soak lasts, which its faults are spread over.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SoakLength {
+    /// Wall-clock time.
+    Time(Duration),
+    /// Simulated cycles (over every run).
+    Cycles(u64),
+}
+
+impl SoakLength {
+    fn rounds(self) -> usize {
+        match self {
+            SoakLength::Time(d) => (d.as_secs_f64() / ROUND_SECONDS).ceil().max(1.0) as usize,
+            SoakLength::Cycles(c) => c.div_ceil(ROUND_CYCLES).max(1) as usize,
+        }
+    }
+}
+
+/// Where a soak stands: its wall-clock seconds and cycles so far.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SoakClock {
+    /// Seconds since the soak began.
+    pub seconds: f64,
+    /// Cycles simulated so far (over every run).
+    pub cycles: u64,
+}
+
+/// A fault to inject.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FaultKind {
+    /// SIGKILL a random agent.
+    KillAgent,
+    /// SIGKILL the simulator.
+    KillSimulator,
+    /// SIGSTOP a random agent for two seconds (real time).
+    StopAgent,
+    /// Garbage on every service.
+    Garbage,
+    /// A learning agent's checkpoint write fails.
+    CheckpointFailure,
+    /// Busy threads on every core.
+    CpuLoad,
+}
+
+impl FaultKind {
+    /// The faults of a soak in `clock` mode.
+    pub fn all(clock: Clock) -> Vec<FaultKind> {
+        let mut kinds = vec![
+            FaultKind::KillAgent,
+            FaultKind::KillSimulator,
+            FaultKind::Garbage,
+            FaultKind::CheckpointFailure,
+            FaultKind::CpuLoad,
+        ];
+        if clock == Clock::Realtime {
+            kinds.push(FaultKind::StopAgent);
+        }
+        kinds
+    }
+}
+
+/// An injected fault and what came of it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChaosRecord {
+    /// What was done (e.g. "SIGKILL keeper 2 (pid 123)").
+    pub kind: String,
+    /// Seconds since the soak began.
+    pub time: f64,
+    /// When it was over (a stop, load or failing writes last a while).
+    pub ended: f64,
+    /// What came of it.
+    pub outcome: String,
+    /// The system survived it.
+    pub survived: bool,
+    check: Check,
+}
+
+/// How a fault's outcome is judged at the end, from what the supervisor recorded.
+#[derive(Debug, Clone, PartialEq)]
+enum Check {
+    /// Judged when it ended (stops, garbage, failing writes, load).
+    Done,
+    /// The n-th restart of this keeper (0-based) must have resumed with its values.
+    AgentRestart { keeper: usize, nth: usize },
+    /// The simulator must have been restarted from its journal.
+    SimulatorRestart,
+}
+
+/// A fault in progress.
+enum Active {
+    Stopped {
+        record: usize,
+        pid: u32,
+        until: f64,
+        missed_before: u64,
+        cycles_before: u64,
+    },
+    /// A stopped agent, continued: judged once it has had time to act again.
+    Resumed {
+        record: usize,
+        pid: u32,
+        until: f64,
+        acted_before: u64,
+        while_stopped: String,
+    },
+    Garbage {
+        record: usize,
+        until: f64,
+        refused_before: u64,
+        publisher: Child,
+    },
+    FailingWrites {
+        record: usize,
+        keeper: usize,
+        pid: u32,
+        until: f64,
+        failures_before: u64,
+    },
+    Load {
+        record: usize,
+        until: f64,
+        missed_before: u64,
+        _load: CpuLoad,
+    },
+}
+
+/// The fault injector (driven by the soak observer).
+pub struct Chaos {
+    rng: SimRng,
+    length: SoakLength,
+    /// (share of the soak's length, fault), in order.
+    schedule: VecDeque<(f64, FaultKind)>,
+    records: Vec<ChaosRecord>,
+    active: Vec<Active>,
+    agent_kills: [usize; learnpnp::keepaway::world::NUM_KEEPERS],
+}
+
+impl std::fmt::Debug for Chaos {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Chaos")
+            .field("schedule", &self.schedule)
+            .field("records", &self.records)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Messages refused by every process so far (their heartbeats' counters).
+fn refused(view: &RunView<'_>) -> u64 {
+    view.pulses.iter().map(|p| p.rejected.total()).sum()
+}
+
+fn missed(view: &RunView<'_>) -> u64 {
+    view.simulator.map_or(0, |p| p.missed_deadlines)
+}
+
+/// Cycles process `pid` has reported acting in (its heartbeat's counter).
+fn acted(view: &RunView<'_>, pid: u32) -> u64 {
+    view.pulses.iter().find(|p| p.pid == pid).map_or(0, |p| p.cycles)
+}
+
+fn pid_of(view: &RunView<'_>, role: Role) -> Option<u32> {
+    view.processes.iter().find(|(r, _)| *r == role).map(|(_, pid)| *pid)
+}
+
+fn signal(pid: u32, signal: i32) -> bool {
+    // SAFETY: kill has no memory effects.
+    unsafe { libc::kill(pid as i32, signal) == 0 }
+}
+
+/// Sets the file-size limit of process `pid` (`None`: unlimited).
+fn limit_file_size(pid: u32, bytes: Option<u64>) -> bool {
+    let value = bytes.unwrap_or(libc::RLIM_INFINITY);
+    let limit = libc::rlimit {
+        rlim_cur: value,
+        rlim_max: libc::RLIM_INFINITY,
+    };
+    // SAFETY: prlimit reads `limit` and writes nothing (old limit: null).
+    unsafe { libc::prlimit(pid as i32, libc::RLIMIT_FSIZE, &limit, std::ptr::null_mut()) == 0 }
+}
+
+impl Chaos {
+    /// The faults of a soak of `length` in `clock` mode, at points drawn from `seed`.
+    pub fn new(seed: u64, length: SoakLength, clock: Clock) -> Self {
+        let mut rng = seeded(seed);
+        let rounds = length.rounds();
+        let mut schedule: Vec<(f64, FaultKind)> = Vec::new();
+        for round in 0..rounds {
+            for kind in FaultKind::all(clock) {
+                let at = (round as f64 + 0.15 + 0.7 * rng.random::<f64>()) / rounds as f64;
+                schedule.push((at, kind));
+            }
+        }
+        schedule.sort_by(|a, b| a.0.total_cmp(&b.0));
+        Chaos {
+            rng,
+            length,
+            schedule: schedule.into(),
+            records: Vec::new(),
+            active: Vec::new(),
+            agent_kills: [0; learnpnp::keepaway::world::NUM_KEEPERS],
+        }
+    }
+
+    /// The planned faults: (share of the soak's length, from 0 to 1; kind).
+    pub fn schedule(&self) -> impl Iterator<Item = &(f64, FaultKind)> {
+        self.schedule.iter()
+    }
+
+    /// The share of the soak's length behind it at `now`.
+    fn progress(&self, now: SoakClock) -> f64 {
+        match self.length {
+            SoakLength::Time(d) => now.seconds / d.as_secs_f64().max(f64::MIN_POSITIVE),
+            SoakLength::Cycles(c) => now.cycles as f64 / c.max(1) as f64,
+        }
+    }
+
+    fn record(&mut self, kind: String, time: f64, check: Check) -> usize {
+        self.records.push(ChaosRecord {
+            kind,
+            time,
+            ended: time,
+            outcome: String::new(),
+            survived: false,
+            check,
+        });
+        self.records.len() - 1
+    }
+
+    fn conclude(&mut self, record: usize, outcome: String, survived: bool) {
+        let r = &mut self.records[record];
+        r.outcome = outcome;
+        r.survived = survived;
+    }
+
+    /// Injects the faults that are due at `now` and ends those whose time
+    /// is up; returns what the supervisor must do for them.
+    pub fn tick(&mut self, now: SoakClock, view: &RunView<'_>) -> Vec<Request> {
+        let seconds = now.seconds;
+        let progress = self.progress(now);
+        let mut requests = Vec::new();
+        while self.schedule.front().is_some_and(|(at, _)| *at <= progress) {
+            if let Some((_, kind)) = self.schedule.pop_front() {
+                requests.extend(self.inject(kind, seconds, view));
+            }
+        }
+        let (due, waiting): (Vec<Active>, Vec<Active>) = std::mem::take(&mut self.active)
+            .into_iter()
+            .partition(|a| seconds >= until(a));
+        self.active = waiting;
+        for active in due {
+            self.records[record_of(&active)].ended = seconds;
+            self.end(active, view);
+        }
+        requests
+    }
+
+    fn random_keeper(&mut self, view: &RunView<'_>, learning_only: bool) -> Option<(usize, u32)> {
+        let keepers: Vec<(usize, u32)> = view
+            .processes
+            .iter()
+            .filter_map(|(role, pid)| match role {
+                Role::Keeper(k) => Some((*k, *pid)),
+                Role::Simulator => None,
+            })
+            .filter(|(k, _)| !learning_only || view.work_dir.join(checkpoint_name(*k)).exists())
+            .collect();
+        if keepers.is_empty() {
+            return None;
+        }
+        Some(keepers[self.rng.random_range(0..keepers.len())])
+    }
+
+    fn inject(&mut self, kind: FaultKind, seconds: f64, view: &RunView<'_>) -> Option<Request> {
+        match kind {
+            FaultKind::KillAgent => {
+                if let Some((k, pid)) = self.random_keeper(view, false) {
+                    let nth = self.agent_kills[k];
+                    self.agent_kills[k] += 1;
+                    let record = self.record(
+                        format!("SIGKILL keeper {} (pid {pid})", k + 1),
+                        seconds,
+                        Check::AgentRestart { keeper: k, nth },
+                    );
+                    if !signal(pid, libc::SIGKILL) {
+                        self.conclude(record, "the signal could not be sent".into(), false);
+                    }
+                }
+            }
+            FaultKind::KillSimulator => {
+                if let Some(pid) = pid_of(view, Role::Simulator) {
+                    let record = self.record(
+                        format!("SIGKILL simulator (pid {pid})"),
+                        seconds,
+                        Check::SimulatorRestart,
+                    );
+                    if !signal(pid, libc::SIGKILL) {
+                        self.conclude(record, "the signal could not be sent".into(), false);
+                    }
+                }
+            }
+            FaultKind::StopAgent => {
+                if let Some((k, pid)) = self.random_keeper(view, false) {
+                    let record = self.record(
+                        format!("SIGSTOP keeper {} (pid {pid}) for {} s", k + 1, STOP_FOR.as_secs()),
+                        seconds,
+                        Check::Done,
+                    );
+                    signal(pid, libc::SIGSTOP);
+                    self.active.push(Active::Stopped {
+                        record,
+                        pid,
+                        until: seconds + STOP_FOR.as_secs_f64(),
+                        missed_before: missed(view),
+                        cycles_before: view.simulator.map_or(0, |p| p.cycles),
+                    });
+                }
+            }
+            FaultKind::Garbage => {
+                let record = self.record(
+                    "a foreign process publishes garbage on every service".into(),
+                    seconds,
+                    Check::Done,
+                );
+                match start_garbage_publisher(view) {
+                    Ok(publisher) => self.active.push(Active::Garbage {
+                        record,
+                        until: seconds + 2.0 * GARBAGE_FOR.as_secs_f64(),
+                        refused_before: refused(view),
+                        publisher,
+                    }),
+                    Err(e) => self.conclude(record, format!("could not start the publisher: {e}"), false),
+                }
+            }
+            FaultKind::CheckpointFailure => {
+                if let Some((k, pid)) = self.random_keeper(view, true) {
+                    let record = self.record(
+                        format!("checkpoint write of keeper {} fails (file-size limit 0)", k + 1),
+                        seconds,
+                        Check::Done,
+                    );
+                    let failures_before = view
+                        .pulses
+                        .iter()
+                        .find(|p| p.pid == pid)
+                        .map_or(0, |p| p.checkpoint_failures);
+                    if limit_file_size(pid, Some(0)) {
+                        self.active.push(Active::FailingWrites {
+                            record,
+                            keeper: k,
+                            pid,
+                            until: seconds + FAIL_WRITES_FOR.as_secs_f64(),
+                            failures_before,
+                        });
+                        return Some(Request::Order(Order::Checkpoint, Role::Keeper(k)));
+                    }
+                    self.conclude(record, "the file-size limit could not be set".into(), false);
+                }
+            }
+            FaultKind::CpuLoad => {
+                let load = CpuLoad::on_every_core();
+                let record = self.record(
+                    format!("CPU load: {} busy threads for {} s", load.threads(), LOAD_FOR.as_secs()),
+                    seconds,
+                    Check::Done,
+                );
+                self.active.push(Active::Load {
+                    record,
+                    until: seconds + LOAD_FOR.as_secs_f64(),
+                    missed_before: missed(view),
+                    _load: load,
+                });
+            }
+        }
+        None
+    }
+
+    fn end(&mut self, active: Active, view: &RunView<'_>) {
+        match active {
+            Active::Stopped {
+                record,
+                pid,
+                until,
+                missed_before,
+                cycles_before,
+            } => {
+                signal(pid, libc::SIGCONT);
+                let cycles = view.simulator.map_or(0, |p| p.cycles).saturating_sub(cycles_before);
+                let missed = missed(view).saturating_sub(missed_before);
+                self.active.push(Active::Resumed {
+                    record,
+                    pid,
+                    until: until + CATCH_UP.as_secs_f64(),
+                    acted_before: acted(view, pid),
+                    while_stopped: format!(
+                        "{missed} missed deadlines while it was stopped; the others played {cycles} cycles"
+                    ),
+                });
+                if cycles == 0 {
+                    self.conclude(record, "the others stopped too".into(), false);
+                }
+            }
+            Active::Resumed {
+                record,
+                pid,
+                acted_before,
+                while_stopped,
+                ..
+            } => {
+                if !self.records[record].outcome.is_empty() {
+                    return;
+                }
+                let alive = view.processes.iter().any(|(_, p)| *p == pid);
+                let acted = acted(view, pid).saturating_sub(acted_before);
+                let caught_up = if !alive {
+                    "it did not come back (replaced)".to_string()
+                } else if acted == 0 {
+                    format!("it has not acted in the {} s since", CATCH_UP.as_secs())
+                } else {
+                    format!(
+                        "it caught up: {acted} cycles acted in the {} s since",
+                        CATCH_UP.as_secs()
+                    )
+                };
+                self.conclude(record, format!("{while_stopped}; {caught_up}"), alive && acted > 0);
+            }
+            Active::Garbage {
+                record,
+                refused_before,
+                mut publisher,
+                ..
+            } => {
+                let published = match publisher.try_wait() {
+                    Ok(Some(status)) => status.success(),
+                    _ => {
+                        let _ = publisher.kill();
+                        let _ = publisher.wait();
+                        false
+                    }
+                };
+                let refused = refused(view).saturating_sub(refused_before);
+                self.conclude(
+                    record,
+                    format!("{refused} messages refused and counted, none applied"),
+                    published && refused > 0,
+                );
+            }
+            Active::FailingWrites {
+                record,
+                keeper,
+                pid,
+                failures_before,
+                ..
+            } => {
+                limit_file_size(pid, None);
+                let failures = view
+                    .pulses
+                    .iter()
+                    .find(|p| p.pid == pid)
+                    .map_or(0, |p| p.checkpoint_failures)
+                    .saturating_sub(failures_before);
+                let path = view.work_dir.join(checkpoint_name(keeper));
+                let kept = persist::load(&path).is_ok();
+                let alive = view.processes.iter().any(|(_, p)| *p == pid);
+                self.conclude(
+                    record,
+                    format!(
+                        "{failures} failed writes reported; the last good checkpoint {}; the agent {}",
+                        if kept { "was kept" } else { "was lost" },
+                        if alive { "went on" } else { "died" }
+                    ),
+                    failures > 0 && kept && alive,
+                );
+            }
+            Active::Load {
+                record, missed_before, ..
+            } => {
+                let missed = missed(view).saturating_sub(missed_before);
+                let alive = pid_of(view, Role::Simulator).is_some();
+                self.conclude(
+                    record,
+                    format!("{missed} missed deadlines under load; the run went on"),
+                    alive,
+                );
+            }
+        }
+    }
+
+    /// Ends what is still in progress and judges the kills from what the
+    /// supervisor recorded; returns every injected fault.
+    pub fn finish(&mut self, records: &[RunRecord]) -> Vec<ChaosRecord> {
+        for active in std::mem::take(&mut self.active) {
+            match active {
+                Active::Stopped { record, pid, .. } => {
+                    signal(pid, libc::SIGCONT);
+                    self.conclude(record, "the soak ended while it was stopped".into(), true);
+                }
+                Active::FailingWrites { record, pid, .. } => {
+                    limit_file_size(pid, None);
+                    self.conclude(record, "the soak ended while writes failed".into(), true);
+                }
+                Active::Garbage {
+                    record, mut publisher, ..
+                } => {
+                    let _ = publisher.kill();
+                    let _ = publisher.wait();
+                    self.conclude(record, "the soak ended meanwhile".into(), true);
+                }
+                Active::Load { record, .. } => {
+                    self.conclude(record, "the soak ended meanwhile".into(), true);
+                }
+                Active::Resumed {
+                    record, while_stopped, ..
+                } => {
+                    if self.records[record].outcome.is_empty() {
+                        let outcome = format!("{while_stopped}; the soak ended before it could catch up");
+                        self.conclude(record, outcome, true);
+                    }
+                }
+            }
+        }
+        let failed = records.iter().find_map(|r| r.failure.clone());
+        let resumes: Vec<_> = records.iter().flat_map(|r| &r.resumes).collect();
+        let sim_restarts = records
+            .iter()
+            .flat_map(|r| &r.faults)
+            .filter(|f| f.kind.starts_with("the simulator exited") && f.outcome.starts_with("restarted"))
+            .count();
+        let mut sim_kills = 0;
+        for r in &mut self.records {
+            match r.check {
+                Check::Done => {}
+                Check::AgentRestart { keeper, nth } => {
+                    let resume = resumes.iter().filter(|c| c.keeper == keeper + 1).nth(nth);
+                    (r.outcome, r.survived) = match (resume, &failed) {
+                        (_, Some(f)) => (format!("the run failed: {f}"), false),
+                        (Some(c), None) => (
+                            format!(
+                                "restarted as pid {}; resumed from its {} {}",
+                                c.pid,
+                                c.source,
+                                if c.survived {
+                                    "with every value"
+                                } else {
+                                    "but the values differ"
+                                }
+                            ),
+                            c.survived,
+                        ),
+                        (None, None) => ("restarted (a keeper without values to resume)".into(), true),
+                    };
+                }
+                Check::SimulatorRestart => {
+                    sim_kills += 1;
+                    let restarted = sim_kills <= sim_restarts;
+                    (r.outcome, r.survived) = match &failed {
+                        Some(f) => (format!("the run failed: {f}"), false),
+                        None if restarted => ("restarted from its journal's last episode boundary".into(), true),
+                        None => ("not restarted".into(), false),
+                    };
+                }
+            }
+        }
+        self.records.clone()
+    }
+}
+
+fn record_of(active: &Active) -> usize {
+    match active {
+        Active::Stopped { record, .. }
+        | Active::Resumed { record, .. }
+        | Active::Garbage { record, .. }
+        | Active::FailingWrites { record, .. }
+        | Active::Load { record, .. } => *record,
+    }
+}
+
+fn until(active: &Active) -> f64 {
+    match active {
+        Active::Stopped { until, .. }
+        | Active::Resumed { until, .. }
+        | Active::Garbage { until, .. }
+        | Active::FailingWrites { until, .. }
+        | Active::Load { until, .. } => *until,
+    }
+}
+
+fn open_publisher<T: ZeroCopySend + std::fmt::Debug + 'static>(
+    node: &Node<Ipc>,
+    service: &str,
+) -> Result<Publisher<Ipc, T, ()>, String> {
+    let name = ServiceName::new(service).map_err(|e| format!("{e:?}"))?;
+    node.service_builder(&name)
+        .publish_subscribe::<T>()
+        .open()
+        .map_err(|e| format!("{service}: {e:?}"))?
+        .publisher_builder()
+        .create()
+        .map_err(|e| format!("{service}: {e:?}"))
+}
+
+fn burst<T: ZeroCopySend + std::fmt::Debug + Copy + 'static>(
+    node: &Node<Ipc>,
+    service: &str,
+    values: &[T],
+) -> Result<Box<dyn std::any::Any>, String> {
+    let publisher = open_publisher::<T>(node, service)?;
+    for v in values {
+        publisher.send_copy(*v).map_err(|e| format!("{service}: {e:?}"))?;
+    }
+    Ok(Box::new(publisher))
+}
+
+/// The supervisor's command that runs [`publish_garbage`] in a process of
+/// its own (a foreign process, as far as the run can tell).
+pub const GARBAGE_COMMAND: &str = "publish-garbage";
+
+/// Starts the garbage publisher: this executable with [`GARBAGE_COMMAND`].
+fn start_garbage_publisher(view: &RunView<'_>) -> std::io::Result<Child> {
+    std::process::Command::new(std::env::current_exe()?)
+        .args([GARBAGE_COMMAND, "--ipc-prefix", view.namespace.prefix()])
+        .args(["--run-id", &view.run_id.to_string()])
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+}
+
+/// Publishes garbage on every service of run `run_id` in `namespace`, and
+/// keeps the publishers (which hold the samples) until it has been read.
+pub fn publish_garbage(namespace: &Namespace, run_id: u64) -> Result<(), String> {
+    let node = node(namespace, "garbage").map_err(|e| e.to_string())?;
+    let command = KeeperCommand {
+        header: Header::new(0, run_id),
+        episode: 0,
+        cycle_seq: 0,
+        kind: 0,
+        flags: 0,
+        arg0: 0.0,
+        arg1: 0.0,
+    };
+    let mut snapshot = floor_ping(run_id, 0);
+    snapshot.players[2].vel[1] = f64::NAN;
+    let mut publishers = Vec::new();
+    for k in 0..learnpnp::keepaway::world::NUM_KEEPERS {
+        publishers.push(burst(
+            &node,
+            &services::command(k),
+            &[
+                KeeperCommand {
+                    header: Header {
+                        version: PROTOCOL_VERSION + 7,
+                        ..command.header
+                    },
+                    ..command
+                },
+                KeeperCommand {
+                    kind: 1,
+                    arg0: f64::NAN,
+                    header: Header::new(k as u32, run_id),
+                    ..command
+                },
+                KeeperCommand {
+                    header: Header::new(((k + 1) % 3) as u32, run_id),
+                    ..command
+                },
+                KeeperCommand {
+                    kind: 77,
+                    header: Header::new(k as u32, run_id),
+                    ..command
+                },
+            ],
+        )?);
+        publishers.push(burst(
+            &node,
+            &services::snapshot(k),
+            &[
+                KeeperSnapshot {
+                    me: k as u32,
+                    ..snapshot
+                },
+                KeeperSnapshot { me: 9, ..snapshot },
+            ],
+        )?);
+    }
+    let event = EpisodeEvent {
+        header: Header::new(SENDER_SIMULATOR, run_id),
+        episode: 0,
+        kind: 99,
+        mode: 0,
+        forced_exploration: 0,
+        reserved: [0; 2],
+        cycles: 0,
+        reserved2: 0,
+        seconds: f64::NAN,
+    };
+    publishers.push(burst(&node, services::EPISODE, &[event])?);
+    let report = AgentReport {
+        header: Header::new(42, run_id),
+        episode: 0,
+        kind: 2,
+        pid: 0,
+        exploratory: 7,
+        reserved: [0; 7],
+    };
+    publishers.push(burst(&node, services::AGENT_REPORT, &[report])?);
+    let control = Control {
+        header: Header::new(SENDER_SUPERVISOR, run_id),
+        command: 55,
+        target: u32::MAX,
+        sequence: 0,
+        pid: 0,
+        reserved: 0,
+    };
+    publishers.push(burst(&node, services::CONTROL, &[control])?);
+    std::thread::sleep(GARBAGE_FOR);
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_schedule_depends_on_the_seed_alone() {
+        let points = |seed| {
+            Chaos::new(seed, SoakLength::Time(Duration::from_secs(120)), Clock::Realtime)
+                .schedule()
+                .copied()
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(points(3), points(3));
+        assert_ne!(points(3), points(4));
+        let plan = points(3);
+        assert_eq!(plan.len(), FaultKind::all(Clock::Realtime).len());
+        assert!(plan.iter().all(|(at, _)| (0.15..=0.85).contains(at)), "{plan:?}");
+        let lockstep = Chaos::new(3, SoakLength::Time(Duration::from_secs(1800)), Clock::Lockstep);
+        assert_eq!(lockstep.schedule().count(), 3 * FaultKind::all(Clock::Lockstep).len());
+        assert!(!lockstep.schedule().any(|(_, k)| *k == FaultKind::StopAgent));
+        let day = Chaos::new(3, SoakLength::Cycles(864_000), Clock::Lockstep);
+        assert_eq!(day.schedule().count(), 3 * FaultKind::all(Clock::Lockstep).len());
+    }
+
+    #[test]
+    fn faults_fall_due_by_the_soaks_own_measure() {
+        let day = Chaos::new(5, SoakLength::Cycles(1000), Clock::Lockstep);
+        let at = |seconds, cycles| day.progress(SoakClock { seconds, cycles });
+        assert_eq!(at(1e6, 500), 0.5);
+        let hour = Chaos::new(5, SoakLength::Time(Duration::from_secs(100)), Clock::Lockstep);
+        assert_eq!(
+            hour.progress(SoakClock {
+                seconds: 25.0,
+                cycles: 7
+            }),
+            0.25
+        );
+    }
+}

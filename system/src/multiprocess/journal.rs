@@ -1,0 +1,186 @@
+//! The simulator's journal: one JSON line per whole episode (its mode, what
+//! it earned, the simulator's random state after it, and the counters), so a
+//! simulator that was killed can be restarted from the last episode boundary.
+//! The restarted simulator replays the journaled outcomes through the
+//! protocol (rebuilding the run's results without playing them again),
+//! restores the random state, and plays on.
+//!
+//! Lines are appended and flushed (no `fsync`: they outlive the process,
+//! which is what a restart needs). A kill in the middle of a line leaves a
+//! torn last line, which reading ignores.
+
+use std::fs::File;
+use std::io::{self, BufRead, BufReader, Write};
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::simulator::SimTotals;
+use learnpnp::domains::EpisodeOutcome;
+use learnpnp::learning::EpisodeMode;
+use learnpnp::rng::SimRng;
+
+/// The journal's file name in the simulator's work directory.
+pub const JOURNAL_FILE: &str = "simulator.journal";
+
+/// One whole episode.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JournalEntry {
+    /// Learning, evaluation or greedy.
+    pub mode: EpisodeMode,
+    /// What it earned.
+    pub outcome: EpisodeOutcome,
+    /// The simulator's random state after it.
+    pub rng: SimRng,
+    /// The counters after it.
+    pub totals: SimTotals,
+}
+
+/// Why the journal cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum JournalError {
+    /// Reading or writing failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The journal.
+        path: PathBuf,
+        /// The error.
+        source: io::Error,
+    },
+    /// A line other than the last does not read.
+    #[error("{path}, line {line}: not a journal entry: {detail}")]
+    Corrupt {
+        /// The journal.
+        path: PathBuf,
+        /// The line (1-based).
+        line: usize,
+        /// Why.
+        detail: String,
+    },
+}
+
+/// Reads every whole entry of the journal at `path` (none if there is no journal).
+pub fn read(path: &Path) -> Result<Vec<JournalEntry>, JournalError> {
+    let io = |source| JournalError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let file = match File::open(path) {
+        Ok(file) => file,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(io(e)),
+    };
+    let lines: Vec<String> = BufReader::new(file).lines().collect::<Result<_, _>>().map_err(io)?;
+    let mut entries = Vec::with_capacity(lines.len());
+    for (i, line) in lines.iter().enumerate() {
+        match serde_json::from_str(line) {
+            Ok(entry) => entries.push(entry),
+            // A kill in the middle of the last line tears it.
+            Err(_) if i + 1 == lines.len() => break,
+            Err(e) => {
+                return Err(JournalError::Corrupt {
+                    path: path.to_path_buf(),
+                    line: i + 1,
+                    detail: e.to_string(),
+                });
+            }
+        }
+    }
+    Ok(entries)
+}
+
+/// Appends entries to a journal.
+#[derive(Debug)]
+pub struct Journal {
+    path: PathBuf,
+    file: File,
+}
+
+impl Journal {
+    /// Opens the journal at `path`: a fresh one (truncated) or, to resume, the
+    /// one there is with `keep` whole entries (a torn last line is cut off).
+    pub fn open(path: &Path, keep: &[JournalEntry]) -> Result<Self, JournalError> {
+        let io = |source| JournalError::Io {
+            path: path.to_path_buf(),
+            source,
+        };
+        let mut file = File::create(path).map_err(io)?;
+        for entry in keep {
+            write_line(&mut file, entry).map_err(io)?;
+        }
+        file.flush().map_err(io)?;
+        Ok(Journal {
+            path: path.to_path_buf(),
+            file,
+        })
+    }
+
+    /// Appends `entry` and flushes it to the operating system.
+    pub fn append(&mut self, entry: &JournalEntry) -> Result<(), JournalError> {
+        write_line(&mut self.file, entry)
+            .and_then(|()| self.file.flush())
+            .map_err(|source| JournalError::Io {
+                path: self.path.clone(),
+                source,
+            })
+    }
+}
+
+fn write_line(file: &mut File, entry: &JournalEntry) -> io::Result<()> {
+    let mut line = serde_json::to_vec(entry).map_err(io::Error::other)?;
+    line.push(b'\n');
+    file.write_all(&line)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use learnpnp::rng::seeded;
+
+    fn entry(i: u64) -> JournalEntry {
+        JournalEntry {
+            mode: EpisodeMode::Learn,
+            outcome: EpisodeOutcome {
+                ret: 12.300000000000002,
+                actions: 123,
+                steps: 123,
+                exploratory: i.is_multiple_of(2),
+            },
+            rng: seeded(i),
+            totals: SimTotals {
+                episode_seq: i,
+                cycles: 123 * i,
+                ..SimTotals::default()
+            },
+        }
+    }
+
+    #[test]
+    fn entries_round_trip_and_a_torn_last_line_is_ignored() {
+        let dir = std::env::temp_dir().join(format!("learnpnp-journal-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(JOURNAL_FILE);
+        let mut journal = Journal::open(&path, &[]).unwrap();
+        for i in 1..=3 {
+            journal.append(&entry(i)).unwrap();
+        }
+        drop(journal);
+        let mut text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(read(&path).unwrap(), vec![entry(1), entry(2), entry(3)]);
+        text.push_str("{\"mode\":\"Le");
+        std::fs::write(&path, &text).unwrap();
+        let read_back = read(&path).unwrap();
+        assert_eq!(read_back.len(), 3, "the torn line is ignored");
+        let mut journal = Journal::open(&path, &read_back).unwrap();
+        journal.append(&entry(4)).unwrap();
+        assert_eq!(
+            read(&path).unwrap().len(),
+            4,
+            "and cut off when the journal is reopened"
+        );
+        std::fs::write(&path, format!("garbage\n{text}")).unwrap();
+        assert!(matches!(read(&path), Err(JournalError::Corrupt { line: 1, .. })));
+        assert!(read(&dir.join("none")).unwrap().is_empty());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,196 @@
+//! The multi-process learner system: a simulator process and one agent
+//! process per keeper exchange knowledge-base snapshots, commands, episode
+//! events and rewards through iceoryx2 shared memory ([`crate::ipc`]), and a
+//! supervisor starts, watches and restarts them.
+//!
+//! - [`simulator`]: Keepaway with the takers inside, whose keepers are a
+//!   [`learnpnp::domains::keepaway::KeeperTeam`] of remote agents; it runs the
+//!   same episode loop and protocol as the in-process experiment
+//!   ([`learnpnp::experiment::runner::run_protocol`]);
+//! - [`agent`]: one keeper: its plan, learner and executor (or a fixed policy),
+//!   checkpointing its values;
+//! - [`supervisor`]: launching, watching, restarting, stopping, cleaning up;
+//! - [`report`]: what a run writes (summary, episodes, latency files and plot).
+//!
+//! See docs/ARCHITECTURE.md for one snapshot's way through the processes.
+
+pub mod agent;
+pub mod bench_latency;
+pub mod chaos;
+pub mod journal;
+pub mod launch;
+pub mod load;
+pub mod report;
+pub mod simulator;
+pub mod soak;
+pub mod supervisor;
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use serde::{Deserialize, Serialize};
+
+use crate::ipc::convert::{ProcessState, Pulse, Rejections, Role, heartbeat};
+use crate::ipc::namespace::{Namespace, NamespaceError};
+use crate::ipc::services::{IpcError, Pub, send};
+use crate::ipc::wait::WaitStrategy;
+use learnpnp::experiment::spec::ExperimentSpec;
+
+/// How the simulator's clock advances.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Clock {
+    /// A cycle is stepped as soon as every keeper's command for it is in.
+    Lockstep,
+    /// A cycle is stepped every 100 ms of wall-clock time; a late command is
+    /// dropped and counted as a missed deadline, as the soccer server does.
+    Realtime,
+}
+
+impl Clock {
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Clock::Lockstep => "lockstep",
+            Clock::Realtime => "realtime",
+        }
+    }
+}
+
+/// What every process of a run shares: who the run is and how its processes talk.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, clap::Args)]
+pub struct RunContext {
+    /// The run's id (every message carries it).
+    #[arg(long)]
+    pub run_id: u64,
+    /// The run's index among the experiment's runs (it derives the seeds).
+    #[arg(long, default_value_t = 0)]
+    pub run: usize,
+    /// The run's iceoryx2 prefix.
+    #[arg(long)]
+    pub ipc_prefix: String,
+    /// How the simulator's clock advances.
+    #[arg(long, value_enum, default_value = "lockstep")]
+    pub clock: Clock,
+    /// How processes wait for messages.
+    #[arg(long, value_enum, default_value = "yield")]
+    pub wait: WaitStrategy,
+    /// The experiment (as `summary.json` of a run holds it, under `spec`, or on its own).
+    #[arg(long)]
+    pub spec: PathBuf,
+    /// Where the process writes its files (histograms, results, checkpoints).
+    #[arg(long)]
+    pub work_dir: PathBuf,
+}
+
+impl RunContext {
+    /// The run's namespace.
+    pub fn namespace(&self) -> Result<Namespace, NamespaceError> {
+        Namespace::from_prefix(&self.ipc_prefix)
+    }
+
+    /// Reads and checks the experiment spec ([`ExperimentSpec::from_json`]:
+    /// every parameter in its range).
+    pub fn load_spec(&self) -> Result<ExperimentSpec, ProcessError> {
+        let text = std::fs::read_to_string(&self.spec).map_err(|source| ProcessError::Io {
+            path: self.spec.clone(),
+            source,
+        })?;
+        ExperimentSpec::from_json(&text).map_err(|e| ProcessError::Spec {
+            path: self.spec.clone(),
+            detail: e.to_string(),
+        })
+    }
+}
+
+/// Why a process of the run fails.
+#[derive(Debug, thiserror::Error)]
+pub enum ProcessError {
+    /// Shared memory failed.
+    #[error(transparent)]
+    Ipc(#[from] IpcError),
+    /// The namespace is unusable.
+    #[error(transparent)]
+    Namespace(#[from] NamespaceError),
+    /// A file cannot be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
+    /// The experiment spec file is not a valid spec.
+    #[error("{path}: not an experiment spec: {detail}")]
+    Spec {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        detail: String,
+    },
+    /// The experiment cannot run in this system.
+    #[error("{0}")]
+    Invalid(String),
+    /// The experiment failed.
+    #[error(transparent)]
+    Experiment(#[from] learnpnp::experiment::spec::ExperimentError),
+    /// A checkpoint cannot be used.
+    #[error(transparent)]
+    Checkpoint(#[from] learnpnp::learning::persist::PersistError),
+    /// A restarted agent cannot resume from its checkpoint.
+    #[error("cannot resume: {0}")]
+    CannotResume(String),
+    /// Another process did not answer in time.
+    #[error("{0}")]
+    Timeout(String),
+}
+
+/// How often a process sends its heartbeat.
+pub const HEARTBEAT_EVERY: Duration = Duration::from_millis(100);
+
+/// A process's heartbeat: its pulse, published every [`HEARTBEAT_EVERY`].
+#[derive(Debug)]
+pub struct Pacemaker {
+    /// What the next heartbeat says.
+    pub pulse: Pulse,
+    run_id: u64,
+    last: Option<Instant>,
+}
+
+impl Pacemaker {
+    /// The heartbeat of `role` in run `run_id`.
+    pub fn new(role: Role, run_id: u64) -> Self {
+        Pacemaker {
+            pulse: Pulse {
+                role,
+                pid: std::process::id(),
+                state: ProcessState::Starting,
+                sequence: 0,
+                episodes: 0,
+                cycles: 0,
+                rejected: Rejections::default(),
+                missed_deadlines: 0,
+                aborted_episodes: 0,
+                checkpoints: 0,
+                checkpoint_failures: 0,
+            },
+            run_id,
+            last: None,
+        }
+    }
+
+    /// Sends a heartbeat if one is due.
+    pub fn tick(&mut self, publisher: &Pub<shm_layouts::Heartbeat>) -> Result<(), IpcError> {
+        if self.last.is_none_or(|t| t.elapsed() >= HEARTBEAT_EVERY) {
+            self.beat(publisher)?;
+        }
+        Ok(())
+    }
+
+    /// Sends a heartbeat now (e.g. on a change of state).
+    pub fn beat(&mut self, publisher: &Pub<shm_layouts::Heartbeat>) -> Result<(), IpcError> {
+        self.pulse.sequence += 1;
+        self.last = Some(Instant::now());
+        send(publisher, heartbeat(&self.pulse, self.run_id))
+    }
+}

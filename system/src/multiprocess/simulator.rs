@@ -1,0 +1,726 @@
+//! The simulator process: Keepaway with the takers inside, whose keepers are
+//! agent processes. Each cycle it publishes each keeper's snapshot, collects
+//! each keeper's command (lock-step: as soon as all are in; real time: until
+//! the cycle's 100 ms deadline), and steps the world. It runs the in-process
+//! experiment's episode loop ([`KeepawayTask`]) and protocol
+//! ([`run_protocol`]), so with the same seed a lock-step run plays exactly the
+//! in-process episodes.
+
+use std::cell::RefCell;
+use std::collections::VecDeque;
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+use std::time::{Duration, Instant};
+
+use serde::{Deserialize, Serialize};
+use shm_layouts::{Header, KeeperSnapshot, PROTOCOL_VERSION, SENDER_SIMULATOR};
+
+use super::journal::{self, JOURNAL_FILE, Journal, JournalEntry};
+use super::{Clock, Pacemaker, ProcessError, RunContext};
+use crate::ipc::convert::{
+    AgentNews, EpisodeNews, Order, ProcessState, Rejection, Rejections, Role, SnapshotMeta, episode_event,
+    read_agent_report, read_command, read_control, snapshot,
+};
+use crate::ipc::services::{IpcError, SimPorts, node, receive, send};
+use crate::ipc::wait::{Idle, MAX_BLOCK, wake};
+use crate::latency::Latency;
+use learnpnp::domains::keepaway::{KeepawayDomainConfig, KeepawayTask, KeeperTeam, RunSeeds, TeamStep};
+use learnpnp::domains::{EpisodeOutcome, Task, TaskError};
+use learnpnp::experiment::runner::{EpisodeRecord, RunOutput, run_protocol, task_rng};
+use learnpnp::experiment::spec::{DomainSpec, ExperimentSpec};
+use learnpnp::keepaway::command::Command;
+use learnpnp::keepaway::perception::PlayerView;
+use learnpnp::keepaway::world::NUM_KEEPERS;
+use learnpnp::learning::{EpisodeMode, EpisodeStart};
+
+/// File name of the simulator's result in its work directory.
+pub const RESULT_FILE: &str = "simulator.json";
+
+/// Histogram of snapshot-to-command round trips (every keeper, every cycle).
+pub const ROUND_TRIP: &str = "roundtrip";
+
+/// Histogram of the bare iceoryx2 round trip of the same payload.
+pub const FLOOR: &str = "floor";
+
+/// How long the simulator waits for its agents to connect, or for a lost
+/// keeper's replacement, before it gives up.
+pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(60);
+
+/// An episode discarded because a keeper was lost.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AbortedEpisode {
+    /// The episode's sequence number in the run.
+    pub episode: u64,
+    /// Its mode.
+    pub mode: EpisodeMode,
+    /// Cycles played before the abort.
+    pub cycles: u32,
+    /// The keepers lost (1-based, as the report names them).
+    pub keepers: Vec<usize>,
+}
+
+/// The simulator's counters. They survive a restart: the journal carries
+/// them from one whole episode to the next.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct SimTotals {
+    /// The last episode's sequence number (every episode played, aborted ones included).
+    pub episode_seq: u64,
+    /// The last cycle's sequence number.
+    pub cycle_seq: u64,
+    /// Learning episodes completed.
+    pub learning_episodes: u64,
+    /// Cycles played (every episode, aborted ones included).
+    pub cycles: u64,
+    /// Wall-clock seconds of the episode loop (from the first episode on).
+    pub seconds: f64,
+    /// Real time: commands that missed their cycle (counted per keeper and cycle).
+    pub missed_deadlines: u64,
+    /// Real time: commands that arrived after their cycle was stepped.
+    pub late_commands: u64,
+    /// Episodes discarded because a keeper was lost.
+    pub aborted: Vec<AbortedEpisode>,
+    /// Messages refused.
+    pub rejected: Rejections,
+    /// Cycles in which a keeper's plan issued no command.
+    pub idle_cycles: u64,
+}
+
+/// What the simulator hands the supervisor when it ends.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct SimulatorResult {
+    /// Whether the protocol ran to its end (false: stopped or failed).
+    pub complete: bool,
+    /// Why it did not complete.
+    pub error: Option<String>,
+    /// The run's evaluations, episodes and greedy score so far.
+    pub output: RunOutput,
+    /// The counters.
+    #[serde(flatten)]
+    pub totals: SimTotals,
+}
+
+/// The state the remote team and the simulator's main loop share.
+struct Link {
+    context: RunContext,
+    ports: SimPorts,
+    pacemaker: Pacemaker,
+    /// Keepers whose (replacement) process has not said it is ready.
+    awaiting: [bool; NUM_KEEPERS],
+    /// Keepers lost since the current episode began.
+    lost: [bool; NUM_KEEPERS],
+    /// The process id each keeper's replacement will have (none before the first loss).
+    expected: [Option<u32>; NUM_KEEPERS],
+    /// The process id of each keeper's last readiness report.
+    ready: [Option<u32>; NUM_KEEPERS],
+    stop: bool,
+    round_trip: Latency,
+    floor: Latency,
+    /// Real time: the floor pings sent so far (their sequence numbers).
+    floor_pings: u64,
+    totals: SimTotals,
+}
+
+impl Link {
+    fn count(&mut self, why: Rejection) {
+        self.totals.rejected.count(why);
+    }
+
+    /// Heartbeat if due, then the supervisor's commands.
+    fn housekeeping(&mut self) -> Result<(), TaskError> {
+        let pulse = &mut self.pacemaker.pulse;
+        let totals = &self.totals;
+        pulse.episodes = totals.learning_episodes;
+        pulse.cycles = totals.cycles;
+        pulse.rejected = totals.rejected;
+        pulse.missed_deadlines = totals.missed_deadlines;
+        pulse.aborted_episodes = totals.aborted.len() as u64;
+        self.pacemaker.tick(&self.ports.heartbeat).map_err(remote)?;
+        let run_id = self.context.run_id;
+        while let Some(order) =
+            receive(&self.ports.control, |m| read_control(m, Role::Simulator, run_id)).map_err(remote)?
+        {
+            match order {
+                Ok(Some(Order::Stop)) => self.stop = true,
+                Ok(Some(Order::KeeperLost { keeper, pid })) => {
+                    self.lost[keeper] = true;
+                    self.expected[keeper] = Some(pid);
+                    // The replacement may have said it is ready before this was read.
+                    self.awaiting[keeper] = self.ready[keeper] != Some(pid);
+                }
+                Ok(Some(Order::Checkpoint | Order::SimulatorRestarted) | None) => {}
+                Err(why) => self.count(why),
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads the agents' reports: readiness clears `awaiting`, episode ends go to `ended`.
+    fn read_reports(&mut self, episode: u64, ended: &mut [Option<bool>; NUM_KEEPERS]) -> Result<(), TaskError> {
+        let run_id = self.context.run_id;
+        while let Some(report) = receive(&self.ports.reports, |m| read_agent_report(m, run_id)).map_err(remote)? {
+            match report {
+                Ok((k, AgentNews::Ready { pid })) => {
+                    self.ready[k] = Some(pid);
+                    // Only the replacement the supervisor named ends the wait.
+                    if self.expected[k].is_none_or(|p| p == pid) {
+                        self.awaiting[k] = false;
+                    }
+                }
+                Ok((
+                    k,
+                    AgentNews::Ended {
+                        episode: e,
+                        exploratory,
+                    },
+                )) if e == episode => ended[k] = Some(exploratory),
+                Ok(_) => self.count(Rejection::Sequence),
+                Err(why) => self.count(why),
+            }
+        }
+        Ok(())
+    }
+
+    /// Waits until no keeper is awaited (every agent connected and ready).
+    fn wait_ready(&mut self) -> Result<(), TaskError> {
+        let started = Instant::now();
+        let mut idle = Idle::new(self.context.wait);
+        let mut none = [None; NUM_KEEPERS];
+        loop {
+            self.housekeeping()?;
+            self.read_reports(0, &mut none)?;
+            if self.stop {
+                return Err(TaskError::Stopped);
+            }
+            if !self.awaiting.contains(&true) {
+                return Ok(());
+            }
+            if started.elapsed() > CONNECT_TIMEOUT {
+                let missing: Vec<String> = (0..NUM_KEEPERS)
+                    .filter(|&k| self.awaiting[k])
+                    .map(|k| format!("keeper {}", k + 1))
+                    .collect();
+                return Err(TaskError::Remote(format!(
+                    "{} did not connect within {} s",
+                    missing.join(", "),
+                    CONNECT_TIMEOUT.as_secs()
+                )));
+            }
+            idle.pause(&self.ports.wake, MAX_BLOCK).map_err(remote)?;
+        }
+    }
+
+    fn wake_keepers(&self) -> Result<(), TaskError> {
+        for notifier in &self.ports.wake_keepers {
+            wake(self.context.wait, notifier).map_err(remote)?;
+        }
+        Ok(())
+    }
+}
+
+fn remote(e: IpcError) -> TaskError {
+    TaskError::Remote(e.to_string())
+}
+
+/// Keepers in agent processes, as the episode loop sees them.
+struct RemoteTeam {
+    link: Rc<RefCell<Link>>,
+    period: Duration,
+    seconds_per_cycle: f64,
+    start: EpisodeStart,
+    cycles: u32,
+}
+
+impl RemoteTeam {
+    /// Tells the agents the episode is discarded and waits for the lost keepers' replacements.
+    fn abort(&self, link: &mut Link) -> Result<TeamStep, TaskError> {
+        let run_id = link.context.run_id;
+        let news = EpisodeNews::Abort { cycles: self.cycles };
+        let episode = link.totals.episode_seq;
+        send(&link.ports.episode, episode_event(episode, news, run_id)).map_err(remote)?;
+        link.wake_keepers()?;
+        let keepers = (0..NUM_KEEPERS).filter(|&k| link.lost[k]).map(|k| k + 1).collect();
+        link.totals.aborted.push(AbortedEpisode {
+            episode,
+            mode: self.start.mode,
+            cycles: self.cycles,
+            keepers,
+        });
+        link.wait_ready()?;
+        link.lost = [false; NUM_KEEPERS];
+        // Commands of the discarded episode still queued are not rejections.
+        for k in 0..NUM_KEEPERS {
+            while let Some(reading) =
+                receive(&link.ports.commands[k], |m| read_command(m, k, run_id)).map_err(remote)?
+            {
+                if let Err(why) = reading {
+                    link.count(why);
+                }
+            }
+        }
+        Ok(TeamStep::Aborted)
+    }
+}
+
+impl KeeperTeam for RemoteTeam {
+    fn begin_episode(&mut self, start: EpisodeStart) -> Result<(), TaskError> {
+        let mut link = self.link.borrow_mut();
+        link.wait_ready()?;
+        link.lost = [false; NUM_KEEPERS];
+        link.totals.episode_seq += 1;
+        self.start = start;
+        self.cycles = 0;
+        let event = episode_event(link.totals.episode_seq, EpisodeNews::Begin(start), link.context.run_id);
+        send(&link.ports.episode, event).map_err(remote)?;
+        link.wake_keepers()
+    }
+
+    fn act(
+        &mut self,
+        views: &[PlayerView; NUM_KEEPERS],
+        seconds_per_cycle: f64,
+        meanwhile: &mut dyn FnMut() -> bool,
+    ) -> Result<TeamStep, TaskError> {
+        let link = &mut *self.link.borrow_mut();
+        link.housekeeping()?;
+        if link.stop {
+            return Err(TaskError::Stopped);
+        }
+        if link.lost.contains(&true) {
+            return self.abort(link);
+        }
+        link.totals.cycle_seq += 1;
+        self.cycles += 1;
+        let (run_id, episode, cycle_seq) = (link.context.run_id, link.totals.episode_seq, link.totals.cycle_seq);
+        let meta = SnapshotMeta {
+            episode,
+            cycle_seq,
+            reward: seconds_per_cycle,
+            start: self.start,
+        };
+        let mut published = [Instant::now(); NUM_KEEPERS];
+        for (k, view) in views.iter().enumerate() {
+            published[k] = Instant::now();
+            send(&link.ports.snapshots[k], snapshot(view, &meta, run_id)).map_err(remote)?;
+            wake(link.context.wait, &link.ports.wake_keepers[k]).map_err(remote)?;
+        }
+        let deadline = (link.context.clock == Clock::Realtime).then(|| published[0] + self.period);
+        let mut work_left = true;
+        let mut commands: [Option<Command>; NUM_KEEPERS] = [None; NUM_KEEPERS];
+        let mut idle = Idle::new(link.context.wait);
+        loop {
+            for k in 0..NUM_KEEPERS {
+                while commands[k].is_none() {
+                    let Some(reading) =
+                        receive(&link.ports.commands[k], |m| read_command(m, k, run_id)).map_err(remote)?
+                    else {
+                        break;
+                    };
+                    match reading {
+                        Ok(c) if c.episode == episode && c.cycle_seq == cycle_seq => {
+                            link.round_trip.record(published[k].elapsed());
+                            if deadline.is_some_and(|d| Instant::now() > d) {
+                                // Read after its cycle's deadline (whoever was
+                                // late, the keeper or the simulator itself):
+                                // dropped, and counted below as missed.
+                                break;
+                            }
+                            link.totals.idle_cycles += u64::from(c.idle);
+                            commands[k] = Some(c.command);
+                        }
+                        Ok(c) if c.cycle_seq < cycle_seq && link.context.clock == Clock::Realtime => {
+                            link.totals.late_commands += 1;
+                        }
+                        Ok(_) => link.count(Rejection::Sequence),
+                        Err(why) => link.count(why),
+                    }
+                }
+            }
+            if commands.iter().all(Option::is_some) {
+                break;
+            }
+            if let Some(deadline) = deadline
+                && Instant::now() >= deadline
+            {
+                link.totals.missed_deadlines += commands.iter().filter(|c| c.is_none()).count() as u64;
+                break;
+            }
+            if work_left {
+                // The takers decide while the keepers think, one between two polls.
+                work_left = meanwhile();
+                continue;
+            }
+            link.housekeeping()?;
+            if link.stop {
+                return Err(TaskError::Stopped);
+            }
+            if link.lost.contains(&true) {
+                return self.abort(link);
+            }
+            match deadline {
+                Some(deadline) => idle.pause_until(&link.ports.wake, deadline),
+                None => idle.pause(&link.ports.wake, MAX_BLOCK),
+            }
+            .map_err(remote)?;
+        }
+        while work_left {
+            work_left = meanwhile();
+        }
+        if let Some(deadline) = deadline {
+            sample_floor(link, published[0] + self.period / 2, deadline)?;
+            std::thread::sleep(deadline.saturating_duration_since(Instant::now()));
+        }
+        link.totals.cycles += 1;
+        Ok(TeamStep::Commands(commands.map(|c| c.unwrap_or(Command::None))))
+    }
+
+    fn end_episode(&mut self, cycles: u32) -> Result<bool, TaskError> {
+        let link = &mut *self.link.borrow_mut();
+        let run_id = link.context.run_id;
+        let news = EpisodeNews::End {
+            cycles,
+            seconds: f64::from(cycles) * self.seconds_per_cycle,
+        };
+        let episode = link.totals.episode_seq;
+        send(&link.ports.episode, episode_event(episode, news, run_id)).map_err(remote)?;
+        link.wake_keepers()?;
+        let mut ended = [None; NUM_KEEPERS];
+        let mut idle = Idle::new(link.context.wait);
+        loop {
+            link.housekeeping()?;
+            link.read_reports(episode, &mut ended)?;
+            if link.stop {
+                return Err(TaskError::Stopped);
+            }
+            // A keeper lost meanwhile will not report; its replacement says it is ready.
+            let settled = (0..NUM_KEEPERS).all(|k| ended[k].is_some() || (link.lost[k] && !link.awaiting[k]));
+            if settled {
+                break;
+            }
+            idle.pause(&link.ports.wake, MAX_BLOCK).map_err(remote)?;
+        }
+        if self.start.mode == EpisodeMode::Learn {
+            link.totals.learning_episodes += 1;
+        }
+        Ok(ended[0].unwrap_or(false))
+    }
+
+    fn traced_values(&self) -> Vec<(String, f64)> {
+        Vec::new()
+    }
+
+    fn learners(&self) -> Vec<&dyn learnpnp::learning::Learner> {
+        Vec::new()
+    }
+
+    fn idle_cycles(&self) -> u64 {
+        self.link.borrow().totals.idle_cycles
+    }
+}
+
+/// The cycle sequence number that ends the floor measurement.
+pub const FLOOR_END: u64 = u64::MAX;
+
+/// A ping of the floor measurement: the snapshot payload, zeroed.
+pub fn floor_ping(run_id: u64, sequence: u64) -> KeeperSnapshot {
+    KeeperSnapshot {
+        header: Header {
+            version: PROTOCOL_VERSION,
+            sender: SENDER_SIMULATOR,
+            run_id,
+        },
+        episode: 0,
+        cycle_seq: sequence,
+        reward: 0.0,
+        cycle: 0,
+        me: 0,
+        mode: 0,
+        forced_exploration: 0,
+        reserved: [0; 6],
+        ball: Default::default(),
+        players: Default::default(),
+    }
+}
+
+/// Sends floor ping `sequence` to agent 0 and notifies it; with `alone`, the
+/// end marker follows at once, so that the agent answers this one ping and
+/// goes back to waiting for its snapshots.
+fn send_ping(link: &Link, sequence: u64, alone: bool) -> Result<Instant, TaskError> {
+    let run_id = link.context.run_id;
+    let sent = Instant::now();
+    send(&link.ports.floor_ping, floor_ping(run_id, sequence)).map_err(remote)?;
+    if alone {
+        send(&link.ports.floor_ping, floor_ping(run_id, FLOOR_END)).map_err(remote)?;
+    }
+    wake(link.context.wait, &link.ports.wake_keepers[0]).map_err(remote)?;
+    Ok(sent)
+}
+
+/// Takes the echo of ping `sequence` if it has come (older echoes are dropped).
+fn echoed(link: &Link, sequence: u64) -> Result<bool, TaskError> {
+    while let Some(echo) = receive(&link.ports.floor_pong, |m| m.cycle_seq).map_err(remote)? {
+        if echo == sequence {
+            return Ok(true);
+        }
+    }
+    Ok(false)
+}
+
+/// Lock-step: measures the bare iceoryx2 round trip of the snapshot payload
+/// with agent 0 (which echoes each ping at once), `round_trips` times back to
+/// back with the run's wait strategy, before the first episode: the floor our
+/// round trips, also back to back, are compared with.
+fn measure_floor(link: &mut Link, round_trips: usize) -> Result<(), TaskError> {
+    for sequence in 1..=round_trips as u64 {
+        let sent = send_ping(link, sequence, false)?;
+        let mut idle = Idle::new(link.context.wait);
+        let mut checked = sent;
+        while !echoed(link, sequence)? {
+            if checked.elapsed() > Duration::from_millis(10) {
+                checked = Instant::now();
+                link.housekeeping()?;
+                if link.stop || link.lost[0] || sent.elapsed() > Duration::from_secs(2) {
+                    return Ok(()); // the floor stays as measured so far
+                }
+            }
+            idle.pause(&link.ports.wake, MAX_BLOCK).map_err(remote)?;
+        }
+        link.floor.record(sent.elapsed());
+    }
+    send(&link.ports.floor_ping, floor_ping(link.context.run_id, FLOOR_END)).map_err(remote)?;
+    wake(link.context.wait, &link.ports.wake_keepers[0]).map_err(remote)
+}
+
+/// Real time: one floor sample per cycle, at `at` (halfway between two
+/// snapshots), while the agents wait for the next cycle. Agent 0 waits for
+/// the ping, one cycle after the last one, as every agent waits for its
+/// snapshot (see [`super::agent::EXPECT_EARLY`]), on the same machine at the
+/// same moment of the run: the floor and the round trips are measured side by
+/// side over the whole run. An echo not back by the cycle's `deadline` is
+/// given up (none is recorded); a cycle that ran past `at` takes no sample.
+fn sample_floor(link: &mut Link, at: Instant, deadline: Instant) -> Result<(), TaskError> {
+    let Some(wait) = at.checked_duration_since(Instant::now()) else {
+        return Ok(());
+    };
+    std::thread::sleep(wait);
+    link.floor_pings += 1;
+    let sequence = link.floor_pings;
+    let sent = send_ping(link, sequence, true)?;
+    let mut idle = Idle::new(link.context.wait);
+    while !echoed(link, sequence)? {
+        if Instant::now() >= deadline {
+            return Ok(());
+        }
+        idle.pause_until(&link.ports.wake, deadline).map_err(remote)?;
+    }
+    link.floor.record(sent.elapsed());
+    Ok(())
+}
+
+/// The Keepaway configuration of `spec`, if the multi-process system can run it.
+pub fn keepaway_config(spec: &ExperimentSpec) -> Result<KeepawayDomainConfig, ProcessError> {
+    use learnpnp::domains::keepaway::KeepawayMode;
+    match &spec.domain {
+        DomainSpec::Keepaway { config, .. } if matches!(config.mode, KeepawayMode::Pass | KeepawayMode::Position) => {
+            Ok(*config)
+        }
+        other => Err(ProcessError::Invalid(format!(
+            "the multi-process system runs keepaway-position and keepaway-pass, not {}",
+            other.name()
+        ))),
+    }
+}
+
+/// How often the simulator saves its histograms (at the end of a whole
+/// episode, once this much time has passed since the last save), so that a
+/// killed simulator loses at most about this much of its latencies.
+const SAVE_HISTOGRAMS_EVERY: Duration = Duration::from_secs(10);
+
+/// The task the protocol runs: Keepaway with the remote team, journaling each
+/// whole episode, and first replaying the journal of a previous incarnation.
+struct JournaledTask {
+    task: KeepawayTask,
+    link: Rc<RefCell<Link>>,
+    journal: Journal,
+    replay: VecDeque<JournalEntry>,
+    /// Episode-loop seconds of earlier incarnations, and when this one's began.
+    seconds_before: f64,
+    started: Instant,
+    /// When the histograms were last saved.
+    saved: Instant,
+    work_dir: PathBuf,
+}
+
+impl JournaledTask {
+    /// Seconds of the episode loop over every incarnation so far.
+    fn loop_seconds(&self) -> f64 {
+        self.seconds_before + self.started.elapsed().as_secs_f64()
+    }
+}
+
+impl Task for JournaledTask {
+    fn episode(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
+        if let Some(entry) = self.replay.pop_front() {
+            if entry.mode != mode {
+                return Err(TaskError::Invalid(format!(
+                    "the journal does not follow the protocol: a {:?} episode where a {mode:?} one is due",
+                    entry.mode
+                )));
+            }
+            if self.replay.is_empty() {
+                // The last whole episode: play on from its state.
+                self.task.set_simulator_rng(entry.rng);
+                self.replay.shrink_to_fit();
+            }
+            return Ok(entry.outcome);
+        }
+        let outcome = self.task.episode(mode)?;
+        let mut link = self.link.borrow_mut();
+        link.totals.seconds = self.loop_seconds();
+        let entry = JournalEntry {
+            mode,
+            outcome,
+            rng: self.task.simulator_rng().clone(),
+            totals: link.totals.clone(),
+        };
+        self.journal
+            .append(&entry)
+            .map_err(|e| TaskError::Remote(e.to_string()))?;
+        if self.saved.elapsed() >= SAVE_HISTOGRAMS_EVERY {
+            save_histograms(&self.work_dir, &link).map_err(|e| TaskError::Remote(e.to_string()))?;
+            self.saved = Instant::now();
+        }
+        Ok(outcome)
+    }
+
+    fn traced_values(&self) -> Vec<(String, f64)> {
+        Vec::new()
+    }
+
+    fn learners(&self) -> Vec<&dyn learnpnp::learning::Learner> {
+        Vec::new()
+    }
+}
+
+/// Runs the simulator of `context`'s run: waits for the agents, measures the
+/// floor (lock-step: `floor_round_trips` pings before the first episode; real
+/// time: one ping in every cycle), plays the experiment's protocol
+/// (journaling every whole episode), and writes [`RESULT_FILE`] and the
+/// histograms into the work directory. With `resume` it continues the run of
+/// a killed simulator from the journal's last episode boundary (no lock-step
+/// floor measurement). A run that is stopped or fails still writes what it completed.
+pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Result<SimulatorResult, ProcessError> {
+    let spec = context.load_spec()?;
+    let config = keepaway_config(&spec)?;
+    let journal_path = context.work_dir.join(JOURNAL_FILE);
+    let replay = if resume {
+        journal::read(&journal_path).map_err(|e| ProcessError::Invalid(e.to_string()))?
+    } else {
+        Vec::new()
+    };
+    let journal = Journal::open(&journal_path, &replay).map_err(|e| ProcessError::Invalid(e.to_string()))?;
+    let totals = replay.last().map(|e| e.totals.clone()).unwrap_or_default();
+    let namespace = context.namespace()?;
+    let node = node(&namespace, "simulator")?;
+    let ports = SimPorts::open(&node)?;
+    let link = Rc::new(RefCell::new(Link {
+        context: context.clone(),
+        ports,
+        pacemaker: Pacemaker::new(Role::Simulator, context.run_id),
+        awaiting: [true; NUM_KEEPERS],
+        lost: [false; NUM_KEEPERS],
+        expected: [None; NUM_KEEPERS],
+        ready: [None; NUM_KEEPERS],
+        stop: false,
+        round_trip: Latency::new(ROUND_TRIP),
+        floor: Latency::new(FLOOR),
+        floor_pings: 0,
+        totals,
+    }));
+    let seconds_per_cycle = config.simulator().server.cycle_seconds;
+    let team = RemoteTeam {
+        link: Rc::clone(&link),
+        period: Duration::from_secs_f64(seconds_per_cycle),
+        seconds_per_cycle,
+        start: EpisodeStart::LEARN,
+        cycles: 0,
+    };
+    let mut output = RunOutput::default();
+    let outcome = (|| -> Result<(), TaskError> {
+        {
+            let mut link = link.borrow_mut();
+            link.wait_ready()?;
+            link.pacemaker.pulse.state = ProcessState::Running;
+            if !resume && context.clock == Clock::Lockstep {
+                measure_floor(&mut link, floor_round_trips)?;
+                save_histograms(&context.work_dir, &link).map_err(|e| TaskError::Remote(e.to_string()))?;
+            }
+        }
+        let seeds = RunSeeds::draw(&mut task_rng(&spec, context.run));
+        let mut task = JournaledTask {
+            task: KeepawayTask::with_team(config, Box::new(team), seeds)?,
+            link: Rc::clone(&link),
+            journal,
+            seconds_before: replay.last().map_or(0.0, |e| e.totals.seconds),
+            replay: replay.into(),
+            started: Instant::now(),
+            saved: Instant::now(),
+            work_dir: context.work_dir.clone(),
+        };
+        // Episodes are journaled; `episodes` below reads them back at the end.
+        let played = run_protocol(&spec, &mut task, context.run, false, &mut output, |_| {}, || false);
+        // The cycles of an unfinished last episode count too.
+        link.borrow_mut().totals.seconds = task.loop_seconds();
+        played.map(drop).map_err(|e| match e {
+            learnpnp::experiment::spec::ExperimentError::Task(t) => t,
+            other => TaskError::Remote(other.to_string()),
+        })
+    })();
+    if context.run == 0 {
+        output.episodes = learning_episodes(&journal_path).map_err(|e| ProcessError::Invalid(e.to_string()))?;
+    }
+    let mut link = link.borrow_mut();
+    let link = &mut *link;
+    link.pacemaker.pulse.state = ProcessState::Stopping;
+    link.pacemaker.beat(&link.ports.heartbeat)?;
+    let result = SimulatorResult {
+        complete: outcome.is_ok(),
+        error: outcome.err().map(|e| e.to_string()),
+        output,
+        totals: link.totals.clone(),
+    };
+    save_histograms(&context.work_dir, link)?;
+    let json = serde_json::to_vec_pretty(&result).map_err(|e| ProcessError::Invalid(e.to_string()))?;
+    let path = context.work_dir.join(RESULT_FILE);
+    learnpnp::atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })?;
+    Ok(result)
+}
+
+/// Every learning episode of the journal at `path`, numbered as the protocol
+/// numbers them.
+fn learning_episodes(path: &Path) -> Result<Vec<EpisodeRecord>, journal::JournalError> {
+    let learning = journal::read(path)?
+        .into_iter()
+        .filter(|e| e.mode == EpisodeMode::Learn);
+    Ok((1..)
+        .zip(learning)
+        .map(|(episode, e)| EpisodeRecord {
+            episode,
+            outcome: e.outcome,
+        })
+        .collect())
+}
+
+/// The file of histogram `name` recorded by this process: `<name>.<pid>.hdr`
+/// (every incarnation of a process writes its own; the supervisor merges them).
+pub fn histogram_file(dir: &Path, name: &str) -> PathBuf {
+    dir.join(format!("{name}.{}.hdr", std::process::id()))
+}
+
+fn save_histograms(dir: &Path, link: &Link) -> Result<(), ProcessError> {
+    for histogram in [&link.round_trip, &link.floor] {
+        let bytes = histogram.to_bytes().map_err(|e| ProcessError::Invalid(e.to_string()))?;
+        let path = histogram_file(dir, histogram.name());
+        learnpnp::atomic_file::write_atomic(&path, &bytes).map_err(|source| ProcessError::Io { path, source })?;
+    }
+    Ok(())
+}

@@ -1,0 +1,861 @@
+//! The supervisor: for each run of an experiment it picks a run-unique
+//! iceoryx2 namespace, creates the services, starts the simulator and one
+//! agent process per keeper, watches their exit status and heartbeats,
+//! restarts an agent that dies or hangs (from its last checkpoint; the
+//! simulator aborts the episode in flight), stops everything on request with a
+//! final checkpoint, and removes every shared-memory file of the run.
+
+use learnpnp::result_dir::{self, ResultDir, ResultDirError};
+use std::collections::BTreeMap;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::ExitStatus;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use rand::RngExt;
+use serde::Serialize;
+
+use super::agent::{checkpoint_name, compute_histogram, resumed_file};
+use super::launch::{Binaries, LaunchError, Process, set_fifo_priority, spawn};
+use super::simulator::{FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult};
+use super::{Clock, RunContext};
+use crate::ipc::convert::{Order, Pulse, Rejections, Role, control_message, read_heartbeat};
+use crate::ipc::namespace::{Namespace, NamespaceError, NamespaceOwner};
+use crate::ipc::services::{IpcError, RunServices, SupervisorPorts, node, receive, send};
+use crate::ipc::wait::{WaitStrategy, wake};
+use crate::latency::{Latency, LatencyError};
+use learnpnp::experiment::spec::ExperimentSpec;
+use learnpnp::keepaway::world::NUM_KEEPERS;
+use learnpnp::learning::persist::{self, SavedValues};
+
+/// The file in a run's work directory naming its iceoryx2 prefix and run id
+/// (for diagnostic tools that join the run).
+pub const IDENTITY_FILE: &str = "ipc.json";
+
+/// The exit code of an agent that cannot resume from its checkpoint: it is
+/// not restarted again.
+pub const EXIT_CANNOT_RESUME: i32 = 3;
+
+/// How the supervisor runs the system.
+#[derive(Debug, Clone)]
+pub struct SupervisorConfig {
+    /// The experiment.
+    pub spec: ExperimentSpec,
+    /// Lock-step or real time.
+    pub clock: Clock,
+    /// How processes wait for messages.
+    pub wait: WaitStrategy,
+    /// Agents checkpoint every this many learning episodes.
+    pub checkpoint_every: u64,
+    /// Round trips of the floor measurement before each lock-step run (real
+    /// time samples the floor in every cycle).
+    pub floor_round_trips: usize,
+    /// Real time: the SCHED_FIFO priority of the simulator and the agents
+    /// when they sleep between cycles (`block`, `hybrid`; 0: normal
+    /// scheduling). Lock-step runs, and real-time ones that spin or yield, are
+    /// always scheduled normally: real-time processes that never sleep would
+    /// starve the rest of the machine.
+    pub rt_priority: u8,
+    /// A process silent for this long is taken as hung and killed.
+    pub heartbeat_timeout: Duration,
+    /// Restarts of one keeper (or of the simulator) in one run before the run is given up.
+    pub max_restarts: u32,
+    /// Restart a simulator that dies, from its journal's last episode boundary
+    /// (chaos soaks); otherwise a dead simulator ends the run.
+    pub restart_simulator: bool,
+    /// The simulator's and agents' binaries.
+    pub binaries: Binaries,
+}
+
+/// Why a run of the system failed.
+#[derive(Debug, thiserror::Error)]
+pub enum SupervisorError {
+    /// A process cannot be started.
+    #[error(transparent)]
+    Launch(#[from] LaunchError),
+    /// Shared memory failed.
+    #[error(transparent)]
+    Ipc(#[from] IpcError),
+    /// The namespace cannot be set up or cleaned.
+    #[error(transparent)]
+    Namespace(#[from] NamespaceError),
+    /// A file cannot be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
+    /// A histogram file is unreadable.
+    #[error(transparent)]
+    Latency(#[from] LatencyError),
+    /// A process failed in a way the run cannot survive.
+    #[error("{0}")]
+    Failed(String),
+    /// The output directory cannot be used.
+    #[error(transparent)]
+    ResultDir(#[from] ResultDirError),
+}
+
+fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> SupervisorError + '_ {
+    move |source| SupervisorError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// A fault and what the supervisor did about it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Fault {
+    /// The run (0-based).
+    pub run: usize,
+    /// Seconds since the run's processes started.
+    pub seconds: f64,
+    /// What happened (e.g. "keeper 2 exited: signal 9 (SIGKILL)").
+    pub kind: String,
+    /// What the supervisor did, and with what result.
+    pub outcome: String,
+}
+
+/// Whether a restarted agent resumed with exactly the values checkpointed
+/// before it was lost.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ResumeCheck {
+    /// The run.
+    pub run: usize,
+    /// The keeper (1-based).
+    pub keeper: usize,
+    /// The replacement's process id.
+    pub pid: u32,
+    /// What it should have loaded: "checkpoint", or "previous checkpoint" when
+    /// the last one was unusable.
+    pub source: String,
+    /// It loaded exactly those values.
+    pub survived: bool,
+}
+
+/// The checkpoint a replacement agent is to resume from, as it was when the
+/// supervisor started the replacement.
+#[derive(Debug)]
+struct PendingResume {
+    keeper: usize,
+    pid: u32,
+    expected: Option<(SavedValues, &'static str)>,
+}
+
+/// What one run of the system produced.
+#[derive(Debug)]
+pub struct RunRecord {
+    /// The run's index.
+    pub run: usize,
+    /// The simulator's result (protocol output, counters); empty if it died.
+    pub sim: SimulatorResult,
+    /// Why the run did not complete normally (a process the run cannot do
+    /// without died, or could not be restarted).
+    pub failure: Option<String>,
+    /// Faults and restarts, in order.
+    pub faults: Vec<Fault>,
+    /// Processes restarted (agents and, in chaos soaks, the simulator).
+    pub restarts: u32,
+    /// For each agent restart: did it resume with the checkpointed values?
+    pub resumes: Vec<ResumeCheck>,
+    /// The run's histograms: round trip, floor, and each keeper's compute time.
+    pub histograms: Vec<Latency>,
+    /// Messages refused, by process (the simulator and each keeper, all incarnations).
+    pub rejected: BTreeMap<String, Rejections>,
+    /// Checkpoint writes that failed, over every agent.
+    pub checkpoint_failures: u64,
+    /// The learning keepers' final values (their last checkpoints).
+    pub values: Vec<SavedValues>,
+    /// Wall-clock seconds of the run.
+    pub seconds: f64,
+    /// Files of the run's namespace left after cleanup (0 unless cleanup failed).
+    pub leftover_files: usize,
+    /// The run's iceoryx2 prefix.
+    pub prefix: String,
+    /// How the simulator and the agents were scheduled.
+    pub scheduling: String,
+}
+
+/// How an exit status reads in a report.
+fn describe(status: ExitStatus) -> String {
+    use std::os::unix::process::ExitStatusExt;
+    match (status.code(), status.signal()) {
+        (Some(code), _) => format!("exit code {code}"),
+        (None, Some(signal)) => format!("signal {signal} ({})", signal_name(signal)),
+        _ => status.to_string(),
+    }
+}
+
+fn signal_name(signal: i32) -> &'static str {
+    match signal {
+        libc::SIGKILL => "SIGKILL",
+        libc::SIGTERM => "SIGTERM",
+        libc::SIGSEGV => "SIGSEGV",
+        libc::SIGABRT => "SIGABRT",
+        libc::SIGINT => "SIGINT",
+        _ => "signal",
+    }
+}
+
+/// The processes of a run; whatever is still running when this is dropped is killed.
+struct Fleet {
+    processes: BTreeMap<Role, Process>,
+}
+
+impl Fleet {
+    fn kill_all(&mut self) {
+        for process in self.processes.values_mut() {
+            let _ = process.kill();
+        }
+        self.processes.clear();
+    }
+}
+
+impl Drop for Fleet {
+    fn drop(&mut self) {
+        self.kill_all();
+    }
+}
+
+/// The last lines of a log, for an error message.
+fn log_tail(path: &Path) -> String {
+    let text = fs::read_to_string(path).unwrap_or_default();
+    let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
+    lines[lines.len().saturating_sub(3)..].join(" | ")
+}
+
+/// A supervised run at a moment, as an observer sees it.
+#[derive(Debug)]
+pub struct RunView<'a> {
+    /// The run's index.
+    pub run: usize,
+    /// Seconds since its processes were started.
+    pub seconds: f64,
+    /// Its iceoryx2 namespace.
+    pub namespace: &'a Namespace,
+    /// Its working directory (checkpoints, logs, histograms).
+    pub work_dir: &'a Path,
+    /// Its id (every message carries it).
+    pub run_id: u64,
+    /// The processes alive now, with their ids.
+    pub processes: Vec<(Role, u32)>,
+    /// The last heartbeat of each process alive now.
+    pub pulses: Vec<Pulse>,
+    /// The current simulator's last heartbeat.
+    pub simulator: Option<&'a Pulse>,
+}
+
+/// What an observer asks of the supervisor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Request {
+    /// Stop the run (as Ctrl-C does).
+    Stop,
+    /// Send `order` to `target` on the supervisor's control port.
+    Order(Order, Role),
+}
+
+/// Watches supervised runs from the supervisor's loop (about every 10 ms):
+/// progress bars, soak sampling, fault injection.
+pub trait RunObserver {
+    /// Looks at the run; returns what it asks of the supervisor (usually nothing).
+    fn observe(&mut self, view: &RunView<'_>) -> Vec<Request>;
+
+    /// Called once before the first run, with the result set the observer may
+    /// claim files in (to write them as it goes).
+    fn start(&mut self, _files: &mut learnpnp::result_dir::ResultWriter<'_>) -> Result<(), SupervisorError> {
+        Ok(())
+    }
+
+    /// Adds the observer's files to the result set before it is published.
+    fn finish(
+        &mut self,
+        _files: &mut learnpnp::result_dir::ResultWriter<'_>,
+        _records: &[RunRecord],
+    ) -> Result<(), SupervisorError> {
+        Ok(())
+    }
+}
+
+/// An observer that only reports the learning episodes done in each run.
+pub struct Progress<F: Fn(usize, u64)>(pub F);
+
+impl<F: Fn(usize, u64)> RunObserver for Progress<F> {
+    fn observe(&mut self, view: &RunView<'_>) -> Vec<Request> {
+        if let Some(pulse) = view.simulator {
+            (self.0)(view.run, pulse.episodes);
+        }
+        Vec::new()
+    }
+}
+
+/// One run being supervised.
+struct Watch<'a> {
+    config: &'a SupervisorConfig,
+    namespace: &'a Namespace,
+    context: RunContext,
+    ports: SupervisorPorts,
+    fleet: Fleet,
+    started: Instant,
+    last_heard: BTreeMap<Role, Instant>,
+    pulses: BTreeMap<(Role, u32), Pulse>,
+    faults: Vec<Fault>,
+    restarts: [u32; NUM_KEEPERS],
+    simulator_restarts: u32,
+    /// The run was asked to stop (a signal, or an observer).
+    stop_requested: bool,
+    resumes: Vec<PendingResume>,
+    control_sequence: u64,
+    /// Why the real-time priority could not be given (the first refusal).
+    fifo_refused: Option<String>,
+}
+
+impl Watch<'_> {
+    fn log(&self, role: Role) -> PathBuf {
+        let name = match role {
+            Role::Simulator => "simulator.log".to_string(),
+            Role::Keeper(k) => format!("keeper{}.log", k + 1),
+        };
+        self.context.work_dir.join(name)
+    }
+
+    fn start(&mut self, role: Role, resume: bool) -> Result<(), SupervisorError> {
+        let mut args = self.context.to_args();
+        if resume {
+            args.push("--resume".into());
+        }
+        let binary = match role {
+            Role::Simulator => {
+                args.push("--floor-round-trips".into());
+                args.push(self.config.floor_round_trips.to_string().into());
+                &self.config.binaries.sim
+            }
+            Role::Keeper(k) => {
+                args.push("--keeper".into());
+                args.push((k + 1).to_string().into());
+                args.push("--checkpoint-every".into());
+                args.push(self.config.checkpoint_every.to_string().into());
+                &self.config.binaries.agent
+            }
+        };
+        let process = spawn(binary, role, &args, &self.log(role))?;
+        if let Some(priority) = self.fifo_priority()
+            && let Err(e) = set_fifo_priority(process.pid(), priority)
+        {
+            self.fifo_refused.get_or_insert(e.to_string());
+        }
+        self.fleet.processes.insert(role, process);
+        self.last_heard.insert(role, Instant::now());
+        Ok(())
+    }
+
+    /// The SCHED_FIFO priority the run's processes get, if any: only in real
+    /// time, and only when they sleep between cycles (`block`, `hybrid`): a
+    /// real-time process that spins or yields without end would hold its core
+    /// against the rest of the machine.
+    fn fifo_priority(&self) -> Option<u8> {
+        let sleeps = self.config.wait.notifies();
+        (self.config.clock == Clock::Realtime && sleeps && self.config.rt_priority > 0)
+            .then_some(self.config.rt_priority)
+    }
+
+    /// How the run's processes were scheduled, as the report says it.
+    fn scheduling(&self) -> String {
+        match (self.fifo_priority(), &self.fifo_refused) {
+            (None, _) => "normal".to_string(),
+            (Some(priority), None) => format!("SCHED_FIFO {priority}"),
+            (Some(priority), Some(why)) => format!("normal (SCHED_FIFO {priority} refused: {why})"),
+        }
+    }
+
+    fn fault(&mut self, kind: String, outcome: String) {
+        self.faults.push(Fault {
+            run: self.context.run,
+            seconds: self.started.elapsed().as_secs_f64(),
+            kind,
+            outcome,
+        });
+    }
+
+    fn order(&mut self, order: Order, target: Option<Role>) -> Result<(), SupervisorError> {
+        self.control_sequence += 1;
+        let message = control_message(order, target, self.control_sequence, self.context.run_id);
+        send(&self.ports.control, message)?;
+        wake(self.context.wait, &self.ports.wake_sim)?;
+        for notifier in &self.ports.wake_keepers {
+            wake(self.context.wait, notifier)?;
+        }
+        Ok(())
+    }
+
+    /// Reads the heartbeats.
+    fn heartbeats(&mut self) -> Result<(), SupervisorError> {
+        let run_id = self.context.run_id;
+        while let Some(reading) = receive(&self.ports.heartbeats, |m| read_heartbeat(m, run_id))? {
+            // Heartbeats that do not read are a foreign process's: ignored here,
+            // counted by the processes that must act on such messages.
+            if let Ok(pulse) = reading {
+                let from_current = self
+                    .fleet
+                    .processes
+                    .get(&pulse.role)
+                    .is_some_and(|p| p.pid() == pulse.pid);
+                if from_current {
+                    self.last_heard.insert(pulse.role, Instant::now());
+                }
+                self.pulses.insert((pulse.role, pulse.pid), pulse);
+            }
+        }
+        Ok(())
+    }
+
+    /// Replaces keeper `k`'s agent after it `what` (exited or hung).
+    fn restart(&mut self, k: usize, what: String) -> Result<(), SupervisorError> {
+        self.restarts[k] += 1;
+        if self.restarts[k] > self.config.max_restarts {
+            let outcome = format!("not restarted: {} restarts already", self.config.max_restarts);
+            self.fault(what.clone(), outcome);
+            return Err(SupervisorError::Failed(format!(
+                "{what}, {} times: run given up ({})",
+                self.restarts[k],
+                log_tail(&self.log(Role::Keeper(k)))
+            )));
+        }
+        let checkpoint = self.context.work_dir.join(checkpoint_name(k));
+        // What the replacement must load: the checkpoint, or the previous one if it is unusable.
+        let expected = match persist::load(&checkpoint) {
+            Ok(values) => Some((values, "checkpoint")),
+            Err(_) => persist::load(&persist::prev_path(&checkpoint))
+                .ok()
+                .map(|values| (values, "previous checkpoint")),
+        };
+        self.start(Role::Keeper(k), true)?;
+        let pid = self.fleet.processes.get(&Role::Keeper(k)).map_or(0, Process::pid);
+        self.order(Order::KeeperLost { keeper: k, pid }, Some(Role::Simulator))?;
+        self.resumes.push(PendingResume {
+            keeper: k,
+            pid,
+            expected,
+        });
+        // Named as in the result directory (the staging path is gone once it is committed).
+        let run_dir = self.context.work_dir.file_name().unwrap_or_default().to_string_lossy();
+        self.fault(
+            what,
+            format!(
+                "restarted from its checkpoint {RUNS_DIR}/{run_dir}/{}",
+                checkpoint_name(k)
+            ),
+        );
+        Ok(())
+    }
+
+    fn may_restart_simulator(&self) -> bool {
+        self.config.restart_simulator && !self.stop_requested
+    }
+
+    /// Replaces the simulator after it `what`: the new one continues from its
+    /// journal's last episode boundary; the agents drop the episode in progress.
+    fn restart_simulator(&mut self, what: String) -> Result<(), SupervisorError> {
+        self.simulator_restarts += 1;
+        if self.simulator_restarts > self.config.max_restarts {
+            self.fault(
+                what.clone(),
+                format!("not restarted: {} restarts already", self.config.max_restarts),
+            );
+            return Err(SupervisorError::Failed(format!("{what}: run given up")));
+        }
+        self.order(Order::SimulatorRestarted, None)?;
+        self.start(Role::Simulator, true)?;
+        self.fault(what, "restarted from its journal's last episode boundary".into());
+        Ok(())
+    }
+
+    /// What an observer sees now.
+    fn view(&self) -> RunView<'_> {
+        let simulator = self
+            .fleet
+            .processes
+            .get(&Role::Simulator)
+            .and_then(|p| self.pulses.get(&(Role::Simulator, p.pid())));
+        RunView {
+            run: self.context.run,
+            seconds: self.started.elapsed().as_secs_f64(),
+            namespace: self.namespace,
+            work_dir: &self.context.work_dir,
+            run_id: self.context.run_id,
+            processes: self.fleet.processes.iter().map(|(role, p)| (*role, p.pid())).collect(),
+            pulses: self
+                .fleet
+                .processes
+                .iter()
+                .filter_map(|(role, p)| self.pulses.get(&(*role, p.pid())).copied())
+                .collect(),
+            simulator,
+        }
+    }
+
+    /// Watches until the simulator exits; restarts agents on the way.
+    fn watch(&mut self, stop: &AtomicBool, observer: &mut dyn RunObserver) -> Result<ExitStatus, SupervisorError> {
+        loop {
+            self.heartbeats()?;
+            let mut go_on = true;
+            for request in observer.observe(&self.view()) {
+                match request {
+                    Request::Stop => go_on = false,
+                    Request::Order(order, target) => self.order(order, Some(target))?,
+                }
+            }
+            if !self.stop_requested && (stop.load(Ordering::Relaxed) || !go_on) {
+                self.stop_requested = true;
+                self.order(Order::Stop, Some(Role::Simulator))?;
+                let why = if go_on {
+                    "stop requested (signal)"
+                } else {
+                    "stop requested (observer)"
+                };
+                self.fault(why.into(), "the simulator ends the run".into());
+            }
+            let mut exited = Vec::new();
+            for (role, process) in &mut self.fleet.processes {
+                if let Some(status) = process.exited().map_err(io_error(Path::new("waitpid")))? {
+                    exited.push((*role, status));
+                }
+            }
+            for (role, status) in exited {
+                self.fleet.processes.remove(&role);
+                match role {
+                    Role::Simulator if !status.success() && self.may_restart_simulator() => {
+                        self.restart_simulator(format!("the simulator exited: {}", describe(status)))?;
+                    }
+                    Role::Simulator => return Ok(status),
+                    Role::Keeper(k) => {
+                        let what = format!("{role} exited: {}", describe(status));
+                        if status.code() == Some(EXIT_CANNOT_RESUME) {
+                            self.fault(what.clone(), "not restarted: it cannot resume".into());
+                            return Err(SupervisorError::Failed(format!(
+                                "{what}: {}",
+                                log_tail(&self.log(role))
+                            )));
+                        }
+                        self.restart(k, what)?;
+                    }
+                }
+            }
+            let timeout = self.config.heartbeat_timeout;
+            let hung: Vec<Role> = self
+                .fleet
+                .processes
+                .keys()
+                .filter(|r| self.last_heard.get(r).is_some_and(|t| t.elapsed() > timeout))
+                .copied()
+                .collect();
+            for role in hung {
+                if let Some(mut process) = self.fleet.processes.remove(&role) {
+                    let status = process.kill().map_err(io_error(Path::new("kill")))?;
+                    let what = format!(
+                        "{role} silent for {} s: killed ({})",
+                        timeout.as_secs(),
+                        describe(status)
+                    );
+                    match role {
+                        Role::Simulator if self.may_restart_simulator() => self.restart_simulator(what)?,
+                        Role::Simulator => {
+                            self.fault(what.clone(), "run given up".into());
+                            return Err(SupervisorError::Failed(what));
+                        }
+                        Role::Keeper(k) => self.restart(k, what)?,
+                    }
+                }
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+
+    /// Asks every agent to stop (each checkpoints) and waits for them, killing
+    /// one that does not stop within `grace`.
+    fn stop_agents(&mut self, grace: Duration) -> Result<(), SupervisorError> {
+        self.order(Order::Stop, None)?;
+        let deadline = Instant::now() + grace;
+        while !self.fleet.processes.is_empty() {
+            let mut done = Vec::new();
+            for (role, process) in &mut self.fleet.processes {
+                if let Some(status) = process.exited().map_err(io_error(Path::new("waitpid")))? {
+                    done.push((*role, status));
+                }
+            }
+            for (role, status) in done {
+                self.fleet.processes.remove(&role);
+                if !status.success() {
+                    self.fault(
+                        format!("{role} exited while stopping: {}", describe(status)),
+                        "its last checkpoint is kept".into(),
+                    );
+                }
+            }
+            if Instant::now() > deadline {
+                let stuck: Vec<Role> = self.fleet.processes.keys().copied().collect();
+                for role in stuck {
+                    if let Some(mut process) = self.fleet.processes.remove(&role) {
+                        let _ = process.kill();
+                        self.fault(
+                            format!("{role} did not stop within {} s", grace.as_secs()),
+                            "killed; its last checkpoint is kept".into(),
+                        );
+                    }
+                }
+            }
+            self.heartbeats()?;
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        Ok(())
+    }
+
+    /// Messages refused, summed over every incarnation of each process.
+    fn rejected(&self, sim: &SimulatorResult) -> BTreeMap<String, Rejections> {
+        let mut by_process: BTreeMap<String, Rejections> = BTreeMap::new();
+        by_process.insert(Role::Simulator.to_string(), sim.totals.rejected);
+        for ((role, _), pulse) in &self.pulses {
+            if let Role::Keeper(_) = role {
+                let entry = by_process.entry(role.to_string()).or_default();
+                *entry = entry.plus(&pulse.rejected);
+            }
+        }
+        by_process
+    }
+}
+
+/// Reads every histogram the run's processes wrote into `dir`, the
+/// incarnations of each process merged (`<name>.<pid>.hdr`).
+fn read_histograms(dir: &Path) -> Result<Vec<Latency>, SupervisorError> {
+    let mut files: Vec<PathBuf> = fs::read_dir(dir)
+        .map_err(io_error(dir))?
+        .flatten()
+        .map(|e| e.path())
+        .collect();
+    files.sort();
+    let names = [ROUND_TRIP.to_string(), FLOOR.to_string()]
+        .into_iter()
+        .chain((0..NUM_KEEPERS).map(compute_histogram));
+    let mut histograms = Vec::new();
+    for name in names {
+        let mut merged = Latency::new(name.clone());
+        for path in &files {
+            let file = path
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            if file.starts_with(&format!("{name}.")) && file.ends_with(".hdr") {
+                let bytes = fs::read(path).map_err(io_error(path))?;
+                merged.merge(&Latency::from_bytes(name.clone(), &bytes)?)?;
+            }
+        }
+        histograms.push(merged);
+    }
+    Ok(histograms)
+}
+
+/// Runs run `run` of `config`'s experiment with its files in `work_dir`
+/// (created): returns what it produced once the simulator has ended and every
+/// process has stopped, also when the run failed ([`RunRecord::failure`]).
+/// The run's namespace is removed in every case.
+pub fn supervise_run(
+    config: &SupervisorConfig,
+    run: usize,
+    work_dir: &Path,
+    stop: &AtomicBool,
+    observer: &mut dyn RunObserver,
+) -> Result<RunRecord, SupervisorError> {
+    fs::create_dir_all(work_dir).map_err(io_error(work_dir))?;
+    let spec_path = work_dir.join("spec.json");
+    let spec_json = serde_json::to_vec_pretty(&config.spec).map_err(|e| SupervisorError::Failed(e.to_string()))?;
+    learnpnp::atomic_file::write_atomic(&spec_path, &spec_json).map_err(io_error(&spec_path))?;
+    let owner = Namespace::claim_unique()?;
+    let outcome = run_in(config, run, work_dir, &spec_path, &owner, stop, observer);
+    let prefix = owner.namespace().prefix().to_string();
+    let namespace = owner.namespace().clone();
+    let released = owner.release();
+    let mut record = outcome?;
+    released?;
+    record.leftover_files = namespace.files().len();
+    record.prefix = prefix;
+    Ok(record)
+}
+
+fn run_in(
+    config: &SupervisorConfig,
+    run: usize,
+    work_dir: &Path,
+    spec_path: &Path,
+    owner: &NamespaceOwner,
+    stop: &AtomicBool,
+    observer: &mut dyn RunObserver,
+) -> Result<RunRecord, SupervisorError> {
+    let namespace = owner.namespace();
+    let node = node(namespace, "supervisor")?;
+    let _services = RunServices::create(&node)?;
+    let context = RunContext {
+        run_id: rand::rng().random(),
+        run,
+        ipc_prefix: namespace.prefix().to_string(),
+        clock: config.clock,
+        wait: config.wait,
+        spec: spec_path.to_path_buf(),
+        work_dir: work_dir.to_path_buf(),
+    };
+    let identity = serde_json::json!({ "ipc_prefix": context.ipc_prefix, "run_id": context.run_id });
+    let identity_path = work_dir.join(IDENTITY_FILE);
+    learnpnp::atomic_file::write_atomic(&identity_path, identity.to_string().as_bytes())
+        .map_err(io_error(&identity_path))?;
+    let mut watch = Watch {
+        config,
+        namespace,
+        ports: SupervisorPorts::open(&node)?,
+        context,
+        fleet: Fleet {
+            processes: BTreeMap::new(),
+        },
+        started: Instant::now(),
+        last_heard: BTreeMap::new(),
+        pulses: BTreeMap::new(),
+        faults: Vec::new(),
+        restarts: [0; NUM_KEEPERS],
+        simulator_restarts: 0,
+        stop_requested: false,
+        resumes: Vec::new(),
+        control_sequence: 0,
+        fifo_refused: None,
+    };
+    watch.start(Role::Simulator, false)?;
+    for k in 0..NUM_KEEPERS {
+        watch.start(Role::Keeper(k), false)?;
+    }
+    let watched = watch.watch(stop, observer);
+    watch.stop_agents(Duration::from_secs(10))?;
+    let failure = match watched {
+        Ok(status) if status.success() => None,
+        Ok(status) => {
+            let what = format!("the simulator exited: {}", describe(status));
+            watch.fault(what.clone(), "agents stopped; run given up".into());
+            Some(format!("{what} ({})", log_tail(&watch.log(Role::Simulator))))
+        }
+        Err(SupervisorError::Failed(why)) => Some(why),
+        Err(other) => return Err(other),
+    };
+    let seconds = watch.started.elapsed().as_secs_f64();
+    let result_path = work_dir.join(RESULT_FILE);
+    let sim: SimulatorResult = match fs::read_to_string(&result_path) {
+        Ok(text) => serde_json::from_str(&text)
+            .map_err(|e| SupervisorError::Failed(format!("{}: {e}", result_path.display())))?,
+        Err(_) if failure.is_some() => SimulatorResult::default(),
+        Err(source) => {
+            return Err(SupervisorError::Io {
+                path: result_path,
+                source,
+            });
+        }
+    };
+    let failure = failure.or_else(|| {
+        let stopped = watch.stop_requested;
+        sim.error
+            .clone()
+            .filter(|_| !stopped)
+            .map(|e| format!("the simulator ended the run early: {e}"))
+    });
+    let learning = super::simulator::keepaway_config(&config.spec)
+        .map_err(|e| SupervisorError::Failed(e.to_string()))?
+        .learning_keepers();
+    let mut values = Vec::new();
+    for k in 0..learning {
+        let path = work_dir.join(checkpoint_name(k));
+        match persist::load(&path) {
+            Ok(v) => values.push(v),
+            Err(e) if failure.is_none() => return Err(SupervisorError::Failed(e.to_string())),
+            Err(_) => break,
+        }
+    }
+    let checkpoint_failures = watch.pulses.values().map(|p| p.checkpoint_failures).sum();
+    let resumes = watch
+        .resumes
+        .iter()
+        .filter(|r| r.expected.is_some() || r.keeper < learning)
+        .map(|r| {
+            let loaded = persist::load(&resumed_file(work_dir, r.keeper, r.pid)).ok();
+            let (source, survived) = match &r.expected {
+                Some((values, source)) => (source.to_string(), loaded.as_ref() == Some(values)),
+                None => ("none usable".to_string(), false),
+            };
+            ResumeCheck {
+                run,
+                keeper: r.keeper + 1,
+                pid: r.pid,
+                source,
+                survived,
+            }
+        })
+        .collect();
+    Ok(RunRecord {
+        run,
+        rejected: watch.rejected(&sim),
+        sim,
+        failure,
+        restarts: watch.restarts.iter().sum::<u32>() + watch.simulator_restarts,
+        resumes,
+        faults: std::mem::take(&mut watch.faults),
+        histograms: read_histograms(work_dir)?,
+        checkpoint_failures,
+        values,
+        seconds,
+        leftover_files: 0,
+        prefix: String::new(),
+        scheduling: watch.scheduling(),
+    })
+}
+
+/// Where run `run`'s working files (checkpoints, logs, histograms) of the
+/// output directory `out` are: in the `runs` directory of the result set being
+/// written (inside its hidden staging directory, see [`learnpnp::result_dir`])
+/// while the supervisor works, under `out/runs/` once the set is published.
+pub fn run_work_dir(out: &Path, run: usize) -> PathBuf {
+    let name = format!("run-{run}");
+    result_dir::staging_dirs(out)
+        .into_iter()
+        .map(|staging| staging.join(RUNS_DIR).join(&name))
+        .find(|dir| dir.is_dir())
+        .unwrap_or_else(|| out.join(RUNS_DIR).join(name))
+}
+
+/// The directory of the result set holding every run's working files.
+const RUNS_DIR: &str = "runs";
+
+/// Runs every run of `config`'s experiment one after the other (stopping at
+/// the first that fails, or when `stop` is set or `observer` asks) and
+/// publishes the report in `out` as one set (the runs' working files under
+/// `runs/`, then the observer's files).
+pub fn supervise(
+    config: &SupervisorConfig,
+    out: &mut ResultDir,
+    stop: &AtomicBool,
+    observer: &mut dyn RunObserver,
+) -> Result<super::report::Report, SupervisorError> {
+    let started = Instant::now();
+    let mut files = out.writer()?;
+    let runs_dir = files.scratch_dir(RUNS_DIR)?;
+    observer.start(&mut files)?;
+    let mut records: Vec<RunRecord> = Vec::new();
+    for run in 0..config.spec.protocol.runs {
+        if stop.load(Ordering::Relaxed) {
+            break;
+        }
+        let work_dir = runs_dir.join(format!("run-{run}"));
+        let record = supervise_run(config, run, &work_dir, stop, observer)?;
+        let ended = record.failure.is_some() || !record.sim.complete;
+        records.push(record);
+        if ended {
+            break;
+        }
+    }
+    observer.finish(&mut files, &records)?;
+    super::report::write_report(files, config, &records, started.elapsed().as_secs_f64())
+}

@@ -1,0 +1,9 @@
+//! The multi-process system's tests, one binary: the supervisor, simulator and agent processes over iceoryx2 shared memory, and the wait strategies.
+
+// Each crate's test binary includes the workspace's shared helpers; each uses a subset.
+#[allow(dead_code)]
+#[path = "../../tests/util.rs"]
+mod util;
+
+mod ipc_wait;
+mod multiprocess;

@@ -1,0 +1,32 @@
+//! The core crate's integration tests, one binary: plans, checks, executor, schemas, learners, domains, the Keepaway simulator, experiments.
+
+// Each crate's test binary includes the workspace's shared helpers; each uses a subset.
+#[allow(dead_code)]
+mod util;
+
+mod analysis_check;
+mod analysis_choice;
+mod condition_grammar;
+mod dot_export;
+mod executor_semantics;
+mod keepaway_episodes;
+mod keepaway_interception;
+mod keepaway_physics;
+mod keepaway_plans;
+mod keepaway_referee;
+mod keepaway_robustness;
+mod keepaway_skills;
+mod learning_behaviour;
+mod learning_reference;
+mod parr_russell_optimum;
+mod persist_corruption;
+mod persist_roundtrip;
+mod plan_fuzz;
+mod plan_labels;
+mod plot_svg;
+mod pnml_fuzz;
+mod pnml_io;
+mod schema_format;
+mod schema_semantics;
+mod schema_thesis;
+mod shipped_plans;
