@@ -3,8 +3,8 @@
 //! comparison, the physics and referee alone.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use learnpnp::keepaway::world::NUM_PLAYERS;
-use learnpnp::keepaway::{BaselinePolicy, Command, Keepaway, KeepawayConfig, Simulator};
+use learnpnp::keepaway_sim::world::NUM_PLAYERS;
+use learnpnp::keepaway_sim::{BaselinePolicy, Command, Keepaway, KeepawayConfig, Simulator};
 use std::hint::black_box;
 
 /// Cycles simulated per benchmark iteration.

@@ -19,7 +19,7 @@ pub mod dot;
 pub mod executor;
 pub mod experiment;
 pub mod json_float;
-pub mod keepaway;
+pub mod keepaway_sim;
 pub mod learning;
 pub mod named;
 pub mod net;

@@ -1,14 +1,14 @@
 //! Whole episodes: determinism, baselines, custom policies.
 
-use learnpnp::keepaway::perception::PlayerId;
-use learnpnp::keepaway::positions::PositioningPoint;
-use learnpnp::keepaway::world::Side;
-use learnpnp::keepaway::{
-    BaselinePolicy, EndReason, EpisodeOutcome, Keepaway, KeepawayConfig, KeeperAction, KeeperPolicy, PlayerView,
-    SupportAction, VisionMode, World, run_episode,
+use learnpnp::keepaway_sim::perception::PlayerId;
+use learnpnp::keepaway_sim::positions::PositioningPoint;
+use learnpnp::keepaway_sim::world::Side;
+use learnpnp::keepaway_sim::{
+    BaselinePolicy, EndReason, EpisodeOutcome, FieldState, Keepaway, KeepawayConfig, KeeperAction, KeeperPolicy,
+    PlayerView, SupportAction, VisionMode, run_episode,
 };
 
-fn trace(seed: u64, cfg: KeepawayConfig) -> (Vec<World>, EpisodeOutcome) {
+fn trace(seed: u64, cfg: KeepawayConfig) -> (Vec<FieldState>, EpisodeOutcome) {
     let mut game = Keepaway::new(cfg, seed).expect("valid config");
     let mut policy = BaselinePolicy::random(seed);
     let mut worlds = vec![*game.simulator().world()];

@@ -2,16 +2,16 @@
 //! interception one and two cycles away (motion noise off), the fastest teammate,
 //! the interception memory, and takers winning the ball from a holding keeper.
 
-use learnpnp::keepaway::geometry::normalize_deg;
-use learnpnp::keepaway::keeper::{KeeperMemory, keeper_command};
-use learnpnp::keepaway::perception::PlayerId;
-use learnpnp::keepaway::policies::BaselinePolicy;
-use learnpnp::keepaway::skills::fastest::{fastest_teammate, pass_origin};
-use learnpnp::keepaway::skills::intercept::{InterceptMemory, intercept, intercept_close};
-use learnpnp::keepaway::taker::{TakerMemory, taker_command};
-use learnpnp::keepaway::world::{Ball, NUM_PLAYERS, Player};
-use learnpnp::keepaway::{
-    Command, EndReason, KeepawayConfig, PlayerView, Simulator, Vec2, World, perceive, run_episode,
+use learnpnp::keepaway_sim::geometry::normalize_deg;
+use learnpnp::keepaway_sim::keeper::{KeeperMemory, keeper_command};
+use learnpnp::keepaway_sim::perception::PlayerId;
+use learnpnp::keepaway_sim::policies::BaselinePolicy;
+use learnpnp::keepaway_sim::skills::fastest::{fastest_teammate, pass_origin};
+use learnpnp::keepaway_sim::skills::intercept::{InterceptMemory, intercept, intercept_close};
+use learnpnp::keepaway_sim::taker::{TakerMemory, taker_command};
+use learnpnp::keepaway_sim::world::{Ball, NUM_PLAYERS, Player};
+use learnpnp::keepaway_sim::{
+    Command, EndReason, FieldState, KeepawayConfig, PlayerView, Simulator, Vec2, perceive, run_episode,
 };
 
 fn quiet() -> KeepawayConfig {
@@ -31,7 +31,7 @@ fn player(x: f64, y: f64, body: f64) -> Player {
 
 /// Player `me` at the origin facing `body`, the ball at `ball` moving at `vel`,
 /// everybody else at least 8 m away.
-fn alone(me: usize, body: f64, ball: Vec2, vel: Vec2) -> World {
+fn alone(me: usize, body: f64, ball: Vec2, vel: Vec2) -> FieldState {
     let mut players = [
         player(-8.0, 8.0, 0.0),
         player(8.0, 8.0, 0.0),
@@ -40,20 +40,20 @@ fn alone(me: usize, body: f64, ball: Vec2, vel: Vec2) -> World {
         player(0.0, 9.0, 0.0),
     ];
     players[me] = player(0.0, 0.0, body);
-    World {
+    FieldState {
         ball: Ball { pos: ball, vel },
         players,
         cycle: 0,
     }
 }
 
-fn view(w: &World, i: usize, cfg: &KeepawayConfig) -> PlayerView {
+fn view(w: &FieldState, i: usize, cfg: &KeepawayConfig) -> PlayerView {
     perceive(w, PlayerId::new(i).expect("valid id"), cfg)
 }
 
 /// Runs `cycles` cycles in which player `me` intercepts and nobody else acts;
 /// returns the commands and the final world.
-fn run_intercept(w: World, me: usize, cycles: usize) -> (Vec<Command>, World) {
+fn run_intercept(w: FieldState, me: usize, cycles: usize) -> (Vec<Command>, FieldState) {
     let cfg = quiet();
     let mut sim = Simulator::new(cfg, 1).expect("valid config");
     sim.set_world(w);
@@ -194,7 +194,7 @@ fn takers_close_in_and_win_the_ball_from_a_holding_keeper() {
     };
     let mut taken = 0;
     for seed in 0..10 {
-        let w = World {
+        let w = FieldState {
             ball: Ball {
                 pos: Vec2::new(0.7, 0.0),
                 vel: Vec2::ZERO,

@@ -1,14 +1,14 @@
 //! The server's physics against closed forms (motion noise off).
 
-use learnpnp::keepaway::world::{Ball, NUM_PLAYERS, Player};
-use learnpnp::keepaway::{Command, ServerParams, Vec2, World};
+use learnpnp::keepaway_sim::world::{Ball, NUM_PLAYERS, Player};
+use learnpnp::keepaway_sim::{Command, FieldState, ServerParams, Vec2};
 use learnpnp::rng::seeded;
 
 const NONE: [Command; NUM_PLAYERS] = [Command::None; NUM_PLAYERS];
 
 /// Players far apart and away from the origin, at rest, facing +x; ball at rest at the origin.
-fn spread_world() -> World {
-    let mut w = World::default();
+fn spread_world() -> FieldState {
+    let mut w = FieldState::default();
     for (i, p) in w.players.iter_mut().enumerate() {
         *p = Player {
             pos: Vec2::new(-40.0 + 10.0 * i as f64, 30.0),
@@ -20,7 +20,7 @@ fn spread_world() -> World {
     w
 }
 
-fn step(w: &mut World, cmds: &[Command; NUM_PLAYERS]) {
+fn step(w: &mut FieldState, cmds: &[Command; NUM_PLAYERS]) {
     let mut rng = seeded(0);
     w.physics_step(cmds, &ServerParams::default(), false, &mut rng);
 }

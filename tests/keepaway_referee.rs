@@ -1,8 +1,8 @@
 //! The keepaway referee: end conditions, the possession counter, the reset.
 
-use learnpnp::keepaway::referee::{Referee, TURNOVER_TIME};
-use learnpnp::keepaway::world::{NUM_PLAYERS, Player};
-use learnpnp::keepaway::{Command, EndReason, KeepawayConfig, Simulator, Vec2, World};
+use learnpnp::keepaway_sim::referee::{Referee, TURNOVER_TIME};
+use learnpnp::keepaway_sim::world::{NUM_PLAYERS, Player};
+use learnpnp::keepaway_sim::{Command, EndReason, FieldState, KeepawayConfig, Simulator, Vec2};
 
 fn cfg() -> KeepawayConfig {
     KeepawayConfig {
@@ -12,8 +12,8 @@ fn cfg() -> KeepawayConfig {
 }
 
 /// Everybody at rest in a row far from the ball at the origin.
-fn quiet_world() -> World {
-    let mut w = World::default();
+fn quiet_world() -> FieldState {
+    let mut w = FieldState::default();
     for (i, p) in w.players.iter_mut().enumerate() {
         *p = Player {
             pos: Vec2::new(-8.0 + 4.0 * i as f64, 8.0),

@@ -1,14 +1,14 @@
 //! No panics and no stalls on any input: arbitrary commands, arbitrary views.
 
-use learnpnp::keepaway::features::{FeatureThresholds, observe};
-use learnpnp::keepaway::keeper::{KeeperMemory, keeper_command};
-use learnpnp::keepaway::perception::{PlayerId, SeenBall, SeenPlayer};
-use learnpnp::keepaway::skills::{InterceptMemory, get_open, go_to_point, hold_ball, intercept, turn_to_ball};
-use learnpnp::keepaway::state_vars::StateVars;
-use learnpnp::keepaway::taker::{TakerMemory, taker_command};
-use learnpnp::keepaway::world::NUM_PLAYERS;
-use learnpnp::keepaway::{
-    BaselinePolicy, Command, KeepawayConfig, PlayerView, Simulator, Vec2, VisionMode, World, perceive,
+use learnpnp::keepaway_sim::features::{FeatureThresholds, observe};
+use learnpnp::keepaway_sim::keeper::{KeeperMemory, keeper_command};
+use learnpnp::keepaway_sim::perception::{PlayerId, SeenBall, SeenPlayer};
+use learnpnp::keepaway_sim::skills::{InterceptMemory, get_open, go_to_point, hold_ball, intercept, turn_to_ball};
+use learnpnp::keepaway_sim::state_vars::StateVars;
+use learnpnp::keepaway_sim::taker::{TakerMemory, taker_command};
+use learnpnp::keepaway_sim::world::NUM_PLAYERS;
+use learnpnp::keepaway_sim::{
+    BaselinePolicy, Command, FieldState, KeepawayConfig, PlayerView, Simulator, Vec2, VisionMode, perceive,
 };
 use proptest::prelude::*;
 
@@ -96,7 +96,7 @@ proptest! {
 
     #[test]
     fn perception_survives_any_world(view in any_view(), me in 0..NUM_PLAYERS) {
-        let mut w = World::default();
+        let mut w = FieldState::default();
         w.ball.pos = view.ball.pos;
         w.ball.vel = view.ball.vel;
         for (p, s) in w.players.iter_mut().zip(view.players.iter()) {

@@ -1,16 +1,16 @@
 //! Skills, views and abstractions on scripted situations (motion noise off).
 
-use learnpnp::keepaway::features::{FeatureThresholds, Observation, PassLineDistances, observe};
-use learnpnp::keepaway::perception::PlayerId;
-use learnpnp::keepaway::policies::{hand_coded, threshold_policy};
-use learnpnp::keepaway::skills::get_open::{congestion, grid_points, in_cone, least_congested_point};
-use learnpnp::keepaway::skills::pass::{PassState, teammates_by_distance};
-use learnpnp::keepaway::skills::predict::{Estimate, Kinematics, cycles_to_point};
-use learnpnp::keepaway::skills::{InterceptMemory, go_to_point, hold_ball, intercept};
-use learnpnp::keepaway::state_vars::StateVars;
-use learnpnp::keepaway::world::{Ball, NUM_PLAYERS, Player};
-use learnpnp::keepaway::{
-    Command, KeepawayConfig, KeeperAction, PlayerView, Simulator, Vec2, VisionMode, World, perceive,
+use learnpnp::keepaway_sim::features::{FeatureThresholds, Observation, PassLineDistances, observe};
+use learnpnp::keepaway_sim::perception::PlayerId;
+use learnpnp::keepaway_sim::policies::{hand_coded, threshold_policy};
+use learnpnp::keepaway_sim::skills::get_open::{congestion, grid_points, in_cone, least_congested_point};
+use learnpnp::keepaway_sim::skills::pass::{PassState, teammates_by_distance};
+use learnpnp::keepaway_sim::skills::predict::{Estimate, Kinematics, cycles_to_point};
+use learnpnp::keepaway_sim::skills::{InterceptMemory, go_to_point, hold_ball, intercept};
+use learnpnp::keepaway_sim::state_vars::StateVars;
+use learnpnp::keepaway_sim::world::{Ball, NUM_PLAYERS, Player};
+use learnpnp::keepaway_sim::{
+    Command, FieldState, KeepawayConfig, KeeperAction, PlayerView, Simulator, Vec2, VisionMode, perceive,
 };
 
 fn cfg() -> KeepawayConfig {
@@ -30,8 +30,8 @@ fn player(x: f64, y: f64, body: f64) -> Player {
 
 /// Keeper 0 at the origin with the ball in front; keepers 1, 2 at (6, 0) and (0, -8);
 /// takers at (3, 4) and (-7, 7).
-fn scene() -> World {
-    World {
+fn scene() -> FieldState {
+    FieldState {
         ball: Ball {
             pos: Vec2::new(0.7, 0.0),
             vel: Vec2::ZERO,
@@ -47,7 +47,7 @@ fn scene() -> World {
     }
 }
 
-fn view(w: &World, i: usize) -> PlayerView {
+fn view(w: &FieldState, i: usize) -> PlayerView {
     perceive(w, PlayerId::new(i).expect("valid id"), &cfg())
 }
 

@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use learnpnp::atomic_file::write_atomic;
-use learnpnp::keepaway::rcg::GameLog;
-use learnpnp::keepaway::replay::replay_page;
+use learnpnp::keepaway_sim::rcg::GameLog;
+use learnpnp::keepaway_sim::replay::replay_page;
 
 #[derive(Args, Debug)]
 pub struct ReplayArgs {

@@ -13,7 +13,7 @@ use learnpnp::experiment::defaults::{
 use learnpnp::experiment::options::ExperimentOptions;
 use learnpnp::experiment::ranges;
 use learnpnp::experiment::spec::Algorithm;
-use learnpnp::keepaway::params::VisionMode;
+use learnpnp::keepaway_sim::params::VisionMode;
 use learnpnp::learning::{Schedule, StepSize, ThresholdRule};
 use learnpnp::named::Named;
 

@@ -10,7 +10,7 @@ use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_
 use learnpnp::experiment::spec::ExperimentSpec;
 use learnpnp_cli::args::parse_experiment_flags;
 
-use learnpnp::keepaway::rcg::{GameLog, MAX_PLAYER};
+use learnpnp::keepaway_sim::rcg::{GameLog, MAX_PLAYER};
 use learnpnp::learning::{EpisodeMode, Learner, RandomLearner};
 use learnpnp::rng::seeded;
 

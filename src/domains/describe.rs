@@ -10,7 +10,7 @@ use super::penalty_kick::{self, PenaltyKickConfig};
 use super::sutton::{self, SuttonConfig};
 use crate::executor::{Registered, RegisteredKind, Registry};
 
-use crate::keepaway::referee::TURNOVER_TIME;
+use crate::keepaway_sim::referee::TURNOVER_TIME;
 
 /// One domain, as a plan author needs it.
 #[derive(Debug, Clone, PartialEq)]

@@ -12,7 +12,7 @@ use crate::domains::keepaway::{FixedPolicy, KeepawayDomainConfig, KeepawayMode};
 use crate::domains::parr_russell::ParrRussellConfig;
 use crate::domains::penalty_kick::{PenaltyKickConfig, Variant};
 use crate::domains::sutton::SuttonConfig;
-use crate::keepaway::params::VisionMode;
+use crate::keepaway_sim::params::VisionMode;
 use crate::learning::persist;
 use crate::named::Named;
 

@@ -17,10 +17,10 @@
 use std::time::{Duration, Instant};
 
 use criterion::Criterion;
-use learnpnp::keepaway::command::Command;
-use learnpnp::keepaway::params::KeepawayConfig;
-use learnpnp::keepaway::perception::{PlayerId, perceive};
-use learnpnp::keepaway::simulator::Simulator;
+use learnpnp::keepaway_sim::command::Command;
+use learnpnp::keepaway_sim::params::KeepawayConfig;
+use learnpnp::keepaway_sim::perception::{PlayerId, perceive};
+use learnpnp::keepaway_sim::simulator::Simulator;
 use learnpnp::learning::EpisodeStart;
 use learnpnp_system::ipc::convert::{
     CommandReading, SnapshotMeta, command_message, read_command, read_snapshot, snapshot,

@@ -4,11 +4,11 @@ use std::sync::Arc;
 
 use crate::analysis::option_label;
 use crate::executor::{Chooser, ExecError, Executor, PlanKey, Registry};
-use crate::keepaway::command::Command;
-use crate::keepaway::features::FeatureThresholds;
-use crate::keepaway::params::KeepawayConfig;
-use crate::keepaway::perception::PlayerView;
-use crate::keepaway::rcg::{ChoiceNote, KeeperNote, OptionNote};
+use crate::keepaway_sim::command::Command;
+use crate::keepaway_sim::features::FeatureThresholds;
+use crate::keepaway_sim::params::KeepawayConfig;
+use crate::keepaway_sim::perception::PlayerView;
+use crate::keepaway_sim::rcg::{ChoiceNote, KeeperNote, OptionNote};
 use crate::learning::{EpisodeStart, Learner};
 use crate::net::Marking;
 use crate::plan::Plan;

@@ -5,10 +5,10 @@ use serde::{Deserialize, Serialize};
 
 use super::world::atoms;
 use crate::domains::TaskError;
-use crate::keepaway::features::FeatureThresholds;
-use crate::keepaway::params::{KeepawayConfig, VisionMode};
-use crate::keepaway::policies::{BaselinePolicy, DEFAULT_HOLD_THRESHOLD};
-use crate::keepaway::world::NUM_KEEPERS;
+use crate::keepaway_sim::features::FeatureThresholds;
+use crate::keepaway_sim::params::{KeepawayConfig, VisionMode};
+use crate::keepaway_sim::policies::{BaselinePolicy, DEFAULT_HOLD_THRESHOLD};
+use crate::keepaway_sim::world::NUM_KEEPERS;
 use crate::named::Named;
 use crate::plan::{Plan, Vocabulary, catalog};
 

@@ -8,12 +8,12 @@ use rand::RngExt;
 use super::config::KeepawayDomainConfig;
 use super::team::{KeeperTeam, LocalTeam, TeamStep};
 use crate::domains::{EpisodeOutcome, Task, TaskError};
-use crate::keepaway::command::Command;
-use crate::keepaway::perception::{PlayerId, perceive};
-use crate::keepaway::rcg::GameLogWriter;
-use crate::keepaway::simulator::Simulator;
-use crate::keepaway::taker::{TakerMemory, taker_command};
-use crate::keepaway::world::{NUM_KEEPERS, NUM_PLAYERS, NUM_TAKERS};
+use crate::keepaway_sim::command::Command;
+use crate::keepaway_sim::perception::{PlayerId, perceive};
+use crate::keepaway_sim::rcg::GameLogWriter;
+use crate::keepaway_sim::simulator::Simulator;
+use crate::keepaway_sim::taker::{TakerMemory, taker_command};
+use crate::keepaway_sim::world::{NUM_KEEPERS, NUM_PLAYERS, NUM_TAKERS};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner};
 use crate::plan::Plan;
 use crate::rng::{SimRng, derive_seed};
@@ -87,7 +87,7 @@ impl KeepawayTask {
     }
 
     /// Plays one episode in `mode` while writing it as a RoboCup game log
-    /// (`.rcg` text, see [`crate::keepaway::rcg`]), with the plan-driven
+    /// (`.rcg` text, see [`crate::keepaway_sim::rcg`]), with the plan-driven
     /// keepers' current actions and choices where the team knows them.
     pub fn record_episode(&mut self, mode: EpisodeMode) -> Result<(EpisodeOutcome, String), TaskError> {
         self.team.set_noting(true);

@@ -3,13 +3,13 @@
 
 use crate::condition::{AtomId, AtomTable, KnowledgeBase};
 use crate::executor::World;
-use crate::keepaway::command::Command;
-use crate::keepaway::features::{FeatureThresholds, PassLineDistances};
-use crate::keepaway::params::KeepawayConfig;
-use crate::keepaway::perception::PlayerView;
-use crate::keepaway::skills::InterceptMemory;
-use crate::keepaway::skills::fastest::fastest_teammate;
-use crate::keepaway::world_model::believed;
+use crate::keepaway_sim::command::Command;
+use crate::keepaway_sim::features::{FeatureThresholds, PassLineDistances};
+use crate::keepaway_sim::params::KeepawayConfig;
+use crate::keepaway_sim::perception::PlayerView;
+use crate::keepaway_sim::skills::InterceptMemory;
+use crate::keepaway_sim::skills::fastest::fastest_teammate;
+use crate::keepaway_sim::world_model::believed;
 
 /// The atoms of a keeper's knowledge base, in id order.
 pub const ATOMS: [&str; 5] = ["HasBall", "Fastest", "Lane1Open", "Lane2Open", "TakerFar"];

@@ -10,10 +10,10 @@ use shm_layouts::{
     PlayerLayout, SENDER_SIMULATOR, SENDER_SUPERVISOR, command, control, episode, forced, mode, reject, report, state,
 };
 
-use learnpnp::keepaway::command::Command;
-use learnpnp::keepaway::geometry::Vec2;
-use learnpnp::keepaway::perception::{PlayerId, PlayerView, SeenBall, SeenPlayer};
-use learnpnp::keepaway::world::{NUM_KEEPERS, NUM_PLAYERS};
+use learnpnp::keepaway_sim::command::Command;
+use learnpnp::keepaway_sim::geometry::Vec2;
+use learnpnp::keepaway_sim::perception::{PlayerId, PlayerView, SeenBall, SeenPlayer};
+use learnpnp::keepaway_sim::world::{NUM_KEEPERS, NUM_PLAYERS};
 use learnpnp::learning::{EpisodeMode, EpisodeStart};
 
 const _: () = assert!(shm_layouts::NUM_KEEPERS == NUM_KEEPERS && shm_layouts::NUM_PLAYERS == NUM_PLAYERS);

@@ -24,11 +24,11 @@ use crate::latency::Latency;
 use learnpnp::domains::keepaway::{KeepawayDomainConfig, PlanKeeper, RunSeeds, registry};
 use learnpnp::experiment::runner::{learner_for, task_rng};
 use learnpnp::experiment::spec::ExperimentSpec;
-use learnpnp::keepaway::command::Command;
-use learnpnp::keepaway::keeper::{KeeperMemory, keeper_command};
-use learnpnp::keepaway::params::KeepawayConfig;
-use learnpnp::keepaway::perception::PlayerView;
-use learnpnp::keepaway::policies::BaselinePolicy;
+use learnpnp::keepaway_sim::command::Command;
+use learnpnp::keepaway_sim::keeper::{KeeperMemory, keeper_command};
+use learnpnp::keepaway_sim::params::KeepawayConfig;
+use learnpnp::keepaway_sim::perception::PlayerView;
+use learnpnp::keepaway_sim::policies::BaselinePolicy;
 use learnpnp::learning::EpisodeStart;
 use learnpnp::learning::persist::{self, PlanLabels, SavedValues};
 use learnpnp::plan::Plan;
@@ -513,7 +513,7 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
     let spec = context.load_spec()?;
     let config = keepaway_config(&spec)?;
     let k = settings.keeper;
-    if k >= learnpnp::keepaway::world::NUM_KEEPERS {
+    if k >= learnpnp::keepaway_sim::world::NUM_KEEPERS {
         return Err(ProcessError::Invalid(format!("there is no keeper {}", k + 1)));
     }
     let checkpoint = context.work_dir.join(checkpoint_name(k));

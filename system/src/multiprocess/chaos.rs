@@ -196,7 +196,7 @@ pub struct Chaos {
     schedule: VecDeque<(f64, FaultKind)>,
     records: Vec<ChaosRecord>,
     active: Vec<Active>,
-    agent_kills: [usize; learnpnp::keepaway::world::NUM_KEEPERS],
+    agent_kills: [usize; learnpnp::keepaway_sim::world::NUM_KEEPERS],
 }
 
 impl std::fmt::Debug for Chaos {
@@ -261,7 +261,7 @@ impl Chaos {
             schedule: schedule.into(),
             records: Vec::new(),
             active: Vec::new(),
-            agent_kills: [0; learnpnp::keepaway::world::NUM_KEEPERS],
+            agent_kills: [0; learnpnp::keepaway_sim::world::NUM_KEEPERS],
         }
     }
 
@@ -705,7 +705,7 @@ pub fn publish_garbage(namespace: &Namespace, run_id: u64) -> Result<(), String>
     let mut snapshot = floor_ping(run_id, 0);
     snapshot.players[2].vel[1] = f64::NAN;
     let mut publishers = Vec::new();
-    for k in 0..learnpnp::keepaway::world::NUM_KEEPERS {
+    for k in 0..learnpnp::keepaway_sim::world::NUM_KEEPERS {
         publishers.push(burst(
             &node,
             &services::command(k),

@@ -201,7 +201,9 @@ fn latency_table(histograms: &[Latency], summary: &SystemSummary) -> String {
         (ALL_COMPUTE.to_string(), "agent compute".to_string()),
     ]
     .into_iter()
-    .chain((0..learnpnp::keepaway::world::NUM_KEEPERS).map(|k| (compute_histogram(k), format!("  keeper {}", k + 1))));
+    .chain(
+        (0..learnpnp::keepaway_sim::world::NUM_KEEPERS).map(|k| (compute_histogram(k), format!("  keeper {}", k + 1))),
+    );
     for (name, label) in rows {
         if let Some(h) = find(histograms, &name).filter(|h| h.count() > 0) {
             let p = h.percentiles();

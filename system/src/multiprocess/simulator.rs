@@ -28,9 +28,9 @@ use learnpnp::domains::keepaway::{KeepawayDomainConfig, KeepawayTask, KeeperTeam
 use learnpnp::domains::{EpisodeOutcome, Task, TaskError};
 use learnpnp::experiment::runner::{EpisodeRecord, RunOutput, run_protocol, task_rng};
 use learnpnp::experiment::spec::{DomainSpec, ExperimentSpec};
-use learnpnp::keepaway::command::Command;
-use learnpnp::keepaway::perception::PlayerView;
-use learnpnp::keepaway::world::NUM_KEEPERS;
+use learnpnp::keepaway_sim::command::Command;
+use learnpnp::keepaway_sim::perception::PlayerView;
+use learnpnp::keepaway_sim::world::NUM_KEEPERS;
 use learnpnp::learning::{EpisodeMode, EpisodeStart};
 
 /// File name of the simulator's result in its work directory.

@@ -26,7 +26,7 @@ use crate::ipc::services::{IpcError, RunServices, SupervisorPorts, node, receive
 use crate::ipc::wait::{WaitStrategy, wake};
 use crate::latency::{Latency, LatencyError};
 use learnpnp::experiment::spec::ExperimentSpec;
-use learnpnp::keepaway::world::NUM_KEEPERS;
+use learnpnp::keepaway_sim::world::NUM_KEEPERS;
 use learnpnp::learning::persist::{self, SavedValues};
 
 /// The file in a run's work directory naming its iceoryx2 prefix and run id

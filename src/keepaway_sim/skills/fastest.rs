@@ -2,9 +2,9 @@
 //! (`createInterceptFeatures`, `getFastestInSetTo` and `predictNrCyclesToObject`).
 
 use super::predict::{Estimate, Kinematics, ball_pos_after, cycles_to_point};
-use crate::keepaway::geometry::Vec2;
-use crate::keepaway::params::KeepawayConfig;
-use crate::keepaway::perception::PlayerView;
+use crate::keepaway_sim::geometry::Vec2;
+use crate::keepaway_sim::params::KeepawayConfig;
+use crate::keepaway_sim::perception::PlayerView;
 
 /// The framework's "unknown" cycle count (`predictNrCyclesToObject` gives 101 for a
 /// player more than 40 m from the ball, or for no player at all).

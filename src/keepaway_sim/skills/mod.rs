@@ -1,11 +1,11 @@
 //! The keepaway framework's skills, as pure functions of a
-//! [`PlayerView`](crate::keepaway::perception::PlayerView) and the configuration
-//! returning a [`Command`](crate::keepaway::command::Command); passing and
+//! [`PlayerView`](crate::keepaway_sim::perception::PlayerView) and the configuration
+//! returning a [`Command`](crate::keepaway_sim::command::Command); passing and
 //! intercepting keep a small explicit memory ([`pass::PassState`],
 //! [`intercept::InterceptMemory`]).
 //!
 //! The numbers follow the framework (Stone, Kuhlmann; built on UvA Trilearn's
-//! `BasicPlayer`), collected in [`crate::keepaway::params::SkillParams`]; each skill
+//! `BasicPlayer`), collected in [`crate::keepaway_sim::params::SkillParams`]; each skill
 //! documents where it deviates.
 
 pub mod fastest;

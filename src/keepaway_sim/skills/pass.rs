@@ -1,9 +1,9 @@
 //! Passing: a multi-cycle skill with a small explicit state.
 
 use super::kick::kick_to;
-use crate::keepaway::command::Command;
-use crate::keepaway::params::KeepawayConfig;
-use crate::keepaway::perception::PlayerView;
+use crate::keepaway_sim::command::Command;
+use crate::keepaway_sim::params::KeepawayConfig;
+use crate::keepaway_sim::perception::PlayerView;
 use serde::{Deserialize, Serialize};
 
 /// The teammates (global indices) sorted by increasing distance from the viewer;

@@ -6,7 +6,7 @@
 //! the top-left and middle points clockwise from the left. They lie on the outer ring
 //! of the framework's get-open grid (15% inside the region's border: ±7 m on a
 //! 20 m region), so that a keeper there stays safely inside the region, plus the
-//! centre. "Top" is +y (see [`crate::keepaway::geometry`] on orientation).
+//! centre. "Top" is +y (see [`crate::keepaway_sim::geometry`] on orientation).
 
 use super::geometry::Vec2;
 use super::params::Region;

@@ -2,11 +2,11 @@
 //! the body, and kick it to a point with a given arrival speed.
 
 use super::predict::kick_speed_to_travel;
-use crate::keepaway::command::Command;
-use crate::keepaway::geometry::{Vec2, clamp, normalize_deg};
-use crate::keepaway::params::KeepawayConfig;
-use crate::keepaway::perception::PlayerView;
-use crate::keepaway::world::kick_rate_factor;
+use crate::keepaway_sim::command::Command;
+use crate::keepaway_sim::geometry::{Vec2, clamp, normalize_deg};
+use crate::keepaway_sim::params::KeepawayConfig;
+use crate::keepaway_sim::perception::PlayerView;
+use crate::keepaway_sim::world::kick_rate_factor;
 
 /// Kick ratio the framework uses when it repositions the ball before a kick
 /// (`kickBallCloseToBody`'s default: the ball ends 0.497 m from the centre).

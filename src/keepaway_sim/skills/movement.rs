@@ -1,10 +1,10 @@
 //! Turning and moving: turn to a point or the ball, dash to a point, go to a point.
 
 use super::predict::{Kinematics, after_turn, angle_for_turn, final_pos, turn_to_point};
-use crate::keepaway::command::Command;
-use crate::keepaway::geometry::{Vec2, normalize_deg};
-use crate::keepaway::params::KeepawayConfig;
-use crate::keepaway::perception::PlayerView;
+use crate::keepaway_sim::command::Command;
+use crate::keepaway_sim::geometry::{Vec2, normalize_deg};
+use crate::keepaway_sim::params::KeepawayConfig;
+use crate::keepaway_sim::perception::PlayerView;
 
 /// Turn the body towards `point`, seen from where one will be after `cycles`
 /// cycles of rolling (the framework's `turnBodyToPoint`); the moment compensates

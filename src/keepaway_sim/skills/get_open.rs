@@ -2,10 +2,10 @@
 
 use super::fastest::{fastest_teammate, pass_origin};
 use super::movement::{go_to_point, turn_body_to_point};
-use crate::keepaway::command::Command;
-use crate::keepaway::geometry::Vec2;
-use crate::keepaway::params::KeepawayConfig;
-use crate::keepaway::perception::PlayerView;
+use crate::keepaway_sim::command::Command;
+use crate::keepaway_sim::geometry::Vec2;
+use crate::keepaway_sim::params::KeepawayConfig;
+use crate::keepaway_sim::perception::PlayerView;
 
 /// Congestion at `p`: the sum of `1 / distance` to every other player (oneself
 /// excluded; players exactly at `p` are skipped).

@@ -3,7 +3,7 @@
 use super::command::Command;
 use super::params::{ConfigError, KeepawayConfig};
 use super::referee::{EndReason, Referee, reset_world};
-use super::world::{NUM_PLAYERS, World};
+use super::world::{FieldState, NUM_PLAYERS};
 use crate::rng::{SimRng, seeded};
 
 /// A keepaway simulator. All randomness (reset, motion noise, turn noise, movement
@@ -12,7 +12,7 @@ use crate::rng::{SimRng, seeded};
 #[derive(Clone, Debug)]
 pub struct Simulator {
     cfg: KeepawayConfig,
-    world: World,
+    world: FieldState,
     referee: Referee,
     rng: SimRng,
     ended: Option<EndReason>,
@@ -24,7 +24,7 @@ impl Simulator {
         cfg.validate()?;
         let mut sim = Simulator {
             cfg,
-            world: World::default(),
+            world: FieldState::default(),
             referee: Referee::default(),
             rng: seeded(seed),
             ended: None,
@@ -42,7 +42,7 @@ impl Simulator {
 
     /// Replaces the world state (for tests and scripted scenarios); the referee's
     /// counter and the end flag are cleared.
-    pub fn set_world(&mut self, world: World) {
+    pub fn set_world(&mut self, world: FieldState) {
         self.world = world;
         self.referee = Referee::default();
         self.ended = None;
@@ -72,7 +72,7 @@ impl Simulator {
     }
 
     /// The current state.
-    pub fn world(&self) -> &World {
+    pub fn world(&self) -> &FieldState {
         &self.world
     }
 

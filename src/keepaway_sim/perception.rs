@@ -5,7 +5,7 @@
 
 use super::geometry::{Vec2, normalize_deg, quantize};
 use super::params::{KeepawayConfig, VisionMode};
-use super::world::{NUM_KEEPERS, NUM_PLAYERS, Side, World};
+use super::world::{FieldState, NUM_KEEPERS, NUM_PLAYERS, Side};
 use serde::{Deserialize, Serialize};
 
 /// A valid global player index (`0..NUM_PLAYERS`; keepers first, then takers).
@@ -160,7 +160,7 @@ impl PlayerView {
 ///   (speed to 0.01, direction to whole degrees). One's own position and body
 ///   direction are given exactly (the framework localises from landmarks, quantised
 ///   ten times finer; this simulator does not model landmarks).
-pub fn perceive(world: &World, me: PlayerId, cfg: &KeepawayConfig) -> PlayerView {
+pub fn perceive(world: &FieldState, me: PlayerId, cfg: &KeepawayConfig) -> PlayerView {
     let mut view = PlayerView {
         cycle: world.cycle,
         me,
@@ -208,7 +208,7 @@ struct Quantiser {
 }
 
 impl Quantiser {
-    fn new(world: &World, me: PlayerId, cfg: &KeepawayConfig) -> Self {
+    fn new(world: &FieldState, me: PlayerId, cfg: &KeepawayConfig) -> Self {
         let p = &world.players[me.index()];
         Quantiser {
             pos: p.pos,
@@ -258,10 +258,10 @@ impl Quantiser {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::keepaway::world::Player;
+    use crate::keepaway_sim::world::Player;
 
-    fn world() -> World {
-        let mut w = World::default();
+    fn world() -> FieldState {
+        let mut w = FieldState::default();
         w.ball.pos = Vec2::new(3.0, 4.0);
         w.ball.vel = Vec2::new(1.0, -0.5);
         for (i, p) in w.players.iter_mut().enumerate() {

@@ -46,4 +46,4 @@ pub use perception::{PlayerId, PlayerView, perceive};
 pub use policies::BaselinePolicy;
 pub use referee::EndReason;
 pub use simulator::Simulator;
-pub use world::World;
+pub use world::FieldState;

@@ -30,7 +30,7 @@ use serde::Serialize;
 use super::command::Command;
 use super::params::KeepawayConfig;
 use super::referee::EndReason;
-use super::world::{NUM_KEEPERS, NUM_PLAYERS, NUM_TAKERS, World};
+use super::world::{FieldState, NUM_KEEPERS, NUM_PLAYERS, NUM_TAKERS};
 
 /// The header line of the logs written here.
 pub const HEADER: &str = "ULG5";
@@ -311,7 +311,7 @@ impl GameLogWriter {
 
     /// The state of `world` as the show of cycle `world.cycle`, preceded by the
     /// keepers' notes that changed since the last show (`notes[k]` for keeper k).
-    pub fn show(&mut self, world: &World, notes: &[Option<KeeperNote>]) {
+    pub fn show(&mut self, world: &FieldState, notes: &[Option<KeeperNote>]) {
         for (k, note) in notes.iter().enumerate().take(NUM_KEEPERS) {
             if note.is_some() && *note != self.notes[k] {
                 if let Some(n) = note {
@@ -371,7 +371,7 @@ impl GameLogWriter {
     /// The commands the players sent in the cycle of `world` (before it is
     /// stepped): counted, and a kick marks the player kicking (or missing the
     /// ball) in the next show.
-    pub fn commands(&mut self, world: &World, commands: &[Command; NUM_PLAYERS]) {
+    pub fn commands(&mut self, world: &FieldState, commands: &[Command; NUM_PLAYERS]) {
         for (i, cmd) in commands.iter().enumerate() {
             self.state[i] = 0;
             if !cmd.is_finite() {

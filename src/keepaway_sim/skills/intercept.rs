@@ -5,11 +5,11 @@ use super::predict::{
     Kinematics, Mover, after_command, after_turn, angle_for_turn, ball_pos_after, dash_to_point, move_command,
     pos_after, power_for_dash, turn_to_point,
 };
-use crate::keepaway::command::Command;
-use crate::keepaway::geometry::{Vec2, normalize_deg};
-use crate::keepaway::params::KeepawayConfig;
-use crate::keepaway::perception::PlayerView;
-use crate::keepaway::world::Side;
+use crate::keepaway_sim::command::Command;
+use crate::keepaway_sim::geometry::{Vec2, normalize_deg};
+use crate::keepaway_sim::params::KeepawayConfig;
+use crate::keepaway_sim::perception::PlayerView;
+use crate::keepaway_sim::world::Side;
 use serde::{Deserialize, Serialize};
 
 /// Half the pitch's length and width (105 m x 68 m), and the x of the penalty

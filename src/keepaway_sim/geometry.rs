@@ -1,6 +1,6 @@
 //! Plane geometry for the simulator.
 //!
-//! Conventions, used everywhere in [`crate::keepaway`]:
+//! Conventions, used everywhere in [`crate::keepaway_sim`]:
 //! - coordinates in metres, x to the right, y up (mathematical orientation; note that
 //!   the soccer monitor draws +y downwards, which only matters when reading figures);
 //! - **angles in degrees**, as in the soccer server's protocol and the keepaway

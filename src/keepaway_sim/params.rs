@@ -277,7 +277,7 @@ pub struct SkillParams {
     /// Hold: an opponent closer than this to the ball makes the holder shield it (5 m).
     pub hold_opponent_radius: f64,
     /// Hold: ball considered in place when this close to the framework's test point
-    /// (see [`crate::keepaway::skills::hold_ball`]) (0.3 m).
+    /// (see [`crate::keepaway_sim::skills::hold_ball`]) (0.3 m).
     pub hold_tolerance: f64,
     /// Get open: within this distance of the chosen point, just face the ball (1.5 m).
     pub get_open_buffer: f64,

@@ -2,11 +2,11 @@
 
 use super::kick::kick_ball_close_to_body;
 use super::predict::{Kinematics, after_command, turn_to_point};
-use crate::keepaway::command::Command;
-use crate::keepaway::geometry::{Vec2, normalize_deg};
-use crate::keepaway::params::KeepawayConfig;
-use crate::keepaway::perception::PlayerView;
-use crate::keepaway::world::Side;
+use crate::keepaway_sim::command::Command;
+use crate::keepaway_sim::geometry::{Vec2, normalize_deg};
+use crate::keepaway_sim::params::KeepawayConfig;
+use crate::keepaway_sim::perception::PlayerView;
+use crate::keepaway_sim::world::Side;
 
 /// The point a holder turns to once the ball is in place: the framework turns to
 /// the opponent goal of a full pitch, 52.5 m away along its own attacking

@@ -2,7 +2,7 @@
 
 use super::geometry::Vec2;
 use super::params::KeepawayConfig;
-use super::world::{Ball, NUM_KEEPERS, Player, Side, World};
+use super::world::{Ball, FieldState, NUM_KEEPERS, Player, Side};
 use crate::rng::SimRng;
 use rand::RngExt;
 use serde::{Deserialize, Serialize};
@@ -40,7 +40,7 @@ impl Referee {
     /// As in rcssserver's `KeepawayRef::analyse`, the counter is tested before this
     /// cycle's update, so an episode ends at the first check after a taker has held
     /// the ball for 4 consecutive cycles (the 5th check).
-    pub fn check(&mut self, world: &World, cfg: &KeepawayConfig) -> Option<EndReason> {
+    pub fn check(&mut self, world: &FieldState, cfg: &KeepawayConfig) -> Option<EndReason> {
         if !cfg.region.contains(world.ball.pos) {
             return Some(EndReason::Out);
         }
@@ -74,7 +74,7 @@ impl Referee {
 /// The server leaves body directions as they were at the end of the previous
 /// episode, which is effectively arbitrary; here they are drawn uniformly in
 /// `[-180, 180)` so that one episode from a seed stands for a typical one.
-pub fn reset_world(world: &mut World, cfg: &KeepawayConfig, rng: &mut SimRng) {
+pub fn reset_world(world: &mut FieldState, cfg: &KeepawayConfig, rng: &mut SimRng) {
     let hl = cfg.region.half_length();
     let hw = cfg.region.half_width();
     let mut corner = rng.random_range(0..NUM_KEEPERS);

@@ -7,10 +7,10 @@
 //! from the state of the last see message and count the cycles since; our views
 //! are current every cycle, so they start from the present state.
 
-use crate::keepaway::command::Command;
-use crate::keepaway::geometry::{Vec2, clamp, normalize_deg};
-use crate::keepaway::params::{KeepawayConfig, ServerParams};
-use crate::keepaway::perception::{SeenBall, SeenPlayer};
+use crate::keepaway_sim::command::Command;
+use crate::keepaway_sim::geometry::{Vec2, clamp, normalize_deg};
+use crate::keepaway_sim::params::{KeepawayConfig, ServerParams};
+use crate::keepaway_sim::perception::{SeenBall, SeenPlayer};
 
 /// A player's kinematic state, as used in predictions.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -1,4 +1,4 @@
-//! World state and the server's physics step (commands, movement, collisions).
+//! FieldState state and the server's physics step (commands, movement, collisions).
 
 use super::command::Command;
 use super::geometry::{Vec2, clamp, normalize_deg};
@@ -91,7 +91,7 @@ pub struct Player {
 
 /// The complete simulated state.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct World {
+pub struct FieldState {
     /// The ball.
     pub ball: Ball,
     /// Players: keepers first, then takers.
@@ -150,7 +150,7 @@ fn integrate(
     *vel *= decay;
 }
 
-impl World {
+impl FieldState {
     /// Applies one cycle of the server's physics: the players' commands, movement
     /// of every object in a shuffled order, then collisions. Increments `cycle`.
     ///
@@ -261,7 +261,7 @@ impl World {
                 params.player_size
             }
         };
-        let pos_of = |w: &World, slot: usize| {
+        let pos_of = |w: &FieldState, slot: usize| {
             if slot == 0 { w.ball.pos } else { w.players[slot - 1].pos }
         };
         // Ball against each player, then every pair of players (the server's order).

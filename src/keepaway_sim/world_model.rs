@@ -48,7 +48,7 @@ pub fn believed(view: &PlayerView, cfg: &KeepawayConfig) -> PlayerView {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::keepaway::perception::{PlayerId, SeenBall, SeenPlayer};
+    use crate::keepaway_sim::perception::{PlayerId, SeenBall, SeenPlayer};
 
     fn view(me: usize, ball: Vec2, taker: Vec2) -> PlayerView {
         let mut players = [SeenPlayer::default(); 5];
