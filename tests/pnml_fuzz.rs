@@ -2,7 +2,6 @@
 //! mutated PNML text never makes `parse` panic.
 
 use std::collections::HashSet;
-use std::path::Path;
 use std::sync::LazyLock;
 
 use learnpnp::net::{PetriNet, PlaceNode, Position, TransitionNode};

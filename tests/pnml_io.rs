@@ -2,7 +2,6 @@
 
 use crate::util::{fixture, temp_dir};
 use std::fs;
-use std::path::{Path, PathBuf};
 
 use learnpnp::net::{NetError, NodeRef, PetriNet, PlaceNode, Position, TransitionNode};
 use learnpnp::pnml::{self, Dialect, PnmlError, PnmlFileError};

@@ -3,7 +3,6 @@
 //! builder makes the same schemas as the reader.
 
 use crate::util::shipped;
-use std::path::Path;
 
 use learnpnp::plan::{Vocabulary, load_plan};
 use learnpnp::schema::{

@@ -3,7 +3,6 @@
 //! and 3.7), and a schema learning exactly as the equivalent Petri Net Plan.
 
 use crate::util::shipped;
-use std::path::Path;
 use std::sync::Arc;
 
 use learnpnp::condition::{Expr, parse_condition};

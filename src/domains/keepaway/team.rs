@@ -1,7 +1,8 @@
 //! The keepers of an episode, whoever decides for them: the [`KeeperTeam`]
 //! interface, and [`LocalTeam`], plan-driven and fixed-policy keepers in this
 //! process. Keeper processes behind shared memory implement the same interface
-//! (`crate::ipc`), so both run the same episode loop.
+//! (`RemoteTeam`, in the simulator process of the `learnpnp-system` crate), so
+//! both run the same episode loop.
 
 use std::sync::Arc;
 
