@@ -13,6 +13,7 @@ use learnpnp::domains::parr_russell::{self, ParrRussell, ParrRussellConfig};
 use learnpnp::experiment::defaults::default_learner;
 use learnpnp::experiment::spec::{Algorithm, DomainSpec};
 use learnpnp::learning::EpisodeMode;
+use learnpnp::named::Named;
 use learnpnp::plan::{Vocabulary, load_plan};
 use learnpnp::rng::seeded;
 

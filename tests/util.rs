@@ -2,7 +2,6 @@
 //! crate's `tests/main.rs` includes this file as its `util` module).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
@@ -45,15 +44,6 @@ pub fn temp_dir(tag: &str) -> PathBuf {
 /// Output bytes as text (lossy).
 pub fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
-}
-
-/// Runs the `learnpnp` command (built with the cli crate, whose tests alone call this).
-pub fn learnpnp(args: &[&str]) -> Output {
-    let command = option_env!("CARGO_BIN_EXE_learnpnp").expect("the learnpnp command is the cli crate's");
-    Command::new(command)
-        .args(args)
-        .output()
-        .expect("the learnpnp command runs")
 }
 
 /// Runs `spec` with `threads` workers, no progress bar and no stop flag.

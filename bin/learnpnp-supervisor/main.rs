@@ -14,6 +14,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use learnpnp::experiment::options::DomainName;
 use learnpnp::experiment::spec::Algorithm;
+use learnpnp::named::Named;
 use learnpnp::result_dir::ResultDir;
 use learnpnp_cli::args::ExperimentFlags;
 use learnpnp_cli::interrupt::Interrupt;

@@ -2,9 +2,10 @@
 //! corrupt value tables, closed pipes. Each gets one clear error (exit 2) or
 //! a correct result.
 
-use crate::util::{learnpnp, temp_dir, text};
+use crate::learnpnp;
+use crate::util::{temp_dir, text};
 use std::io::Read;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
 use learnpnp::learning::persist;

@@ -1,8 +1,8 @@
 //! The `learnpnp` binary end to end: exit codes and the files it writes.
 
-use crate::util::{learnpnp, shipped_arg, temp_dir, text};
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use crate::learnpnp;
+use crate::util::{shipped_arg, temp_dir, text};
+use std::path::Path;
 
 use learnpnp::plan::PlanBuilder;
 use learnpnp::pnml::{self, Dialect};

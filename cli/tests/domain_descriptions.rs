@@ -2,9 +2,7 @@
 //! domain offers, and what they say matches the domains' own plans; a plan
 //! naming an action no domain registers is refused with the registered names.
 
-use crate::util::learnpnp;
-use std::path::Path;
-use std::process::{Command, Output};
+use crate::learnpnp;
 
 use learnpnp::domains::describe::{domain, domains};
 use learnpnp::plan::{PlanBuilder, Vocabulary, load_plan};

@@ -2,7 +2,7 @@
 //! the numbers of an uninterrupted experiment, bit for bit.
 
 use crate::util::temp_dir;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::AtomicBool;
 
 use learnpnp::experiment::checkpoint::{CHECKPOINT, ResumePoint, resume_point};

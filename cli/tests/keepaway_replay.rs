@@ -6,8 +6,6 @@ use std::sync::Arc;
 
 use learnpnp::domains::keepaway::{KeepawayDomainConfig, KeepawayMode, KeepawayTask};
 use learnpnp::experiment::options::DomainName;
-use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
-use learnpnp::experiment::spec::ExperimentSpec;
 use learnpnp_cli::args::parse_experiment_flags;
 
 use learnpnp::keepaway_sim::rcg::{GameLog, MAX_PLAYER};

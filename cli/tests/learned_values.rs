@@ -3,9 +3,8 @@
 //! `learnpnp dot --values` writes each option's value and updates on the plan,
 //! marking the greedy one; both read the same grouping.
 
-use crate::util::{learnpnp, shipped_arg, temp_dir};
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use crate::learnpnp;
+use crate::util::{shipped_arg, temp_dir};
 
 fn ok(args: &[&str]) -> String {
     let out = learnpnp(args);

@@ -5,6 +5,16 @@
 #[path = "../../tests/util.rs"]
 mod util;
 
+use std::process::{Command, Output};
+
+/// Runs the `learnpnp` command with `args`.
+fn learnpnp(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_learnpnp"))
+        .args(args)
+        .output()
+        .expect("the learnpnp command runs")
+}
+
 mod bad_input;
 mod cli;
 mod domain_descriptions;

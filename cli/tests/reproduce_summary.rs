@@ -7,8 +7,6 @@ use learnpnp::experiment::options::DomainName;
 use learnpnp::experiment::output::{greedy_text, summary};
 use learnpnp::experiment::presets;
 use learnpnp::experiment::report::summary_markdown;
-use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
-use learnpnp::experiment::spec::ExperimentSpec;
 use learnpnp_cli::args::parse_experiment_flags;
 
 #[test]

@@ -1,9 +1,10 @@
 //! Result directories through the binary: one writer per directory, checked
 //! before any work, and never a mix of two runs whatever is killed when.
 
-use crate::util::{learnpnp, temp_dir, text};
+use crate::learnpnp;
+use crate::util::{temp_dir, text};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
+use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use learnpnp::result_dir::{Contents, ResultDir};

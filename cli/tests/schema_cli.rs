@@ -1,9 +1,9 @@
 //! Plan schemas through the `learnpnp` binary: the process listing and drawing,
 //! checks, and experiments in every domain with a schema as the plan.
 
-use crate::util::{learnpnp, shipped_arg, temp_dir, text};
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use crate::learnpnp;
+use crate::util::{shipped_arg, temp_dir, text};
+use std::path::Path;
 
 #[test]
 fn schema_lists_the_constructed_process() {
