@@ -1,76 +1,13 @@
 //! The executor's operational semantics (thesis 5.3) on small plans built in code.
 
+use crate::util::{LogWorld as Log, Timed};
 use std::sync::Arc;
 
-use learnpnp::condition::{AtomId, AtomTable, BitKnowledgeBase, KnowledgeBase};
-use learnpnp::executor::{Action, Chooser, ExecError, Executor, PlanKey, RandomChooser, Registry, Status, World};
+use learnpnp::condition::{AtomId, AtomTable, BitKnowledgeBase};
+use learnpnp::executor::{Chooser, ExecError, Executor, PlanKey, RandomChooser, Registry, Status};
 use learnpnp::net::Marking;
 use learnpnp::plan::{Plan, PlanBuilder, Vocabulary};
 use learnpnp::rng::seeded;
-
-/// A world that logs every action call and pays a reward per step.
-#[derive(Default)]
-struct Log {
-    kb: BitKnowledgeBase,
-    lines: Vec<String>,
-    reward_per_step: f64,
-}
-
-impl KnowledgeBase for Log {
-    fn holds(&self, atom: AtomId) -> bool {
-        self.kb.holds(atom)
-    }
-}
-
-impl World for Log {
-    fn take_reward(&mut self) -> f64 {
-        self.reward_per_step
-    }
-}
-
-/// An action lasting `n` steps, named `name_n`.
-struct Timed {
-    name: String,
-    steps: u32,
-    done: u32,
-}
-
-impl Timed {
-    fn new(name: &str) -> Self {
-        let steps = name.rsplit('_').next().and_then(|n| n.parse().ok()).unwrap_or(1);
-        Timed {
-            name: name.to_string(),
-            steps,
-            done: 0,
-        }
-    }
-}
-
-impl Action<Log> for Timed {
-    fn reset(&mut self) {
-        self.done = 0;
-    }
-    fn start(&mut self, w: &mut Log) {
-        self.done = 0;
-        w.lines.push(format!("start {}", self.name));
-    }
-    fn step(&mut self, w: &mut Log) {
-        self.done += 1;
-        w.lines.push(format!("step {}", self.name));
-    }
-    fn end(&mut self, w: &mut Log) {
-        w.lines.push(format!("end {}", self.name));
-    }
-    fn interrupt(&mut self, w: &mut Log) {
-        w.lines.push(format!("interrupt {}", self.name));
-    }
-    fn finished(&self, _: &Log) -> bool {
-        self.done >= self.steps
-    }
-    fn condition(&self, index: usize, _: &Log) -> bool {
-        index == 0 && self.done >= 1
-    }
-}
 
 fn registry() -> Registry<Log> {
     let mut r = Registry::new();

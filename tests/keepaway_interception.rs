@@ -2,6 +2,7 @@
 //! interception one and two cycles away (motion noise off), the fastest teammate,
 //! the interception memory, and takers winning the ball from a holding keeper.
 
+use crate::util::{noiseless, player};
 use learnpnp::keepaway_sim::geometry::normalize_deg;
 use learnpnp::keepaway_sim::keeper::{KeeperMemory, keeper_command};
 use learnpnp::keepaway_sim::perception::PlayerId;
@@ -9,25 +10,10 @@ use learnpnp::keepaway_sim::policies::BaselinePolicy;
 use learnpnp::keepaway_sim::skills::fastest::{fastest_teammate, pass_origin};
 use learnpnp::keepaway_sim::skills::intercept::{InterceptMemory, intercept, intercept_close};
 use learnpnp::keepaway_sim::taker::{TakerMemory, taker_command};
-use learnpnp::keepaway_sim::world::{Ball, NUM_PLAYERS, Player};
+use learnpnp::keepaway_sim::world::{Ball, NUM_PLAYERS};
 use learnpnp::keepaway_sim::{
     Command, EndReason, FieldState, KeepawayConfig, PlayerView, Simulator, Vec2, perceive, run_episode,
 };
-
-fn quiet() -> KeepawayConfig {
-    KeepawayConfig {
-        motion_noise: false,
-        ..KeepawayConfig::default()
-    }
-}
-
-fn player(x: f64, y: f64, body: f64) -> Player {
-    Player {
-        pos: Vec2::new(x, y),
-        vel: Vec2::ZERO,
-        body,
-    }
-}
 
 /// Player `me` at the origin facing `body`, the ball at `ball` moving at `vel`,
 /// everybody else at least 8 m away.
@@ -54,7 +40,7 @@ fn view(w: &FieldState, i: usize, cfg: &KeepawayConfig) -> PlayerView {
 /// Runs `cycles` cycles in which player `me` intercepts and nobody else acts;
 /// returns the commands and the final world.
 fn run_intercept(w: FieldState, me: usize, cycles: usize) -> (Vec<Command>, FieldState) {
-    let cfg = quiet();
+    let cfg = noiseless();
     let mut sim = Simulator::new(cfg, 1).expect("valid config");
     sim.set_world(w);
     let mut memory = InterceptMemory::default();
@@ -73,7 +59,7 @@ fn a_ball_one_dash_away_is_reached_with_one_dash() {
     // The ball 1.6 m ahead at rest: the framework's first close option is a dash
     // to the point of the body line next to the ball, farther forward (2.1 m),
     // which asks for full power and ends 1.0 m from the ball.
-    let cfg = quiet();
+    let cfg = noiseless();
     let w = alone(0, 0.0, Vec2::new(1.6, 0.0), Vec2::ZERO);
     let close = intercept_close(&view(&w, 0, &cfg), &cfg);
     assert_eq!(close, Some(Command::Dash { power: 100.0 }));
@@ -90,7 +76,7 @@ fn a_ball_two_cycles_away_comes_while_the_interceptor_turns() {
     // ball in two cycles without moving, so the framework turns to its heading
     // (its own direction 0) and lets the ball come. For a keeper that is +x, for
     // a taker (the mirrored right side) -x.
-    let cfg = quiet();
+    let cfg = noiseless();
     for (me, dir) in [(0usize, 1.0f64), (3, -1.0)] {
         let w = alone(me, 90.0, Vec2::new(2.5 * dir, 0.0), Vec2::new(-dir, 0.0));
         let close = intercept_close(&view(&w, me, &cfg), &cfg);
@@ -108,7 +94,7 @@ fn a_ball_two_cycles_away_comes_while_the_interceptor_turns() {
 
 #[test]
 fn a_far_rolling_ball_is_run_down() {
-    let cfg = quiet();
+    let cfg = noiseless();
     let w = alone(0, 90.0, Vec2::new(-6.0, 2.0), Vec2::new(0.8, -0.2));
     let mut sim = Simulator::new(cfg, 1).expect("valid config");
     sim.set_world(w);
@@ -131,7 +117,7 @@ fn a_far_rolling_ball_is_run_down() {
 
 #[test]
 fn the_interception_point_is_forgotten_after_two_idle_cycles() {
-    let cfg = quiet();
+    let cfg = noiseless();
     let w = alone(0, 0.0, Vec2::new(5.0, 3.0), Vec2::new(0.5, 0.0));
     let v = view(&w, 0, &cfg);
     let mut memory = InterceptMemory {
@@ -155,7 +141,7 @@ fn the_interception_point_is_forgotten_after_two_idle_cycles() {
 
 #[test]
 fn the_fastest_teammate_is_the_one_who_gets_there_first() {
-    let cfg = quiet();
+    let cfg = noiseless();
     // Keeper 0 next to the ball at rest: it is the fastest, for every keeper.
     let w = alone(0, 0.0, Vec2::new(0.5, 0.0), Vec2::ZERO);
     for k in 0..3 {

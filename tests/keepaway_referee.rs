@@ -1,15 +1,9 @@
 //! The keepaway referee: end conditions, the possession counter, the reset.
 
+use crate::util::noiseless;
 use learnpnp::keepaway_sim::referee::{Referee, TURNOVER_TIME};
 use learnpnp::keepaway_sim::world::{NUM_PLAYERS, Player};
 use learnpnp::keepaway_sim::{Command, EndReason, FieldState, KeepawayConfig, Simulator, Vec2};
-
-fn cfg() -> KeepawayConfig {
-    KeepawayConfig {
-        motion_noise: false,
-        ..KeepawayConfig::default()
-    }
-}
 
 /// Everybody at rest in a row far from the ball at the origin.
 fn quiet_world() -> FieldState {
@@ -34,7 +28,7 @@ fn ball_out_in_x_and_in_y() {
         Vec2::new(0.0, 0.5),
         Vec2::new(0.0, -0.5),
     ] {
-        let mut sim = Simulator::new(cfg(), 1).expect("valid config");
+        let mut sim = Simulator::new(noiseless(), 1).expect("valid config");
         let mut w = quiet_world();
         w.ball.pos = vel.with_norm(9.8);
         w.ball.vel = vel;
@@ -47,7 +41,7 @@ fn ball_out_in_x_and_in_y() {
         assert_eq!(sim.episode_cycles(), 1);
     }
     // The boundary itself is out (|x| >= 10), just inside is not.
-    let c = cfg();
+    let c = noiseless();
     let mut w = quiet_world();
     w.ball.pos = Vec2::new(10.0, 0.0);
     assert_eq!(Referee::default().check(&w, &c), Some(EndReason::Out));
@@ -59,7 +53,7 @@ fn ball_out_in_x_and_in_y() {
 
 #[test]
 fn taken_after_four_cycles_of_taker_possession() {
-    let c = cfg();
+    let c = noiseless();
     let mut w = quiet_world();
     w.players[3].pos = Vec2::new(1.0, 0.0); // a taker within 1.085 of the ball
     let mut r = Referee::default();
@@ -85,7 +79,7 @@ fn taken_after_four_cycles_of_taker_possession() {
 
 #[test]
 fn a_taker_beats_a_keeper() {
-    let c = cfg();
+    let c = noiseless();
     let mut w = quiet_world();
     w.players[0].pos = Vec2::new(-0.8, 0.0); // keeper within reach
     w.players[4].pos = Vec2::new(0.8, 0.0); // taker within reach
@@ -96,7 +90,7 @@ fn a_taker_beats_a_keeper() {
 
 #[test]
 fn counter_reset_by_a_lone_keeper_and_kept_when_nobody_is_near() {
-    let c = cfg();
+    let c = noiseless();
     let mut taker_near = quiet_world();
     taker_near.players[3].pos = Vec2::new(0.0, 1.0);
     let mut keeper_near = quiet_world();
@@ -124,7 +118,7 @@ fn counter_reset_by_a_lone_keeper_and_kept_when_nobody_is_near() {
 fn cycle_limit() {
     let c = KeepawayConfig {
         max_episode_cycles: Some(3),
-        ..cfg()
+        ..noiseless()
     };
     let mut sim = Simulator::new(c, 3).expect("valid config");
     sim.set_world(quiet_world());

@@ -1,5 +1,6 @@
 //! Skills, views and abstractions on scripted situations (motion noise off).
 
+use crate::util::{noiseless, player};
 use learnpnp::keepaway_sim::features::{FeatureThresholds, Observation, PassLineDistances, observe};
 use learnpnp::keepaway_sim::perception::PlayerId;
 use learnpnp::keepaway_sim::policies::{hand_coded, threshold_policy};
@@ -8,25 +9,10 @@ use learnpnp::keepaway_sim::skills::pass::{PassState, teammates_by_distance};
 use learnpnp::keepaway_sim::skills::predict::{Estimate, Kinematics, cycles_to_point};
 use learnpnp::keepaway_sim::skills::{InterceptMemory, go_to_point, hold_ball, intercept};
 use learnpnp::keepaway_sim::state_vars::StateVars;
-use learnpnp::keepaway_sim::world::{Ball, NUM_PLAYERS, Player};
+use learnpnp::keepaway_sim::world::{Ball, NUM_PLAYERS};
 use learnpnp::keepaway_sim::{
     Command, FieldState, KeepawayConfig, KeeperAction, PlayerView, Simulator, Vec2, VisionMode, perceive,
 };
-
-fn cfg() -> KeepawayConfig {
-    KeepawayConfig {
-        motion_noise: false,
-        ..KeepawayConfig::default()
-    }
-}
-
-fn player(x: f64, y: f64, body: f64) -> Player {
-    Player {
-        pos: Vec2::new(x, y),
-        vel: Vec2::ZERO,
-        body,
-    }
-}
 
 /// Keeper 0 at the origin with the ball in front; keepers 1, 2 at (6, 0) and (0, -8);
 /// takers at (3, 4) and (-7, 7).
@@ -48,7 +34,7 @@ fn scene() -> FieldState {
 }
 
 fn view(w: &FieldState, i: usize) -> PlayerView {
-    perceive(w, PlayerId::new(i).expect("valid id"), &cfg())
+    perceive(w, PlayerId::new(i).expect("valid id"), &noiseless())
 }
 
 fn id(i: usize) -> PlayerId {
@@ -129,7 +115,7 @@ fn teammates_sorted_by_distance() {
 
 #[test]
 fn hold_keeps_the_ball_for_many_cycles() {
-    let c = cfg();
+    let c = noiseless();
     let mut sim = Simulator::new(c, 1).expect("valid config");
     let mut w = scene();
     // Takers far away and standing still.
@@ -155,7 +141,7 @@ fn hold_keeps_the_ball_for_many_cycles() {
 
 #[test]
 fn hold_shields_the_ball_from_a_close_taker() {
-    let c = cfg();
+    let c = noiseless();
     let mut w = scene();
     w.players[3] = player(2.5, 0.0, 180.0); // right in front, facing the keeper
     let v = view(&w, 0);
@@ -176,7 +162,7 @@ fn hold_shields_the_ball_from_a_close_taker() {
 
 #[test]
 fn pass_reaches_the_receiver() {
-    let c = cfg();
+    let c = noiseless();
     let mut sim = Simulator::new(c, 1).expect("valid config");
     let mut w = scene();
     w.players[3] = player(-8.0, 8.0, 0.0);
@@ -216,7 +202,7 @@ fn pass_reaches_the_receiver() {
 
 #[test]
 fn intercept_runs_to_a_rolling_ball() {
-    let c = cfg();
+    let c = noiseless();
     let mut sim = Simulator::new(c, 1).expect("valid config");
     let mut w = scene();
     w.players[0] = player(-5.0, -5.0, 90.0); // facing away from the ball's path
@@ -243,7 +229,7 @@ fn intercept_runs_to_a_rolling_ball() {
 
 #[test]
 fn go_to_point_gets_there() {
-    let c = cfg();
+    let c = noiseless();
     let mut sim = Simulator::new(c, 1).expect("valid config");
     let mut w = scene();
     w.players[2] = player(0.0, -8.0, -170.0);
@@ -259,7 +245,7 @@ fn go_to_point_gets_there() {
 
 #[test]
 fn get_open_avoids_blocked_lanes() {
-    let c = cfg();
+    let c = noiseless();
     let w = scene();
     let v = view(&w, 1);
     let from = w.ball.pos;
@@ -279,7 +265,7 @@ fn get_open_avoids_blocked_lanes() {
 
 #[test]
 fn cycles_to_reach_a_point() {
-    let c = cfg();
+    let c = noiseless();
     let at_rest = Kinematics {
         pos: Vec2::ZERO,
         vel: Vec2::ZERO,
@@ -321,7 +307,7 @@ fn views_serialise_and_reject_bad_ids() {
 fn quantised_views_are_close_to_the_truth() {
     let c = KeepawayConfig {
         vision: VisionMode::Quantised,
-        ..cfg()
+        ..noiseless()
     };
     let mut w = scene();
     w.ball.vel = Vec2::new(1.2, 0.4);

@@ -2,6 +2,7 @@
 //! writer; every malformed input is refused with its line and token; the
 //! builder makes the same schemas as the reader.
 
+use crate::util::SHIPPED_SCHEMAS;
 use crate::util::shipped;
 
 use learnpnp::plan::{Vocabulary, load_plan};
@@ -10,20 +11,9 @@ use learnpnp::schema::{
 };
 use proptest::prelude::*;
 
-const SHIPPED: [&str; 8] = [
-    "football",
-    "football_choice",
-    "penalty_kick",
-    "penalty_kick_restructured",
-    "parr_russell",
-    "sutton",
-    "keepaway_pass",
-    "keepaway_position",
-];
-
 #[test]
 fn shipped_schemas_round_trip_through_the_writer() {
-    for name in SHIPPED {
+    for name in SHIPPED_SCHEMAS {
         let schema = read_schema(&shipped(&format!("{name}.schema"))).unwrap_or_else(|e| panic!("{e}"));
         let text = write_schema(&schema);
         let again = parse_schema(&text).unwrap_or_else(|e| panic!("{name}: {e}\n{text}"));
@@ -38,7 +28,7 @@ fn shipped_schemas_round_trip_through_the_writer() {
 
 #[test]
 fn shipped_schemas_load_as_plans() {
-    for name in SHIPPED {
+    for name in SHIPPED_SCHEMAS {
         let plan = load_plan(&shipped(&format!("{name}.schema")), Vocabulary::Open).unwrap_or_else(|e| panic!("{e}"));
         assert!(plan.schema_process().is_some(), "{name}");
         assert_eq!(
@@ -246,7 +236,7 @@ proptest! {
     /// Mutilated shipped schemas never panic: they load or give a line-numbered error.
     #[test]
     fn mutilated_schemas_never_panic(cut in 0usize..2000, insert in "[ -~\n]{0,12}", which in 0usize..8) {
-        let text = std::fs::read_to_string(shipped(SHIPPED[which])).unwrap();
+        let text = std::fs::read_to_string(shipped(&format!("{}.schema", SHIPPED_SCHEMAS[which]))).unwrap();
         let at = text.char_indices().map(|(i, _)| i).nth(cut % text.chars().count()).unwrap_or(0);
         let mut broken = text.clone();
         broken.insert_str(at, &insert);

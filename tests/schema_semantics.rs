@@ -4,10 +4,11 @@
 //! absorbing; sub-machines learn on their own and their reward accrues to the
 //! calling state.
 
+use crate::util::{LogWorld as Log, Timed};
 use std::sync::Arc;
 
-use learnpnp::condition::{AtomId, AtomTable, BitKnowledgeBase, KnowledgeBase};
-use learnpnp::executor::{Action, Chooser, ExecError, Executor, PlanKey, Registry, Status, World};
+use learnpnp::condition::{AtomId, AtomTable, BitKnowledgeBase};
+use learnpnp::executor::{Chooser, ExecError, Executor, PlanKey, Registry, Status};
 use learnpnp::learning::{Assessment, EpisodeStart, Learner, Schedule, Sigma, SoSmc, SoSmcConfig, StepSize};
 use learnpnp::net::Marking;
 use learnpnp::plan::{Plan, Vocabulary};
@@ -15,13 +16,6 @@ use learnpnp::rng::seeded;
 use learnpnp::schema::{Process, parse_schema};
 
 const ATOMS: [&str; 8] = ["go", "tick", "stop", "close", "facing", "far", "e1", "e2"];
-
-/// A world that logs every action call and pays a reward per step.
-struct Log {
-    kb: BitKnowledgeBase,
-    lines: Vec<String>,
-    reward_per_step: f64,
-}
 
 impl Log {
     fn new() -> Self {
@@ -43,54 +37,10 @@ impl Log {
     }
 }
 
-impl KnowledgeBase for Log {
-    fn holds(&self, atom: AtomId) -> bool {
-        self.kb.holds(atom)
-    }
-}
-
-impl World for Log {
-    fn take_reward(&mut self) -> f64 {
-        self.reward_per_step
-    }
-}
-
-/// An action lasting `n` steps, named `name_n`.
-struct Timed {
-    name: String,
-    steps: u32,
-    done: u32,
-}
-
-impl Action<Log> for Timed {
-    fn reset(&mut self) {
-        self.done = 0;
-    }
-    fn start(&mut self, w: &mut Log) {
-        self.done = 0;
-        w.lines.push(format!("start {}", self.name));
-    }
-    fn step(&mut self, w: &mut Log) {
-        self.done += 1;
-        w.lines.push(format!("step {}", self.name));
-    }
-    fn end(&mut self, w: &mut Log) {
-        w.lines.push(format!("end {}", self.name));
-    }
-    fn finished(&self, _: &Log) -> bool {
-        self.done >= self.steps
-    }
-}
-
 fn registry() -> Registry<Log> {
-    let timed = |name: &str| Timed {
-        name: name.to_string(),
-        steps: name.rsplit('_').next().and_then(|n| n.parse().ok()).unwrap_or(1),
-        done: 0,
-    };
     let mut r = Registry::new();
-    r.family("act", &[], timed);
-    r.family("keep", &[], timed);
+    r.family("act", &[], Timed::new);
+    r.family("keep", &[], Timed::new);
     r
 }
 

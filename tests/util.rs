@@ -4,8 +4,12 @@
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use learnpnp::condition::{AtomId, BitKnowledgeBase, KnowledgeBase};
+use learnpnp::executor::{Action, World};
 use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
 use learnpnp::experiment::spec::ExperimentSpec;
+use learnpnp::keepaway_sim::world::Player;
+use learnpnp::keepaway_sim::{KeepawayConfig, Vec2};
 
 /// The workspace's root directory (where `plans/` and `tests/fixtures/` are).
 pub fn root() -> &'static Path {
@@ -54,4 +58,102 @@ pub fn run_quietly(spec: &ExperimentSpec, threads: usize) -> ExperimentOutput {
         stop: None,
     };
     run_experiment(spec, options, Completed::default()).expect("the experiment runs")
+}
+
+/// The shipped plan schemas (`plans/NAME.schema`).
+pub const SHIPPED_SCHEMAS: [&str; 8] = [
+    "football",
+    "football_choice",
+    "penalty_kick",
+    "penalty_kick_restructured",
+    "parr_russell",
+    "sutton",
+    "keepaway_pass",
+    "keepaway_position",
+];
+
+/// Keepaway's configuration without the server's movement noise.
+pub fn noiseless() -> KeepawayConfig {
+    KeepawayConfig {
+        motion_noise: false,
+        ..KeepawayConfig::default()
+    }
+}
+
+/// A player standing at `(x, y)`, facing `body` degrees.
+pub fn player(x: f64, y: f64, body: f64) -> Player {
+    Player {
+        pos: Vec2::new(x, y),
+        vel: Vec2::ZERO,
+        body,
+    }
+}
+
+/// A world that logs every action call and pays a fixed reward per step.
+#[derive(Default)]
+pub struct LogWorld {
+    /// The atoms' truth.
+    pub kb: BitKnowledgeBase,
+    /// What the actions were told, in order (`start act_2`, `step act_2`, ...).
+    pub lines: Vec<String>,
+    /// The reward of every step.
+    pub reward_per_step: f64,
+}
+
+impl KnowledgeBase for LogWorld {
+    fn holds(&self, atom: AtomId) -> bool {
+        self.kb.holds(atom)
+    }
+}
+
+impl World for LogWorld {
+    fn take_reward(&mut self) -> f64 {
+        self.reward_per_step
+    }
+}
+
+/// An action lasting `n` steps, named `name_n`, that logs its calls; its
+/// declared condition 0 holds once it has stepped.
+pub struct Timed {
+    name: String,
+    steps: u32,
+    done: u32,
+}
+
+impl Timed {
+    /// The action called `name`.
+    pub fn new(name: &str) -> Self {
+        let steps = name.rsplit('_').next().and_then(|n| n.parse().ok()).unwrap_or(1);
+        Timed {
+            name: name.to_string(),
+            steps,
+            done: 0,
+        }
+    }
+}
+
+impl Action<LogWorld> for Timed {
+    fn reset(&mut self) {
+        self.done = 0;
+    }
+    fn start(&mut self, w: &mut LogWorld) {
+        self.done = 0;
+        w.lines.push(format!("start {}", self.name));
+    }
+    fn step(&mut self, w: &mut LogWorld) {
+        self.done += 1;
+        w.lines.push(format!("step {}", self.name));
+    }
+    fn end(&mut self, w: &mut LogWorld) {
+        w.lines.push(format!("end {}", self.name));
+    }
+    fn interrupt(&mut self, w: &mut LogWorld) {
+        w.lines.push(format!("interrupt {}", self.name));
+    }
+    fn finished(&self, _: &LogWorld) -> bool {
+        self.done >= self.steps
+    }
+    fn condition(&self, index: usize, _: &LogWorld) -> bool {
+        index == 0 && self.done >= 1
+    }
 }

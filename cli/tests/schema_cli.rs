@@ -2,7 +2,7 @@
 //! checks, and experiments in every domain with a schema as the plan.
 
 use crate::learnpnp;
-use crate::util::{shipped_arg, temp_dir, text};
+use crate::util::{SHIPPED_SCHEMAS, shipped_arg, temp_dir, text};
 use std::path::Path;
 
 #[test]
@@ -40,16 +40,7 @@ fn schema_dot_and_dot_draw_the_process() {
 
 #[test]
 fn check_exit_codes_on_schemas() {
-    for name in [
-        "football",
-        "football_choice",
-        "penalty_kick",
-        "penalty_kick_restructured",
-        "parr_russell",
-        "sutton",
-        "keepaway_pass",
-        "keepaway_position",
-    ] {
+    for name in SHIPPED_SCHEMAS {
         let out = learnpnp(&["check", &shipped_arg(&format!("{name}.schema"))]);
         assert_eq!(out.status.code(), Some(0), "{name}: {}", text(&out.stdout));
         assert!(text(&out.stdout).contains("result: passed"));
