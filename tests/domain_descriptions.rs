@@ -6,7 +6,8 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 use learnpnp::domains::describe::{domain, domains};
-use learnpnp::plan::{PlanBuilder, Vocabulary, load_plan};
+use learnpnp::plan::{PlanBuilder, Vocabulary};
+use learnpnp::plan_file::load_plan;
 use learnpnp::pnml::{self, Dialect};
 
 fn learnpnp(args: &[&str]) -> Output {

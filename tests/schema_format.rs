@@ -4,7 +4,8 @@
 
 use std::path::Path;
 
-use learnpnp::plan::{Vocabulary, load_plan};
+use learnpnp::plan::Vocabulary;
+use learnpnp::plan_file::load_plan;
 use learnpnp::schema::{
     Process, SchemaBuilder, SchemaFileError, StateKind, load_schema_plan, parse_schema, read_schema, write_schema,
 };

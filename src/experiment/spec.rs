@@ -18,7 +18,8 @@ use crate::learning::{
     Assessment, Exploration, Learner, Mcesp, McespConfig, RandomLearner, Sigma, SoSmc, SoSmcConfig, StepSize, TdConfig,
     TdLearner,
 };
-use crate::plan::{LoadError, Plan, Vocabulary, load_plan};
+use crate::plan::{Plan, Vocabulary};
+use crate::plan_file::{LoadError, load_plan};
 use crate::result_dir::ResultDirError;
 use crate::rng::SimRng;
 use crate::schema;
