@@ -1,6 +1,8 @@
 //! A Petri Net Plan: a net whose labels are interpreted as actions, goals and guards.
 
+use std::any::Any;
 use std::collections::HashMap;
+use std::fmt;
 use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
@@ -103,7 +105,16 @@ pub struct Plan {
     internal: Vec<InternalCondition>,
     atoms: AtomTable,
     warnings: Vec<PlanWarning>,
-    schema: Option<Arc<crate::schema::Process>>,
+    origin: Option<Arc<dyn PlanOrigin>>,
+}
+
+/// What a plan was constructed from when it is the process of another model
+/// (a plan schema's, thesis chapter 3), carried by the plan so that whoever
+/// knows that model's kind (the executor) can run it with its own semantics.
+pub(crate) trait PlanOrigin: Any + Send + Sync + fmt::Debug {
+    /// The other plans whose markings a learner of the plan sees, in plan key
+    /// order after the plan itself (a schema's other machines).
+    fn called_plans(&self) -> Vec<&Plan>;
 }
 
 impl Plan {
@@ -137,32 +148,30 @@ impl Plan {
             internal,
             atoms,
             warnings,
-            schema: None,
+            origin: None,
             net,
         })
     }
 
-    /// This plan, executed as the controllable process of a plan schema (thesis
-    /// chapter 3) rather than as a Petri Net Plan: its net is the process's.
-    pub(crate) fn with_schema_process(mut self, process: Arc<crate::schema::Process>) -> Self {
-        self.schema = Some(process);
+    /// This plan, constructed from `origin` (the process of a plan schema,
+    /// thesis chapter 3) rather than read as a Petri Net Plan: its net is the
+    /// origin's.
+    pub(crate) fn with_origin(mut self, origin: Arc<dyn PlanOrigin>) -> Self {
+        self.origin = Some(origin);
         self
     }
 
-    /// The process of the plan schema this plan was constructed from, if any;
-    /// the executor then follows the schema's semantics (thesis 3.1.1).
-    pub fn schema_process(&self) -> Option<&Arc<crate::schema::Process>> {
-        self.schema.as_ref()
+    /// What this plan was constructed from, if it is not a Petri Net Plan
+    /// read as such (`schema` recovers its process from it).
+    pub(crate) fn origin(&self) -> Option<&Arc<dyn PlanOrigin>> {
+        self.origin.as_ref()
     }
 
-    /// The plans whose markings a learner of this plan sees, indexed by
-    /// [`crate::executor::PlanKey`]: this plan, then (for a plan constructed
-    /// from a schema) the other machines of the schema.
+    /// The plans whose markings a learner of this plan sees, indexed by the
+    /// executor's `PlanKey`: this plan, then (for a plan constructed from a
+    /// schema) the other machines of the schema.
     pub fn activation_plans(&self) -> Vec<&Plan> {
-        let called = self
-            .schema
-            .iter()
-            .flat_map(|p| p.machines().iter().skip(1).map(|m| m.plan()));
+        let called = self.origin.iter().flat_map(|o| o.called_plans());
         std::iter::once(self).chain(called).collect()
     }
 

@@ -8,6 +8,7 @@ mod error;
 pub mod labels;
 
 pub use builder::{ActionNet, PlaceRef, PlanBuilder, SensingNet, Tracker, TransitionRef};
+pub(crate) use definition::PlanOrigin;
 pub use definition::{ActionId, ActionInfo, Call, InternalCondition, InternalKind, Plan, TransitionInfo, Vocabulary};
 pub use error::{PlanError, PlanWarning};
 pub use labels::Function;
