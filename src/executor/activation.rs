@@ -7,13 +7,13 @@ use crate::net::Marking;
 /// (thesis 5.3, `instance`) or a schema machine's run (thesis 3.1.1,
 /// `machine`). The [`super::Executor`] drives its root through this trait;
 /// a node drives its own sub-plans or sub-machines.
-pub(crate) trait Activation<W: World>: Send {
+pub(crate) trait Activation<W: World> {
     /// Resets every primitive action of the sub-tree for a new episode.
     fn reset_actions(&mut self);
 
     /// Starts from the initial marking, starting the initial actions, and
     /// tells `chooser` the plan started.
-    fn start(&mut self, world: &mut W, chooser: &mut dyn Chooser);
+    fn start<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C);
 
     /// Steps every active action; running sub-plans step theirs.
     fn act(&mut self, world: &mut W);
@@ -24,7 +24,7 @@ pub(crate) trait Activation<W: World>: Send {
     /// Changes the marking if this step's events or executable transitions say
     /// so (asking `chooser` at choice points and telling it every change), then
     /// lets the running sub-plans do the same unless preempted.
-    fn fire(&mut self, world: &mut W, chooser: &mut dyn Chooser) -> Result<(), ExecError>;
+    fn fire<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) -> Result<(), ExecError>;
 
     /// Where the plan stands.
     fn status(&self) -> Status;
@@ -40,7 +40,7 @@ pub(crate) trait Activation<W: World>: Send {
 
     /// One executor step of a root plan: unless it has ended, act, credit the
     /// world's reward for the step, fire; returns the status after the step.
-    fn step(&mut self, world: &mut W, chooser: &mut dyn Chooser) -> Result<Status, ExecError> {
+    fn step<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) -> Result<Status, ExecError> {
         if self.status() != Status::Running {
             return Ok(self.status());
         }

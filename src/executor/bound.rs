@@ -147,11 +147,11 @@ impl<W: World, S: Activation<W>> BoundActions<W, S> {
 
     /// Lets the running sub-plans among `active` that did not start in this step fire.
     #[inline]
-    pub(crate) fn fire(
+    pub(crate) fn fire<C: Chooser + ?Sized>(
         &mut self,
         active: impl IntoIterator<Item = usize>,
         world: &mut W,
-        chooser: &mut dyn Chooser,
+        chooser: &mut C,
     ) -> Result<(), ExecError> {
         for a in active {
             if let Executable::Sub(s) = &mut self.executables[a]

@@ -156,10 +156,10 @@ impl<W: World> PlanInstance<W> {
         }
     }
 
-    fn fire_executable(
+    fn fire_executable<C: Chooser + ?Sized>(
         &mut self,
         world: &mut W,
-        chooser: &mut dyn Chooser,
+        chooser: &mut C,
         executable: &[TransitionId],
     ) -> Result<(), ExecError> {
         let incidence = self.plan.incidence();
@@ -214,7 +214,12 @@ impl<W: World> PlanInstance<W> {
     }
 
     /// Moves the tokens of `set`, then calls the functions its transitions carry.
-    fn fire_set(&mut self, world: &mut W, chooser: &mut dyn Chooser, set: &[TransitionId]) -> Result<(), ExecError> {
+    fn fire_set<C: Chooser + ?Sized>(
+        &mut self,
+        world: &mut W,
+        chooser: &mut C,
+        set: &[TransitionId],
+    ) -> Result<(), ExecError> {
         let plan = Arc::clone(&self.plan);
         let incidence = plan.incidence();
         for &t in set {
@@ -272,7 +277,7 @@ impl<W: World> PlanInstance<W> {
     }
 
     /// Calls one function on one action or sub-plan.
-    fn call(&mut self, world: &mut W, chooser: &mut dyn Chooser, call: Call) {
+    fn call<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C, call: Call) {
         match self.actions.get_mut(call.action.index()) {
             Executable::Primitive(x) => match call.function {
                 Function::Start => x.start(world),
@@ -296,7 +301,7 @@ impl<W: World> Activation<W> for PlanInstance<W> {
 
     /// Starts the plan from its initial marking; actions on initially marked
     /// execution places are started.
-    fn start(&mut self, world: &mut W, chooser: &mut dyn Chooser) {
+    fn start<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) {
         self.marking = self.plan.initial_marking();
         self.rebuild();
         self.fresh = true;
@@ -333,7 +338,7 @@ impl<W: World> Activation<W> for PlanInstance<W> {
     /// Fires this step's executable transitions (asking `chooser` on conflicts),
     /// then lets running sub-plans fire theirs: a higher plan's transitions,
     /// interrupts included, take effect before those of the plans below it.
-    fn fire(&mut self, world: &mut W, chooser: &mut dyn Chooser) -> Result<(), ExecError> {
+    fn fire<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) -> Result<(), ExecError> {
         if self.status != Status::Running {
             return Ok(());
         }

@@ -93,7 +93,7 @@ impl<W: World> MachineRun<W> {
         self.place = place;
     }
 
-    fn start_action(&mut self, a: usize, world: &mut W, chooser: &mut dyn Chooser) {
+    fn start_action<C: Chooser + ?Sized>(&mut self, a: usize, world: &mut W, chooser: &mut C) {
         match self.actions.get_mut(a) {
             Executable::Primitive(x) => x.start(world),
             Executable::Sub(m) => m.start(world, chooser),
@@ -123,13 +123,13 @@ impl<W: World> MachineRun<W> {
     }
 
     /// Reports the current marking to `chooser` with the reward and steps since the last change.
-    fn report(&mut self, chooser: &mut dyn Chooser) {
+    fn report<C: Chooser + ?Sized>(&mut self, chooser: &mut C) {
         let pending = self.pending.take();
         chooser.transition(self.key, &self.marking, pending.reward, pending.elapsed);
     }
 
     /// Senses the current state's events; returns whether an edge was followed.
-    fn follow(&mut self, world: &mut W, chooser: &mut dyn Chooser) -> Result<bool, ExecError> {
+    fn follow<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) -> Result<bool, ExecError> {
         let process = Arc::clone(&self.process);
         let mp = &process.machines()[self.machine];
         for group in mp.groups(self.state) {
@@ -206,7 +206,7 @@ impl<W: World> Activation<W> for MachineRun<W> {
     }
 
     /// Enters the initial state and starts its actions.
-    fn start(&mut self, world: &mut W, chooser: &mut dyn Chooser) {
+    fn start<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) {
         let initial = self.process().machine().initial();
         self.state = initial;
         self.set_place(initial);
@@ -237,7 +237,7 @@ impl<W: World> Activation<W> for MachineRun<W> {
     /// Follows an edge if an event of the current state is sensed (see the
     /// module documentation), then lets the running sub-machines do the same
     /// unless this machine changed state.
-    fn fire(&mut self, world: &mut W, chooser: &mut dyn Chooser) -> Result<(), ExecError> {
+    fn fire<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) -> Result<(), ExecError> {
         if self.status != Status::Running {
             return Ok(());
         }

@@ -83,6 +83,18 @@ enum Root<W> {
     Schema(MachineRun<W>),
 }
 
+/// Evaluates `$body` with `$node` bound to the root node of `$root` (a
+/// `Root`), whichever its kind: the one dispatch on the kind, static, so the
+/// hot path calls the [`Activation`] methods directly.
+macro_rules! on_root {
+    ($root:expr, |$node:ident| $body:expr) => {
+        match $root {
+            Root::Net($node) => $body,
+            Root::Schema($node) => $body,
+        }
+    };
+}
+
 impl<W: World> Executor<W> {
     /// Instantiates `plan`'s actions and sub-plans from `registry`, binding every
     /// internal condition its guards use.
@@ -99,45 +111,28 @@ impl<W: World> Executor<W> {
         Ok(Executor { root, plan })
     }
 
-    /// The root of the activation tree.
-    #[inline]
-    fn root(&self) -> &dyn Activation<W> {
-        match &self.root {
-            Root::Net(root) => root,
-            Root::Schema(root) => root,
-        }
-    }
-
-    /// The root of the activation tree, to run.
-    #[inline]
-    fn root_mut(&mut self) -> &mut dyn Activation<W> {
-        match &mut self.root {
-            Root::Net(root) => root,
-            Root::Schema(root) => root,
-        }
-    }
-
     /// Starts a new episode: resets every action, restores the initial marking
     /// and tells `chooser` the plan started.
     pub fn reset<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) {
-        let root = self.root_mut();
-        root.reset_actions();
-        root.start(world, &mut Forward(chooser));
+        on_root!(&mut self.root, |root| {
+            root.reset_actions();
+            root.start(world, chooser);
+        })
     }
 
     /// One execution step (see the module documentation).
     pub fn step<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) -> Result<Status, ExecError> {
-        self.root_mut().step(world, &mut Forward(chooser))
+        on_root!(&mut self.root, |root| root.step(world, chooser))
     }
 
     /// The root plan's status.
     pub fn status(&self) -> Status {
-        self.root().status()
+        on_root!(&self.root, |root| root.status())
     }
 
     /// The root plan's marking.
     pub fn marking(&self) -> &Marking {
-        self.root().marking()
+        on_root!(&self.root, |root| root.marking())
     }
 
     /// The root plan.
@@ -148,26 +143,6 @@ impl<W: World> Executor<W> {
     /// Takes the root plan's reward and steps since its last marking change
     /// (at the end of an episode cut short, before the learner closes it).
     pub fn take_pending(&mut self) -> PendingReward {
-        self.root_mut().take_pending()
-    }
-}
-
-/// A chooser of any kind, sized, so that the activation tree takes it as `&mut dyn Chooser`.
-struct Forward<'a, C: ?Sized>(&'a mut C);
-
-impl<C: Chooser + ?Sized> Chooser for Forward<'_, C> {
-    #[inline]
-    fn choose(&mut self, plan: PlanKey, state: &Marking, options: &[Marking]) -> usize {
-        self.0.choose(plan, state, options)
-    }
-
-    #[inline]
-    fn transition(&mut self, plan: PlanKey, marking: &Marking, reward: f64, elapsed: u32) {
-        self.0.transition(plan, marking, reward, elapsed);
-    }
-
-    #[inline]
-    fn plan_started(&mut self, plan: PlanKey, marking: &Marking) {
-        self.0.plan_started(plan, marking);
+        on_root!(&mut self.root, |root| root.take_pending())
     }
 }
