@@ -14,7 +14,8 @@ use learnpnp::experiment::defaults::default_learner;
 use learnpnp::experiment::spec::{Algorithm, DomainSpec};
 use learnpnp::learning::EpisodeMode;
 use learnpnp::named::Named;
-use learnpnp::plan::{Vocabulary, load_plan};
+use learnpnp::plan::Vocabulary;
+use learnpnp::plan_file::load_plan;
 use learnpnp::rng::seeded;
 
 fn bench(c: &mut Criterion) {

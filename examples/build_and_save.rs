@@ -6,7 +6,8 @@
 use std::path::PathBuf;
 
 use learnpnp::analysis::{DEFAULT_LIMIT, check};
-use learnpnp::plan::{PlanBuilder, Vocabulary, load_plan};
+use learnpnp::plan::{PlanBuilder, Vocabulary};
+use learnpnp::plan_file::load_plan;
 use learnpnp::pnml::{self, Dialect};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

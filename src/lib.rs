@@ -24,6 +24,7 @@ pub mod learning;
 pub mod named;
 pub mod net;
 pub mod plan;
+pub mod plan_file;
 pub mod pnml;
 pub mod result_dir;
 pub mod rng;

@@ -126,7 +126,7 @@ fn dot_draws_the_choice_points_check_reports() {
     files.sort();
     assert!(files.len() >= 10);
     for file in files {
-        let plan = learnpnp::plan::load_plan(&file, Vocabulary::Open).expect("a shipped plan loads");
+        let plan = learnpnp::plan_file::load_plan(&file, Vocabulary::Open).expect("a shipped plan loads");
         let report = learnpnp::analysis::check(&plan, learnpnp::analysis::DEFAULT_LIMIT);
         let mut reported: Vec<String> = report.choice_points.iter().map(|c| c.element.id.clone()).collect();
         reported.sort();

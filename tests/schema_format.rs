@@ -5,7 +5,8 @@
 use crate::util::SHIPPED_SCHEMAS;
 use crate::util::shipped;
 
-use learnpnp::plan::{Vocabulary, load_plan};
+use learnpnp::plan::Vocabulary;
+use learnpnp::plan_file::load_plan;
 use learnpnp::schema::{
     Process, SchemaBuilder, SchemaFileError, StateKind, load_schema_plan, parse_schema, read_schema, write_schema,
 };

@@ -17,7 +17,8 @@ use learnpnp::learning::{
     TdConfig, TdLearner,
 };
 use learnpnp::net::{Marking, PlaceId};
-use learnpnp::plan::{Plan, Vocabulary, load_plan};
+use learnpnp::plan::{Plan, Vocabulary};
+use learnpnp::plan_file::load_plan;
 use learnpnp::rng::{derive_seed, seeded};
 use learnpnp::schema::{
     MachineProcess, Process, ProcessState, ProcessTransition, condition_constituents, parse_schema, read_schema,

@@ -5,7 +5,8 @@
 
 use std::path::PathBuf;
 
-use learnpnp::plan::{Vocabulary, catalog, load_plan};
+use learnpnp::plan::{Vocabulary, catalog};
+use learnpnp::plan_file::load_plan;
 use learnpnp::pnml::{self, Dialect};
 
 fn plans_dir() -> PathBuf {

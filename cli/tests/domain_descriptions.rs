@@ -5,7 +5,8 @@
 use crate::learnpnp;
 
 use learnpnp::domains::describe::{domain, domains};
-use learnpnp::plan::{PlanBuilder, Vocabulary, load_plan};
+use learnpnp::plan::{PlanBuilder, Vocabulary};
+use learnpnp::plan_file::load_plan;
 use learnpnp::pnml::{self, Dialect};
 
 #[test]

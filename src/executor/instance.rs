@@ -3,13 +3,15 @@
 
 use std::sync::Arc;
 
+use super::activation::Activation;
 use super::bits::BitSet;
+use super::bound::{Binder, BoundActions, Executable};
 use super::conflict::{self, ConflictScratch};
 use super::registry::{Entry, Registry};
-use super::{Action, Chooser, ExecError, PlanKey, World};
+use super::{Chooser, ExecError, PendingReward, PlanKey, World};
 use crate::condition::AtomRef;
 use crate::net::{Marking, PlaceId, TransitionId};
-use crate::plan::{ActionId, Call, Function, InternalKind, Plan};
+use crate::plan::{ActionId, Call, Function, Plan};
 
 /// Most alternative firing sets one conflict may offer.
 pub(crate) const MAX_OPTIONS: usize = 4096;
@@ -25,42 +27,24 @@ pub enum Status {
     Failed,
 }
 
-/// What runs for one action name.
-pub(crate) enum Executable<W> {
-    /// A primitive action.
-    Primitive(Box<dyn Action<W>>),
-    /// A sub-plan.
-    Plan(Box<PlanInstance<W>>),
-}
-
-/// An internal condition bound to the executable that answers it.
-#[derive(Debug, Clone, Copy)]
-enum Binding {
-    Finished(usize),
-    Failed(usize),
-    Declared(usize, usize),
-}
-
 /// A plan being executed.
 pub(crate) struct PlanInstance<W> {
-    pub(crate) plan: Arc<Plan>,
+    plan: Arc<Plan>,
     key: PlanKey,
-    pub(crate) marking: Marking,
+    marking: Marking,
     /// Per transition: input arcs whose place lacks tokens.
     missing: Vec<u16>,
     /// Transitions with enough tokens (guards aside).
     enabled: BitSet,
-    executables: Vec<Executable<W>>,
+    actions: BoundActions<W, PlanInstance<W>>,
     /// Per action: how many of its execution places are marked.
     marked_exec: Vec<u16>,
     /// Actions with a marked execution place.
     active: BitSet,
-    bindings: Vec<Binding>,
-    pub(crate) status: Status,
+    status: Status,
     /// Started (or resumed) during the current step: its transitions wait.
     fresh: bool,
-    pub(crate) pending_reward: f64,
-    pub(crate) elapsed: u32,
+    pending: PendingReward,
     executable: Vec<TransitionId>,
     chosen: Vec<TransitionId>,
     options: Vec<Marking>,
@@ -81,65 +65,34 @@ impl<W: World> PlanInstance<W> {
             });
         }
         callers.push(plan.name().to_string());
-        let mut executables = Vec::with_capacity(plan.actions().len());
-        let mut declared_lists: Vec<Option<Vec<String>>> = Vec::new();
+        let mut binder = Binder::with_capacity(plan.actions().len());
         for info in plan.actions() {
             match registry.resolve(&info.name) {
-                Some(Entry::Primitive { declared, factory }) => {
-                    executables.push(Executable::Primitive(factory(&info.name)));
-                    declared_lists.push(Some(declared.to_vec()));
-                }
+                Some(Entry::Primitive { declared, factory }) => binder.primitive(factory(&info.name), declared),
                 Some(Entry::SubPlan(sub_key, sub)) => {
-                    let instance = PlanInstance::new(Arc::clone(sub), sub_key, registry, callers)?;
-                    executables.push(Executable::Plan(Box::new(instance)));
-                    declared_lists.push(None);
+                    binder.sub(PlanInstance::new(Arc::clone(sub), sub_key, registry, callers)?);
                 }
-                None => {
-                    return Err(registry.unknown_action(plan.name(), &info.name));
-                }
+                None => return Err(registry.unknown_action(plan.name(), &info.name)),
             }
         }
         callers.pop();
-        let mut bindings = Vec::with_capacity(plan.internal_conditions().len());
-        for cond in plan.internal_conditions() {
-            let a = cond.action.index();
-            bindings.push(match &cond.kind {
-                InternalKind::Finished => Binding::Finished(a),
-                InternalKind::Failed => Binding::Failed(a),
-                InternalKind::Declared(name) => {
-                    let declared = declared_lists[a].as_deref().unwrap_or(&[]);
-                    let index =
-                        declared
-                            .iter()
-                            .position(|d| d == name)
-                            .ok_or_else(|| ExecError::UndeclaredCondition {
-                                plan: plan.name().to_string(),
-                                action: plan.action(cond.action).name.clone(),
-                                condition: name.clone(),
-                                declared: if declared.is_empty() {
-                                    "nothing".to_string()
-                                } else {
-                                    declared.join(", ")
-                                },
-                            })?;
-                    Binding::Declared(a, index)
-                }
-            });
-        }
+        let actions = binder.bind(
+            plan.name(),
+            |a| &plan.actions()[a].name,
+            plan.internal_conditions().iter().map(|c| (c.action.index(), &c.kind)),
+        )?;
         let transitions = plan.incidence().transition_count();
-        let actions = plan.actions().len();
+        let action_count = plan.actions().len();
         let mut instance = PlanInstance {
             marking: plan.initial_marking(),
             missing: vec![0; transitions],
             enabled: BitSet::new(transitions),
-            executables,
-            marked_exec: vec![0; actions],
-            active: BitSet::new(actions),
-            bindings,
+            actions,
+            marked_exec: vec![0; action_count],
+            active: BitSet::new(action_count),
             status: Status::Running,
             fresh: true,
-            pending_reward: 0.0,
-            elapsed: 0,
+            pending: PendingReward::default(),
             executable: Vec::new(),
             chosen: Vec::new(),
             options: Vec::new(),
@@ -185,146 +138,22 @@ impl<W: World> PlanInstance<W> {
         }
     }
 
-    /// Resets every primitive action in the tree for a new episode.
-    pub(crate) fn reset_actions(&mut self) {
-        for e in &mut self.executables {
-            match e {
-                Executable::Primitive(a) => a.reset(),
-                Executable::Plan(p) => p.reset_actions(),
-            }
-        }
-    }
-
-    /// Starts the plan from its initial marking; actions on initially marked
-    /// execution places are started.
-    pub(crate) fn start<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) {
-        self.marking = self.plan.initial_marking();
-        self.rebuild();
-        self.fresh = true;
-        self.pending_reward = 0.0;
-        self.elapsed = 0;
-        chooser.plan_started(self.key, &self.marking);
-        for a in 0..self.executables.len() {
-            if self.active.contains(a) {
-                self.call(
-                    world,
-                    chooser,
-                    Call {
-                        function: Function::Start,
-                        action: ActionId(a as u32),
-                    },
-                );
-            }
-        }
-    }
-
     /// Applies `function` to every active executable of this plan, recursively
     /// (ending, interrupting or failing a plan does the same to its sub-tree).
     fn propagate(&mut self, world: &mut W, function: Function) {
-        let Self {
-            active, executables, ..
-        } = self;
-        for a in active.iter() {
-            match &mut executables[a] {
+        for a in self.active.iter() {
+            match self.actions.get_mut(a) {
                 Executable::Primitive(x) => match function {
                     Function::Interrupt => x.interrupt(world),
                     Function::Resume => x.resume(world),
                     _ => x.end(world),
                 },
-                Executable::Plan(p) => p.propagate(world, function),
+                Executable::Sub(p) => p.propagate(world, function),
             }
         }
         if function == Function::Resume {
             self.fresh = true;
         }
-    }
-
-    /// Steps every active action; sub-plans step their own actions in turn.
-    pub(crate) fn act(&mut self, world: &mut W) {
-        self.fresh = false;
-        let Self {
-            active, executables, ..
-        } = self;
-        for a in active.iter() {
-            match &mut executables[a] {
-                Executable::Primitive(x) => x.step(world),
-                Executable::Plan(p) if p.status == Status::Running => p.act(world),
-                Executable::Plan(_) => {}
-            }
-        }
-    }
-
-    /// Adds one step and its reward to this plan and its running sub-plans.
-    pub(crate) fn accrue(&mut self, reward: f64) {
-        self.pending_reward += reward;
-        self.elapsed += 1;
-        let Self {
-            active, executables, ..
-        } = self;
-        for a in active.iter() {
-            if let Executable::Plan(p) = &mut executables[a]
-                && p.status == Status::Running
-            {
-                p.accrue(reward);
-            }
-        }
-    }
-
-    fn internal_holds(&self, index: u32, world: &W) -> bool {
-        match self.bindings[index as usize] {
-            Binding::Finished(a) => match &self.executables[a] {
-                Executable::Primitive(x) => x.finished(world),
-                Executable::Plan(p) => p.status == Status::Goal,
-            },
-            Binding::Failed(a) => match &self.executables[a] {
-                Executable::Primitive(x) => x.failed(world),
-                Executable::Plan(p) => p.status == Status::Failed,
-            },
-            Binding::Declared(a, i) => match &self.executables[a] {
-                Executable::Primitive(x) => x.condition(i, world),
-                Executable::Plan(_) => false,
-            },
-        }
-    }
-
-    /// Fires this step's executable transitions (asking `chooser` on conflicts),
-    /// then lets running sub-plans fire theirs: a higher plan's transitions,
-    /// interrupts included, take effect before those of the plans below it.
-    pub(crate) fn fire<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) -> Result<(), ExecError> {
-        if self.status != Status::Running {
-            return Ok(());
-        }
-        let mut executable = std::mem::take(&mut self.executable);
-        executable.clear();
-        for t in self.enabled.iter() {
-            let t = TransitionId::new(t);
-            let holds = self.plan.transition(t).guard.eval(&|atom| match atom {
-                AtomRef::Fact(id) => world.holds(id),
-                AtomRef::Internal(i) => self.internal_holds(i, world),
-            });
-            if holds {
-                executable.push(t);
-            }
-        }
-        let result = if executable.is_empty() {
-            Ok(())
-        } else {
-            self.fire_executable(world, chooser, &executable)
-        };
-        self.executable = executable;
-        result?;
-        for a in 0..self.executables.len() {
-            if !self.active.contains(a) {
-                continue;
-            }
-            if let Executable::Plan(p) = &mut self.executables[a]
-                && !p.fresh
-                && p.status == Status::Running
-            {
-                p.fire(world, chooser)?;
-            }
-        }
-        Ok(())
     }
 
     fn fire_executable<C: Chooser + ?Sized>(
@@ -379,9 +208,8 @@ impl<W: World> PlanInstance<W> {
         self.chosen = chosen;
         result?;
         self.status = self.status_of_marking();
-        chooser.transition(self.key, &self.marking, self.pending_reward, self.elapsed);
-        self.pending_reward = 0.0;
-        self.elapsed = 0;
+        let pending = self.pending.take();
+        chooser.transition(self.key, &self.marking, pending.reward, pending.elapsed);
         Ok(())
     }
 
@@ -450,7 +278,7 @@ impl<W: World> PlanInstance<W> {
 
     /// Calls one function on one action or sub-plan.
     fn call<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C, call: Call) {
-        match &mut self.executables[call.action.index()] {
+        match self.actions.get_mut(call.action.index()) {
             Executable::Primitive(x) => match call.function {
                 Function::Start => x.start(world),
                 Function::End => x.end(world),
@@ -458,10 +286,97 @@ impl<W: World> PlanInstance<W> {
                 Function::Resume => x.resume(world),
                 Function::Fail => x.fail(world),
             },
-            Executable::Plan(p) => match call.function {
+            Executable::Sub(p) => match call.function {
                 Function::Start => p.start(world, chooser),
                 other => p.propagate(world, other),
             },
         }
+    }
+}
+
+impl<W: World> Activation<W> for PlanInstance<W> {
+    fn reset_actions(&mut self) {
+        self.actions.reset();
+    }
+
+    /// Starts the plan from its initial marking; actions on initially marked
+    /// execution places are started.
+    fn start<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) {
+        self.marking = self.plan.initial_marking();
+        self.rebuild();
+        self.fresh = true;
+        self.pending = PendingReward::default();
+        chooser.plan_started(self.key, &self.marking);
+        for a in 0..self.actions.len() {
+            if self.active.contains(a) {
+                self.call(
+                    world,
+                    chooser,
+                    Call {
+                        function: Function::Start,
+                        action: ActionId(a as u32),
+                    },
+                );
+            }
+        }
+    }
+
+    /// Steps every active action; sub-plans step their own actions in turn.
+    #[inline]
+    fn act(&mut self, world: &mut W) {
+        self.fresh = false;
+        self.actions.act(self.active.iter(), world);
+    }
+
+    /// Adds one step and its reward to this plan and its running sub-plans.
+    #[inline]
+    fn accrue(&mut self, reward: f64) {
+        self.pending.add(reward);
+        self.actions.accrue(self.active.iter(), reward);
+    }
+
+    /// Fires this step's executable transitions (asking `chooser` on conflicts),
+    /// then lets running sub-plans fire theirs: a higher plan's transitions,
+    /// interrupts included, take effect before those of the plans below it.
+    fn fire<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) -> Result<(), ExecError> {
+        if self.status != Status::Running {
+            return Ok(());
+        }
+        let mut executable = std::mem::take(&mut self.executable);
+        executable.clear();
+        for t in self.enabled.iter() {
+            let t = TransitionId::new(t);
+            let holds = self.plan.transition(t).guard.eval(&|atom| match atom {
+                AtomRef::Fact(id) => world.holds(id),
+                AtomRef::Internal(i) => self.actions.internal_holds(i, world),
+            });
+            if holds {
+                executable.push(t);
+            }
+        }
+        let result = if executable.is_empty() {
+            Ok(())
+        } else {
+            self.fire_executable(world, chooser, &executable)
+        };
+        self.executable = executable;
+        result?;
+        self.actions.fire(self.active.iter(), world, chooser)
+    }
+
+    fn status(&self) -> Status {
+        self.status
+    }
+
+    fn marking(&self) -> &Marking {
+        &self.marking
+    }
+
+    fn fresh(&self) -> bool {
+        self.fresh
+    }
+
+    fn take_pending(&mut self) -> PendingReward {
+        self.pending.take()
     }
 }

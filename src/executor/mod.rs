@@ -14,15 +14,20 @@
 //!    and steps elapsed since the previous one.
 //!
 //! A plan constructed from a plan schema ([`Plan::schema_process`]) is run by
-//! the schema's own semantics instead (thesis 3.1.1, `crate::schema`), with the
-//! same world, actions, registry and chooser.
+//! the schema's own semantics instead (thesis 3.1.1, `machine`), with the
+//! same world, actions, registry and chooser. Both kinds of running plan are
+//! nodes of the activation tree behind one trait (`activation`), and share
+//! the code binding their actions and internal conditions (`bound`).
 
 mod action;
+mod activation;
 mod bits;
+mod bound;
 mod chooser;
 mod conflict;
 mod error;
 mod instance;
+mod machine;
 mod registry;
 
 use std::sync::Arc;
@@ -31,14 +36,14 @@ pub use action::{Action, World};
 pub use chooser::{Chooser, PlanKey, RandomChooser};
 pub use error::ExecError;
 pub use instance::Status;
-pub(crate) use registry::Entry;
 pub use registry::{Registered, RegisteredKind, Registry};
 
+use activation::Activation;
 use instance::PlanInstance;
+use machine::MachineRun;
 
 use crate::net::Marking;
 use crate::plan::Plan;
-use crate::schema::MachineRun;
 
 /// Reward and steps since the last marking change that no transition has reported yet.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -49,17 +54,45 @@ pub struct PendingReward {
     pub elapsed: u32,
 }
 
+impl PendingReward {
+    /// Adds one step that collected `reward`.
+    #[inline]
+    pub(crate) fn add(&mut self, reward: f64) {
+        self.reward += reward;
+        self.elapsed += 1;
+    }
+
+    /// Takes the reward and steps, leaving none.
+    #[inline]
+    pub(crate) fn take(&mut self) -> Self {
+        std::mem::take(self)
+    }
+}
+
 /// Executes a plan and its sub-plans in a world `W`.
 pub struct Executor<W> {
     root: Root<W>,
+    plan: Arc<Plan>,
 }
 
 /// The root of the activation tree: a Petri Net Plan, or a schema's root machine.
-/// One per executor; the net variant stays inline, off the heap, on the hot path.
+/// One per executor, inline (off the heap); used through [`Activation`].
 #[allow(clippy::large_enum_variant)]
 enum Root<W> {
     Net(PlanInstance<W>),
-    Schema(MachineRun<W>, Arc<Plan>),
+    Schema(MachineRun<W>),
+}
+
+/// Evaluates `$body` with `$node` bound to the root node of `$root` (a
+/// `Root`), whichever its kind: the one dispatch on the kind, static, so the
+/// hot path calls the [`Activation`] methods directly.
+macro_rules! on_root {
+    ($root:expr, |$node:ident| $body:expr) => {
+        match $root {
+            Root::Net($node) => $body,
+            Root::Schema($node) => $body,
+        }
+    };
 }
 
 impl<W: World> Executor<W> {
@@ -67,90 +100,49 @@ impl<W: World> Executor<W> {
     /// internal condition its guards use.
     pub fn new(plan: Arc<Plan>, registry: &Registry<W>) -> Result<Self, ExecError> {
         let root = match plan.schema_process() {
-            Some(process) => Root::Schema(MachineRun::new(Arc::clone(process), 0, registry)?, plan),
-            None => Root::Net(PlanInstance::new(plan, PlanKey::ROOT, registry, &mut Vec::new())?),
+            Some(process) => Root::Schema(MachineRun::new(process, 0, registry)?),
+            None => Root::Net(PlanInstance::new(
+                Arc::clone(&plan),
+                PlanKey::ROOT,
+                registry,
+                &mut Vec::new(),
+            )?),
         };
-        Ok(Executor { root })
+        Ok(Executor { root, plan })
     }
 
     /// Starts a new episode: resets every action, restores the initial marking
     /// and tells `chooser` the plan started.
     pub fn reset<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) {
-        match &mut self.root {
-            Root::Net(root) => {
-                root.reset_actions();
-                root.start(world, chooser);
-            }
-            Root::Schema(root, _) => {
-                root.reset_actions();
-                root.start(world, chooser);
-            }
-        }
+        on_root!(&mut self.root, |root| {
+            root.reset_actions();
+            root.start(world, chooser);
+        })
     }
 
     /// One execution step (see the module documentation).
     pub fn step<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) -> Result<Status, ExecError> {
-        match &mut self.root {
-            Root::Net(root) => {
-                if root.status != Status::Running {
-                    return Ok(root.status);
-                }
-                root.act(world);
-                let reward = world.take_reward();
-                root.accrue(reward);
-                root.fire(world, chooser)?;
-                Ok(root.status)
-            }
-            Root::Schema(root, _) => {
-                if root.status != Status::Running {
-                    return Ok(root.status);
-                }
-                root.act(world);
-                let reward = world.take_reward();
-                root.accrue(reward);
-                root.fire(world, chooser)?;
-                Ok(root.status)
-            }
-        }
+        on_root!(&mut self.root, |root| root.step(world, chooser))
     }
 
     /// The root plan's status.
     pub fn status(&self) -> Status {
-        match &self.root {
-            Root::Net(root) => root.status,
-            Root::Schema(root, _) => root.status,
-        }
+        on_root!(&self.root, |root| root.status())
     }
 
     /// The root plan's marking.
     pub fn marking(&self) -> &Marking {
-        match &self.root {
-            Root::Net(root) => &root.marking,
-            Root::Schema(root, _) => &root.marking,
-        }
+        on_root!(&self.root, |root| root.marking())
     }
 
     /// The root plan.
     pub fn plan(&self) -> &Plan {
-        match &self.root {
-            Root::Net(root) => &root.plan,
-            Root::Schema(_, plan) => plan,
-        }
+        &self.plan
     }
 
     /// Takes the root plan's reward and steps since its last marking change
     /// (at the end of an episode cut short, before the learner closes it).
     pub fn take_pending(&mut self) -> PendingReward {
-        let (reward, elapsed) = match &mut self.root {
-            Root::Net(root) => (&mut root.pending_reward, &mut root.elapsed),
-            Root::Schema(root, _) => (&mut root.pending_reward, &mut root.elapsed),
-        };
-        let pending = PendingReward {
-            reward: *reward,
-            elapsed: *elapsed,
-        };
-        *reward = 0.0;
-        *elapsed = 0;
-        pending
+        on_root!(&mut self.root, |root| root.take_pending())
     }
 }

@@ -19,7 +19,8 @@ use crate::learning::{
     TdLearner,
 };
 use crate::named::Named;
-use crate::plan::{LoadError, Plan, Vocabulary, load_plan};
+use crate::plan::{Plan, Vocabulary};
+use crate::plan_file::{LoadError, load_plan};
 use crate::result_dir::ResultDirError;
 use crate::rng::SimRng;
 use crate::schema;

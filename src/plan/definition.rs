@@ -1,6 +1,8 @@
 //! A Petri Net Plan: a net whose labels are interpreted as actions, goals and guards.
 
+use std::any::Any;
 use std::collections::HashMap;
+use std::fmt;
 use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
@@ -8,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use super::labels::{Function, TransitionToken, parse_place_label, transition_tokens};
 use super::{PlanError, PlanWarning};
 use crate::condition::{AtomRef, AtomTable, Condition, parse_condition};
-use crate::net::{Incidence, Marking, PetriNet, PlaceId, TransitionId};
+use crate::net::{Incidence, Marking, PetriNet, PlaceId, TransitionId, TransitionNode};
 
 /// Index of an action (or sub-plan call) in its plan.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -103,7 +105,16 @@ pub struct Plan {
     internal: Vec<InternalCondition>,
     atoms: AtomTable,
     warnings: Vec<PlanWarning>,
-    schema: Option<Arc<crate::schema::Process>>,
+    origin: Option<Arc<dyn PlanOrigin>>,
+}
+
+/// What a plan was constructed from when it is the process of another model
+/// (a plan schema's, thesis chapter 3), carried by the plan so that whoever
+/// knows that model's kind (the executor) can run it with its own semantics.
+pub(crate) trait PlanOrigin: Any + Send + Sync + fmt::Debug {
+    /// The other plans whose markings a learner of the plan sees, in plan key
+    /// order after the plan itself (a schema's other machines).
+    fn called_plans(&self) -> Vec<&Plan>;
 }
 
 impl Plan {
@@ -114,191 +125,53 @@ impl Plan {
             return Err(PlanError::Empty);
         }
         let incidence = Incidence::new(&net);
-        let mut actions: Vec<ActionInfo> = Vec::new();
-        let mut by_name: HashMap<String, ActionId> = HashMap::new();
-        let mut place_action = vec![None; net.places().len()];
-        let mut goal = Vec::new();
-        let mut fail = Vec::new();
-        for (i, place) in net.places().iter().enumerate() {
-            let pid = PlaceId::new(i);
-            let label = parse_place_label(&place.label).map_err(|e| PlanError::PlaceLabel {
-                place: place.id.clone(),
-                label: place.label.clone(),
-                token: e.token,
-                reason: e.reason,
-            })?;
-            if let Some(name) = label.exec {
-                let id = *by_name.entry(name.clone()).or_insert_with(|| {
-                    actions.push(ActionInfo {
-                        agent: name.split_once('#').map(|(a, _)| a.to_string()),
-                        name: name.clone(),
-                        exec_places: Vec::new(),
-                    });
-                    ActionId(actions.len() as u32 - 1)
-                });
-                actions[id.index()].exec_places.push(pid);
-                place_action[i] = Some(id);
-            }
-            if let Some(n) = label.goal {
-                goal.push((pid, n));
-            }
-            if let Some(n) = label.fail {
-                fail.push((pid, n));
-            }
-        }
-
-        let mut atoms = match vocabulary {
-            Vocabulary::Open => AtomTable::new(),
-            Vocabulary::Closed(table) => table.clone(),
-        };
-        let mut internal: Vec<InternalCondition> = Vec::new();
-        let mut warnings = Vec::new();
+        let places = read_places(&net)?;
+        let mut labels = Labels::new(&incidence, places, vocabulary);
         let mut transitions = Vec::with_capacity(net.transitions().len());
         for (i, node) in net.transitions().iter().enumerate() {
-            let tid = TransitionId::new(i);
-            let label_error = |token: &str, reason: &str| PlanError::TransitionLabel {
-                transition: node.id.clone(),
-                label: node.label.clone(),
-                token: token.to_string(),
-                reason: reason.to_string(),
-            };
-            let tokens =
-                transition_tokens(&node.label).ok_or_else(|| label_error(&node.label, "unbalanced brackets"))?;
-            let mut guard_text: Option<&str> = None;
-            let mut calls = Vec::new();
-            for token in tokens {
-                match token {
-                    TransitionToken::Guard(g) => {
-                        if guard_text.replace(g).is_some() {
-                            return Err(label_error(&format!("[{g}]"), "a transition has at most one guard"));
-                        }
-                    }
-                    TransitionToken::Call(name, function) => {
-                        let warn = |message: String| PlanWarning {
-                            transition: node.id.clone(),
-                            label: node.label.clone(),
-                            message,
-                        };
-                        let known = by_name.get(name).copied();
-                        if let Some(message) =
-                            unusual_call(&incidence, &place_action, tid, name, function, known, &actions)
-                        {
-                            warnings.push(warn(message));
-                        }
-                        let action = match known {
-                            Some(action) => action,
-                            None => {
-                                // The PNP library calls executables by name: an action
-                                // no execution place names is started or ended all the
-                                // same, and never stepped.
-                                actions.push(ActionInfo {
-                                    agent: name.split_once('#').map(|(a, _)| a.to_string()),
-                                    name: name.to_string(),
-                                    exec_places: Vec::new(),
-                                });
-                                let id = ActionId(actions.len() as u32 - 1);
-                                by_name.insert(name.to_string(), id);
-                                id
-                            }
-                        };
-                        calls.push(Call { function, action });
-                    }
-                    TransitionToken::BareCall(function) => {
-                        let adjacent = adjacent_actions(&incidence, &place_action, tid, function.binds_output());
-                        if adjacent.is_empty() {
-                            return Err(label_error(
-                                function.as_str(),
-                                "no adjacent execution place for this function",
-                            ));
-                        }
-                        calls.extend(adjacent.into_iter().map(|action| Call { function, action }));
-                    }
-                    TransitionToken::Name(_) => {}
-                    TransitionToken::UnknownFunction(t) => {
-                        return Err(label_error(
-                            t,
-                            "unknown transition function (expected start, end, interrupt, resume or fail)",
-                        ));
-                    }
-                }
-            }
-            let mut resolve = |atom: &str| -> Result<AtomRef, PlanError> {
-                if let Some((name, _)) = atom.split_once('.').filter(|_| atom.matches('.').count() == 1)
-                    && !name.is_empty()
-                    && !by_name.contains_key(name)
-                {
-                    // As for calls: the PNP library asks the executable by name.
-                    warnings.push(PlanWarning {
-                        transition: node.id.clone(),
-                        label: node.label.clone(),
-                        message: format!(
-                            "no execution place names action '{name}', whose condition '{atom}' the guard \
-                             tests; as the PNP library does, '{name}' is asked by name and never stepped"
-                        ),
-                    });
-                    actions.push(ActionInfo {
-                        agent: name.split_once('#').map(|(a, _)| a.to_string()),
-                        name: name.to_string(),
-                        exec_places: Vec::new(),
-                    });
-                    by_name.insert(name.to_string(), ActionId(actions.len() as u32 - 1));
-                }
-                resolve_atom(atom, &by_name, &mut atoms, vocabulary, &mut internal)
-                    .map_err(|reason| label_error(atom, &reason))
-            };
-            let guard = match guard_text {
-                Some(text) => {
-                    let expr = parse_condition(text).map_err(|source| PlanError::Guard {
-                        transition: node.id.clone(),
-                        label: node.label.clone(),
-                        source: Box::new(source),
-                    })?;
-                    Condition::compile(&expr, &mut resolve)?
-                }
-                None => implicit_wait(&calls, &mut internal),
-            };
-            transitions.push(TransitionInfo {
-                guard,
-                explicit_guard: guard_text.map(str::to_string),
-                calls,
-            });
+            transitions.push(labels.transition(TransitionId::new(i), node)?);
         }
+        let Labels {
+            places,
+            atoms,
+            internal,
+            warnings,
+            ..
+        } = labels;
         Ok(Plan {
-            net,
             incidence,
-            actions,
-            place_action,
-            goal,
-            fail,
+            actions: places.actions,
+            place_action: places.place_action,
+            goal: places.goal,
+            fail: places.fail,
             transitions,
             internal,
             atoms,
             warnings,
-            schema: None,
+            origin: None,
+            net,
         })
     }
 
-    /// This plan, executed as the controllable process of a plan schema (thesis
-    /// chapter 3) rather than as a Petri Net Plan: its net is the process's.
-    pub(crate) fn with_schema_process(mut self, process: Arc<crate::schema::Process>) -> Self {
-        self.schema = Some(process);
+    /// This plan, constructed from `origin` (the process of a plan schema,
+    /// thesis chapter 3) rather than read as a Petri Net Plan: its net is the
+    /// origin's.
+    pub(crate) fn with_origin(mut self, origin: Arc<dyn PlanOrigin>) -> Self {
+        self.origin = Some(origin);
         self
     }
 
-    /// The process of the plan schema this plan was constructed from, if any;
-    /// the executor then follows the schema's semantics (thesis 3.1.1).
-    pub fn schema_process(&self) -> Option<&Arc<crate::schema::Process>> {
-        self.schema.as_ref()
+    /// What this plan was constructed from, if it is not a Petri Net Plan
+    /// read as such (`schema` recovers its process from it).
+    pub(crate) fn origin(&self) -> Option<&Arc<dyn PlanOrigin>> {
+        self.origin.as_ref()
     }
 
-    /// The plans whose markings a learner of this plan sees, indexed by
-    /// [`crate::executor::PlanKey`]: this plan, then (for a plan constructed
-    /// from a schema) the other machines of the schema.
+    /// The plans whose markings a learner of this plan sees, indexed by the
+    /// executor's `PlanKey`: this plan, then (for a plan constructed from a
+    /// schema) the other machines of the schema.
     pub fn activation_plans(&self) -> Vec<&Plan> {
-        let called = self
-            .schema
-            .iter()
-            .flat_map(|p| p.machines().iter().skip(1).map(|m| m.plan()));
+        let called = self.origin.iter().flat_map(|o| o.called_plans());
         std::iter::once(self).chain(called).collect()
     }
 
@@ -433,6 +306,219 @@ impl Plan {
         } else {
             parts.join(" ")
         }
+    }
+}
+
+/// What the place labels say: actions and their execution places, goal and fail values.
+struct Places {
+    actions: Vec<ActionInfo>,
+    by_name: HashMap<String, ActionId>,
+    place_action: Vec<Option<ActionId>>,
+    goal: Vec<(PlaceId, u8)>,
+    fail: Vec<(PlaceId, u8)>,
+}
+
+impl Places {
+    /// Adds action `name`, with no execution place yet.
+    fn add_action(&mut self, name: &str) -> ActionId {
+        self.actions.push(ActionInfo {
+            agent: name.split_once('#').map(|(a, _)| a.to_string()),
+            name: name.to_string(),
+            exec_places: Vec::new(),
+        });
+        let id = ActionId(self.actions.len() as u32 - 1);
+        self.by_name.insert(name.to_string(), id);
+        id
+    }
+}
+
+/// Reads every place label of `net`: execution places (one action per name),
+/// goal and fail values.
+fn read_places(net: &PetriNet) -> Result<Places, PlanError> {
+    let mut places = Places {
+        actions: Vec::new(),
+        by_name: HashMap::new(),
+        place_action: vec![None; net.places().len()],
+        goal: Vec::new(),
+        fail: Vec::new(),
+    };
+    for (i, place) in net.places().iter().enumerate() {
+        let pid = PlaceId::new(i);
+        let label = parse_place_label(&place.label).map_err(|e| PlanError::PlaceLabel {
+            place: place.id.clone(),
+            label: place.label.clone(),
+            token: e.token,
+            reason: e.reason,
+        })?;
+        if let Some(name) = label.exec {
+            let id = match places.by_name.get(&name) {
+                Some(&id) => id,
+                None => places.add_action(&name),
+            };
+            places.actions[id.index()].exec_places.push(pid);
+            places.place_action[i] = Some(id);
+        }
+        if let Some(n) = label.goal {
+            places.goal.push((pid, n));
+        }
+        if let Some(n) = label.fail {
+            places.fail.push((pid, n));
+        }
+    }
+    Ok(places)
+}
+
+/// The interpretation of transition labels under way: the places' reading,
+/// extended by actions only calls and guards name, and what the labels add.
+struct Labels<'a> {
+    incidence: &'a Incidence,
+    vocabulary: Vocabulary<'a>,
+    places: Places,
+    atoms: AtomTable,
+    internal: Vec<InternalCondition>,
+    warnings: Vec<PlanWarning>,
+}
+
+impl<'a> Labels<'a> {
+    fn new(incidence: &'a Incidence, places: Places, vocabulary: Vocabulary<'a>) -> Self {
+        let atoms = match vocabulary {
+            Vocabulary::Open => AtomTable::new(),
+            Vocabulary::Closed(table) => table.clone(),
+        };
+        Labels {
+            incidence,
+            vocabulary,
+            places,
+            atoms,
+            internal: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+
+    /// Interprets the label of transition `t`: its calls, then its guard (the
+    /// explicit one, or the implicit wait of its calls).
+    fn transition(&mut self, t: TransitionId, node: &TransitionNode) -> Result<TransitionInfo, PlanError> {
+        let tokens =
+            transition_tokens(&node.label).ok_or_else(|| label_error(node, &node.label, "unbalanced brackets"))?;
+        let mut guard_text: Option<&str> = None;
+        let mut calls = Vec::new();
+        for token in tokens {
+            match token {
+                TransitionToken::Guard(g) => {
+                    if guard_text.replace(g).is_some() {
+                        return Err(label_error(
+                            node,
+                            &format!("[{g}]"),
+                            "a transition has at most one guard",
+                        ));
+                    }
+                }
+                TransitionToken::Call(name, function) => calls.push(self.named_call(t, node, name, function)),
+                TransitionToken::BareCall(function) => {
+                    let adjacent =
+                        adjacent_actions(self.incidence, &self.places.place_action, t, function.binds_output());
+                    if adjacent.is_empty() {
+                        return Err(label_error(
+                            node,
+                            function.as_str(),
+                            "no adjacent execution place for this function",
+                        ));
+                    }
+                    calls.extend(adjacent.into_iter().map(|action| Call { function, action }));
+                }
+                TransitionToken::Name(_) => {}
+                TransitionToken::UnknownFunction(token) => {
+                    return Err(label_error(
+                        node,
+                        token,
+                        "unknown transition function (expected start, end, interrupt, resume or fail)",
+                    ));
+                }
+            }
+        }
+        let guard = match guard_text {
+            Some(text) => self.guard(node, text)?,
+            None => implicit_wait(&calls, &mut self.internal),
+        };
+        Ok(TransitionInfo {
+            guard,
+            explicit_guard: guard_text.map(str::to_string),
+            calls,
+        })
+    }
+
+    /// The call `name.function` of transition `t`, warning if it is unusual;
+    /// an action no execution place names is added.
+    fn named_call(&mut self, t: TransitionId, node: &TransitionNode, name: &str, function: Function) -> Call {
+        let known = self.places.by_name.get(name).copied();
+        let places = &self.places;
+        if let Some(message) = unusual_call(
+            self.incidence,
+            &places.place_action,
+            t,
+            name,
+            function,
+            known,
+            &places.actions,
+        ) {
+            self.warnings.push(PlanWarning {
+                transition: node.id.clone(),
+                label: node.label.clone(),
+                message,
+            });
+        }
+        // The PNP library calls executables by name: an action no execution
+        // place names is started or ended all the same, and never stepped.
+        let action = known.unwrap_or_else(|| self.places.add_action(name));
+        Call { function, action }
+    }
+
+    /// Parses and compiles the explicit guard `text` of `node`.
+    fn guard(&mut self, node: &TransitionNode, text: &str) -> Result<Condition, PlanError> {
+        let expr = parse_condition(text).map_err(|source| PlanError::Guard {
+            transition: node.id.clone(),
+            label: node.label.clone(),
+            source: Box::new(source),
+        })?;
+        Condition::compile(&expr, &mut |atom| self.guard_atom(node, atom))
+    }
+
+    /// Resolves one atom of `node`'s guard; the action of an internal
+    /// condition no execution place names is added, with a warning.
+    fn guard_atom(&mut self, node: &TransitionNode, atom: &str) -> Result<AtomRef, PlanError> {
+        if let Some((name, _)) = atom.split_once('.').filter(|_| atom.matches('.').count() == 1)
+            && !name.is_empty()
+            && !self.places.by_name.contains_key(name)
+        {
+            // As for calls: the PNP library asks the executable by name.
+            self.warnings.push(PlanWarning {
+                transition: node.id.clone(),
+                label: node.label.clone(),
+                message: format!(
+                    "no execution place names action '{name}', whose condition '{atom}' the guard \
+                     tests; as the PNP library does, '{name}' is asked by name and never stepped"
+                ),
+            });
+            self.places.add_action(name);
+        }
+        resolve_atom(
+            atom,
+            &self.places.by_name,
+            &mut self.atoms,
+            self.vocabulary,
+            &mut self.internal,
+        )
+        .map_err(|reason| label_error(node, atom, &reason))
+    }
+}
+
+/// An error in the label of transition `node`, at `token`.
+fn label_error(node: &TransitionNode, token: &str, reason: &str) -> PlanError {
+    PlanError::TransitionLabel {
+        transition: node.id.clone(),
+        label: node.label.clone(),
+        token: token.to_string(),
+        reason: reason.to_string(),
     }
 }
 

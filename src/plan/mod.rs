@@ -6,10 +6,9 @@ pub mod catalog;
 mod definition;
 mod error;
 pub mod labels;
-mod load;
 
 pub use builder::{ActionNet, PlaceRef, PlanBuilder, SensingNet, Tracker, TransitionRef};
+pub(crate) use definition::PlanOrigin;
 pub use definition::{ActionId, ActionInfo, Call, InternalCondition, InternalKind, Plan, TransitionInfo, Vocabulary};
 pub use error::{PlanError, PlanWarning};
 pub use labels::Function;
-pub use load::{LoadError, load_plan};

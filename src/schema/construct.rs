@@ -22,13 +22,14 @@
 //! that choice state. Its value is the thesis's Q(o, a) of the option; it
 //! behaves exactly as the action state it enters.
 
+use std::any::Any;
 use std::sync::Arc;
 
 use super::SchemaError;
 use super::model::{Machine, Schema, StateKind, internal_action};
 use crate::condition::{AtomRef, AtomTable, Condition, Expr};
 use crate::net::{NetError, PetriNet, PlaceNode, TransitionNode};
-use crate::plan::{InternalKind, Plan, PlanError, Vocabulary};
+use crate::plan::{InternalKind, Plan, PlanError, PlanOrigin, Vocabulary};
 
 /// Most distinct conditions on the edges sharing one plan state and event.
 pub const MAX_CONDITIONS: usize = 12;
@@ -324,7 +325,24 @@ impl Process {
     /// with the schema's semantics.
     pub fn into_plan(self) -> Plan {
         let root = self.machines[0].plan.clone();
-        root.with_schema_process(Arc::new(self))
+        root.with_origin(Arc::new(self))
+    }
+}
+
+impl PlanOrigin for Process {
+    fn called_plans(&self) -> Vec<&Plan> {
+        self.machines.iter().skip(1).map(MachineProcess::plan).collect()
+    }
+}
+
+impl Plan {
+    /// The process of the plan schema this plan was constructed from
+    /// ([`Process::into_plan`]), if any; the executor then follows the
+    /// schema's semantics (thesis 3.1.1).
+    pub fn schema_process(&self) -> Option<Arc<Process>> {
+        let origin: Arc<dyn PlanOrigin> = Arc::clone(self.origin()?);
+        let origin: Arc<dyn Any + Send + Sync> = origin;
+        origin.downcast().ok()
     }
 }
 

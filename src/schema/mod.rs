@@ -14,7 +14,7 @@
 //! - [`load_schema_plan`] gives the root machine's process as a [`Plan`], so
 //!   that the executor, the learners, the domains and the experiments use a
 //!   schema wherever they use a Petri Net Plan; the executor runs it with the
-//!   schema's semantics (section 3.1.1, see `runtime`).
+//!   schema's semantics (section 3.1.1, [`Plan::schema_process`]).
 //!
 //! `docs/SCHEMAS.md` describes the format and the semantics for designers.
 
@@ -23,7 +23,6 @@ mod construct;
 mod error;
 mod model;
 mod report;
-mod runtime;
 mod text;
 
 use std::path::Path;
@@ -36,7 +35,6 @@ pub use construct::{
 pub use error::{SchemaError, SchemaFileError};
 pub use model::{Edge, KEYWORDS, Machine, PlanState, Schema, StateKind};
 pub use report::{check_report, describe, to_dot};
-pub(crate) use runtime::MachineRun;
 pub use text::{parse_schema, write_schema};
 
 use crate::plan::{Plan, Vocabulary};

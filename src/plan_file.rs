@@ -1,9 +1,12 @@
-//! Loading plan files: PNML read, then labels interpreted, errors naming the file.
-//! A plan schema file (`.schema`, thesis chapter 3) loads as its constructed process.
+//! Loading plan files of either kind: a Petri Net Plan (PNML read, then labels
+//! interpreted) or a plan schema (`.schema`, thesis chapter 3, loaded as its
+//! constructed process); errors name the file.
+//!
+//! It sits above `plan` and `schema`, the one place that knows both file kinds.
 
 use std::path::{Path, PathBuf};
 
-use super::{Plan, PlanError, Vocabulary};
+use crate::plan::{Plan, PlanError, Vocabulary};
 use crate::pnml::{self, PnmlFileError};
 use crate::schema::{self, SchemaFileError};
 
