@@ -93,7 +93,7 @@ pub fn to_dot_with_values(plan: &Plan, limit: usize, values: Option<&LearnedValu
 }
 
 /// [`to_dot`] exploring at most `limit` markings for the choice points.
-pub fn to_dot_with_limit(plan: &Plan, limit: usize) -> String {
+pub(crate) fn to_dot_with_limit(plan: &Plan, limit: usize) -> String {
     to_dot_with_values(plan, limit, None)
 }
 

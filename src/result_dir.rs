@@ -16,7 +16,7 @@
 //!   naming the holder's process id. The lock file is removed on drop.
 //! - **Whole or nothing.** A [`ResultWriter`] writes every file into a hidden
 //!   staging directory `.NAME.staging-PID-N` beside the target. [`ResultWriter::commit`]
-//!   syncs the files, writes [`MANIFEST`] last, and publishes the staging
+//!   syncs the files, writes `MANIFEST` last, and publishes the staging
 //!   directory in one step: on Linux the two directories are exchanged
 //!   atomically (`renameat2(RENAME_EXCHANGE)`) and the old results removed; a
 //!   new target is simply renamed into place. Where the exchange is not
@@ -59,19 +59,19 @@ use serde::{Deserialize, Serialize};
 
 /// The file written last into every result directory: what it holds and
 /// whether it is complete.
-pub const MANIFEST: &str = "manifest.json";
+pub(crate) const MANIFEST: &str = "manifest.json";
 
 /// The format version of [`MANIFEST`] this build writes and reads.
-pub const MANIFEST_FORMAT: u32 = 1;
+pub(crate) const MANIFEST_FORMAT: u32 = 1;
 
 /// A file of results written by versions without a manifest; a directory
 /// holding it (and no manifest) is taken as their results and may be replaced.
-pub const LEGACY_MARKER: &str = "summary.json";
+pub(crate) const LEGACY_MARKER: &str = "summary.json";
 
-/// What a result directory's [`MANIFEST`] says.
+/// What a result directory's `MANIFEST` says.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Manifest {
-    /// [`MANIFEST_FORMAT`] when written.
+    /// `MANIFEST_FORMAT` when written.
     pub format: u32,
     /// Whether every planned run completed (false for an interrupted run).
     pub complete: bool,
@@ -118,7 +118,7 @@ pub enum Contents {
     Empty,
     /// A result set, complete or partial.
     Results(Manifest),
-    /// Results of a version that wrote no manifest (a [`LEGACY_MARKER`] file).
+    /// Results of a version that wrote no manifest (a `LEGACY_MARKER` file).
     Legacy,
 }
 

@@ -28,7 +28,7 @@ impl Count {
     }
 
     /// Whether the count is above one token.
-    pub fn exceeds_one(self) -> bool {
+    pub(crate) fn exceeds_one(self) -> bool {
         self > Count::Finite(1)
     }
 }

@@ -259,7 +259,7 @@ impl Reachability {
 
     /// Whether the successors of `s` were computed (false for the states left
     /// when the limit was hit).
-    pub fn is_expanded(&self, s: StateId) -> bool {
+    pub(crate) fn is_expanded(&self, s: StateId) -> bool {
         s.index() + 1 < self.edge_start.len()
     }
 

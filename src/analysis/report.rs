@@ -116,7 +116,7 @@ impl Property {
     }
 
     /// What holds when the property passes.
-    pub fn meaning(self) -> &'static str {
+    pub(crate) fn meaning(self) -> &'static str {
         match self {
             Property::Safety => "no execution place holds more than one token",
             Property::Minimality => "every transition can fire",

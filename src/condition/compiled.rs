@@ -29,7 +29,7 @@ pub enum Condition {
 
 impl Condition {
     /// Compiles `expr`, resolving each atom name with `resolve`.
-    pub fn compile<E>(expr: &Expr, resolve: &mut impl FnMut(&str) -> Result<AtomRef, E>) -> Result<Self, E> {
+    pub(crate) fn compile<E>(expr: &Expr, resolve: &mut impl FnMut(&str) -> Result<AtomRef, E>) -> Result<Self, E> {
         Ok(match expr {
             Expr::True => Condition::True,
             Expr::Atom(a) => Condition::Atom(resolve(a)?),

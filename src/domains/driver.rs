@@ -99,7 +99,7 @@ impl<W: World> PlanAgent<W> {
 }
 
 /// The marking of `plan` with one token in the first place carrying each label.
-pub fn marking_with(plan: &Plan, labels: &[&str]) -> Result<Marking, TaskError> {
+pub(crate) fn marking_with(plan: &Plan, labels: &[&str]) -> Result<Marking, TaskError> {
     let mut m = Marking::empty(plan.net().places().len());
     for label in labels {
         let place = plan

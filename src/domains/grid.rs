@@ -20,7 +20,7 @@ impl Direction {
     pub const ALL: [Direction; 4] = [Direction::North, Direction::South, Direction::East, Direction::West];
 
     /// The action name in the plans (`MoveNorth`, ...).
-    pub fn action_name(self) -> &'static str {
+    pub(crate) fn action_name(self) -> &'static str {
         match self {
             Direction::North => "MoveNorth",
             Direction::South => "MoveSouth",
@@ -39,14 +39,14 @@ impl Direction {
 }
 
 /// A world in which an agent moves.
-pub trait Mover {
+pub(crate) trait Mover {
     /// Attempts one move (the world applies its own dynamics and rewards).
     fn apply_move(&mut self, direction: Direction);
 }
 
 /// A one-step action that moves the agent when stepped.
 #[derive(Debug, Clone, Copy)]
-pub struct Move {
+pub(crate) struct Move {
     direction: Direction,
     done: bool,
 }

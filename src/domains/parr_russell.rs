@@ -46,11 +46,11 @@ impl Default for ParrRussellConfig {
 }
 
 /// The cell of the obstacle.
-pub const OBSTACLE: (i8, i8) = (2, 2);
+pub(crate) const OBSTACLE: (i8, i8) = (2, 2);
 /// The cell paying +1.
-pub const GOAL: (i8, i8) = (4, 3);
+pub(crate) const GOAL: (i8, i8) = (4, 3);
 /// The cell paying -1.
-pub const PENALTY: (i8, i8) = (4, 2);
+pub(crate) const PENALTY: (i8, i8) = (4, 2);
 /// The start cell.
 pub const START: (i8, i8) = (1, 1);
 
@@ -60,7 +60,7 @@ pub fn free(cell: (i8, i8)) -> bool {
 }
 
 /// Where a move from `cell` in `d` ends (staying when blocked).
-pub fn step_cell(cell: (i8, i8), d: Direction) -> (i8, i8) {
+pub(crate) fn step_cell(cell: (i8, i8), d: Direction) -> (i8, i8) {
     let next = match d {
         Direction::North => (cell.0, cell.1 + 1),
         Direction::South => (cell.0, cell.1 - 1),

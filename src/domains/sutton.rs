@@ -20,13 +20,13 @@ use crate::plan::{Plan, Vocabulary, catalog};
 use crate::rng::SimRng;
 
 /// Rows of the grid.
-pub const ROWS: i8 = 6;
+pub(crate) const ROWS: i8 = 6;
 /// Columns of the grid.
-pub const COLS: i8 = 9;
+pub(crate) const COLS: i8 = 9;
 /// The goal cell (row from the top, column).
-pub const GOAL: (i8, i8) = (0, 8);
+pub(crate) const GOAL: (i8, i8) = (0, 8);
 /// The obstacles.
-pub const OBSTACLES: [(i8, i8); 7] = [(1, 2), (2, 2), (3, 2), (0, 7), (1, 7), (2, 7), (4, 5)];
+pub(crate) const OBSTACLES: [(i8, i8); 7] = [(1, 2), (2, 2), (3, 2), (0, 7), (1, 7), (2, 7), (4, 5)];
 
 /// The grid's parameters.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -47,7 +47,7 @@ pub fn free(cell: (i8, i8)) -> bool {
 }
 
 /// The free cells an episode may start in (every free cell but the goal).
-pub fn start_cells() -> Vec<(i8, i8)> {
+pub(crate) fn start_cells() -> Vec<(i8, i8)> {
     (0..ROWS)
         .flat_map(|r| (0..COLS).map(move |c| (r, c)))
         .filter(|&c| free(c) && c != GOAL)

@@ -2,7 +2,7 @@
 
 /// A set of small indices stored as bits.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub struct BitSet {
+pub(crate) struct BitSet {
     words: Vec<u64>,
 }
 

@@ -160,7 +160,7 @@ pub const DEFAULT_SEED: u64 = 2011;
 
 /// A default protocol for interactive runs of `domain` (presets set the
 /// thesis's; fixed Keepaway policies use the baselines preset's).
-pub fn default_protocol(domain: &DomainSpec) -> Protocol {
+pub(crate) fn default_protocol(domain: &DomainSpec) -> Protocol {
     match domain {
         // Nothing learns: 50 episodes, then 50 evaluated ones, in each of 20 runs.
         DomainSpec::Keepaway { .. } if domain.is_fixed_policy() => Protocol {

@@ -28,7 +28,7 @@ pub struct SummaryFile {
     /// Its 95% confidence interval over runs.
     pub final_ci95: [f64; 2],
     /// Mean return of each run's greedy policy at the end, averaged over runs;
-    /// `None` (`null`) where it does not apply ([`greedy_not_applicable`]).
+    /// `None` (`null`) where it does not apply (`greedy_not_applicable`).
     pub final_greedy_mean: Option<f64>,
     /// Its 95% confidence interval over runs.
     pub final_greedy_ci95: Option<[f64; 2]>,
@@ -72,7 +72,7 @@ pub fn curve(output: &ExperimentOutput) -> Vec<(u64, Summary)> {
 
 /// Why an experiment has no greedy score, if it has none: a fixed policy
 /// learns nothing to be greedy about, and a protocol may play no greedy episode.
-pub fn greedy_not_applicable(spec: &ExperimentSpec) -> Option<&'static str> {
+pub(crate) fn greedy_not_applicable(spec: &ExperimentSpec) -> Option<&'static str> {
     if spec.domain.is_fixed_policy() {
         Some("n/a: a fixed policy learns nothing")
     } else if spec.protocol.greedy_episodes == 0 {

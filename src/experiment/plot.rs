@@ -541,7 +541,7 @@ pub fn text_width(text: &str, size: u32) -> f64 {
 }
 
 /// `title` broken at spaces into lines no wider than `width` pixels at `size`.
-pub fn wrap(title: &str, width: f64, size: u32) -> Vec<String> {
+pub(crate) fn wrap(title: &str, width: f64, size: u32) -> Vec<String> {
     let mut lines: Vec<String> = Vec::new();
     let mut line = String::new();
     for word in title.split_whitespace() {

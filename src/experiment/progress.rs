@@ -19,7 +19,7 @@ fn family(spec: &ExperimentSpec) -> &'static str {
 }
 
 /// Episodes every run of `spec` plays: learning, evaluation and greedy ones.
-pub fn episodes_of(spec: &ExperimentSpec) -> u64 {
+pub(crate) fn episodes_of(spec: &ExperimentSpec) -> u64 {
     let p = &spec.protocol;
     let per_run = p.episodes + p.eval_points().len() as u64 * p.eval_episodes as u64 + p.greedy_episodes as u64;
     per_run * p.runs as u64 + spec.record as u64

@@ -1,8 +1,8 @@
 //! The valid range of every numeric experiment parameter.
 //!
-//! The same ranges are checked where a flag is parsed (the `value_parser` of
-//! [`ExperimentOptions`](super::args::ExperimentOptions), so every entry point
-//! refuses `--alpha 5` before any work) and by
+//! The same ranges are checked where a flag is parsed (the value parsers of
+//! the command line's experiment flags, so every entry point refuses
+//! `--alpha 5` before any work) and by
 //! [`ExperimentSpec::validate`](super::spec::ExperimentSpec::validate) (specs
 //! read from files). Every message states the valid range.
 
@@ -170,7 +170,7 @@ pub const TEMPERATURE: RealRange = RealRange::above(0.0, f64::INFINITY);
 /// validation then checks the one it is).
 pub const EXPLORATION: RealRange = RealRange::closed(0.0, f64::INFINITY);
 /// A return level (SoSMC's threshold rule).
-pub const RETURN: RealRange = RealRange::closed(f64::NEG_INFINITY, f64::INFINITY);
+pub(crate) const RETURN: RealRange = RealRange::closed(f64::NEG_INFINITY, f64::INFINITY);
 /// Keepaway distances, in metres (the largest field is about 105 m long).
 pub const DISTANCE: RealRange = RealRange::closed(0.0, 200.0);
 
@@ -204,7 +204,7 @@ pub fn eval_every(episodes: u64) -> CountRange {
 
 /// The value of unseen markings: a finite number, or negative infinity (no
 /// estimate yet: the first return replaces it).
-pub fn check_initial_value(value: f64) -> Result<f64, String> {
+pub(crate) fn check_initial_value(value: f64) -> Result<f64, String> {
     if value.is_finite() || value == f64::NEG_INFINITY {
         Ok(value)
     } else {

@@ -72,7 +72,7 @@ impl ExperimentOutput {
     }
 
     /// Primitive actions over all runs.
-    pub fn total_actions(&self) -> u64 {
+    pub(crate) fn total_actions(&self) -> u64 {
         self.runs.iter().map(|r| r.actions).sum()
     }
 
@@ -82,7 +82,7 @@ impl ExperimentOutput {
     }
 
     /// Run 0, which records episodes, traces and values, if it completed.
-    pub fn first_run(&self) -> Option<&RunOutput> {
+    pub(crate) fn first_run(&self) -> Option<&RunOutput> {
         self.runs.iter().find(|r| r.run == 0)
     }
 }
@@ -108,7 +108,7 @@ pub fn task_rng(spec: &ExperimentSpec, run: usize) -> SimRng {
 
 /// Runs run `run` of `spec` with the plan already loaded; `None` if `stop`
 /// said so before it finished (checked before every learning episode).
-pub fn run_one(
+pub(crate) fn run_one(
     spec: &ExperimentSpec,
     plan: Option<Arc<Plan>>,
     initial: &[SavedValues],

@@ -131,7 +131,7 @@ impl DomainSpec {
     }
 
     /// What an episode's return measures, for axis labels and tables.
-    pub fn score_name(&self) -> &'static str {
+    pub(crate) fn score_name(&self) -> &'static str {
         match self {
             DomainSpec::Keepaway { .. } => "episode duration",
             _ => "return",
@@ -147,7 +147,7 @@ impl DomainSpec {
     }
 
     /// Whether nothing learns: the keepers follow a fixed policy.
-    pub fn is_fixed_policy(&self) -> bool {
+    pub(crate) fn is_fixed_policy(&self) -> bool {
         matches!(
             self,
             DomainSpec::Keepaway {
@@ -402,7 +402,7 @@ pub struct Protocol {
 
 impl Protocol {
     /// Learning episodes between two recordings of the traced values (0: none).
-    pub fn trace_interval(&self) -> u64 {
+    pub(crate) fn trace_interval(&self) -> u64 {
         self.trace_every.unwrap_or((self.episodes / 1000).max(1))
     }
 
@@ -466,8 +466,8 @@ fn is_zero(n: &usize) -> bool {
 
 impl ExperimentSpec {
     /// Checks every parameter against its range and the learner against the
-    /// algorithm: what [`ExperimentOptions`](super::args::ExperimentOptions)
-    /// guarantees for flags, for specs from anywhere else.
+    /// algorithm: what the command line's flags guarantee as they are parsed,
+    /// for specs from anywhere else.
     pub fn validate(&self) -> Result<(), ExperimentError> {
         self.protocol.validate()?;
         self.domain.validate()?;
@@ -496,7 +496,7 @@ impl ExperimentSpec {
     /// process ([`schema::check_report`]). A check left inconclusive by that
     /// limit is no refusal. The built-in plans are not checked here (their
     /// tests check them).
-    pub fn check_plan(&self) -> Result<(), ExperimentError> {
+    pub(crate) fn check_plan(&self) -> Result<(), ExperimentError> {
         let Some(path) = self.domain.plan_file() else {
             return Ok(());
         };

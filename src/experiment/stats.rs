@@ -59,7 +59,7 @@ const Z_975: f64 = 1.959_963_984_540_054;
 /// and Stegun 26.7.5) is used; its absolute error is below 3e-8 at `df = 31`
 /// and shrinks quickly (below 1e-10 from `df = 100`), converging to the normal
 /// quantile 1.959964. `df = 0` has no quantile and gives infinity.
-pub fn t_quantile_975(df: usize) -> f64 {
+pub(crate) fn t_quantile_975(df: usize) -> f64 {
     match df {
         0 => f64::INFINITY,
         1..=30 => T_975[df - 1],
@@ -82,7 +82,7 @@ pub fn t_quantile_975(df: usize) -> f64 {
 
 /// The mean of `samples` and a two-sided 95% confidence interval of the mean,
 /// `mean ± t(n-1) · s / √n` with `s` the sample standard deviation (n-1 in the
-/// denominator) and `t` from [`t_quantile_975`].
+/// denominator) and `t` from `t_quantile_975`.
 ///
 /// One sample gives a zero-width interval at that sample; no samples give NaN
 /// for the mean and both ends with `n = 0`. Samples are used as given: a NaN

@@ -40,7 +40,7 @@ impl Vec2 {
     }
 
     /// Squared length.
-    pub fn norm_sq(self) -> f64 {
+    pub(crate) fn norm_sq(self) -> f64 {
         self.x * self.x + self.y * self.y
     }
 
@@ -50,7 +50,7 @@ impl Vec2 {
     }
 
     /// Squared distance to `other`.
-    pub fn dist_sq(self, other: Vec2) -> f64 {
+    pub(crate) fn dist_sq(self, other: Vec2) -> f64 {
         (self - other).norm_sq()
     }
 
@@ -74,7 +74,7 @@ impl Vec2 {
     }
 
     /// This vector rotated counter-clockwise by `deg` degrees.
-    pub fn rotate(self, deg: f64) -> Self {
+    pub(crate) fn rotate(self, deg: f64) -> Self {
         let (s, c) = deg.to_radians().sin_cos();
         Vec2 {
             x: self.x * c - self.y * s,
@@ -172,7 +172,7 @@ pub fn clamp(v: f64, lo: f64, hi: f64) -> f64 {
 }
 
 /// Distance from `p` to the segment `a`-`b`.
-pub fn dist_to_segment(p: Vec2, a: Vec2, b: Vec2) -> f64 {
+pub(crate) fn dist_to_segment(p: Vec2, a: Vec2, b: Vec2) -> f64 {
     let ab = b - a;
     let len_sq = ab.norm_sq();
     if len_sq <= 0.0 {
@@ -184,7 +184,7 @@ pub fn dist_to_segment(p: Vec2, a: Vec2, b: Vec2) -> f64 {
 
 /// The angle in degrees, in `[0, 180]`, at `vertex` between the directions to `p1`
 /// and to `p2` (0 if either point coincides with the vertex).
-pub fn angle_at(vertex: Vec2, p1: Vec2, p2: Vec2) -> f64 {
+pub(crate) fn angle_at(vertex: Vec2, p1: Vec2, p2: Vec2) -> f64 {
     let a = p1 - vertex;
     let b = p2 - vertex;
     if a.norm_sq() == 0.0 || b.norm_sq() == 0.0 {
@@ -194,7 +194,7 @@ pub fn angle_at(vertex: Vec2, p1: Vec2, p2: Vec2) -> f64 {
 }
 
 /// The server's quantisation `Q(v, q) = rint(v / q) * q` (ties to even, like C's `rint`).
-pub fn quantize(v: f64, q: f64) -> f64 {
+pub(crate) fn quantize(v: f64, q: f64) -> f64 {
     (v / q).round_ties_even() * q
 }
 

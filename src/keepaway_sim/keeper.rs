@@ -80,7 +80,7 @@ pub struct KeeperMemory {
 }
 
 /// A keeper's command for this cycle (the framework's `KeepawayPlayer::keeper`),
-/// from what it believes ([`believed`]):
+/// from what it believes (`believed`):
 /// - with the ball kickable: continue the pass kicked last cycle if there is one,
 ///   otherwise ask `policy` and hold the ball (one cycle, ratio 0.7) or start a pass
 ///   to the k-th closest teammate;

@@ -212,12 +212,12 @@ impl Default for Region {
 
 impl Region {
     /// Half the length.
-    pub fn half_length(&self) -> f64 {
+    pub(crate) fn half_length(&self) -> f64 {
         self.length * 0.5
     }
 
     /// Half the width.
-    pub fn half_width(&self) -> f64 {
+    pub(crate) fn half_width(&self) -> f64 {
         self.width * 0.5
     }
 

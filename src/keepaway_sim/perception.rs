@@ -37,7 +37,7 @@ impl From<PlayerId> for u8 {
 
 impl PlayerId {
     /// The keepers, in team order.
-    pub const KEEPERS: [PlayerId; NUM_KEEPERS] = {
+    pub(crate) const KEEPERS: [PlayerId; NUM_KEEPERS] = {
         let mut ids = [PlayerId(0); NUM_KEEPERS];
         let mut k = 0;
         while k < NUM_KEEPERS {

@@ -13,7 +13,7 @@ use super::params::Region;
 use serde::{Deserialize, Serialize};
 
 /// Fraction of the region left as a border around the points (the get-open grid's).
-pub const POSITION_BORDER: f64 = 0.15;
+pub(crate) const POSITION_BORDER: f64 = 0.15;
 
 /// A positioning point.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

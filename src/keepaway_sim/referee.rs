@@ -74,7 +74,7 @@ impl Referee {
 /// The server leaves body directions as they were at the end of the previous
 /// episode, which is effectively arbitrary; here they are drawn uniformly in
 /// `[-180, 180)` so that one episode from a seed stands for a typical one.
-pub fn reset_world(world: &mut FieldState, cfg: &KeepawayConfig, rng: &mut SimRng) {
+pub(crate) fn reset_world(world: &mut FieldState, cfg: &KeepawayConfig, rng: &mut SimRng) {
     let hl = cfg.region.half_length();
     let hw = cfg.region.half_width();
     let mut corner = rng.random_range(0..NUM_KEEPERS);

@@ -67,7 +67,7 @@ impl Simulator {
     }
 
     /// Restores a random state saved with [`Simulator::rng`].
-    pub fn set_rng(&mut self, rng: SimRng) {
+    pub(crate) fn set_rng(&mut self, rng: SimRng) {
         self.rng = rng;
     }
 

@@ -14,7 +14,7 @@ pub struct TakerMemory {
     pub intercept: InterceptMemory,
 }
 
-/// A taker's command for this cycle, from what it believes ([`believed`]):
+/// A taker's command for this cycle, from what it believes (`believed`):
 /// 1. if the ball is kickable and this taker is the taker closest to the ball, hold
 ///    it (`holdBall` with the takers' ratio 0.3: the ball kept 0.595 m away);
 /// 2. if the player closest to the ball is a fellow taker who has it within the

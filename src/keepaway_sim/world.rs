@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 /// Number of keepers.
 pub const NUM_KEEPERS: usize = 3;
 /// Number of takers.
-pub const NUM_TAKERS: usize = 2;
+pub(crate) const NUM_TAKERS: usize = 2;
 /// Number of players; indices `0..NUM_KEEPERS` are keepers, the rest takers.
 pub const NUM_PLAYERS: usize = NUM_KEEPERS + NUM_TAKERS;
 
@@ -52,7 +52,7 @@ impl Side {
     /// direction 0" is our 180. Skills that use a fixed global direction (the
     /// heading after an interception, the hold's "already in place" test, the
     /// preference for interception points farther forward) turn it by this angle.
-    pub fn frame_dir(self) -> f64 {
+    pub(crate) fn frame_dir(self) -> f64 {
         match self {
             Side::Keepers => 0.0,
             Side::Takers => 180.0,
@@ -61,7 +61,7 @@ impl Side {
 
     /// `p` in this side's own frame (see [`Side::frame_dir`]): unchanged for the
     /// keepers, rotated by 180 degrees for the takers.
-    pub fn own_frame(self, p: Vec2) -> Vec2 {
+    pub(crate) fn own_frame(self, p: Vec2) -> Vec2 {
         match self {
             Side::Keepers => p,
             Side::Takers => -p,
@@ -110,7 +110,7 @@ fn symmetric(rng: &mut SimRng, r: f64) -> f64 {
 /// body `body`: `1 - 0.25 * dir_diff / 180 - 0.25 * dist_ball / kickable_margin`,
 /// where `dir_diff` is the absolute angle of the ball off the body (degrees) and
 /// `dist_ball` the gap between ball and body surfaces.
-pub fn kick_rate_factor(params: &ServerParams, pos: Vec2, body: f64, ball: Vec2) -> f64 {
+pub(crate) fn kick_rate_factor(params: &ServerParams, pos: Vec2, body: f64, ball: Vec2) -> f64 {
     let rel = ball - pos;
     let dir_diff = normalize_deg(rel.dir() - body).abs();
     let dist_ball = rel.norm() - params.player_size - params.ball_size;

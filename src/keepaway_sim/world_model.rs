@@ -2,7 +2,7 @@
 //! model (UvA Trilearn's `WorldModel::calculateStateBall`) corrects the seen ball
 //! velocity before any skill uses it.
 //!
-//! A [`PlayerView`] is what the server tells a player; [`believed`] is what the
+//! A [`PlayerView`] is what the server tells a player; `believed` is what the
 //! framework's player then works with. The keepers and takers of this crate apply
 //! it at the start of every decision ([`super::keeper::keeper_command`],
 //! [`super::taker::taker_command`], the plan-driven keepers' world).
@@ -32,7 +32,7 @@ use super::perception::PlayerView;
 ///   views are taken as they come, see [`super::perception::perceive`]);
 /// - its other corrections concern goalie catches and set plays, which keepaway
 ///   does not have.
-pub fn believed(view: &PlayerView, cfg: &KeepawayConfig) -> PlayerView {
+pub(crate) fn believed(view: &PlayerView, cfg: &KeepawayConfig) -> PlayerView {
     let sp = &cfg.server;
     let reach = sp.kickable_distance();
     let ball = view.ball.pos;

@@ -80,11 +80,6 @@ impl Mcesp {
         }
     }
 
-    /// Observations the policy has an option for.
-    pub fn policy_len(&self) -> usize {
-        self.policy.len()
-    }
-
     fn end_stage(&mut self) {
         if let Some(&(obs, explored)) = self.queue.front() {
             let current = self.policy.get(&obs).copied();

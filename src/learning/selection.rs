@@ -77,7 +77,7 @@ impl Exploration {
 }
 
 /// The indices of the best values (ties included).
-pub fn best_indices(values: &[f64], out: &mut Vec<usize>) {
+pub(crate) fn best_indices(values: &[f64], out: &mut Vec<usize>) {
     out.clear();
     let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     out.extend(
@@ -99,7 +99,7 @@ pub fn greedy(values: &[f64], rng: &mut SimRng, scratch: &mut Vec<usize>) -> usi
 }
 
 /// Whether `index` is among the best values.
-pub fn is_greedy(values: &[f64], index: usize) -> bool {
+pub(crate) fn is_greedy(values: &[f64], index: usize) -> bool {
     let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     values[index] == max
 }

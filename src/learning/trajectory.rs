@@ -32,7 +32,7 @@ impl Trajectory {
     }
 
     /// A marking change after `elapsed` steps that collected `reward`.
-    pub fn advance(&mut self, reward: f64, elapsed: u32) {
+    pub(crate) fn advance(&mut self, reward: f64, elapsed: u32) {
         if reward != 0.0 {
             self.rewards.push((self.time, reward));
         }
@@ -62,12 +62,12 @@ impl Trajectory {
     }
 
     /// The discounted return from time 0.
-    pub fn total_return(&mut self, gamma: f64) -> f64 {
+    pub(crate) fn total_return(&mut self, gamma: f64) -> f64 {
         self.return_from(gamma, 0)
     }
 
     /// Fills `out` with (afterstate, discounted return from its first visit): R_post-o.
-    pub fn first_visit_returns(&mut self, gamma: f64, out: &mut Vec<(KeyId, f64)>) {
+    pub(crate) fn first_visit_returns(&mut self, gamma: f64, out: &mut Vec<(KeyId, f64)>) {
         out.clear();
         self.build_suffix(gamma);
         for i in 0..self.visits.len() {

@@ -76,7 +76,13 @@ impl ValueTable {
 
     /// The ids and values of a choice's options (next markings of `plan`),
     /// interning the new ones, into reusable buffers.
-    pub fn intern_options(&mut self, plan: PlanKey, options: &[Marking], ids: &mut Vec<KeyId>, values: &mut Vec<f64>) {
+    pub(crate) fn intern_options(
+        &mut self,
+        plan: PlanKey,
+        options: &[Marking],
+        ids: &mut Vec<KeyId>,
+        values: &mut Vec<f64>,
+    ) {
         ids.clear();
         values.clear();
         for m in options {

@@ -52,36 +52,36 @@ impl Incidence {
     }
 
     /// Number of transitions.
-    pub fn transition_count(&self) -> usize {
+    pub(crate) fn transition_count(&self) -> usize {
         self.inputs.len()
     }
 
     /// Number of places.
-    pub fn place_count(&self) -> usize {
+    pub(crate) fn place_count(&self) -> usize {
         self.consumers.len()
     }
 
     /// The input arcs of `t`.
     #[inline]
-    pub fn inputs(&self, t: TransitionId) -> &[Arc] {
+    pub(crate) fn inputs(&self, t: TransitionId) -> &[Arc] {
         &self.inputs[t.index()]
     }
 
     /// The output arcs of `t`.
     #[inline]
-    pub fn outputs(&self, t: TransitionId) -> &[Arc] {
+    pub(crate) fn outputs(&self, t: TransitionId) -> &[Arc] {
         &self.outputs[t.index()]
     }
 
     /// The transitions with an input arc from `p`, with its weight.
     #[inline]
-    pub fn consumers(&self, p: PlaceId) -> &[(TransitionId, u8)] {
+    pub(crate) fn consumers(&self, p: PlaceId) -> &[(TransitionId, u8)] {
         &self.consumers[p.index()]
     }
 
     /// Whether `t` has enough tokens in every input place (guards aside).
     #[inline]
-    pub fn is_enabled(&self, marking: &Marking, t: TransitionId) -> bool {
+    pub(crate) fn is_enabled(&self, marking: &Marking, t: TransitionId) -> bool {
         self.inputs(t).iter().all(|a| marking.get(a.place) >= a.weight)
     }
 
@@ -97,7 +97,7 @@ impl Incidence {
     }
 
     /// Every transition in index order.
-    pub fn transition_ids(&self) -> impl Iterator<Item = TransitionId> {
+    pub(crate) fn transition_ids(&self) -> impl Iterator<Item = TransitionId> {
         (0..self.inputs.len()).map(TransitionId::new)
     }
 }

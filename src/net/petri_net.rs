@@ -156,7 +156,7 @@ pub struct PetriNet {
 }
 
 /// An arc given by node ids, before they are resolved.
-pub type ArcSpec<'a> = (&'a str, &'a str, &'a str, u8);
+pub(crate) type ArcSpec<'a> = (&'a str, &'a str, &'a str, u8);
 
 impl PetriNet {
     /// A net from its nodes and arcs given by node ids `(arc id, source id, target id, weight)`.

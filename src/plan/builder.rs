@@ -126,7 +126,7 @@ impl PlanBuilder {
     }
 
     /// Adds an arc from `p` into `t` with weight `w`.
-    pub fn consume(&mut self, t: TransitionRef, p: PlaceRef, w: u8) {
+    pub(crate) fn consume(&mut self, t: TransitionRef, p: PlaceRef, w: u8) {
         let id = format!("a{}", self.arcs.len() + 1);
         self.arcs
             .push((id, self.places[p.0].id.clone(), self.transitions[t.0].id.clone(), w));
@@ -151,7 +151,7 @@ impl PlanBuilder {
     }
 
     /// Action `name` from `from` into `done` whose start also needs `guard` (guard syntax).
-    pub fn guarded_action_into(&mut self, from: PlaceRef, name: &str, guard: &str, done: PlaceRef) -> ActionNet {
+    pub(crate) fn guarded_action_into(&mut self, from: PlaceRef, name: &str, guard: &str, done: PlaceRef) -> ActionNet {
         self.action_with_start(from, name, format!("{name}.start [{guard}]"), done)
     }
 

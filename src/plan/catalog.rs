@@ -129,7 +129,7 @@ pub fn loop_counter() -> Result<PetriNet, NetError> {
 /// environment-tracking part follows `x` and `y`; the procedural part has one
 /// choice among the four actions, and each observation gives its own marking.
 /// The plan begins with one step in which the trackers settle.
-pub fn environment_tracking() -> Result<PetriNet, NetError> {
+pub(crate) fn environment_tracking() -> Result<PetriNet, NetError> {
     let mut b = PlanBuilder::new("environment_tracking");
     b.tracker("x");
     b.tracker("y");
@@ -176,7 +176,7 @@ pub fn parr_russell() -> Result<PetriNet, NetError> {
 }
 
 /// The eight neighbour atoms of Sutton's grid, clockwise from north.
-pub const NEIGHBOURS: [&str; 8] = [
+pub(crate) const NEIGHBOURS: [&str; 8] = [
     "BlockedN",
     "BlockedNE",
     "BlockedE",
@@ -218,7 +218,7 @@ fn keeper_procedure(b: &mut PlanBuilder, decide: super::PlaceRef, ball: super::P
 }
 
 /// The keeper decisions of the pass plan, in plan order.
-pub const KEEPER_DECISIONS: [&str; 3] = ["Hold", "Pass1", "Pass2"];
+pub(crate) const KEEPER_DECISIONS: [&str; 3] = ["Hold", "Pass1", "Pass2"];
 
 /// Keepaway, learning the pass decision (thesis 7.2): the procedural part of
 /// Figure 7.2 with a choice among Hold, Pass1 and Pass2 when the keeper has the
@@ -241,7 +241,7 @@ pub fn keepaway_pass() -> Result<PetriNet, NetError> {
 }
 
 /// The nine positioning points of thesis Figure 7.4, in plan order.
-pub const POSITIONS: [&str; 9] = [
+pub(crate) const POSITIONS: [&str; 9] = [
     "Corner1", "Corner2", "Corner3", "Corner4", "Centre", "Middle1", "Middle2", "Middle3", "Middle4",
 ];
 

@@ -181,7 +181,7 @@ impl Plan {
     }
 
     /// The name of place `p` for a reader: its label, or its id when the label is blank.
-    pub fn place_name(&self, p: PlaceId) -> &str {
+    pub(crate) fn place_name(&self, p: PlaceId) -> &str {
         let place = self.net.place(p);
         if place.label.trim().is_empty() {
             &place.id
@@ -225,7 +225,7 @@ impl Plan {
 
     /// The action whose execution place `place` is.
     #[inline]
-    pub fn exec_action(&self, place: PlaceId) -> Option<ActionId> {
+    pub(crate) fn exec_action(&self, place: PlaceId) -> Option<ActionId> {
         self.place_action[place.index()]
     }
 
@@ -262,13 +262,13 @@ impl Plan {
 
     /// Whether `m` is a goal marking (a plan without goal places never is).
     #[inline]
-    pub fn is_goal(&self, m: &Marking) -> bool {
+    pub(crate) fn is_goal(&self, m: &Marking) -> bool {
         !self.goal.is_empty() && self.goal.iter().all(|&(p, n)| m.get(p) == n)
     }
 
     /// Whether `m` is a fail marking (a plan without fail places never is).
     #[inline]
-    pub fn is_fail(&self, m: &Marking) -> bool {
+    pub(crate) fn is_fail(&self, m: &Marking) -> bool {
         !self.fail.is_empty() && self.fail.iter().all(|&(p, n)| m.get(p) == n)
     }
 

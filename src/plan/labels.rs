@@ -3,7 +3,7 @@
 /// Splits a label on whitespace outside `()` and `[]`; a `[` that starts inside a
 /// word also starts a new token (`goto.end[done]` is `goto.end` and `[done]`).
 /// Returns `None` when brackets do not balance.
-pub fn split_tokens(label: &str) -> Option<Vec<&str>> {
+pub(crate) fn split_tokens(label: &str) -> Option<Vec<&str>> {
     let mut tokens = Vec::new();
     let mut depth = 0usize;
     let mut start: Option<usize> = None;
@@ -61,7 +61,7 @@ pub struct PlaceLabel {
 
 /// Why a place label is malformed: the offending token and what was expected.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct LabelError {
+pub(crate) struct LabelError {
     /// The token.
     pub token: String,
     /// What is wrong with it.
@@ -100,7 +100,7 @@ fn marking_token(token: &str, keyword: &str) -> Option<Result<u8, LabelError>> {
 }
 
 /// Parses a place label.
-pub fn parse_place_label(label: &str) -> Result<PlaceLabel, LabelError> {
+pub(crate) fn parse_place_label(label: &str) -> Result<PlaceLabel, LabelError> {
     let tokens = split_tokens(label).ok_or_else(|| label_error(label, "unbalanced brackets"))?;
     let mut out = PlaceLabel::default();
     for token in tokens {
@@ -141,7 +141,7 @@ pub enum Function {
 
 impl Function {
     /// The function named by a label suffix (`start`, `end`, `interrupt`/`interr`, `resume`/`res`, `fail`).
-    pub fn from_suffix(s: &str) -> Option<Self> {
+    pub(crate) fn from_suffix(s: &str) -> Option<Self> {
         Some(match s {
             "start" => Function::Start,
             "end" => Function::End,
@@ -164,14 +164,14 @@ impl Function {
     }
 
     /// Whether a bare token refers to the action of an output (true) or input place.
-    pub fn binds_output(self) -> bool {
+    pub(crate) fn binds_output(self) -> bool {
         matches!(self, Function::Start | Function::Resume)
     }
 }
 
 /// One token of a transition label.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum TransitionToken<'a> {
+pub(crate) enum TransitionToken<'a> {
     /// `[guard]`: the text between the brackets.
     Guard(&'a str),
     /// `A.f`: function `f` on action `A`.
@@ -185,7 +185,7 @@ pub enum TransitionToken<'a> {
 }
 
 /// Classifies the tokens of a transition label; `None` when brackets do not balance.
-pub fn transition_tokens(label: &str) -> Option<Vec<TransitionToken<'_>>> {
+pub(crate) fn transition_tokens(label: &str) -> Option<Vec<TransitionToken<'_>>> {
     let tokens = split_tokens(label)?;
     Some(
         tokens

@@ -40,7 +40,7 @@ pub use text::{parse_schema, write_schema};
 use crate::plan::{Plan, Vocabulary};
 
 /// The extension of schema files.
-pub const EXTENSION: &str = "schema";
+pub(crate) const EXTENSION: &str = "schema";
 
 /// Whether `path` names a schema file (by its extension, `.schema`).
 pub fn is_schema_path(path: &Path) -> bool {

@@ -27,7 +27,7 @@ pub enum StateKind {
 
 impl StateKind {
     /// Whether the state is final (absorbing).
-    pub fn is_final(self) -> bool {
+    pub(crate) fn is_final(self) -> bool {
         self != StateKind::Ordinary
     }
 }
@@ -134,7 +134,7 @@ impl Schema {
     }
 
     /// The index of the machine called `name`.
-    pub fn machine_named(&self, name: &str) -> Option<usize> {
+    pub(crate) fn machine_named(&self, name: &str) -> Option<usize> {
         self.machines.iter().position(|m| m.name == name)
     }
 }

@@ -153,7 +153,7 @@ impl PlanKeeper {
     }
 
     /// Starts or stops noting choices for [`PlanKeeper::note`].
-    pub fn set_noting(&mut self, on: bool) {
+    pub(crate) fn set_noting(&mut self, on: bool) {
         self.noting = on;
         self.last_choice = None;
     }

@@ -61,7 +61,7 @@ impl KeeperWorld {
     }
 
     /// A new cycle: the keeper's view (kept as the framework's world model
-    /// believes it, [`believed`]) and the time elapsed since the last one.
+    /// believes it, `believed`) and the time elapsed since the last one.
     pub fn perceive(&mut self, view: PlayerView, elapsed_seconds: f64) {
         let cfg = &self.config;
         let view = believed(&view, cfg);
@@ -86,7 +86,7 @@ impl KeeperWorld {
     }
 
     /// Whether atom `HasBall` holds.
-    pub fn has_ball(&self) -> bool {
+    pub(crate) fn has_ball(&self) -> bool {
         self.facts[0]
     }
 
@@ -97,22 +97,22 @@ impl KeeperWorld {
 
     /// The keeper fastest to the ball this cycle (global index), as this keeper
     /// predicts it.
-    pub fn fastest_keeper(&self) -> Option<usize> {
+    pub(crate) fn fastest_keeper(&self) -> Option<usize> {
         self.fastest
     }
 
     /// The interception skill's memory (the last interception point).
-    pub fn intercept_memory(&mut self) -> &mut InterceptMemory {
+    pub(crate) fn intercept_memory(&mut self) -> &mut InterceptMemory {
         &mut self.intercept
     }
 
     /// The pass-line and closest-taker distances this cycle.
-    pub fn distances(&self) -> Option<PassLineDistances> {
+    pub(crate) fn distances(&self) -> Option<PassLineDistances> {
         self.distances
     }
 
     /// Sets the cycle's command (the first action to act this cycle wins).
-    pub fn issue(&mut self, command: Command) {
+    pub(crate) fn issue(&mut self, command: Command) {
         if self.command.is_none() {
             self.command = Some(command);
         }

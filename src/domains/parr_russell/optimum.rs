@@ -12,7 +12,7 @@ use crate::domains::grid::Direction;
 
 /// A memoryless policy: the move for each observation, indexed by
 /// `2 * wall west + wall east`.
-pub type Policy = [Direction; 4];
+pub(crate) type Policy = [Direction; 4];
 
 /// The index of `cell`'s observation in a [`Policy`].
 fn observation(cell: (i8, i8)) -> usize {

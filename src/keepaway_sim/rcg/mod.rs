@@ -32,13 +32,13 @@ pub use parser::{Frame, GameLog, GameLogFileError, PlayerFrame, RcgError, TimedM
 pub use writer::GameLogWriter;
 
 /// The header line of the logs written here.
-pub const HEADER: &str = "ULG5";
+pub(crate) const HEADER: &str = "ULG5";
 /// Players per side in the server (all are listed in every show).
 pub const MAX_PLAYER: usize = 11;
 /// The keepers' team name (the server's left side).
-pub const KEEPER_TEAM: &str = "keepers";
+pub(crate) const KEEPER_TEAM: &str = "keepers";
 /// The takers' team name (the server's right side).
-pub const TAKER_TEAM: &str = "takers";
+pub(crate) const TAKER_TEAM: &str = "takers";
 /// The server's message board for referee messages.
 const MSG_BOARD: u32 = 1;
 /// The server's log board, where keeper notes go.

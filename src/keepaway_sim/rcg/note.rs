@@ -86,7 +86,7 @@ fn value_text(value: f64) -> String {
 impl KeeperNote {
     /// The note as the text of a log message:
     /// `learnpnp keeper=1|action=Hold|cycle=12|at=...|chosen=0|option=Hold.start;14.2;31|...`.
-    pub fn to_message(&self) -> String {
+    pub(crate) fn to_message(&self) -> String {
         let mut text = format!(
             "{NOTE_PREFIX}keeper={}|action={}",
             self.keeper,
@@ -115,7 +115,7 @@ impl KeeperNote {
 
     /// Reads a message written by [`KeeperNote::to_message`]; `Ok(None)` for
     /// any other message, `Err` with the offending field for a malformed note.
-    pub fn from_message(text: &str) -> Result<Option<KeeperNote>, String> {
+    pub(crate) fn from_message(text: &str) -> Result<Option<KeeperNote>, String> {
         let Some(body) = text.strip_prefix(NOTE_PREFIX) else {
             return Ok(None);
         };

@@ -8,11 +8,11 @@ use crate::keepaway_sim::perception::PlayerView;
 
 /// The framework's "unknown" cycle count (`predictNrCyclesToObject` gives 101 for a
 /// player more than 40 m from the ball, or for no player at all).
-pub const UNKNOWN_CYCLES: u32 = 101;
+pub(crate) const UNKNOWN_CYCLES: u32 = 101;
 
 /// Cycles for player `j` of `view` to reach `target`: the viewer's own estimate is
 /// simulated to the end, every other player's extrapolated ([`Estimate`]).
-pub fn cycles_of(view: &PlayerView, j: usize, target: Vec2, cfg: &KeepawayConfig) -> u32 {
+pub(crate) fn cycles_of(view: &PlayerView, j: usize, target: Vec2, cfg: &KeepawayConfig) -> u32 {
     let whose = if j == view.me.index() {
         Estimate::Own
     } else {
@@ -32,7 +32,7 @@ fn may_reach(view: &PlayerView, j: usize, target: Vec2, cycles: f64, cfg: &Keepa
 /// whose distance over top speed is not below the best count so far are skipped;
 /// ties go to the earlier candidate. `None` (the framework's illegal object) if
 /// every candidate was skipped.
-pub fn fastest_to_point(
+pub(crate) fn fastest_to_point(
     view: &PlayerView,
     candidates: impl IntoIterator<Item = usize>,
     target: Vec2,
@@ -57,11 +57,11 @@ pub fn fastest_to_point(
 ///
 /// For `i = 0, 1, ...` up to the interception horizon (30 cycles), the ball's
 /// position after `i` cycles is predicted and every player who may reach it in
-/// `i` cycles gets an estimate ([`cycles_of`]; teammates first, then opponents,
+/// `i` cycles gets an estimate (`cycles_of`; teammates first, then opponents,
 /// ties to the earlier). At the first `i` at which a teammate's estimate is at
 /// most `i`, that teammate is the fastest. If an opponent's estimate is at most
 /// `i` first, the fastest teammate is the one fastest to that point, where the
-/// opponent will have stopped the ball ([`fastest_to_point`]). At the horizon the
+/// opponent will have stopped the ball (`fastest_to_point`). At the horizon the
 /// teammate of the last estimate made stands; `None` if there never was one.
 pub fn fastest_teammate(view: &PlayerView, cfg: &KeepawayConfig) -> Option<usize> {
     let horizon = cfg.skills.intercept_horizon.min(1000);
@@ -103,7 +103,7 @@ pub fn fastest_teammate(view: &PlayerView, cfg: &KeepawayConfig) -> Option<usize
 /// whenever the player may reach it, the last estimate once the ball's cycles
 /// exceed it. The viewer's own count comes from its interception features in the
 /// framework, which keeper support (the only caller) never asks for.
-pub fn cycles_to_ball(view: &PlayerView, j: usize, cfg: &KeepawayConfig) -> u32 {
+pub(crate) fn cycles_to_ball(view: &PlayerView, j: usize, cfg: &KeepawayConfig) -> u32 {
     let Some(p) = view.players.get(j) else {
         return UNKNOWN_CYCLES;
     };
@@ -132,7 +132,7 @@ pub fn cycles_to_ball(view: &PlayerView, j: usize, cfg: &KeepawayConfig) -> u32 
 
 /// Where a supporting keeper expects the next pass to come from (the framework's
 /// `keeperSupport`): the ball's predicted position when the fastest teammate
-/// `fastest` gets it ([`cycles_to_ball`]).
+/// `fastest` gets it (`cycles_to_ball`).
 pub fn pass_origin(view: &PlayerView, fastest: Option<usize>, cfg: &KeepawayConfig) -> Vec2 {
     let cycles = fastest.map_or(UNKNOWN_CYCLES, |j| cycles_to_ball(view, j, cfg));
     ball_pos_after(&view.ball, cycles, &cfg.server)

@@ -12,7 +12,7 @@ use crate::keepaway_sim::world::Side;
 /// the opponent goal of a full pitch, 52.5 m away along its own attacking
 /// direction, i.e. towards +x for the keepers (the server's left team) and -x for
 /// the takers (who play from the right).
-pub fn hold_facing_point(side: Side) -> Vec2 {
+pub(crate) fn hold_facing_point(side: Side) -> Vec2 {
     match side {
         Side::Keepers => Vec2::new(52.5, 0.0),
         Side::Takers => Vec2::new(-52.5, 0.0),
@@ -27,14 +27,14 @@ pub fn hold_facing_point(side: Side) -> Vec2 {
 /// the opponent's body points; otherwise it is straight in front of the body. The
 /// spot lies `player_size + ball_size + ratio x kickable_margin` from where one will
 /// be next cycle (0.875 m for the keepers' ratio 0.7), and the ball is kicked there
-/// ([`kick_ball_close_to_body`]), unless it is already in place: then the holder
-/// turns towards [`hold_facing_point`], provided the ball will still be within
+/// (`kick_ball_close_to_body`), unless it is already in place: then the holder
+/// turns towards `hold_facing_point`, provided the ball will still be within
 /// 0.85 x the kickable distance after the turn.
 ///
 /// "In place", as the framework writes it, means within `hold_tolerance` (0.3 m) of
 /// the point `ratio` metres from one's current position in the direction of the
 /// spot's angle relative to the body, read as a direction of one's own frame (see
-/// [`Side::frame_dir`]): not the spot itself. The two agree when the holder faces
+/// `Side::frame_dir`): not the spot itself. The two agree when the holder faces
 /// its own direction 0, which the turn brings about.
 pub fn hold_ball(view: &PlayerView, cfg: &KeepawayConfig, ratio: f64) -> Command {
     let sp = &cfg.server;

@@ -41,7 +41,7 @@ pub struct InterceptMemory {
 /// `collideWithBall`: a command after which the player overlaps the ball's next
 /// position (the collision stops both), if the ball is close enough: first a turn
 /// to the own-frame direction 0, else a dash to the ball's next position.
-pub fn collide_with_ball(view: &PlayerView, cfg: &KeepawayConfig) -> Option<Command> {
+pub(crate) fn collide_with_ball(view: &PlayerView, cfg: &KeepawayConfig) -> Option<Command> {
     let sp = &cfg.server;
     let me = Kinematics::from(view.own());
     if me.pos.dist(view.ball.pos) > view.ball.vel.norm() + sp.player_speed_max {
@@ -197,7 +197,7 @@ pub fn intercept_close(view: &PlayerView, cfg: &KeepawayConfig) -> Option<Comman
 /// point. The chosen point is remembered. If it is less than 3 cycles away and a
 /// close interception exists, that is the command; if one will roll to within
 /// 0.5 m of it anyway, none; otherwise [`move_command`] towards it.
-pub fn interception_command(
+pub(crate) fn interception_command(
     view: &PlayerView,
     cfg: &KeepawayConfig,
     close: Option<Command>,
@@ -307,7 +307,7 @@ pub fn interception_command(
 }
 
 /// Intercept the ball (`intercept`, not as a goalie): the command of
-/// [`interception_command`] given [`intercept_close`]; when there is none (already
+/// `interception_command` given [`intercept_close`]; when there is none (already
 /// where the ball will be), turn to the own-frame direction 0.
 pub fn intercept(view: &PlayerView, cfg: &KeepawayConfig, memory: &mut InterceptMemory) -> Command {
     let close = intercept_close(view, cfg);

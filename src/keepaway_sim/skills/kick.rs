@@ -10,10 +10,10 @@ use crate::keepaway_sim::world::kick_rate_factor;
 
 /// Kick ratio the framework uses when it repositions the ball before a kick
 /// (`kickBallCloseToBody`'s default: the ball ends 0.497 m from the centre).
-pub const REPOSITION_RATIO: f64 = 0.16;
+pub(crate) const REPOSITION_RATIO: f64 = 0.16;
 
 /// Acceleration per unit of kick power for the ball where it lies now.
-pub fn kick_rate(view: &PlayerView, cfg: &KeepawayConfig) -> f64 {
+pub(crate) fn kick_rate(view: &PlayerView, cfg: &KeepawayConfig) -> f64 {
     let me = view.own();
     cfg.server.kick_power_rate * kick_rate_factor(&cfg.server, me.pos, me.body, view.ball.pos)
 }
@@ -42,7 +42,7 @@ fn max_kick_along(view: &PlayerView, cfg: &KeepawayConfig, rate: f64, dir: f64) 
 /// Kick so that the ball's velocity becomes `vel_des` (`accelerateBallToVelocity`);
 /// if that needs more than one kick can give, kick at full power so that the ball at
 /// least moves along `vel_des`.
-pub fn accelerate_ball_to_velocity(view: &PlayerView, cfg: &KeepawayConfig, vel_des: Vec2) -> Command {
+pub(crate) fn accelerate_ball_to_velocity(view: &PlayerView, cfg: &KeepawayConfig, vel_des: Vec2) -> Command {
     let sp = &cfg.server;
     let rate = kick_rate(view, cfg);
     if rate <= 0.0 {
@@ -61,7 +61,7 @@ pub fn accelerate_ball_to_velocity(view: &PlayerView, cfg: &KeepawayConfig, vel_
 
 /// Stop the ball dead (`freezeBall`); if stopping it would leave it out of easy
 /// reach (beyond 0.8 x kickable distance of where one will be), pull it closer instead.
-pub fn freeze_ball(view: &PlayerView, cfg: &KeepawayConfig) -> Command {
+pub(crate) fn freeze_ball(view: &PlayerView, cfg: &KeepawayConfig) -> Command {
     let sp = &cfg.server;
     let me = view.own();
     let rate = kick_rate(view, cfg);
@@ -89,7 +89,7 @@ pub fn freeze_ball(view: &PlayerView, cfg: &KeepawayConfig) -> Command {
 /// stop it instead. (The framework also pulls a spot that would lie off the
 /// 105 m x 68 m pitch back onto it; keepaway's region lies well inside the pitch,
 /// so that never happens here and is left out.)
-pub fn kick_ball_close_to_body(view: &PlayerView, cfg: &KeepawayConfig, ang_rel: f64, ratio: f64) -> Command {
+pub(crate) fn kick_ball_close_to_body(view: &PlayerView, cfg: &KeepawayConfig, ang_rel: f64, ratio: f64) -> Command {
     let sp = &cfg.server;
     let me = view.own();
     let dist = sp.player_size + sp.ball_size + sp.kickable_margin * ratio;
@@ -117,7 +117,7 @@ pub fn kick_ball_close_to_body(view: &PlayerView, cfg: &KeepawayConfig, ang_rel:
 ///   in front of the body;
 /// - if reachable: kick when the power needed is at most 105% of the maximum (130%
 ///   with an opponent within 2 m of the ball), else reposition the ball first.
-pub fn kick_to(view: &PlayerView, cfg: &KeepawayConfig, target: Vec2, end_speed: f64) -> Command {
+pub(crate) fn kick_to(view: &PlayerView, cfg: &KeepawayConfig, target: Vec2, end_speed: f64) -> Command {
     let sp = &cfg.server;
     let me = view.own();
     let ball = view.ball;

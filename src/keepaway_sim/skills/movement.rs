@@ -9,7 +9,7 @@ use crate::keepaway_sim::perception::PlayerView;
 /// Turn the body towards `point`, seen from where one will be after `cycles`
 /// cycles of rolling (the framework's `turnBodyToPoint`); the moment compensates
 /// for the inertia at the current speed.
-pub fn turn_body_to_point(view: &PlayerView, cfg: &KeepawayConfig, point: Vec2, cycles: u32) -> Command {
+pub(crate) fn turn_body_to_point(view: &PlayerView, cfg: &KeepawayConfig, point: Vec2, cycles: u32) -> Command {
     turn_to_point(&Kinematics::from(view.own()), point, cycles, &cfg.server)
 }
 
@@ -21,7 +21,7 @@ pub fn turn_to_ball(view: &PlayerView, cfg: &KeepawayConfig) -> Command {
 
 /// Dash so as to cover the distance to `point` (projected on the body direction)
 /// in `cycles` cycles (`dashToPoint`).
-pub fn dash_to_point(view: &PlayerView, cfg: &KeepawayConfig, point: Vec2, cycles: u32) -> Command {
+pub(crate) fn dash_to_point(view: &PlayerView, cfg: &KeepawayConfig, point: Vec2, cycles: u32) -> Command {
     super::predict::dash_to_point(&Kinematics::from(view.own()), point, cycles, &cfg.server)
 }
 

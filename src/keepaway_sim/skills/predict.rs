@@ -65,7 +65,7 @@ fn geom_sum(r: f64, n: u32) -> f64 {
 
 /// Where the ball will be after `n` cycles (`predictPosAfterNrCycles` for the
 /// ball: its velocity decays geometrically).
-pub fn ball_pos_after(ball: &SeenBall, n: u32, sp: &ServerParams) -> Vec2 {
+pub(crate) fn ball_pos_after(ball: &SeenBall, n: u32, sp: &ServerParams) -> Vec2 {
     ball.pos + ball.vel * geom_sum(sp.ball_decay, n)
 }
 
@@ -168,31 +168,31 @@ pub fn after_dash(k: &Kinematics, power: f64, sp: &ServerParams) -> Kinematics {
 
 /// State after one cycle with a turn of `moment` (`predictStateAfterTurn`): the
 /// body turns by `moment / (1 + inertia_moment x speed)`, then the player rolls.
-pub fn after_turn(k: &Kinematics, moment: f64, sp: &ServerParams) -> Kinematics {
+pub(crate) fn after_turn(k: &Kinematics, moment: f64, sp: &ServerParams) -> Kinematics {
     Mover::new(k).turn(moment, sp).kinematics()
 }
 
 /// State after one cycle with `cmd` (`predictStateAfterCommand`): a kick leaves
 /// the player rolling; no command counts as the framework's illegal command, a
 /// dash of power 0.01.
-pub fn after_command(k: &Kinematics, cmd: Command, sp: &ServerParams) -> Kinematics {
+pub(crate) fn after_command(k: &Kinematics, cmd: Command, sp: &ServerParams) -> Kinematics {
     Mover::new(k).after(cmd, sp).kinematics()
 }
 
 /// Where a player will be after `n` cycles dashing with `power` every cycle
 /// (`predictPosAfterNrCycles` for a player; power 0 is rolling out).
-pub fn pos_after(k: &Kinematics, n: u32, power: f64, sp: &ServerParams) -> Vec2 {
+pub(crate) fn pos_after(k: &Kinematics, n: u32, power: f64, sp: &ServerParams) -> Vec2 {
     Mover::new(k).pos_after(n, power, sp)
 }
 
 /// Where a player comes to rest without commands (`predictFinalAgentPos`).
-pub fn final_pos(k: &Kinematics, sp: &ServerParams) -> Vec2 {
+pub(crate) fn final_pos(k: &Kinematics, sp: &ServerParams) -> Vec2 {
     k.pos + k.vel / (1.0 - sp.player_decay)
 }
 
 /// The moment to send to turn by `desired` degrees at `speed` (`getAngleForTurn`),
 /// clipped to the largest moment (then the turn falls short).
-pub fn angle_for_turn(desired: f64, speed: f64, sp: &ServerParams) -> f64 {
+pub(crate) fn angle_for_turn(desired: f64, speed: f64, sp: &ServerParams) -> f64 {
     clamp(
         desired * (1.0 + sp.inertia_moment * speed),
         sp.min_moment,
@@ -202,7 +202,7 @@ pub fn angle_for_turn(desired: f64, speed: f64, sp: &ServerParams) -> f64 {
 
 /// The turn that faces `point` as seen from where the player will be after
 /// `cycles` cycles of rolling (`turnBodyToPoint`).
-pub fn turn_to_point(k: &Kinematics, point: Vec2, cycles: u32, sp: &ServerParams) -> Command {
+pub(crate) fn turn_to_point(k: &Kinematics, point: Vec2, cycles: u32, sp: &ServerParams) -> Command {
     let from = pos_after(k, cycles, 0.0, sp);
     Command::Turn {
         moment: angle_for_turn(normalize_deg((point - from).dir() - k.body), k.vel.norm(), sp),
@@ -213,7 +213,7 @@ pub fn turn_to_point(k: &Kinematics, point: Vec2, cycles: u32, sp: &ServerParams
 /// `cycles` cycles (`getPowerForDash`): the first speed of a geometric series with
 /// the player's decay, capped at the top speed, minus the current speed along the
 /// body; clipped to the power range.
-pub fn power_for_dash(rel: Vec2, body: f64, vel: Vec2, cycles: u32, sp: &ServerParams) -> f64 {
+pub(crate) fn power_for_dash(rel: Vec2, body: f64, vel: Vec2, cycles: u32, sp: &ServerParams) -> f64 {
     power_along(rel, Vec2::polar(1.0, body), vel, cycles, sp)
 }
 
@@ -234,7 +234,7 @@ fn power_along(rel: Vec2, u: Vec2, vel: Vec2, cycles: u32, sp: &ServerParams) ->
 
 /// The dash towards `point` (`dashToPoint`): the power that covers its
 /// projection on the body direction in `cycles` cycles.
-pub fn dash_to_point(k: &Kinematics, point: Vec2, cycles: u32, sp: &ServerParams) -> Command {
+pub(crate) fn dash_to_point(k: &Kinematics, point: Vec2, cycles: u32, sp: &ServerParams) -> Command {
     Command::Dash {
         power: power_for_dash(point - k.pos, k.body, k.vel, cycles, sp),
     }
@@ -243,7 +243,7 @@ pub fn dash_to_point(k: &Kinematics, point: Vec2, cycles: u32, sp: &ServerParams
 /// The first speed a ball needs to cover `dist` and still move at `end_speed`
 /// there (the framework's `getKickSpeedToTravel`): the number of decay steps is
 /// rounded to an integer, as the framework does.
-pub fn kick_speed_to_travel(dist: f64, end_speed: f64, sp: &ServerParams) -> f64 {
+pub(crate) fn kick_speed_to_travel(dist: f64, end_speed: f64, sp: &ServerParams) -> f64 {
     if end_speed < 1e-4 {
         return dist * (1.0 - sp.ball_decay);
     }
@@ -275,7 +275,7 @@ pub fn turn_towards(k: &Kinematics, target: Vec2, cycles: u32, dist_back: f64, s
 /// The command that moves a player towards `target`, to be reached in `cycles`
 /// cycles (`predictCommandToMoveToPos`): the turn of [`turn_towards`] if it asks
 /// for one, otherwise the dash of [`power_for_dash`].
-pub fn move_command(k: &Kinematics, target: Vec2, cycles: u32, dist_back: f64, sp: &ServerParams) -> Command {
+pub(crate) fn move_command(k: &Kinematics, target: Vec2, cycles: u32, dist_back: f64, sp: &ServerParams) -> Command {
     Mover::new(k).move_command(target, cycles, dist_back, sp)
 }
 
@@ -337,7 +337,7 @@ impl Mover {
 /// `predictNrCyclesForDistance`): simulated until the speed settles, then
 /// extrapolated. Unlike the framework, a zero final speed or an absurd distance
 /// gives a large count instead of an overflow.
-pub fn cycles_for_distance(dist: f64, speed: f64, sp: &ServerParams) -> u32 {
+pub(crate) fn cycles_for_distance(dist: f64, speed: f64, sp: &ServerParams) -> u32 {
     let min_dist = sp.kickable_distance();
     let acc = sp.max_power * sp.dash_power_rate * sp.effort;
     let mut dist = dist;
@@ -366,11 +366,11 @@ pub fn cycles_for_distance(dist: f64, speed: f64, sp: &ServerParams) -> u32 {
 /// Estimated cycles for a player at `k` to get within kickable distance of `target`
 /// (the framework's `predictNrCyclesToPoint`).
 ///
-/// The turns that [`move_command`] asks for (and braking dashes while facing more
+/// The turns that `move_command` asks for (and braking dashes while facing more
 /// than 20 degrees away) are simulated; then the framework's own agent
 /// ([`Estimate::Own`]) simulates the rest of its run command by command, while
 /// another player's run ([`Estimate::Other`]) is extrapolated with
-/// [`cycles_for_distance`]. Both loops are bounded (see `MAX_SIMULATED_CYCLES`).
+/// `cycles_for_distance`. Both loops are bounded (see `MAX_SIMULATED_CYCLES`).
 pub fn cycles_to_point(k: &Kinematics, target: Vec2, whose: Estimate, cfg: &KeepawayConfig) -> u32 {
     let sp = &cfg.server;
     let back = cfg.skills.intercept_dist_back;
