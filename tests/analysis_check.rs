@@ -1,8 +1,9 @@
 //! `check`: safety, minimality, effectiveness and dead markings on small plans
 //! built in code (and raw nets malformed by design).
 
+use crate::util::net;
 use learnpnp::analysis::{CheckReport, Count, Failure, Note, Property, Verdict, check, explore};
-use learnpnp::net::{PetriNet, PlaceId, PlaceNode, TransitionId, TransitionNode};
+use learnpnp::net::{PetriNet, PlaceId, TransitionId};
 use learnpnp::plan::{Plan, PlanBuilder, Vocabulary};
 
 const LIMIT: usize = 10_000;
@@ -21,31 +22,7 @@ fn failures_of(report: &CheckReport, property: Property) -> Vec<&Failure> {
 
 /// A raw net: places `(id, label, initial)`, transitions `(id, label)`, arcs `(source, target, weight)`.
 fn raw_plan(places: &[(&str, &str, u8)], transitions: &[(&str, &str)], arcs: &[(&str, &str, u8)]) -> Plan {
-    let places = places
-        .iter()
-        .map(|&(id, label, initial)| PlaceNode {
-            id: id.into(),
-            label: label.into(),
-            initial,
-            position: None,
-        })
-        .collect();
-    let transitions = transitions
-        .iter()
-        .map(|&(id, label)| TransitionNode {
-            id: id.into(),
-            label: label.into(),
-            position: None,
-        })
-        .collect();
-    let ids: Vec<String> = (0..arcs.len()).map(|i| format!("a{i}")).collect();
-    let specs: Vec<_> = arcs
-        .iter()
-        .zip(&ids)
-        .map(|(&(s, t, w), id)| (id.as_str(), s, t, w))
-        .collect();
-    let net = PetriNet::new("raw", places, transitions, &specs).expect("raw net is well formed");
-    Plan::from_net(net, Vocabulary::Open).expect("raw net is a plan")
+    Plan::from_net(net(places, transitions, arcs), Vocabulary::Open).expect("raw net is a plan")
 }
 
 /// init -> A -> B -> goal.

@@ -1,34 +1,13 @@
 //! Interpreting place and transition labels; every error names the element and token.
 
 use learnpnp::condition::{AtomRef, AtomTable, Condition};
-use learnpnp::net::{PetriNet, PlaceNode, TransitionNode};
+use learnpnp::net::PetriNet;
 use learnpnp::plan::{Function, InternalKind, Plan, PlanError, Vocabulary, catalog};
 
+/// A net whose arcs all weigh 1.
 fn net(places: &[(&str, &str, u8)], transitions: &[(&str, &str)], arcs: &[(&str, &str)]) -> PetriNet {
-    let ps = places
-        .iter()
-        .map(|(id, label, m)| PlaceNode {
-            id: id.to_string(),
-            label: label.to_string(),
-            initial: *m,
-            position: None,
-        })
-        .collect();
-    let ts = transitions
-        .iter()
-        .map(|(id, label)| TransitionNode {
-            id: id.to_string(),
-            label: label.to_string(),
-            position: None,
-        })
-        .collect();
-    let ids: Vec<String> = (0..arcs.len()).map(|i| format!("a{i}")).collect();
-    let specs: Vec<_> = arcs
-        .iter()
-        .zip(&ids)
-        .map(|((s, t), id)| (id.as_str(), *s, *t, 1))
-        .collect();
-    PetriNet::new("test", ps, ts, &specs).expect("valid net")
+    let arcs: Vec<_> = arcs.iter().map(|&(s, t)| (s, t, 1)).collect();
+    crate::util::net(places, transitions, &arcs)
 }
 
 /// init -> t1 -> goto.exec -> t2 -> done

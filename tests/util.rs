@@ -10,6 +10,7 @@ use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_
 use learnpnp::experiment::spec::ExperimentSpec;
 use learnpnp::keepaway_sim::world::Player;
 use learnpnp::keepaway_sim::{KeepawayConfig, Vec2};
+use learnpnp::net::{PetriNet, PlaceNode, TransitionNode};
 
 /// The workspace's root directory (where `plans/` and `tests/fixtures/` are).
 pub fn root() -> &'static Path {
@@ -156,4 +157,33 @@ impl Action<LogWorld> for Timed {
     fn condition(&self, index: usize, _: &LogWorld) -> bool {
         index == 0 && self.done >= 1
     }
+}
+
+/// A net as a file would give it: places `(id, label, initial tokens)`,
+/// transitions `(id, label)`, arcs `(source, target, weight)` (ids `a0`, `a1`, ...).
+pub fn net(places: &[(&str, &str, u8)], transitions: &[(&str, &str)], arcs: &[(&str, &str, u8)]) -> PetriNet {
+    let places = places
+        .iter()
+        .map(|&(id, label, initial)| PlaceNode {
+            id: id.into(),
+            label: label.into(),
+            initial,
+            position: None,
+        })
+        .collect();
+    let transitions = transitions
+        .iter()
+        .map(|&(id, label)| TransitionNode {
+            id: id.into(),
+            label: label.into(),
+            position: None,
+        })
+        .collect();
+    let ids: Vec<String> = (0..arcs.len()).map(|i| format!("a{i}")).collect();
+    let arcs: Vec<_> = arcs
+        .iter()
+        .zip(&ids)
+        .map(|(&(s, t, w), id)| (id.as_str(), s, t, w))
+        .collect();
+    PetriNet::new("test", places, transitions, &arcs).expect("a well-formed net")
 }
