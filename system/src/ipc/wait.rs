@@ -10,13 +10,13 @@
 use std::time::{Duration, Instant};
 
 use iceoryx2::port::listener::{Listener, ListenerWaitError};
-use iceoryx2::port::notifier::Notifier;
+use learnpnp::named::Named;
 use serde::{Deserialize, Serialize};
 
 use super::services::{Ipc, IpcError, fail};
 
 /// A waiting process's behaviour between polls.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum WaitStrategy {
     /// Poll without pause: lowest latency while every process has a core of its own.
@@ -34,9 +34,18 @@ impl WaitStrategy {
     pub fn notifies(self) -> bool {
         matches!(self, WaitStrategy::Block | WaitStrategy::Hybrid)
     }
+}
 
-    /// The name on the command line.
-    pub fn name(self) -> &'static str {
+impl Named for WaitStrategy {
+    const KIND: &'static str = "wait strategy";
+    const ALL: &'static [Self] = &[
+        WaitStrategy::Spin,
+        WaitStrategy::Yield,
+        WaitStrategy::Block,
+        WaitStrategy::Hybrid,
+    ];
+
+    fn name(self) -> &'static str {
         match self {
             WaitStrategy::Spin => "spin",
             WaitStrategy::Yield => "yield",
@@ -106,12 +115,4 @@ impl Idle {
         let left = deadline.saturating_duration_since(Instant::now());
         self.pause(wake, left.saturating_sub(TIMED_WAIT_SLACK))
     }
-}
-
-/// Wakes a receiver after a send, if its strategy blocks.
-pub fn wake(strategy: WaitStrategy, notifier: &Notifier<Ipc>) -> Result<(), IpcError> {
-    if strategy.notifies() {
-        notifier.notify().map_err(fail("notifying a wake-up event"))?;
-    }
-    Ok(())
 }

@@ -12,14 +12,12 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use super::simulator::{FLOOR_END, histogram_file, keepaway_config};
+use super::sim_process::{FLOOR_END, histogram_file, keepaway_config};
 use super::{Clock, HEARTBEAT_EVERY, Pacemaker, ProcessError, RunContext};
-use crate::ipc::convert::{
-    AgentNews, CommandReading, EpisodeNews, Order, ProcessState, Rejection, Role, SnapshotMeta, agent_report,
-    command_message, read_control, read_episode_event, read_snapshot,
-};
-use crate::ipc::services::{AgentPorts, node, receive, send};
-use crate::ipc::wait::{Idle, MAX_BLOCK, TIMED_WAIT_SLACK, wake};
+use crate::ipc::convert::{Rejection, agent_report, command_message, read_control, read_episode_event, read_snapshot};
+use crate::ipc::protocol::{AgentNews, CommandReading, EpisodeNews, Order, ProcessState, Role, SnapshotMeta};
+use crate::ipc::services::{AgentPorts, node, receive};
+use crate::ipc::wait::{Idle, MAX_BLOCK, TIMED_WAIT_SLACK};
 use crate::latency::Latency;
 use learnpnp::domains::keepaway::{KeepawayDomainConfig, PlanKeeper, RunSeeds, registry};
 use learnpnp::experiment::runner::{learner_for, task_rng};
@@ -318,8 +316,7 @@ impl Agent {
                     }
                     self.pacemaker.pulse.episodes += 1;
                     let report = agent_report(AgentNews::Ended { episode, exploratory }, self.settings.keeper, run_id);
-                    send(&self.ports.report, report)?;
-                    wake(self.context.wait, &self.ports.wake_sim)?;
+                    self.ports.report.send(report)?;
                 }
                 // The episode is discarded: the learner is not told its end,
                 // and the next begin starts afresh.
@@ -397,11 +394,9 @@ impl Agent {
             command,
             idle,
         };
-        send(
-            &self.ports.command,
-            command_message(&reading, self.settings.keeper, self.context.run_id),
-        )?;
-        wake(self.context.wait, &self.ports.wake_sim)?;
+        self.ports
+            .command
+            .send(command_message(&reading, self.settings.keeper, self.context.run_id))?;
         self.pacemaker.pulse.cycles += 1;
         Ok(())
     }
@@ -436,8 +431,7 @@ impl Agent {
                         0,
                         run_id,
                     );
-                    send(&self.ports.floor_pong, pong)?;
-                    wake(self.context.wait, &self.ports.wake_sim)?;
+                    self.ports.floor_pong.send(pong)?;
                     last = Instant::now();
                     self.expected[1] = self.cycle.map(|c| last + c);
                     idle = Idle::new(self.context.wait);
@@ -460,11 +454,9 @@ impl Agent {
         let ready = AgentNews::Ready {
             pid: std::process::id(),
         };
-        send(
-            &self.ports.report,
-            agent_report(ready, self.settings.keeper, self.context.run_id),
-        )?;
-        wake(self.context.wait, &self.ports.wake_sim)?;
+        self.ports
+            .report
+            .send(agent_report(ready, self.settings.keeper, self.context.run_id))?;
         Ok(())
     }
 
@@ -520,7 +512,7 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
     let brain = brain(&spec, &config, context, settings, &checkpoint)?;
     let namespace = context.namespace()?;
     let node = node(&namespace, &format!("keeper-{k}"))?;
-    let ports = AgentPorts::open(&node, k)?;
+    let ports = AgentPorts::open(&node, k, context.wait)?;
     let mut agent = Agent {
         context: context.clone(),
         settings: settings.clone(),
