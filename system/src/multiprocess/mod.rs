@@ -3,14 +3,17 @@
 //! events and rewards through iceoryx2 shared memory ([`crate::ipc`]), and a
 //! supervisor starts, watches and restarts them.
 //!
-//! - [`sim_process`]: Keepaway with the takers inside, whose keepers are a
-//!   [`learnpnp::domains::keepaway::KeeperTeam`] of remote agents; it runs the
-//!   same episode loop and protocol as the in-process experiment
-//!   ([`learnpnp::experiment::runner::run_protocol`]);
-//! - [`agent_process`]: one keeper: its plan, learner and executor (or a fixed policy),
-//!   checkpointing its values;
+//! - [`sim_process`]: the simulator process (the simulator itself is
+//!   [`learnpnp::keepaway_sim`]): Keepaway with the takers inside, whose
+//!   keepers are a [`learnpnp::domains::keepaway::KeeperTeam`] of remote
+//!   agents; it runs the same episode loop and protocol as the in-process
+//!   experiment ([`learnpnp::experiment::runner::run_protocol`]);
+//! - [`agent_process`]: one keeper's process: its plan, learner and executor
+//!   (or a fixed policy), checkpointing its values;
 //! - [`supervisor`]: launching, watching, restarting, stopping, cleaning up;
-//! - [`report`]: what a run writes (summary, episodes, latency files and plot).
+//! - [`report`]: what a run writes (summary, episodes, latency files and plot);
+//! - [`soak`], [`chaos`] (with [`garbage`] and [`load`]), [`bench_latency`]:
+//!   long runs, fault injection and the latency benchmark.
 //!
 //! See docs/ARCHITECTURE.md for one snapshot's way through the processes.
 

@@ -1,5 +1,6 @@
-//! The simulator process: Keepaway with the takers inside, whose keepers are
-//! agent processes. Each cycle it publishes each keeper's snapshot, collects
+//! The simulator process (it runs the simulator itself,
+//! [`learnpnp::keepaway_sim::simulator`]): Keepaway with the takers inside,
+//! whose keepers are agent processes. Each cycle it publishes each keeper's snapshot, collects
 //! each keeper's command (lock-step: as soon as all are in; real time: until
 //! the cycle's 100 ms deadline), and steps the world. It runs the in-process
 //! experiment's episode loop ([`KeepawayTask`]) and protocol
