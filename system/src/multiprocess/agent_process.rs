@@ -112,9 +112,7 @@ impl Brain {
         match self {
             Brain::Plan { keeper, .. } => {
                 let idle_before = keeper.idle_cycles();
-                let command = keeper
-                    .act(view, reward)
-                    .map_err(|e| ProcessError::Invalid(format!("the keeper's plan failed: {e}")))?;
+                let command = keeper.act(view, reward).map_err(ProcessError::PlanFailed)?;
                 Ok((command, keeper.idle_cycles() > idle_before))
             }
             Brain::Fixed { policy, memory, config } => Ok((keeper_command(&view, config, memory, policy), false)),
@@ -195,10 +193,7 @@ fn brain(
             config: Box::new(sim_config),
         });
     }
-    let plan = spec
-        .domain
-        .load_plan()?
-        .ok_or_else(|| ProcessError::Invalid("the experiment has no plan for its learning keepers".into()))?;
+    let plan = spec.domain.load_plan()?.ok_or(ProcessError::NoPlan)?;
     let start = if settings.resume {
         Some(load_checkpoint(checkpoint, &plan)?)
     } else {
@@ -212,7 +207,7 @@ fn brain(
         sim_config,
         config.thresholds,
     )
-    .map_err(|e| ProcessError::Invalid(format!("the keeper's plan cannot run: {e}")))?;
+    .map_err(ProcessError::PlanCannotRun)?;
     Ok(Brain::Plan {
         keeper: Box::new(keeper),
         plan,
@@ -506,7 +501,7 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
     let config = keepaway_config(&spec)?;
     let k = settings.keeper;
     if k >= learnpnp::keepaway_sim::world::NUM_KEEPERS {
-        return Err(ProcessError::Invalid(format!("there is no keeper {}", k + 1)));
+        return Err(ProcessError::NoKeeper(k + 1));
     }
     let checkpoint = context.work_dir.join(checkpoint_name(k));
     let brain = brain(&spec, &config, context, settings, &checkpoint)?;

@@ -131,9 +131,21 @@ pub enum ProcessError {
         /// What is wrong.
         detail: String,
     },
-    /// The experiment cannot run in this system.
-    #[error("{0}")]
-    Invalid(String),
+    /// The experiment's domain is not one the system runs.
+    #[error("the multi-process system runs keepaway-position and keepaway-pass, not {0}")]
+    UnsupportedDomain(&'static str),
+    /// The experiment has no plan for its learning keepers.
+    #[error("the experiment has no plan for its learning keepers")]
+    NoPlan,
+    /// There is no such keeper (1-based).
+    #[error("there is no keeper {0}")]
+    NoKeeper(usize),
+    /// The keeper's plan cannot be run in its world.
+    #[error("the keeper's plan cannot run: {0}")]
+    PlanCannotRun(learnpnp::executor::ExecError),
+    /// The keeper's plan failed while it ran.
+    #[error("the keeper's plan failed: {0}")]
+    PlanFailed(learnpnp::executor::ExecError),
     /// The experiment failed.
     #[error(transparent)]
     Experiment(#[from] learnpnp::experiment::spec::ExperimentError),
@@ -152,9 +164,6 @@ pub enum ProcessError {
     /// A histogram cannot be serialised.
     #[error(transparent)]
     Latency(#[from] crate::latency::LatencyError),
-    /// Another process did not answer in time.
-    #[error("{0}")]
-    Timeout(String),
 }
 
 /// How often a process sends its heartbeat.

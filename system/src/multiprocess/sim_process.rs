@@ -525,10 +525,7 @@ pub fn keepaway_config(spec: &ExperimentSpec) -> Result<KeepawayDomainConfig, Pr
         DomainSpec::Keepaway { config, .. } if matches!(config.mode, KeepawayMode::Pass | KeepawayMode::Position) => {
             Ok(*config)
         }
-        other => Err(ProcessError::Invalid(format!(
-            "the multi-process system runs keepaway-position and keepaway-pass, not {}",
-            other.name()
-        ))),
+        other => Err(ProcessError::UnsupportedDomain(other.name())),
     }
 }
 
