@@ -4,7 +4,8 @@
 use std::process::ExitCode;
 
 use clap::Parser;
-use learnpnp_system::multiprocess::agent::{self, AgentSettings};
+use learnpnp_system::cli::RunContextArgs;
+use learnpnp_system::multiprocess::agent_process::{self, AgentSettings};
 use learnpnp_system::multiprocess::supervisor::EXIT_CANNOT_RESUME;
 use learnpnp_system::multiprocess::{ProcessError, RunContext};
 
@@ -13,7 +14,7 @@ use learnpnp_system::multiprocess::{ProcessError, RunContext};
 #[command(name = "learnpnp-agent", version)]
 struct Args {
     #[command(flatten)]
-    context: RunContext,
+    context: RunContextArgs,
     /// The keeper (1, 2 or 3).
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=3))]
     keeper: u8,
@@ -37,7 +38,7 @@ fn main() -> ExitCode {
         checkpoint_every: args.checkpoint_every,
         resume: args.resume,
     };
-    match agent::run(&args.context, &settings) {
+    match agent_process::run(&RunContext::from(args.context), &settings) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e @ ProcessError::CannotResume(_)) => {
             eprintln!("error: keeper {}: {e}", args.keeper);

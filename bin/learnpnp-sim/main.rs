@@ -5,14 +5,15 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use clap::Parser;
-use learnpnp_system::multiprocess::{RunContext, simulator};
+use learnpnp_system::cli::RunContextArgs;
+use learnpnp_system::multiprocess::{RunContext, sim_process};
 
 /// The Keepaway simulator behind iceoryx2 services.
 #[derive(Parser)]
 #[command(name = "learnpnp-sim", version)]
 struct Args {
     #[command(flatten)]
-    context: RunContext,
+    context: RunContextArgs,
     /// Round trips of the floor measurement before the first episode.
     #[arg(long, default_value_t = 20_000)]
     floor_round_trips: usize,
@@ -24,7 +25,8 @@ struct Args {
 fn main() -> ExitCode {
     iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
     let args = Args::parse();
-    match simulator::run(&args.context, args.floor_round_trips, args.resume).context("simulator") {
+    let context = RunContext::from(args.context);
+    match sim_process::run(&context, args.floor_round_trips, args.resume).context("simulator") {
         Ok(result) => {
             if let Some(error) = &result.error {
                 eprintln!("simulator: the run ended early: {error}");

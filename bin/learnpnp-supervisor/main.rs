@@ -16,7 +16,7 @@ use learnpnp::experiment::options::DomainName;
 use learnpnp::experiment::spec::Algorithm;
 use learnpnp::named::Named;
 use learnpnp::result_dir::ResultDir;
-use learnpnp_cli::args::ExperimentFlags;
+use learnpnp_cli::args::{ExperimentFlags, named};
 use learnpnp_cli::interrupt::Interrupt;
 use learnpnp_system::ipc::namespace::{Namespace, clean_stale};
 use learnpnp_system::ipc::wait::WaitStrategy;
@@ -79,10 +79,10 @@ struct RunArgs {
     #[arg(long, value_enum, default_value = "keepaway-position")]
     domain: Domain,
     /// lockstep: step as soon as every command is in; realtime: every 100 ms.
-    #[arg(long, value_enum, default_value = "lockstep")]
+    #[arg(long, value_parser = named::<Clock>(), default_value = "lockstep")]
     mode: Clock,
     /// How processes wait for messages (default: yield in lock-step, hybrid in real time).
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = named::<WaitStrategy>())]
     wait: Option<WaitStrategy>,
     /// Output directory.
     #[arg(long, default_value = "out/system")]
@@ -136,7 +136,7 @@ struct BenchArgs {
     #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u64).range(2..=3600))]
     seconds: u64,
     /// The wait strategies measured.
-    #[arg(long, value_enum, value_delimiter = ',', default_value = "spin,yield,block,hybrid")]
+    #[arg(long, value_parser = named::<WaitStrategy>(), value_delimiter = ',', default_value = "spin,yield,block,hybrid")]
     strategies: Vec<WaitStrategy>,
     #[command(flatten)]
     run: RunArgs,
@@ -345,8 +345,8 @@ fn main() -> ExitCode {
         Some(Command::Soak(args)) => soak(args),
         Some(Command::BenchLatency(args)) => bench(args),
         Some(Command::PublishGarbage(args)) => Namespace::from_prefix(&args.ipc_prefix)
-            .map_err(anyhow::Error::from)
-            .and_then(|ns| publish_garbage(&ns, args.run_id).map_err(anyhow::Error::msg))
+            .context("the run's namespace")
+            .and_then(|ns| publish_garbage(&ns, args.run_id).context("publishing garbage"))
             .map(|()| ExitCode::SUCCESS),
     };
     match result {

@@ -22,12 +22,12 @@ use learnpnp::keepaway_sim::params::KeepawayConfig;
 use learnpnp::keepaway_sim::perception::{PlayerId, perceive};
 use learnpnp::keepaway_sim::simulator::Simulator;
 use learnpnp::learning::EpisodeStart;
-use learnpnp_system::ipc::convert::{
-    CommandReading, SnapshotMeta, command_message, read_command, read_snapshot, snapshot,
-};
+use learnpnp_system::ipc::convert::{command_message, read_command, read_snapshot, snapshot};
 use learnpnp_system::ipc::namespace::Namespace;
-use learnpnp_system::ipc::services::{AgentPorts, RunServices, SimPorts, node, receive, send};
-use learnpnp_system::multiprocess::simulator::{FLOOR_END, floor_ping};
+use learnpnp_system::ipc::protocol::{CommandReading, SnapshotMeta};
+use learnpnp_system::ipc::services::{AgentPorts, RunServices, SimPorts, node, receive};
+use learnpnp_system::ipc::wait::WaitStrategy;
+use learnpnp_system::multiprocess::sim_process::{FLOOR_END, floor_ping};
 
 const ECHO: &str = "LEARNPNP_BENCH_ECHO";
 const RUN_ID: u64 = 42;
@@ -37,7 +37,7 @@ const RUN_ID: u64 = 42;
 fn echo(prefix: &str) {
     let namespace = Namespace::from_prefix(prefix).expect("prefix");
     let node = node(&namespace, "echo").expect("node");
-    let ports = AgentPorts::open(&node, 0).expect("ports");
+    let ports = AgentPorts::open(&node, 0, WaitStrategy::Yield).expect("ports");
     loop {
         if let Some(sequence) = receive(&ports.floor_ping, |m| m.cycle_seq).expect("receive") {
             if sequence == FLOOR_END {
@@ -49,7 +49,7 @@ fn echo(prefix: &str) {
                 command: Command::None,
                 idle: false,
             };
-            send(&ports.floor_pong, command_message(&pong, 0, RUN_ID)).expect("send");
+            ports.floor_pong.send(command_message(&pong, 0, RUN_ID)).expect("send");
             continue;
         }
         if let Some(reading) = receive(&ports.snapshot, |m| read_snapshot(m, 0, RUN_ID)).expect("receive") {
@@ -60,7 +60,7 @@ fn echo(prefix: &str) {
                 command: Command::Dash { power: view.ball.pos.x },
                 idle: false,
             };
-            send(&ports.command, command_message(&answer, 0, RUN_ID)).expect("send");
+            ports.command.send(command_message(&answer, 0, RUN_ID)).expect("send");
             continue;
         }
         std::thread::yield_now();
@@ -73,7 +73,7 @@ fn bench(c: &mut Criterion) {
     let prefix = owner.namespace().prefix().to_string();
     let node = node(owner.namespace(), "bench").expect("node");
     let _services = RunServices::create(&node).expect("services");
-    let ports = SimPorts::open(&node).expect("ports");
+    let ports = SimPorts::open(&node, WaitStrategy::Yield).expect("ports");
     let mut child = std::process::Command::new(std::env::current_exe().expect("exe"))
         .env(ECHO, &prefix)
         .spawn()
@@ -85,7 +85,7 @@ fn bench(c: &mut Criterion) {
     // The echo process subscribes some time after it starts: ping until it answers.
     let mut sequence = 0u64;
     'connect: loop {
-        send(&ports.floor_ping, floor_ping(RUN_ID, sequence)).expect("send");
+        ports.floor_ping.send(floor_ping(RUN_ID, sequence)).expect("send");
         let sent = Instant::now();
         while sent.elapsed() < Duration::from_millis(10) {
             if receive(&ports.floor_pong, |m| m.cycle_seq).expect("receive") == Some(sequence) {
@@ -100,7 +100,7 @@ fn bench(c: &mut Criterion) {
             let started = Instant::now();
             for _ in 0..iters {
                 sequence += 1;
-                send(&ports.floor_ping, floor_ping(RUN_ID, sequence)).expect("send");
+                ports.floor_ping.send(floor_ping(RUN_ID, sequence)).expect("send");
                 while receive(&ports.floor_pong, |m| m.cycle_seq).expect("receive") != Some(sequence) {
                     std::thread::yield_now();
                 }
@@ -119,7 +119,7 @@ fn bench(c: &mut Criterion) {
                     reward: 0.1,
                     start: EpisodeStart::LEARN,
                 };
-                send(&ports.snapshots[0], snapshot(&view, &meta, RUN_ID)).expect("send");
+                ports.snapshots[0].send(snapshot(&view, &meta, RUN_ID)).expect("send");
                 loop {
                     match receive(&ports.commands[0], |m| read_command(m, 0, RUN_ID)).expect("receive") {
                         Some(Ok(c)) if c.cycle_seq == sequence => break,
@@ -132,7 +132,7 @@ fn bench(c: &mut Criterion) {
         })
     });
     group.finish();
-    send(&ports.floor_ping, floor_ping(RUN_ID, FLOOR_END)).expect("send");
+    ports.floor_ping.send(floor_ping(RUN_ID, FLOOR_END)).expect("send");
     let _ = child.wait();
     drop(ports);
     drop(_services);

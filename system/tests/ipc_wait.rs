@@ -18,7 +18,7 @@ fn a_blocking_pause_with_no_time_left_returns() {
         {
             let node = node(owner.namespace(), "waiter").unwrap();
             let _services = RunServices::create(&node).unwrap();
-            let ports = AgentPorts::open(&node, 0).unwrap();
+            let ports = AgentPorts::open(&node, 0, WaitStrategy::Block).unwrap();
             for strategy in [WaitStrategy::Block, WaitStrategy::Hybrid] {
                 let mut idle = Idle::new(strategy);
                 idle.pause(&ports.wake, Duration::ZERO).unwrap();

@@ -18,6 +18,7 @@ use learnpnp::named::Named;
 use learnpnp::result_dir::ResultDir;
 use learnpnp_cli::args::parse_experiment_flags;
 use learnpnp_system::ipc::namespace::{Namespace, SHM_DIR};
+use learnpnp_system::multiprocess::garbage::Garbage;
 use learnpnp_system::multiprocess::supervisor::{IDENTITY_FILE, run_work_dir};
 use serde_json::Value;
 use shm_layouts::{
@@ -358,21 +359,6 @@ fn foreign_node(sandbox: &Sandbox, prefix: &str) -> Node<ipc::Service> {
     learnpnp_system::ipc::services::node(&namespace, "foreign").unwrap()
 }
 
-fn publish<T: ZeroCopySend + std::fmt::Debug + Copy + 'static>(node: &Node<ipc::Service>, service: &str, values: &[T]) {
-    let service = node
-        .service_builder(&ServiceName::new(service).unwrap())
-        .publish_subscribe::<T>()
-        .open()
-        .unwrap();
-    let publisher = service.publisher_builder().create().unwrap();
-    for v in values {
-        let delivered = publisher.send_copy(*v).unwrap();
-        assert!(delivered > 0, "no subscriber on {:?}", service.name());
-    }
-    // Samples live in the publisher's memory: keep it until they are read.
-    sleep(Duration::from_millis(300));
-}
-
 #[test]
 fn garbage_on_the_services_is_rejected_and_never_applied() {
     let sandbox = Sandbox::new("garbage");
@@ -429,37 +415,30 @@ fn garbage_on_the_services_is_rejected_and_never_applied() {
             arg0: 0.0,
             arg1: 0.0,
         };
-        publish(
-            &node,
-            &services::command(0),
-            &[
-                KeeperCommand {
-                    header: Header {
-                        version: PROTOCOL_VERSION + 1,
-                        ..header
-                    },
-                    ..command
+        let mut garbage = Garbage::default();
+        garbage.commands[0] = vec![
+            KeeperCommand {
+                header: Header {
+                    version: PROTOCOL_VERSION + 1,
+                    ..header
                 },
-                KeeperCommand {
-                    kind: 2,
-                    arg0: f64::NAN,
-                    ..command
-                },
-                KeeperCommand { kind: 99, ..command },
-                KeeperCommand {
-                    header: Header::new(2, run_id),
-                    ..command
-                },
-            ],
-        );
-        let mut snapshot: KeeperSnapshot = learnpnp_system::multiprocess::simulator::floor_ping(run_id, 1);
+                ..command
+            },
+            KeeperCommand {
+                kind: 2,
+                arg0: f64::NAN,
+                ..command
+            },
+            KeeperCommand { kind: 99, ..command },
+            KeeperCommand {
+                header: Header::new(2, run_id),
+                ..command
+            },
+        ];
+        let mut snapshot: KeeperSnapshot = learnpnp_system::multiprocess::sim_process::floor_ping(run_id, 1);
         snapshot.me = 1;
         snapshot.players[4].pos[0] = f64::NAN;
-        publish(
-            &node,
-            &services::snapshot(1),
-            &[snapshot, KeeperSnapshot { me: 7, ..snapshot }],
-        );
+        garbage.snapshots[1] = vec![snapshot, KeeperSnapshot { me: 7, ..snapshot }];
         let event = EpisodeEvent {
             header: Header::new(SENDER_SIMULATOR, run_id),
             episode: 1,
@@ -471,27 +450,22 @@ fn garbage_on_the_services_is_rejected_and_never_applied() {
             reserved2: 0,
             seconds: 0.0,
         };
-        publish(
-            &node,
-            services::EPISODE,
-            &[
-                event,
-                EpisodeEvent {
-                    mode: 9,
-                    kind: 1,
-                    ..event
-                },
-            ],
-        );
-        let report = AgentReport {
+        garbage.episode = vec![
+            event,
+            EpisodeEvent {
+                mode: 9,
+                kind: 1,
+                ..event
+            },
+        ];
+        garbage.reports = vec![AgentReport {
             header: Header::new(5, run_id),
             episode: 1,
             kind: 2,
             pid: 0,
             exploratory: 0,
             reserved: [0; 7],
-        };
-        publish(&node, services::AGENT_REPORT, &[report]);
+        }];
         let control = Control {
             header: Header::new(SENDER_SUPERVISOR, run_id),
             command: 42,
@@ -500,18 +474,20 @@ fn garbage_on_the_services_is_rejected_and_never_applied() {
             pid: 0,
             reserved: 0,
         };
-        publish(
-            &node,
-            services::CONTROL,
-            &[
-                control,
-                Control {
-                    header: Header::new(1, run_id),
-                    command: 1,
-                    ..control
-                },
-            ],
-        );
+        garbage.control = vec![
+            control,
+            Control {
+                header: Header::new(1, run_id),
+                command: 1,
+                ..control
+            },
+        ];
+        // Samples live in the publisher's memory: it keeps them until they are read.
+        let delivered = garbage.publish(&node, Duration::from_millis(300)).unwrap();
+        assert_eq!(delivered.len(), 5, "{delivered:?}");
+        for d in &delivered {
+            assert!(d.subscribers > 0, "no subscriber on {}", d.service);
+        }
     }
     let output = finish(child);
     assert!(output.status.success(), "{}", text(&output.stderr));

@@ -1,5 +1,5 @@
-//! Between the in-process types and their shared-memory layouts
-//! (`shm_layouts`), validating everything read: a message from shared memory
+//! Between the in-process types (the protocol's are in [`super::protocol`])
+//! and their shared-memory layouts (`shm_layouts`), validating everything read: a message from shared memory
 //! is untrusted until it has passed here (protocol version, run, sender, ids
 //! in range, finite numbers, known tags). A refused message is counted by
 //! [`Rejection`] reason and never applied.
@@ -15,6 +15,8 @@ use learnpnp::keepaway_sim::geometry::Vec2;
 use learnpnp::keepaway_sim::perception::{PlayerId, PlayerView, SeenBall, SeenPlayer};
 use learnpnp::keepaway_sim::world::{NUM_KEEPERS, NUM_PLAYERS};
 use learnpnp::learning::{EpisodeMode, EpisodeStart};
+
+use super::protocol::{AgentNews, CommandReading, EpisodeNews, Order, ProcessState, Pulse, Role, SnapshotMeta};
 
 const _: () = assert!(shm_layouts::NUM_KEEPERS == NUM_KEEPERS && shm_layouts::NUM_PLAYERS == NUM_PLAYERS);
 
@@ -162,19 +164,6 @@ fn read_start(mode_tag: u8, forced_tag: u8) -> Result<EpisodeStart, Rejection> {
     Ok(EpisodeStart { mode, exploratory })
 }
 
-/// What a snapshot says besides the view.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SnapshotMeta {
-    /// The episode's sequence number.
-    pub episode: u64,
-    /// The cycle's sequence number.
-    pub cycle_seq: u64,
-    /// Reward since the previous snapshot.
-    pub reward: f64,
-    /// How the episode is run.
-    pub start: EpisodeStart,
-}
-
 fn vec(v: Vec2) -> [f64; 2] {
     [v.x, v.y]
 }
@@ -249,19 +238,6 @@ pub fn read_snapshot(
     Ok((meta, view))
 }
 
-/// A command as read from shared memory.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CommandReading {
-    /// The episode it belongs to.
-    pub episode: u64,
-    /// The cycle it answers.
-    pub cycle_seq: u64,
-    /// The command.
-    pub command: Command,
-    /// The plan issued no command this cycle.
-    pub idle: bool,
-}
-
 /// Keeper `keeper`'s command answering `(episode, cycle_seq)`.
 pub fn command_message(reading: &CommandReading, keeper: usize, run_id: u64) -> KeeperCommand {
     let (kind, arg0, arg1) = match reading.command {
@@ -306,25 +282,6 @@ pub fn read_command(msg: &KeeperCommand, keeper: usize, run_id: u64) -> Result<C
     })
 }
 
-/// What happens to an episode.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum EpisodeNews {
-    /// It begins, run as `start` says.
-    Begin(EpisodeStart),
-    /// It ended after `cycles` cycles, lasting `seconds`.
-    End {
-        /// Cycles played.
-        cycles: u32,
-        /// Its duration.
-        seconds: f64,
-    },
-    /// It is discarded after `cycles` cycles.
-    Abort {
-        /// Cycles played.
-        cycles: u32,
-    },
-}
-
 /// The event of `news` about episode `episode`.
 pub fn episode_event(episode_seq: u64, news: EpisodeNews, run_id: u64) -> EpisodeEvent {
     let (kind, start, cycles, seconds) = match news {
@@ -361,23 +318,6 @@ pub fn read_episode_event(msg: &EpisodeEvent, run_id: u64) -> Result<(u64, Episo
     Ok((msg.episode, news))
 }
 
-/// An agent's report at an episode boundary.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum AgentNews {
-    /// Connected and ready for an episode: the process with this id.
-    Ready {
-        /// The agent's process id.
-        pid: u32,
-    },
-    /// Episode `episode` ended.
-    Ended {
-        /// The episode.
-        episode: u64,
-        /// It explored.
-        exploratory: bool,
-    },
-}
-
 /// Keeper `keeper`'s report.
 pub fn agent_report(news: AgentNews, keeper: usize, run_id: u64) -> AgentReport {
     let (kind, episode, pid, exploratory) = match news {
@@ -408,82 +348,13 @@ pub fn read_agent_report(msg: &AgentReport, run_id: u64) -> Result<(usize, Agent
     Ok((msg.header.sender as usize, news))
 }
 
-/// Who a process of the run is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Role {
-    /// The simulator.
-    Simulator,
-    /// Keeper k's agent.
-    Keeper(usize),
-}
-
-impl Role {
-    /// The header's sender of this role.
-    pub fn sender(self) -> u32 {
-        match self {
-            Role::Simulator => SENDER_SIMULATOR,
-            Role::Keeper(k) => k as u32,
-        }
+/// The role of a header's sender, if it is one of the run's processes.
+fn role_of_sender(sender: u32) -> Option<Role> {
+    match sender {
+        SENDER_SIMULATOR => Some(Role::Simulator),
+        k if (k as usize) < NUM_KEEPERS => Some(Role::Keeper(k as usize)),
+        _ => None,
     }
-
-    fn of_sender(sender: u32) -> Option<Role> {
-        match sender {
-            SENDER_SIMULATOR => Some(Role::Simulator),
-            k if (k as usize) < NUM_KEEPERS => Some(Role::Keeper(k as usize)),
-            _ => None,
-        }
-    }
-}
-
-impl std::fmt::Display for Role {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Role::Simulator => write!(f, "simulator"),
-            Role::Keeper(k) => write!(f, "keeper {}", k + 1),
-        }
-    }
-}
-
-/// A process's state as its heartbeat says.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ProcessState {
-    /// Loading.
-    Starting,
-    /// Connected, waiting.
-    Ready,
-    /// Playing.
-    Running,
-    /// Stopping.
-    Stopping,
-}
-
-/// What a heartbeat reports (the counters are the process's totals so far).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Pulse {
-    /// Who sent it.
-    pub role: Role,
-    /// Its process id.
-    pub pid: u32,
-    /// Its state.
-    pub state: ProcessState,
-    /// Its heartbeat counter.
-    pub sequence: u64,
-    /// Simulator: learning episodes done. Agent: episodes ended.
-    pub episodes: u64,
-    /// Cycles played or acted on.
-    pub cycles: u64,
-    /// Messages it refused.
-    pub rejected: Rejections,
-    /// Simulator: commands that missed their cycle.
-    pub missed_deadlines: u64,
-    /// Simulator: episodes aborted.
-    pub aborted_episodes: u64,
-    /// Agent: checkpoints written.
-    pub checkpoints: u64,
-    /// Agent: checkpoint writes that failed.
-    pub checkpoint_failures: u64,
 }
 
 /// The heartbeat carrying `pulse`.
@@ -510,8 +381,8 @@ pub fn heartbeat(pulse: &Pulse, run_id: u64) -> Heartbeat {
 
 /// Reads a heartbeat.
 pub fn read_heartbeat(msg: &Heartbeat, run_id: u64) -> Result<Pulse, Rejection> {
-    check_header(&msg.header, run_id, |s| Role::of_sender(s).is_some())?;
-    let role = Role::of_sender(msg.header.sender).ok_or(Rejection::Sender)?;
+    check_header(&msg.header, run_id, |s| role_of_sender(s).is_some())?;
+    let role = role_of_sender(msg.header.sender).ok_or(Rejection::Sender)?;
     let state = match msg.state {
         state::STARTING => ProcessState::Starting,
         state::READY => ProcessState::Ready,
@@ -532,25 +403,6 @@ pub fn read_heartbeat(msg: &Heartbeat, run_id: u64) -> Result<Pulse, Rejection> 
         checkpoints: msg.checkpoints,
         checkpoint_failures: msg.checkpoint_failures,
     })
-}
-
-/// A supervisor's command.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Order {
-    /// End the run.
-    Stop,
-    /// Checkpoint now.
-    Checkpoint,
-    /// The simulator was restarted (to the agents): drop the episode in
-    /// progress and say you are ready.
-    SimulatorRestarted,
-    /// Keeper `keeper` was lost (to the simulator); process `pid` replaces it.
-    KeeperLost {
-        /// The keeper.
-        keeper: usize,
-        /// Its replacement's process id.
-        pid: u32,
-    },
 }
 
 /// The control message of `order` for `target` (`None`: everyone).

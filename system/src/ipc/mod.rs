@@ -4,10 +4,12 @@
 //!   cleanup of what dead runs left;
 //! - [`services`]: every service of a run with its limits, and each process's ports;
 //! - [`wait`]: how a process waits between polls (spin, yield, block, hybrid);
+//! - [`protocol`]: the protocol's own types (roles, what messages say, orders);
 //! - [`convert`]: the in-process types to and from their `shm_layouts`
 //!   layouts, validating everything read.
 
 pub mod convert;
 pub mod namespace;
+pub mod protocol;
 pub mod services;
 pub mod wait;

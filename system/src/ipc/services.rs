@@ -16,6 +16,7 @@ use shm_layouts::{
 };
 
 use super::namespace::Namespace;
+use super::wait::WaitStrategy;
 
 /// The iceoryx2 service variant of every port: inter-process, single-threaded ports.
 pub type Ipc = ipc::Service;
@@ -167,101 +168,154 @@ fn notifier(node: &Node<Ipc>, process: &str) -> Result<Notifier<Ipc>, IpcError> 
         .map_err(fail(format!("notifier of {process}")))
 }
 
+/// A publish-subscribe service's factory, held to keep the service open.
+type Service<T> = publish_subscribe::PortFactory<Ipc, T, ()>;
+
 /// Every service of a run, created by the supervisor before it starts the
-/// processes (so the limits are its own) and kept open for the run's life.
+/// processes (so the limits are its own) and kept open for the run's life
+/// (the fields are held for that alone).
 pub struct RunServices {
-    _pubsub: Vec<Box<dyn std::any::Any>>,
-    _events: Vec<event::PortFactory<Ipc>>,
+    _snapshots: Vec<Service<KeeperSnapshot>>,
+    _commands: Vec<Service<KeeperCommand>>,
+    _episode: Service<EpisodeEvent>,
+    _agent_report: Service<AgentReport>,
+    _heartbeat: Service<Heartbeat>,
+    _control: Service<Control>,
+    _floor_ping: Service<KeeperSnapshot>,
+    _floor_pong: Service<KeeperCommand>,
+    _wake_sim: event::PortFactory<Ipc>,
+    _wake_keepers: Vec<event::PortFactory<Ipc>>,
 }
 
 impl RunServices {
     /// Creates every service of the run on `node`.
     pub fn create(node: &Node<Ipc>) -> Result<Self, IpcError> {
-        let mut pubsub_factories: Vec<Box<dyn std::any::Any>> = Vec::new();
-        for k in 0..NUM_KEEPERS {
-            pubsub_factories.push(Box::new(pubsub::<KeeperSnapshot>(
-                node,
-                &services::snapshot(k),
-                POINT_TO_POINT,
-            )?));
-            pubsub_factories.push(Box::new(pubsub::<KeeperCommand>(
-                node,
-                &services::command(k),
-                POINT_TO_POINT,
-            )?));
-        }
-        pubsub_factories.push(Box::new(pubsub::<EpisodeEvent>(node, services::EPISODE, SHARED)?));
-        pubsub_factories.push(Box::new(pubsub::<AgentReport>(node, services::AGENT_REPORT, SHARED)?));
-        pubsub_factories.push(Box::new(pubsub::<Heartbeat>(node, services::HEARTBEAT, SHARED)?));
-        pubsub_factories.push(Box::new(pubsub::<Control>(node, services::CONTROL, SHARED)?));
-        pubsub_factories.push(Box::new(pubsub::<KeeperSnapshot>(
-            node,
-            services::FLOOR_PING,
-            POINT_TO_POINT,
-        )?));
-        pubsub_factories.push(Box::new(pubsub::<KeeperCommand>(
-            node,
-            services::FLOOR_PONG,
-            POINT_TO_POINT,
-        )?));
-        let mut events = vec![wake_service(node, SIM_PROCESS)?];
-        for k in 0..NUM_KEEPERS {
-            events.push(wake_service(node, &keeper_process(k))?);
-        }
+        let keepers = 0..NUM_KEEPERS;
         Ok(RunServices {
-            _pubsub: pubsub_factories,
-            _events: events,
+            _snapshots: keepers
+                .clone()
+                .map(|k| pubsub(node, &services::snapshot(k), POINT_TO_POINT))
+                .collect::<Result<_, _>>()?,
+            _commands: keepers
+                .clone()
+                .map(|k| pubsub(node, &services::command(k), POINT_TO_POINT))
+                .collect::<Result<_, _>>()?,
+            _episode: pubsub(node, services::EPISODE, SHARED)?,
+            _agent_report: pubsub(node, services::AGENT_REPORT, SHARED)?,
+            _heartbeat: pubsub(node, services::HEARTBEAT, SHARED)?,
+            _control: pubsub(node, services::CONTROL, SHARED)?,
+            _floor_ping: pubsub(node, services::FLOOR_PING, POINT_TO_POINT)?,
+            _floor_pong: pubsub(node, services::FLOOR_PONG, POINT_TO_POINT)?,
+            _wake_sim: wake_service(node, SIM_PROCESS)?,
+            _wake_keepers: keepers
+                .map(|k| wake_service(node, &keeper_process(k)))
+                .collect::<Result<_, _>>()?,
         })
     }
 }
 
+/// A publisher joined with the wake-up events of the processes that receive
+/// what it sends: [`Outlet::send`] publishes, then notifies them (only if
+/// their wait strategy blocks), in one call, as iceoryx2's example
+/// publishers publish and then notify their listeners.
+pub struct Outlet<T: ZeroCopySend + Debug + 'static> {
+    publisher: Pub<T>,
+    /// The receivers' wake-up events; empty when the receivers never block.
+    wakes: Vec<Notifier<Ipc>>,
+}
+
+impl<T: ZeroCopySend + Debug + 'static> Outlet<T> {
+    /// A publisher on service `name` that wakes `receivers` (wake-up service
+    /// names) after each send if the run's processes wait with `wait`.
+    fn open(
+        node: &Node<Ipc>,
+        name: &str,
+        limits: Limits,
+        receivers: &[String],
+        wait: WaitStrategy,
+    ) -> Result<Self, IpcError> {
+        let wakes = if wait.notifies() {
+            receivers
+                .iter()
+                .map(|process| notifier(node, process))
+                .collect::<Result<_, _>>()?
+        } else {
+            Vec::new()
+        };
+        Ok(Outlet {
+            publisher: publisher(node, name, limits)?,
+            wakes,
+        })
+    }
+
+    /// Publishes `value`, then wakes the receivers.
+    pub fn send(&self, value: T) -> Result<(), IpcError> {
+        send(&self.publisher, value)?;
+        self.wake()
+    }
+
+    /// Publishes each of `values`, then wakes the receivers once.
+    pub fn send_each(&self, values: impl IntoIterator<Item = T>) -> Result<(), IpcError> {
+        for value in values {
+            send(&self.publisher, value)?;
+        }
+        self.wake()
+    }
+
+    fn wake(&self) -> Result<(), IpcError> {
+        for notifier in &self.wakes {
+            notifier.notify().map_err(fail("notifying a wake-up event"))?;
+        }
+        Ok(())
+    }
+}
+
+/// The wake-up service names of every keeper.
+fn every_keeper() -> Vec<String> {
+    (0..NUM_KEEPERS).map(keeper_process).collect()
+}
+
 /// The simulator's ports.
 pub struct SimPorts {
-    /// Snapshots to keeper k.
-    pub snapshots: Vec<Pub<KeeperSnapshot>>,
+    /// Snapshots to keeper k (waking it).
+    pub snapshots: Vec<Outlet<KeeperSnapshot>>,
     /// Commands from keeper k.
     pub commands: Vec<Sub<KeeperCommand>>,
-    /// Episode events to every agent.
-    pub episode: Pub<EpisodeEvent>,
+    /// Episode events to every agent (waking them).
+    pub episode: Outlet<EpisodeEvent>,
     /// Agents' reports.
     pub reports: Sub<AgentReport>,
     /// Heartbeats to the supervisor.
     pub heartbeat: Pub<Heartbeat>,
     /// The supervisor's commands.
     pub control: Sub<Control>,
-    /// Floor measurement pings to agent 0.
-    pub floor_ping: Pub<KeeperSnapshot>,
+    /// Floor measurement pings to agent 0 (waking it).
+    pub floor_ping: Outlet<KeeperSnapshot>,
     /// Floor measurement pongs from agent 0.
     pub floor_pong: Sub<KeeperCommand>,
     /// Wakes the simulator when it blocks.
     pub wake: Listener<Ipc>,
-    /// Wake keeper k.
-    pub wake_keepers: Vec<Notifier<Ipc>>,
 }
 
 impl SimPorts {
-    /// Opens the simulator's ports on `node`.
-    pub fn open(node: &Node<Ipc>) -> Result<Self, IpcError> {
+    /// Opens the simulator's ports on `node`, for processes that wait with `wait`.
+    pub fn open(node: &Node<Ipc>, wait: WaitStrategy) -> Result<Self, IpcError> {
         let keepers = 0..NUM_KEEPERS;
         Ok(SimPorts {
             snapshots: keepers
                 .clone()
-                .map(|k| publisher(node, &services::snapshot(k), POINT_TO_POINT))
+                .map(|k| Outlet::open(node, &services::snapshot(k), POINT_TO_POINT, &[keeper_process(k)], wait))
                 .collect::<Result<_, _>>()?,
             commands: keepers
-                .clone()
                 .map(|k| subscriber(node, &services::command(k), POINT_TO_POINT))
                 .collect::<Result<_, _>>()?,
-            episode: publisher(node, services::EPISODE, SHARED)?,
+            episode: Outlet::open(node, services::EPISODE, SHARED, &every_keeper(), wait)?,
             reports: subscriber(node, services::AGENT_REPORT, SHARED)?,
             heartbeat: publisher(node, services::HEARTBEAT, SHARED)?,
             control: subscriber(node, services::CONTROL, SHARED)?,
-            floor_ping: publisher(node, services::FLOOR_PING, POINT_TO_POINT)?,
+            floor_ping: Outlet::open(node, services::FLOOR_PING, POINT_TO_POINT, &[keeper_process(0)], wait)?,
             floor_pong: subscriber(node, services::FLOOR_PONG, POINT_TO_POINT)?,
             wake: listener(node, SIM_PROCESS)?,
-            wake_keepers: keepers
-                .map(|k| notifier(node, &keeper_process(k)))
-                .collect::<Result<_, _>>()?,
         })
     }
 }
@@ -270,40 +324,38 @@ impl SimPorts {
 pub struct AgentPorts {
     /// Its snapshots.
     pub snapshot: Sub<KeeperSnapshot>,
-    /// Its commands.
-    pub command: Pub<KeeperCommand>,
+    /// Its commands (waking the simulator).
+    pub command: Outlet<KeeperCommand>,
     /// Episode events.
     pub episode: Sub<EpisodeEvent>,
-    /// Its reports to the simulator.
-    pub report: Pub<AgentReport>,
+    /// Its reports to the simulator (waking it).
+    pub report: Outlet<AgentReport>,
     /// Heartbeats to the supervisor.
     pub heartbeat: Pub<Heartbeat>,
     /// The supervisor's commands.
     pub control: Sub<Control>,
     /// Floor pings (agent 0 answers them).
     pub floor_ping: Sub<KeeperSnapshot>,
-    /// Floor pongs.
-    pub floor_pong: Pub<KeeperCommand>,
+    /// Floor pongs (waking the simulator).
+    pub floor_pong: Outlet<KeeperCommand>,
     /// Wakes this agent when it blocks.
     pub wake: Listener<Ipc>,
-    /// Wakes the simulator.
-    pub wake_sim: Notifier<Ipc>,
 }
 
 impl AgentPorts {
-    /// Opens keeper `k`'s ports on `node`.
-    pub fn open(node: &Node<Ipc>, k: usize) -> Result<Self, IpcError> {
+    /// Opens keeper `k`'s ports on `node`, for processes that wait with `wait`.
+    pub fn open(node: &Node<Ipc>, k: usize, wait: WaitStrategy) -> Result<Self, IpcError> {
+        let sim = [SIM_PROCESS.to_string()];
         Ok(AgentPorts {
             snapshot: subscriber(node, &services::snapshot(k), POINT_TO_POINT)?,
-            command: publisher(node, &services::command(k), POINT_TO_POINT)?,
+            command: Outlet::open(node, &services::command(k), POINT_TO_POINT, &sim, wait)?,
             episode: subscriber(node, services::EPISODE, SHARED)?,
-            report: publisher(node, services::AGENT_REPORT, SHARED)?,
+            report: Outlet::open(node, services::AGENT_REPORT, SHARED, &sim, wait)?,
             heartbeat: publisher(node, services::HEARTBEAT, SHARED)?,
             control: subscriber(node, services::CONTROL, SHARED)?,
             floor_ping: subscriber(node, services::FLOOR_PING, POINT_TO_POINT)?,
-            floor_pong: publisher(node, services::FLOOR_PONG, POINT_TO_POINT)?,
+            floor_pong: Outlet::open(node, services::FLOOR_PONG, POINT_TO_POINT, &sim, wait)?,
             wake: listener(node, &keeper_process(k))?,
-            wake_sim: notifier(node, SIM_PROCESS)?,
         })
     }
 }
@@ -312,24 +364,18 @@ impl AgentPorts {
 pub struct SupervisorPorts {
     /// Every process's heartbeats.
     pub heartbeats: Sub<Heartbeat>,
-    /// Commands to the processes.
-    pub control: Pub<Control>,
-    /// Wakes the simulator (after a control command).
-    pub wake_sim: Notifier<Ipc>,
-    /// Wake keeper k (after a control command).
-    pub wake_keepers: Vec<Notifier<Ipc>>,
+    /// Commands to the processes (waking every one of them).
+    pub control: Outlet<Control>,
 }
 
 impl SupervisorPorts {
-    /// Opens the supervisor's ports on `node`.
-    pub fn open(node: &Node<Ipc>) -> Result<Self, IpcError> {
+    /// Opens the supervisor's ports on `node`, for processes that wait with `wait`.
+    pub fn open(node: &Node<Ipc>, wait: WaitStrategy) -> Result<Self, IpcError> {
+        let mut everyone = vec![SIM_PROCESS.to_string()];
+        everyone.extend(every_keeper());
         Ok(SupervisorPorts {
             heartbeats: subscriber(node, services::HEARTBEAT, SHARED)?,
-            control: publisher(node, services::CONTROL, SHARED)?,
-            wake_sim: notifier(node, SIM_PROCESS)?,
-            wake_keepers: (0..NUM_KEEPERS)
-                .map(|k| notifier(node, &keeper_process(k)))
-                .collect::<Result<_, _>>()?,
+            control: Outlet::open(node, services::CONTROL, SHARED, &everyone, wait)?,
         })
     }
 }

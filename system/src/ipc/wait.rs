@@ -6,17 +6,30 @@
 //! spinning starves the process being waited for, and a blocking wake-up costs
 //! tens of microseconds; the figures that chose the default are in
 //! docs/results/RESULTS.md (multi-process system).
+//!
+//! A blocking pause waits on the process's wake-up listener itself
+//! (`Listener::timed_wait`), not on an iceoryx2 `WaitSet`: measured with
+//! `cargo bench -p learnpnp-system --bench wake_latency` (a floor ping and
+//! its pong between two processes, each sent by an `Outlet` and each side
+//! blocked between polls; 3 runs of 3 alternating rounds of 5,000 round
+//! trips, on 2 shared cores with a load average of 17), the round trip (two
+//! wake-ups) had a median of 14.9 us on the listener and 15.7 us on a
+//! `WaitSet` made once per process (per-round medians 14.6 to 17.2 us
+//! against 15.5 to 17.8 us, one listener round at 52 us under load aside); a
+//! `WaitSet` made for each wait took 34 us. The `WaitSet` adds an epoll
+//! wait before the listener's own receive, and this process waits on one
+//! event only: its multiplexing buys nothing here.
 
 use std::time::{Duration, Instant};
 
 use iceoryx2::port::listener::{Listener, ListenerWaitError};
-use iceoryx2::port::notifier::Notifier;
+use learnpnp::named::Named;
 use serde::{Deserialize, Serialize};
 
 use super::services::{Ipc, IpcError, fail};
 
 /// A waiting process's behaviour between polls.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum WaitStrategy {
     /// Poll without pause: lowest latency while every process has a core of its own.
@@ -34,9 +47,18 @@ impl WaitStrategy {
     pub fn notifies(self) -> bool {
         matches!(self, WaitStrategy::Block | WaitStrategy::Hybrid)
     }
+}
 
-    /// The name on the command line.
-    pub fn name(self) -> &'static str {
+impl Named for WaitStrategy {
+    const KIND: &'static str = "wait strategy";
+    const ALL: &'static [Self] = &[
+        WaitStrategy::Spin,
+        WaitStrategy::Yield,
+        WaitStrategy::Block,
+        WaitStrategy::Hybrid,
+    ];
+
+    fn name(self) -> &'static str {
         match self {
             WaitStrategy::Spin => "spin",
             WaitStrategy::Yield => "yield",
@@ -106,12 +128,4 @@ impl Idle {
         let left = deadline.saturating_duration_since(Instant::now());
         self.pause(wake, left.saturating_sub(TIMED_WAIT_SLACK))
     }
-}
-
-/// Wakes a receiver after a send, if its strategy blocks.
-pub fn wake(strategy: WaitStrategy, notifier: &Notifier<Ipc>) -> Result<(), IpcError> {
-    if strategy.notifies() {
-        notifier.notify().map_err(fail("notifying a wake-up event"))?;
-    }
-    Ok(())
 }

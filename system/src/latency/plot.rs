@@ -17,10 +17,25 @@ pub struct ReferenceLine {
     pub micros: f64,
 }
 
-/// Why the plot cannot be drawn.
+/// Why a plot cannot be drawn.
 #[derive(Debug, thiserror::Error)]
-#[error("cannot draw the latency plot: {0}")]
-pub struct PlotFailure(String);
+#[error("cannot draw {what}: {detail}")]
+pub struct PlotFailure {
+    /// Which plot.
+    what: &'static str,
+    /// The drawing library's error.
+    detail: String,
+}
+
+impl PlotFailure {
+    /// `what` cannot be drawn because of the drawing library's `error`.
+    pub(crate) fn new(what: &'static str, error: impl std::fmt::Display) -> Self {
+        PlotFailure {
+            what,
+            detail: error.to_string(),
+        }
+    }
+}
 
 /// The SVG text of the percentile plot of `histograms` with `references`.
 pub fn percentile_plot(
@@ -103,7 +118,7 @@ pub fn percentile_plot(
                 .draw()?;
             root.present()
         };
-        draw().map_err(|e| PlotFailure(e.to_string()))?;
+        draw().map_err(|e| PlotFailure::new("the latency plot", e))?;
     }
     Ok(svg)
 }

@@ -6,6 +6,7 @@
 //! configuration, one percentile plot, a table with the ratios to the floor,
 //! and `latency.json`.
 
+use learnpnp::named::Named;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::sync::atomic::AtomicBool;
@@ -15,8 +16,10 @@ use serde::Serialize;
 
 use super::Clock;
 use super::load::CpuLoad;
-use super::simulator::{FLOOR, ROUND_TRIP};
-use super::supervisor::{Request, RunObserver, RunRecord, RunView, SupervisorConfig, SupervisorError, supervise_run};
+use super::sim_process::{FLOOR, ROUND_TRIP};
+use super::supervisor::{
+    Request, RunObserver, RunRecord, RunView, SupervisorConfig, SupervisorError, json_error, supervise_run,
+};
 use crate::ipc::wait::WaitStrategy;
 use crate::latency::plot::{ReferenceLine, percentile_plot};
 use crate::latency::{Latency, Percentiles};
@@ -174,7 +177,7 @@ pub fn bench_latency(
             break;
         }
     }
-    let json = serde_json::to_string_pretty(&measured).map_err(|e| SupervisorError::Failed(e.to_string()))?;
+    let json = serde_json::to_string_pretty(&measured).map_err(json_error("latency.json"))?;
     files.add_text("latency.json", &json)?;
     let refs: Vec<&Latency> = shown.iter().collect();
     let deadline = ReferenceLine {
@@ -185,7 +188,7 @@ pub fn bench_latency(
         "{} mode: floor and round trip per wait strategy, idle and loaded",
         base.clock.name()
     );
-    let svg = percentile_plot(&title, &refs, &[deadline]).map_err(|e| SupervisorError::Failed(e.to_string()))?;
+    let svg = percentile_plot(&title, &refs, &[deadline])?;
     files.add_text("latency.svg", &svg)?;
     let table = table(base.clock, &measured);
     files.add_text("latency.txt", &table)?;

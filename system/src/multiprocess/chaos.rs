@@ -21,23 +21,16 @@ use std::collections::VecDeque;
 use std::process::{Child, Stdio};
 use std::time::Duration;
 
-use iceoryx2::node::Node;
-use iceoryx2::port::publisher::Publisher;
-use iceoryx2::prelude::{ServiceName, ZeroCopySend};
 use rand::RngExt;
-use shm_layouts::{
-    AgentReport, Control, EpisodeEvent, Header, KeeperCommand, KeeperSnapshot, PROTOCOL_VERSION, SENDER_SIMULATOR,
-    SENDER_SUPERVISOR, services,
-};
 
 use super::Clock;
-use super::agent::checkpoint_name;
+use super::agent_process::checkpoint_name;
+use super::garbage::Garbage;
 use super::load::CpuLoad;
-use super::simulator::floor_ping;
 use super::supervisor::{Request, RunRecord, RunView};
-use crate::ipc::convert::{Order, Role};
 use crate::ipc::namespace::Namespace;
-use crate::ipc::services::{Ipc, node};
+use crate::ipc::protocol::{Order, Role};
+use crate::ipc::services::{IpcError, node};
 use learnpnp::learning::persist;
 use learnpnp::rng::{SimRng, seeded};
 
@@ -150,42 +143,56 @@ enum Check {
     SimulatorRestart,
 }
 
+/// An agent stopped with SIGSTOP.
+struct Stopped {
+    record: usize,
+    pid: u32,
+    until: f64,
+    missed_before: u64,
+    cycles_before: u64,
+}
+
+/// A stopped agent, continued: judged once it has had time to act again.
+struct Resumed {
+    record: usize,
+    pid: u32,
+    until: f64,
+    acted_before: u64,
+    while_stopped: String,
+}
+
+/// The garbage publisher at work.
+struct GarbageBurst {
+    record: usize,
+    until: f64,
+    refused_before: u64,
+    publisher: Child,
+}
+
+/// An agent whose checkpoint writes fail.
+struct FailingWrites {
+    record: usize,
+    keeper: usize,
+    pid: u32,
+    until: f64,
+    failures_before: u64,
+}
+
+/// CPU load beside the run.
+struct Load {
+    record: usize,
+    until: f64,
+    missed_before: u64,
+    _load: CpuLoad,
+}
+
 /// A fault in progress.
 enum Active {
-    Stopped {
-        record: usize,
-        pid: u32,
-        until: f64,
-        missed_before: u64,
-        cycles_before: u64,
-    },
-    /// A stopped agent, continued: judged once it has had time to act again.
-    Resumed {
-        record: usize,
-        pid: u32,
-        until: f64,
-        acted_before: u64,
-        while_stopped: String,
-    },
-    Garbage {
-        record: usize,
-        until: f64,
-        refused_before: u64,
-        publisher: Child,
-    },
-    FailingWrites {
-        record: usize,
-        keeper: usize,
-        pid: u32,
-        until: f64,
-        failures_before: u64,
-    },
-    Load {
-        record: usize,
-        until: f64,
-        missed_before: u64,
-        _load: CpuLoad,
-    },
+    Stopped(Stopped),
+    Resumed(Resumed),
+    Garbage(GarbageBurst),
+    FailingWrites(FailingWrites),
+    Load(Load),
 }
 
 /// The fault injector (driven by the soak observer).
@@ -334,219 +341,259 @@ impl Chaos {
         Some(keepers[self.rng.random_range(0..keepers.len())])
     }
 
+    /// Injects a fault of `kind` now; returns what the supervisor must do for it.
     fn inject(&mut self, kind: FaultKind, seconds: f64, view: &RunView<'_>) -> Option<Request> {
         match kind {
-            FaultKind::KillAgent => {
-                if let Some((k, pid)) = self.random_keeper(view, false) {
-                    let nth = self.agent_kills[k];
-                    self.agent_kills[k] += 1;
-                    let record = self.record(
-                        format!("SIGKILL keeper {} (pid {pid})", k + 1),
-                        seconds,
-                        Check::AgentRestart { keeper: k, nth },
-                    );
-                    if !signal(pid, libc::SIGKILL) {
-                        self.conclude(record, "the signal could not be sent".into(), false);
-                    }
-                }
-            }
-            FaultKind::KillSimulator => {
-                if let Some(pid) = pid_of(view, Role::Simulator) {
-                    let record = self.record(
-                        format!("SIGKILL simulator (pid {pid})"),
-                        seconds,
-                        Check::SimulatorRestart,
-                    );
-                    if !signal(pid, libc::SIGKILL) {
-                        self.conclude(record, "the signal could not be sent".into(), false);
-                    }
-                }
-            }
-            FaultKind::StopAgent => {
-                if let Some((k, pid)) = self.random_keeper(view, false) {
-                    let record = self.record(
-                        format!("SIGSTOP keeper {} (pid {pid}) for {} s", k + 1, STOP_FOR.as_secs()),
-                        seconds,
-                        Check::Done,
-                    );
-                    signal(pid, libc::SIGSTOP);
-                    self.active.push(Active::Stopped {
-                        record,
-                        pid,
-                        until: seconds + STOP_FOR.as_secs_f64(),
-                        missed_before: missed(view),
-                        cycles_before: view.simulator.map_or(0, |p| p.cycles),
-                    });
-                }
-            }
-            FaultKind::Garbage => {
-                let record = self.record(
-                    "a foreign process publishes garbage on every service".into(),
-                    seconds,
-                    Check::Done,
-                );
-                match start_garbage_publisher(view) {
-                    Ok(publisher) => self.active.push(Active::Garbage {
-                        record,
-                        until: seconds + 2.0 * GARBAGE_FOR.as_secs_f64(),
-                        refused_before: refused(view),
-                        publisher,
-                    }),
-                    Err(e) => self.conclude(record, format!("could not start the publisher: {e}"), false),
-                }
-            }
-            FaultKind::CheckpointFailure => {
-                if let Some((k, pid)) = self.random_keeper(view, true) {
-                    let record = self.record(
-                        format!("checkpoint write of keeper {} fails (file-size limit 0)", k + 1),
-                        seconds,
-                        Check::Done,
-                    );
-                    let failures_before = view
-                        .pulses
-                        .iter()
-                        .find(|p| p.pid == pid)
-                        .map_or(0, |p| p.checkpoint_failures);
-                    if limit_file_size(pid, Some(0)) {
-                        self.active.push(Active::FailingWrites {
-                            record,
-                            keeper: k,
-                            pid,
-                            until: seconds + FAIL_WRITES_FOR.as_secs_f64(),
-                            failures_before,
-                        });
-                        return Some(Request::Order(Order::Checkpoint, Role::Keeper(k)));
-                    }
-                    self.conclude(record, "the file-size limit could not be set".into(), false);
-                }
-            }
-            FaultKind::CpuLoad => {
-                let load = CpuLoad::on_every_core();
-                let record = self.record(
-                    format!("CPU load: {} busy threads for {} s", load.threads(), LOAD_FOR.as_secs()),
-                    seconds,
-                    Check::Done,
-                );
-                self.active.push(Active::Load {
-                    record,
-                    until: seconds + LOAD_FOR.as_secs_f64(),
-                    missed_before: missed(view),
-                    _load: load,
-                });
-            }
+            FaultKind::KillAgent => self.kill_agent(seconds, view),
+            FaultKind::KillSimulator => self.kill_simulator(seconds, view),
+            FaultKind::StopAgent => self.stop_agent(seconds, view),
+            FaultKind::Garbage => self.start_garbage(seconds, view),
+            FaultKind::CheckpointFailure => return self.fail_checkpoint_writes(seconds, view),
+            FaultKind::CpuLoad => self.load_cpu(seconds, view),
         }
         None
     }
 
+    /// SIGKILL of a random agent (judged at the end from its restart).
+    fn kill_agent(&mut self, seconds: f64, view: &RunView<'_>) {
+        let Some((k, pid)) = self.random_keeper(view, false) else {
+            return;
+        };
+        let nth = self.agent_kills[k];
+        self.agent_kills[k] += 1;
+        let record = self.record(
+            format!("SIGKILL keeper {} (pid {pid})", k + 1),
+            seconds,
+            Check::AgentRestart { keeper: k, nth },
+        );
+        if !signal(pid, libc::SIGKILL) {
+            self.conclude(record, "the signal could not be sent".into(), false);
+        }
+    }
+
+    /// SIGKILL of the simulator (judged at the end from its restart).
+    fn kill_simulator(&mut self, seconds: f64, view: &RunView<'_>) {
+        let Some(pid) = pid_of(view, Role::Simulator) else {
+            return;
+        };
+        let record = self.record(
+            format!("SIGKILL simulator (pid {pid})"),
+            seconds,
+            Check::SimulatorRestart,
+        );
+        if !signal(pid, libc::SIGKILL) {
+            self.conclude(record, "the signal could not be sent".into(), false);
+        }
+    }
+
+    /// SIGSTOP of a random agent, continued after [`STOP_FOR`].
+    fn stop_agent(&mut self, seconds: f64, view: &RunView<'_>) {
+        let Some((k, pid)) = self.random_keeper(view, false) else {
+            return;
+        };
+        let record = self.record(
+            format!("SIGSTOP keeper {} (pid {pid}) for {} s", k + 1, STOP_FOR.as_secs()),
+            seconds,
+            Check::Done,
+        );
+        signal(pid, libc::SIGSTOP);
+        self.active.push(Active::Stopped(Stopped {
+            record,
+            pid,
+            until: seconds + STOP_FOR.as_secs_f64(),
+            missed_before: missed(view),
+            cycles_before: view.simulator.map_or(0, |p| p.cycles),
+        }));
+    }
+
+    /// Starts the foreign garbage publisher.
+    fn start_garbage(&mut self, seconds: f64, view: &RunView<'_>) {
+        let record = self.record(
+            "a foreign process publishes garbage on every service".into(),
+            seconds,
+            Check::Done,
+        );
+        match start_garbage_publisher(view) {
+            Ok(publisher) => self.active.push(Active::Garbage(GarbageBurst {
+                record,
+                until: seconds + 2.0 * GARBAGE_FOR.as_secs_f64(),
+                refused_before: refused(view),
+                publisher,
+            })),
+            Err(e) => self.conclude(record, format!("could not start the publisher: {e}"), false),
+        }
+    }
+
+    /// Makes a random learning agent's checkpoint writes fail for
+    /// [`FAIL_WRITES_FOR`]; returns the order to checkpoint now.
+    fn fail_checkpoint_writes(&mut self, seconds: f64, view: &RunView<'_>) -> Option<Request> {
+        let (k, pid) = self.random_keeper(view, true)?;
+        let record = self.record(
+            format!("checkpoint write of keeper {} fails (file-size limit 0)", k + 1),
+            seconds,
+            Check::Done,
+        );
+        let failures_before = view
+            .pulses
+            .iter()
+            .find(|p| p.pid == pid)
+            .map_or(0, |p| p.checkpoint_failures);
+        if !limit_file_size(pid, Some(0)) {
+            self.conclude(record, "the file-size limit could not be set".into(), false);
+            return None;
+        }
+        self.active.push(Active::FailingWrites(FailingWrites {
+            record,
+            keeper: k,
+            pid,
+            until: seconds + FAIL_WRITES_FOR.as_secs_f64(),
+            failures_before,
+        }));
+        Some(Request::Order(Order::Checkpoint, Role::Keeper(k)))
+    }
+
+    /// Busy threads on every core for [`LOAD_FOR`].
+    fn load_cpu(&mut self, seconds: f64, view: &RunView<'_>) {
+        let load = CpuLoad::on_every_core();
+        let record = self.record(
+            format!("CPU load: {} busy threads for {} s", load.threads(), LOAD_FOR.as_secs()),
+            seconds,
+            Check::Done,
+        );
+        self.active.push(Active::Load(Load {
+            record,
+            until: seconds + LOAD_FOR.as_secs_f64(),
+            missed_before: missed(view),
+            _load: load,
+        }));
+    }
+
+    /// Ends a fault whose time is up.
     fn end(&mut self, active: Active, view: &RunView<'_>) {
         match active {
-            Active::Stopped {
-                record,
-                pid,
-                until,
-                missed_before,
-                cycles_before,
-            } => {
-                signal(pid, libc::SIGCONT);
-                let cycles = view.simulator.map_or(0, |p| p.cycles).saturating_sub(cycles_before);
-                let missed = missed(view).saturating_sub(missed_before);
-                self.active.push(Active::Resumed {
-                    record,
-                    pid,
-                    until: until + CATCH_UP.as_secs_f64(),
-                    acted_before: acted(view, pid),
-                    while_stopped: format!(
-                        "{missed} missed deadlines while it was stopped; the others played {cycles} cycles"
-                    ),
-                });
-                if cycles == 0 {
-                    self.conclude(record, "the others stopped too".into(), false);
-                }
-            }
-            Active::Resumed {
-                record,
-                pid,
-                acted_before,
-                while_stopped,
-                ..
-            } => {
-                if !self.records[record].outcome.is_empty() {
-                    return;
-                }
-                let alive = view.processes.iter().any(|(_, p)| *p == pid);
-                let acted = acted(view, pid).saturating_sub(acted_before);
-                let caught_up = if !alive {
-                    "it did not come back (replaced)".to_string()
-                } else if acted == 0 {
-                    format!("it has not acted in the {} s since", CATCH_UP.as_secs())
-                } else {
-                    format!(
-                        "it caught up: {acted} cycles acted in the {} s since",
-                        CATCH_UP.as_secs()
-                    )
-                };
-                self.conclude(record, format!("{while_stopped}; {caught_up}"), alive && acted > 0);
-            }
-            Active::Garbage {
-                record,
-                refused_before,
-                mut publisher,
-                ..
-            } => {
-                let published = match publisher.try_wait() {
-                    Ok(Some(status)) => status.success(),
-                    _ => {
-                        let _ = publisher.kill();
-                        let _ = publisher.wait();
-                        false
-                    }
-                };
-                let refused = refused(view).saturating_sub(refused_before);
-                self.conclude(
-                    record,
-                    format!("{refused} messages refused and counted, none applied"),
-                    published && refused > 0,
-                );
-            }
-            Active::FailingWrites {
-                record,
-                keeper,
-                pid,
-                failures_before,
-                ..
-            } => {
-                limit_file_size(pid, None);
-                let failures = view
-                    .pulses
-                    .iter()
-                    .find(|p| p.pid == pid)
-                    .map_or(0, |p| p.checkpoint_failures)
-                    .saturating_sub(failures_before);
-                let path = view.work_dir.join(checkpoint_name(keeper));
-                let kept = persist::load(&path).is_ok();
-                let alive = view.processes.iter().any(|(_, p)| *p == pid);
-                self.conclude(
-                    record,
-                    format!(
-                        "{failures} failed writes reported; the last good checkpoint {}; the agent {}",
-                        if kept { "was kept" } else { "was lost" },
-                        if alive { "went on" } else { "died" }
-                    ),
-                    failures > 0 && kept && alive,
-                );
-            }
-            Active::Load {
-                record, missed_before, ..
-            } => {
-                let missed = missed(view).saturating_sub(missed_before);
-                let alive = pid_of(view, Role::Simulator).is_some();
-                self.conclude(
-                    record,
-                    format!("{missed} missed deadlines under load; the run went on"),
-                    alive,
-                );
-            }
+            Active::Stopped(stopped) => self.continue_agent(stopped, view),
+            Active::Resumed(resumed) => self.judge_catch_up(resumed, view),
+            Active::Garbage(burst) => self.judge_garbage(burst, view),
+            Active::FailingWrites(failing) => self.judge_failing_writes(failing, view),
+            Active::Load(load) => self.judge_load(load, view),
         }
+    }
+
+    /// Continues a stopped agent; it is judged once it has had time to catch up.
+    fn continue_agent(&mut self, stopped: Stopped, view: &RunView<'_>) {
+        let Stopped {
+            record,
+            pid,
+            until,
+            missed_before,
+            cycles_before,
+        } = stopped;
+        signal(pid, libc::SIGCONT);
+        let cycles = view.simulator.map_or(0, |p| p.cycles).saturating_sub(cycles_before);
+        let missed = missed(view).saturating_sub(missed_before);
+        self.active.push(Active::Resumed(Resumed {
+            record,
+            pid,
+            until: until + CATCH_UP.as_secs_f64(),
+            acted_before: acted(view, pid),
+            while_stopped: format!("{missed} missed deadlines while it was stopped; the others played {cycles} cycles"),
+        }));
+        if cycles == 0 {
+            self.conclude(record, "the others stopped too".into(), false);
+        }
+    }
+
+    /// A continued agent survived if it acted again.
+    fn judge_catch_up(&mut self, resumed: Resumed, view: &RunView<'_>) {
+        let Resumed {
+            record,
+            pid,
+            acted_before,
+            while_stopped,
+            ..
+        } = resumed;
+        if !self.records[record].outcome.is_empty() {
+            return;
+        }
+        let alive = view.processes.iter().any(|(_, p)| *p == pid);
+        let acted = acted(view, pid).saturating_sub(acted_before);
+        let caught_up = if !alive {
+            "it did not come back (replaced)".to_string()
+        } else if acted == 0 {
+            format!("it has not acted in the {} s since", CATCH_UP.as_secs())
+        } else {
+            format!(
+                "it caught up: {acted} cycles acted in the {} s since",
+                CATCH_UP.as_secs()
+            )
+        };
+        self.conclude(record, format!("{while_stopped}; {caught_up}"), alive && acted > 0);
+    }
+
+    /// The garbage was survived if it was published and refused.
+    fn judge_garbage(&mut self, burst: GarbageBurst, view: &RunView<'_>) {
+        let GarbageBurst {
+            record,
+            refused_before,
+            mut publisher,
+            ..
+        } = burst;
+        let published = match publisher.try_wait() {
+            Ok(Some(status)) => status.success(),
+            _ => {
+                let _ = publisher.kill();
+                let _ = publisher.wait();
+                false
+            }
+        };
+        let refused = refused(view).saturating_sub(refused_before);
+        self.conclude(
+            record,
+            format!("{refused} messages refused and counted, none applied"),
+            published && refused > 0,
+        );
+    }
+
+    /// Lifts the file-size limit; survived if the failures were reported, the
+    /// last good checkpoint kept and the agent went on.
+    fn judge_failing_writes(&mut self, failing: FailingWrites, view: &RunView<'_>) {
+        let FailingWrites {
+            record,
+            keeper,
+            pid,
+            failures_before,
+            ..
+        } = failing;
+        limit_file_size(pid, None);
+        let failures = view
+            .pulses
+            .iter()
+            .find(|p| p.pid == pid)
+            .map_or(0, |p| p.checkpoint_failures)
+            .saturating_sub(failures_before);
+        let path = view.work_dir.join(checkpoint_name(keeper));
+        let kept = persist::load(&path).is_ok();
+        let alive = view.processes.iter().any(|(_, p)| *p == pid);
+        self.conclude(
+            record,
+            format!(
+                "{failures} failed writes reported; the last good checkpoint {}; the agent {}",
+                if kept { "was kept" } else { "was lost" },
+                if alive { "went on" } else { "died" }
+            ),
+            failures > 0 && kept && alive,
+        );
+    }
+
+    /// The load was survived if the simulator is still running.
+    fn judge_load(&mut self, load: Load, view: &RunView<'_>) {
+        let missed = missed(view).saturating_sub(load.missed_before);
+        let alive = pid_of(view, Role::Simulator).is_some();
+        self.conclude(
+            load.record,
+            format!("{missed} missed deadlines under load; the run went on"),
+            alive,
+        );
     }
 
     /// Ends what is still in progress and judges the kills from what the
@@ -554,27 +601,27 @@ impl Chaos {
     pub fn finish(&mut self, records: &[RunRecord]) -> Vec<ChaosRecord> {
         for active in std::mem::take(&mut self.active) {
             match active {
-                Active::Stopped { record, pid, .. } => {
+                Active::Stopped(Stopped { record, pid, .. }) => {
                     signal(pid, libc::SIGCONT);
                     self.conclude(record, "the soak ended while it was stopped".into(), true);
                 }
-                Active::FailingWrites { record, pid, .. } => {
+                Active::FailingWrites(FailingWrites { record, pid, .. }) => {
                     limit_file_size(pid, None);
                     self.conclude(record, "the soak ended while writes failed".into(), true);
                 }
-                Active::Garbage {
+                Active::Garbage(GarbageBurst {
                     record, mut publisher, ..
-                } => {
+                }) => {
                     let _ = publisher.kill();
                     let _ = publisher.wait();
                     self.conclude(record, "the soak ended meanwhile".into(), true);
                 }
-                Active::Load { record, .. } => {
+                Active::Load(Load { record, .. }) => {
                     self.conclude(record, "the soak ended meanwhile".into(), true);
                 }
-                Active::Resumed {
+                Active::Resumed(Resumed {
                     record, while_stopped, ..
-                } => {
+                }) => {
                     if self.records[record].outcome.is_empty() {
                         let outcome = format!("{while_stopped}; the soak ended before it could catch up");
                         self.conclude(record, outcome, true);
@@ -628,50 +675,26 @@ impl Chaos {
     }
 }
 
+/// The record of the fault in progress.
 fn record_of(active: &Active) -> usize {
     match active {
-        Active::Stopped { record, .. }
-        | Active::Resumed { record, .. }
-        | Active::Garbage { record, .. }
-        | Active::FailingWrites { record, .. }
-        | Active::Load { record, .. } => *record,
+        Active::Stopped(Stopped { record, .. })
+        | Active::Resumed(Resumed { record, .. })
+        | Active::Garbage(GarbageBurst { record, .. })
+        | Active::FailingWrites(FailingWrites { record, .. })
+        | Active::Load(Load { record, .. }) => *record,
     }
 }
 
+/// When the fault in progress is over (soak seconds).
 fn until(active: &Active) -> f64 {
     match active {
-        Active::Stopped { until, .. }
-        | Active::Resumed { until, .. }
-        | Active::Garbage { until, .. }
-        | Active::FailingWrites { until, .. }
-        | Active::Load { until, .. } => *until,
+        Active::Stopped(Stopped { until, .. })
+        | Active::Resumed(Resumed { until, .. })
+        | Active::Garbage(GarbageBurst { until, .. })
+        | Active::FailingWrites(FailingWrites { until, .. })
+        | Active::Load(Load { until, .. }) => *until,
     }
-}
-
-fn open_publisher<T: ZeroCopySend + std::fmt::Debug + 'static>(
-    node: &Node<Ipc>,
-    service: &str,
-) -> Result<Publisher<Ipc, T, ()>, String> {
-    let name = ServiceName::new(service).map_err(|e| format!("{e:?}"))?;
-    node.service_builder(&name)
-        .publish_subscribe::<T>()
-        .open()
-        .map_err(|e| format!("{service}: {e:?}"))?
-        .publisher_builder()
-        .create()
-        .map_err(|e| format!("{service}: {e:?}"))
-}
-
-fn burst<T: ZeroCopySend + std::fmt::Debug + Copy + 'static>(
-    node: &Node<Ipc>,
-    service: &str,
-    values: &[T],
-) -> Result<Box<dyn std::any::Any>, String> {
-    let publisher = open_publisher::<T>(node, service)?;
-    for v in values {
-        publisher.send_copy(*v).map_err(|e| format!("{service}: {e:?}"))?;
-    }
-    Ok(Box::new(publisher))
 }
 
 /// The supervisor's command that runs [`publish_garbage`] in a process of
@@ -689,94 +712,12 @@ fn start_garbage_publisher(view: &RunView<'_>) -> std::io::Result<Child> {
         .spawn()
 }
 
-/// Publishes garbage on every service of run `run_id` in `namespace`, and
-/// keeps the publishers (which hold the samples) until it has been read.
-pub fn publish_garbage(namespace: &Namespace, run_id: u64) -> Result<(), String> {
-    let node = node(namespace, "garbage").map_err(|e| e.to_string())?;
-    let command = KeeperCommand {
-        header: Header::new(0, run_id),
-        episode: 0,
-        cycle_seq: 0,
-        kind: 0,
-        flags: 0,
-        arg0: 0.0,
-        arg1: 0.0,
-    };
-    let mut snapshot = floor_ping(run_id, 0);
-    snapshot.players[2].vel[1] = f64::NAN;
-    let mut publishers = Vec::new();
-    for k in 0..learnpnp::keepaway_sim::world::NUM_KEEPERS {
-        publishers.push(burst(
-            &node,
-            &services::command(k),
-            &[
-                KeeperCommand {
-                    header: Header {
-                        version: PROTOCOL_VERSION + 7,
-                        ..command.header
-                    },
-                    ..command
-                },
-                KeeperCommand {
-                    kind: 1,
-                    arg0: f64::NAN,
-                    header: Header::new(k as u32, run_id),
-                    ..command
-                },
-                KeeperCommand {
-                    header: Header::new(((k + 1) % 3) as u32, run_id),
-                    ..command
-                },
-                KeeperCommand {
-                    kind: 77,
-                    header: Header::new(k as u32, run_id),
-                    ..command
-                },
-            ],
-        )?);
-        publishers.push(burst(
-            &node,
-            &services::snapshot(k),
-            &[
-                KeeperSnapshot {
-                    me: k as u32,
-                    ..snapshot
-                },
-                KeeperSnapshot { me: 9, ..snapshot },
-            ],
-        )?);
-    }
-    let event = EpisodeEvent {
-        header: Header::new(SENDER_SIMULATOR, run_id),
-        episode: 0,
-        kind: 99,
-        mode: 0,
-        forced_exploration: 0,
-        reserved: [0; 2],
-        cycles: 0,
-        reserved2: 0,
-        seconds: f64::NAN,
-    };
-    publishers.push(burst(&node, services::EPISODE, &[event])?);
-    let report = AgentReport {
-        header: Header::new(42, run_id),
-        episode: 0,
-        kind: 2,
-        pid: 0,
-        exploratory: 7,
-        reserved: [0; 7],
-    };
-    publishers.push(burst(&node, services::AGENT_REPORT, &[report])?);
-    let control = Control {
-        header: Header::new(SENDER_SUPERVISOR, run_id),
-        command: 55,
-        target: u32::MAX,
-        sequence: 0,
-        pid: 0,
-        reserved: 0,
-    };
-    publishers.push(burst(&node, services::CONTROL, &[control])?);
-    std::thread::sleep(GARBAGE_FOR);
+/// Publishes garbage of every kind ([`Garbage::every_kind`]) on every
+/// service of run `run_id` in `namespace`, and keeps the publishers (which
+/// hold the samples) until it has been read.
+pub fn publish_garbage(namespace: &Namespace, run_id: u64) -> Result<(), IpcError> {
+    let node = node(namespace, "garbage")?;
+    Garbage::every_kind(run_id).publish(&node, GARBAGE_FOR)?;
     Ok(())
 }
 

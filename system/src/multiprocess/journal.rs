@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::simulator::SimTotals;
+use super::sim_process::SimTotals;
 use learnpnp::domains::EpisodeOutcome;
 use learnpnp::learning::EpisodeMode;
 use learnpnp::rng::SimRng;

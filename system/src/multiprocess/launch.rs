@@ -3,6 +3,7 @@
 //! (`PR_SET_PDEATHSIG`) and are not hit by the terminal's Ctrl-C (their own
 //! process group), so that the supervisor alone decides how they stop.
 
+use learnpnp::named::Named;
 use std::ffi::OsString;
 use std::fs::File;
 use std::io;
@@ -11,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 
 use super::RunContext;
-use crate::ipc::convert::Role;
+use crate::ipc::protocol::Role;
 
 /// The simulator's binary.
 pub const SIM_BINARY: &str = "learnpnp-sim";
@@ -25,9 +26,12 @@ pub enum LaunchError {
     /// A binary is missing.
     #[error("{0} not found (build every binary: cargo build --release --bins)")]
     Missing(PathBuf),
+    /// Cargo, to build the missing binaries, cannot be run.
+    #[error("building {SIM_BINARY} and {AGENT_BINARY} failed: {0}")]
+    Cargo(io::Error),
     /// Building the missing binaries failed.
     #[error("building {SIM_BINARY} and {AGENT_BINARY} failed: {0}")]
-    Build(String),
+    Build(std::process::ExitStatus),
     /// Starting a process failed.
     #[error("starting {what}: {source}")]
     Spawn {
@@ -96,11 +100,11 @@ fn build_with_cargo(dir: &Path) -> Result<(), LaunchError> {
             .arg(Path::new(&manifest).join("Cargo.toml"));
     }
     eprintln!("building {SIM_BINARY} and {AGENT_BINARY} (cargo run builds only the supervisor)");
-    let status = command.status().map_err(|e| LaunchError::Build(e.to_string()))?;
+    let status = command.status().map_err(LaunchError::Cargo)?;
     if status.success() {
         Ok(())
     } else {
-        Err(LaunchError::Build(status.to_string()))
+        Err(LaunchError::Build(status))
     }
 }
 

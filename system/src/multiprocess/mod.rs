@@ -3,25 +3,29 @@
 //! events and rewards through iceoryx2 shared memory ([`crate::ipc`]), and a
 //! supervisor starts, watches and restarts them.
 //!
-//! - [`simulator`]: Keepaway with the takers inside, whose keepers are a
-//!   [`learnpnp::domains::keepaway::KeeperTeam`] of remote agents; it runs the
-//!   same episode loop and protocol as the in-process experiment
-//!   ([`learnpnp::experiment::runner::run_protocol`]);
-//! - [`agent`]: one keeper: its plan, learner and executor (or a fixed policy),
-//!   checkpointing its values;
+//! - [`sim_process`]: the simulator process (the simulator itself is
+//!   [`learnpnp::keepaway_sim`]): Keepaway with the takers inside, whose
+//!   keepers are a [`learnpnp::domains::keepaway::KeeperTeam`] of remote
+//!   agents; it runs the same episode loop and protocol as the in-process
+//!   experiment ([`learnpnp::experiment::runner::run_protocol`]);
+//! - [`agent_process`]: one keeper's process: its plan, learner and executor
+//!   (or a fixed policy), checkpointing its values;
 //! - [`supervisor`]: launching, watching, restarting, stopping, cleaning up;
-//! - [`report`]: what a run writes (summary, episodes, latency files and plot).
+//! - [`report`]: what a run writes (summary, episodes, latency files and plot);
+//! - [`soak`], [`chaos`] (with [`garbage`] and [`load`]), [`bench_latency`]:
+//!   long runs, fault injection and the latency benchmark.
 //!
 //! See docs/ARCHITECTURE.md for one snapshot's way through the processes.
 
-pub mod agent;
+pub mod agent_process;
 pub mod bench_latency;
 pub mod chaos;
+pub mod garbage;
 pub mod journal;
 pub mod launch;
 pub mod load;
 pub mod report;
-pub mod simulator;
+pub mod sim_process;
 pub mod soak;
 pub mod supervisor;
 
@@ -30,14 +34,16 @@ use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
 
-use crate::ipc::convert::{ProcessState, Pulse, Rejections, Role, heartbeat};
+use crate::ipc::convert::{Rejections, heartbeat};
 use crate::ipc::namespace::{Namespace, NamespaceError};
+use crate::ipc::protocol::{ProcessState, Pulse, Role};
 use crate::ipc::services::{IpcError, Pub, send};
 use crate::ipc::wait::WaitStrategy;
 use learnpnp::experiment::spec::ExperimentSpec;
+use learnpnp::named::Named;
 
 /// How the simulator's clock advances.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Clock {
     /// A cycle is stepped as soon as every keeper's command for it is in.
@@ -47,9 +53,11 @@ pub enum Clock {
     Realtime,
 }
 
-impl Clock {
-    /// The name on the command line.
-    pub fn name(self) -> &'static str {
+impl Named for Clock {
+    const KIND: &'static str = "clock";
+    const ALL: &'static [Self] = &[Clock::Lockstep, Clock::Realtime];
+
+    fn name(self) -> &'static str {
         match self {
             Clock::Lockstep => "lockstep",
             Clock::Realtime => "realtime",
@@ -57,29 +65,24 @@ impl Clock {
     }
 }
 
-/// What every process of a run shares: who the run is and how its processes talk.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, clap::Args)]
+/// What every process of a run shares: who the run is and how its processes
+/// talk. The supervisor passes it to its children on their command lines
+/// ([`RunContext::to_args`], parsed by [`crate::cli::RunContextArgs`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunContext {
     /// The run's id (every message carries it).
-    #[arg(long)]
     pub run_id: u64,
     /// The run's index among the experiment's runs (it derives the seeds).
-    #[arg(long, default_value_t = 0)]
     pub run: usize,
     /// The run's iceoryx2 prefix.
-    #[arg(long)]
     pub ipc_prefix: String,
     /// How the simulator's clock advances.
-    #[arg(long, value_enum, default_value = "lockstep")]
     pub clock: Clock,
     /// How processes wait for messages.
-    #[arg(long, value_enum, default_value = "yield")]
     pub wait: WaitStrategy,
     /// The experiment (as `summary.json` of a run holds it, under `spec`, or on its own).
-    #[arg(long)]
     pub spec: PathBuf,
     /// Where the process writes its files (histograms, results, checkpoints).
-    #[arg(long)]
     pub work_dir: PathBuf,
 }
 
@@ -128,9 +131,21 @@ pub enum ProcessError {
         /// What is wrong.
         detail: String,
     },
-    /// The experiment cannot run in this system.
-    #[error("{0}")]
-    Invalid(String),
+    /// The experiment's domain is not one the system runs.
+    #[error("the multi-process system runs keepaway-position and keepaway-pass, not {0}")]
+    UnsupportedDomain(&'static str),
+    /// The experiment has no plan for its learning keepers.
+    #[error("the experiment has no plan for its learning keepers")]
+    NoPlan,
+    /// There is no such keeper (1-based).
+    #[error("there is no keeper {0}")]
+    NoKeeper(usize),
+    /// The keeper's plan cannot be run in its world.
+    #[error("the keeper's plan cannot run: {0}")]
+    PlanCannotRun(learnpnp::executor::ExecError),
+    /// The keeper's plan failed while it ran.
+    #[error("the keeper's plan failed: {0}")]
+    PlanFailed(learnpnp::executor::ExecError),
     /// The experiment failed.
     #[error(transparent)]
     Experiment(#[from] learnpnp::experiment::spec::ExperimentError),
@@ -140,9 +155,15 @@ pub enum ProcessError {
     /// A restarted agent cannot resume from its checkpoint.
     #[error("cannot resume: {0}")]
     CannotResume(String),
-    /// Another process did not answer in time.
-    #[error("{0}")]
-    Timeout(String),
+    /// The simulator's journal cannot be used.
+    #[error(transparent)]
+    Journal(#[from] journal::JournalError),
+    /// The simulator's result cannot be written as JSON.
+    #[error("the simulator's result: {0}")]
+    Json(#[from] serde_json::Error),
+    /// A histogram cannot be serialised.
+    #[error(transparent)]
+    Latency(#[from] crate::latency::LatencyError),
 }
 
 /// How often a process sends its heartbeat.

@@ -4,15 +4,16 @@
 //! serialised), a percentile plot with the deadline and the iceoryx2 floor,
 //! and a table for the terminal.
 
+use learnpnp::named::Named;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use serde::Serialize;
 
 use super::Clock;
-use super::agent::compute_histogram;
-use super::simulator::{AbortedEpisode, FLOOR, ROUND_TRIP};
-use super::supervisor::{Fault, ResumeCheck, RunRecord, SupervisorConfig, SupervisorError};
+use super::agent_process::compute_histogram;
+use super::sim_process::{AbortedEpisode, FLOOR, ROUND_TRIP};
+use super::supervisor::{Fault, ResumeCheck, RunRecord, SupervisorConfig, SupervisorError, json_error};
 use crate::ipc::convert::Rejections;
 use crate::ipc::wait::WaitStrategy;
 use crate::latency::plot::{ReferenceLine, percentile_plot};
@@ -126,7 +127,7 @@ pub fn summarize(
 ) -> SystemSummary {
     let percentiles = |name: &str| find(histograms, name).map(Latency::percentiles).unwrap_or_default();
     let (latency, floor) = (percentiles(ROUND_TRIP), percentiles(FLOOR));
-    let seconds_per_cycle = super::simulator::keepaway_config(&config.spec)
+    let seconds_per_cycle = super::sim_process::keepaway_config(&config.spec)
         .map(|c| c.simulator().server.cycle_seconds)
         .unwrap_or(0.1);
     let learning_cycles: u64 = records.iter().map(|r| r.sim.output.actions).sum();
@@ -275,11 +276,11 @@ pub fn write_report(
             runs,
             wall_seconds,
         };
-        Some(stage_results(&output, &mut files).map_err(|e| SupervisorError::Failed(e.to_string()))?)
+        Some(stage_results(&output, &mut files)?)
     };
     let histograms = merged_histograms(records)?;
     let summary = summarize(config, records, &histograms, experiment, wall_seconds);
-    let json = serde_json::to_vec_pretty(&summary).map_err(|e| SupervisorError::Failed(e.to_string()))?;
+    let json = serde_json::to_vec_pretty(&summary).map_err(json_error("summary.json"))?;
     files.add_bytes("summary.json", &json)?;
     for h in &histograms {
         files.add_bytes(&format!("latency/{}.hgrm", h.name()), h.to_hgrm().as_bytes())?;
@@ -304,7 +305,7 @@ pub fn write_report(
         config.clock.name(),
         config.wait.name()
     );
-    let svg = percentile_plot(&title, &shown, &references).map_err(|e| SupervisorError::Failed(e.to_string()))?;
+    let svg = percentile_plot(&title, &shown, &references)?;
     files.add_bytes("latency.svg", svg.as_bytes())?;
     files.commit(Progress {
         completed: summary.runs_completed as u64,

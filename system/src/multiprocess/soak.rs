@@ -20,8 +20,9 @@ use plotters::prelude::*;
 use serde::Serialize;
 
 use super::chaos::{Chaos, ChaosRecord, SoakClock};
-use super::supervisor::{Fault, Request, RunObserver, RunRecord, RunView, SupervisorError};
+use super::supervisor::{Fault, Request, RunObserver, RunRecord, RunView, SupervisorError, json_error};
 use crate::ipc::namespace::SHM_DIR;
+use crate::latency::plot::PlotFailure;
 use learnpnp::experiment::plot::{FONT, PLOT_SIZE, colour};
 use learnpnp::result_dir::ResultWriter;
 
@@ -185,6 +186,27 @@ impl Soak {
     }
 }
 
+/// Why the soak's sample log cannot be written or read back.
+#[derive(Debug, thiserror::Error)]
+pub enum SampleLogError {
+    /// The file cannot be written or read.
+    #[error("{path}: {source}")]
+    Io {
+        /// The log.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
+    /// A line of it is not a sample.
+    #[error("{path}: unreadable sample {line:?}")]
+    Unreadable {
+        /// The log.
+        path: PathBuf,
+        /// The line.
+        line: String,
+    },
+}
+
 /// `soak.csv`, written as the samples are taken.
 #[derive(Debug)]
 struct SampleLog {
@@ -226,17 +248,25 @@ impl SampleLog {
     }
 
     /// Every sample written, read back.
-    fn finish(mut self) -> Result<Vec<Sample>, String> {
+    fn finish(mut self) -> Result<Vec<Sample>, SampleLogError> {
         self.flush();
-        let what = |e: &dyn std::fmt::Display| format!("{}: {e}", self.path.display());
-        if let Some(e) = &self.error {
-            return Err(what(e));
+        let path = self.path;
+        let io = |source| SampleLogError::Io {
+            path: path.clone(),
+            source,
+        };
+        if let Some(e) = self.error {
+            return Err(io(e));
         }
-        let file = File::open(&self.path).map_err(|e| what(&e))?;
+        let file = File::open(&path).map_err(io)?;
         let mut samples = Vec::new();
         for line in BufReader::new(file).lines().skip(1) {
-            let line = line.map_err(|e| what(&e))?;
-            samples.push(parse_sample(&line).ok_or_else(|| what(&format!("unreadable sample {line:?}")))?);
+            let line = line.map_err(io)?;
+            let sample = parse_sample(&line).ok_or_else(|| SampleLogError::Unreadable {
+                path: path.clone(),
+                line: line.clone(),
+            })?;
+            samples.push(sample);
         }
         Ok(samples)
     }
@@ -291,8 +321,7 @@ impl RunObserver for Soak {
 
     fn start(&mut self, files: &mut ResultWriter<'_>) -> Result<(), SupervisorError> {
         let path = files.path_for("soak.csv")?;
-        let log =
-            SampleLog::create(path.clone()).map_err(|e| SupervisorError::Failed(format!("{}: {e}", path.display())))?;
+        let log = SampleLog::create(path.clone()).map_err(|source| SupervisorError::Io { path, source })?;
         self.log = Some(log);
         Ok(())
     }
@@ -301,12 +330,12 @@ impl RunObserver for Soak {
         let seconds = self.started.elapsed().as_secs_f64();
         let injected: Vec<ChaosRecord> = self.chaos.as_mut().map(|c| c.finish(records)).unwrap_or_default();
         let samples = match self.log.take() {
-            Some(log) => log.finish().map_err(SupervisorError::Failed)?,
+            Some(log) => log.finish()?,
             None => Vec::new(),
         };
         let report = analyse(&samples, &injected, records, seconds);
-        files.add_text("soak.svg", &plot(&samples).map_err(SupervisorError::Failed)?)?;
-        let json = serde_json::to_string_pretty(&report).map_err(|e| SupervisorError::Failed(e.to_string()))?;
+        files.add_text("soak.svg", &plot(&samples)?)?;
+        let json = serde_json::to_string_pretty(&report).map_err(json_error("soak.json"))?;
         files.add_text("soak.json", &json)?;
         self.report = Some(report);
         Ok(())
@@ -487,7 +516,7 @@ fn analyse(samples: &[Sample], injected: &[ChaosRecord], records: &[RunRecord], 
 
 /// Resident memory (top) and open descriptors with shared-memory files
 /// (bottom) of every process over the soak.
-fn plot(samples: &[Sample]) -> Result<String, String> {
+fn plot(samples: &[Sample]) -> Result<String, PlotFailure> {
     let mut processes: Vec<String> = samples.iter().map(|s| s.process.clone()).collect();
     processes.sort();
     processes.dedup();
@@ -566,7 +595,7 @@ fn plot(samples: &[Sample]) -> Result<String, String> {
                 .draw()?;
             root.present()
         };
-        draw().map_err(|e| e.to_string())?;
+        draw().map_err(|e| PlotFailure::new("the soak plot", e))?;
     }
     Ok(svg)
 }

@@ -16,18 +16,21 @@ use std::time::{Duration, Instant};
 use rand::RngExt;
 use serde::Serialize;
 
-use super::agent::{checkpoint_name, compute_histogram, resumed_file};
+use super::agent_process::{checkpoint_name, compute_histogram, resumed_file};
 use super::launch::{Binaries, LaunchError, Process, set_fifo_priority, spawn};
-use super::simulator::{FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult};
-use super::{Clock, RunContext};
-use crate::ipc::convert::{Order, Pulse, Rejections, Role, control_message, read_heartbeat};
+use super::sim_process::{FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult};
+use super::{Clock, ProcessError, RunContext};
+use crate::ipc::convert::{Rejections, control_message, read_heartbeat};
 use crate::ipc::namespace::{Namespace, NamespaceError, NamespaceOwner};
-use crate::ipc::services::{IpcError, RunServices, SupervisorPorts, node, receive, send};
-use crate::ipc::wait::{WaitStrategy, wake};
+use crate::ipc::protocol::{Order, Pulse, Role};
+use crate::ipc::services::{Ipc, IpcError, RunServices, SupervisorPorts, node, receive};
+use crate::ipc::wait::WaitStrategy;
+use crate::latency::plot::PlotFailure;
 use crate::latency::{Latency, LatencyError};
-use learnpnp::experiment::spec::ExperimentSpec;
+use iceoryx2::node::Node;
+use learnpnp::experiment::spec::{ExperimentError, ExperimentSpec};
 use learnpnp::keepaway_sim::world::NUM_KEEPERS;
-use learnpnp::learning::persist::{self, SavedValues};
+use learnpnp::learning::persist::{self, PersistError, SavedValues};
 
 /// The file in a run's work directory naming its iceoryx2 prefix and run id
 /// (for diagnostic tools that join the run).
@@ -92,11 +95,78 @@ pub enum SupervisorError {
     #[error(transparent)]
     Latency(#[from] LatencyError),
     /// A process failed in a way the run cannot survive.
-    #[error("{0}")]
-    Failed(String),
+    #[error(transparent)]
+    Run(#[from] RunFailure),
     /// The output directory cannot be used.
     #[error(transparent)]
     ResultDir(#[from] ResultDirError),
+    /// A file's JSON cannot be written or read.
+    #[error("{what}: {source}")]
+    Json {
+        /// The file or value.
+        what: String,
+        /// The error.
+        source: serde_json::Error,
+    },
+    /// A plot cannot be drawn.
+    #[error(transparent)]
+    Plot(#[from] PlotFailure),
+    /// The experiment's results cannot be staged, or it cannot run.
+    #[error(transparent)]
+    Experiment(#[from] ExperimentError),
+    /// The experiment cannot run in this system.
+    #[error(transparent)]
+    Process(#[from] ProcessError),
+    /// A learning keeper's checkpoint is unusable at the end of a run.
+    #[error(transparent)]
+    Checkpoint(#[from] PersistError),
+    /// The soak's sample log cannot be written or read back.
+    #[error(transparent)]
+    SampleLog(#[from] super::soak::SampleLogError),
+}
+
+/// How a run ends when a process fails in a way it cannot survive (what the
+/// report's `failure` says).
+#[derive(Debug, thiserror::Error)]
+pub enum RunFailure {
+    /// An agent exited because it cannot resume from its checkpoint.
+    #[error("{what}: {log}")]
+    CannotResume {
+        /// What happened (e.g. "keeper 2 exited: exit code 3").
+        what: String,
+        /// The last lines of its log.
+        log: String,
+    },
+    /// A keeper's agent was lost once more than the restarts allowed.
+    #[error("{what}, {restarts} times: run given up ({log})")]
+    TooManyRestarts {
+        /// What happened the last time.
+        what: String,
+        /// How many times it happened.
+        restarts: u32,
+        /// The last lines of its log.
+        log: String,
+    },
+    /// The simulator was lost once more than the restarts allowed.
+    #[error("{what}: run given up")]
+    SimulatorGivenUp {
+        /// What happened the last time.
+        what: String,
+    },
+    /// The simulator hung and is not restarted.
+    #[error("{what}")]
+    SimulatorHung {
+        /// What happened (how long it was silent).
+        what: String,
+    },
+}
+
+/// A JSON error about `what`.
+pub(crate) fn json_error(what: impl std::fmt::Display) -> impl FnOnce(serde_json::Error) -> SupervisorError {
+    move |source| SupervisorError::Json {
+        what: what.to_string(),
+        source,
+    }
 }
 
 fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> SupervisorError + '_ {
@@ -382,11 +452,7 @@ impl Watch<'_> {
     fn order(&mut self, order: Order, target: Option<Role>) -> Result<(), SupervisorError> {
         self.control_sequence += 1;
         let message = control_message(order, target, self.control_sequence, self.context.run_id);
-        send(&self.ports.control, message)?;
-        wake(self.context.wait, &self.ports.wake_sim)?;
-        for notifier in &self.ports.wake_keepers {
-            wake(self.context.wait, notifier)?;
-        }
+        self.ports.control.send(message)?;
         Ok(())
     }
 
@@ -417,11 +483,12 @@ impl Watch<'_> {
         if self.restarts[k] > self.config.max_restarts {
             let outcome = format!("not restarted: {} restarts already", self.config.max_restarts);
             self.fault(what.clone(), outcome);
-            return Err(SupervisorError::Failed(format!(
-                "{what}, {} times: run given up ({})",
-                self.restarts[k],
-                log_tail(&self.log(Role::Keeper(k)))
-            )));
+            return Err(RunFailure::TooManyRestarts {
+                what,
+                restarts: self.restarts[k],
+                log: log_tail(&self.log(Role::Keeper(k))),
+            }
+            .into());
         }
         let checkpoint = self.context.work_dir.join(checkpoint_name(k));
         // What the replacement must load: the checkpoint, or the previous one if it is unusable.
@@ -464,7 +531,7 @@ impl Watch<'_> {
                 what.clone(),
                 format!("not restarted: {} restarts already", self.config.max_restarts),
             );
-            return Err(SupervisorError::Failed(format!("{what}: run given up")));
+            return Err(RunFailure::SimulatorGivenUp { what }.into());
         }
         self.order(Order::SimulatorRestarted, None)?;
         self.start(Role::Simulator, true)?;
@@ -500,77 +567,101 @@ impl Watch<'_> {
     fn watch(&mut self, stop: &AtomicBool, observer: &mut dyn RunObserver) -> Result<ExitStatus, SupervisorError> {
         loop {
             self.heartbeats()?;
-            let mut go_on = true;
-            for request in observer.observe(&self.view()) {
-                match request {
-                    Request::Stop => go_on = false,
-                    Request::Order(order, target) => self.order(order, Some(target))?,
-                }
+            self.consult(stop, observer)?;
+            if let Some(status) = self.reap()? {
+                return Ok(status);
             }
-            if !self.stop_requested && (stop.load(Ordering::Relaxed) || !go_on) {
-                self.stop_requested = true;
-                self.order(Order::Stop, Some(Role::Simulator))?;
-                let why = if go_on {
-                    "stop requested (signal)"
-                } else {
-                    "stop requested (observer)"
-                };
-                self.fault(why.into(), "the simulator ends the run".into());
-            }
-            let mut exited = Vec::new();
-            for (role, process) in &mut self.fleet.processes {
-                if let Some(status) = process.exited().map_err(io_error(Path::new("waitpid")))? {
-                    exited.push((*role, status));
-                }
-            }
-            for (role, status) in exited {
-                self.fleet.processes.remove(&role);
-                match role {
-                    Role::Simulator if !status.success() && self.may_restart_simulator() => {
-                        self.restart_simulator(format!("the simulator exited: {}", describe(status)))?;
-                    }
-                    Role::Simulator => return Ok(status),
-                    Role::Keeper(k) => {
-                        let what = format!("{role} exited: {}", describe(status));
-                        if status.code() == Some(EXIT_CANNOT_RESUME) {
-                            self.fault(what.clone(), "not restarted: it cannot resume".into());
-                            return Err(SupervisorError::Failed(format!(
-                                "{what}: {}",
-                                log_tail(&self.log(role))
-                            )));
-                        }
-                        self.restart(k, what)?;
-                    }
-                }
-            }
-            let timeout = self.config.heartbeat_timeout;
-            let hung: Vec<Role> = self
-                .fleet
-                .processes
-                .keys()
-                .filter(|r| self.last_heard.get(r).is_some_and(|t| t.elapsed() > timeout))
-                .copied()
-                .collect();
-            for role in hung {
-                if let Some(mut process) = self.fleet.processes.remove(&role) {
-                    let status = process.kill().map_err(io_error(Path::new("kill")))?;
-                    let what = format!(
-                        "{role} silent for {} s: killed ({})",
-                        timeout.as_secs(),
-                        describe(status)
-                    );
-                    match role {
-                        Role::Simulator if self.may_restart_simulator() => self.restart_simulator(what)?,
-                        Role::Simulator => {
-                            self.fault(what.clone(), "run given up".into());
-                            return Err(SupervisorError::Failed(what));
-                        }
-                        Role::Keeper(k) => self.restart(k, what)?,
-                    }
-                }
-            }
+            self.kill_hung()?;
             std::thread::sleep(Duration::from_millis(10));
         }
+    }
+
+    /// Carries out the observer's requests, and stops the run once on a
+    /// signal or the observer's request.
+    fn consult(&mut self, stop: &AtomicBool, observer: &mut dyn RunObserver) -> Result<(), SupervisorError> {
+        let mut go_on = true;
+        for request in observer.observe(&self.view()) {
+            match request {
+                Request::Stop => go_on = false,
+                Request::Order(order, target) => self.order(order, Some(target))?,
+            }
+        }
+        if !self.stop_requested && (stop.load(Ordering::Relaxed) || !go_on) {
+            self.stop_requested = true;
+            self.order(Order::Stop, Some(Role::Simulator))?;
+            let why = if go_on {
+                "stop requested (signal)"
+            } else {
+                "stop requested (observer)"
+            };
+            self.fault(why.into(), "the simulator ends the run".into());
+        }
+        Ok(())
+    }
+
+    /// Reaps the processes that exited, restarting those that may be;
+    /// returns the simulator's status once it has exited for good.
+    fn reap(&mut self) -> Result<Option<ExitStatus>, SupervisorError> {
+        let mut exited = Vec::new();
+        for (role, process) in &mut self.fleet.processes {
+            if let Some(status) = process.exited().map_err(io_error(Path::new("waitpid")))? {
+                exited.push((*role, status));
+            }
+        }
+        for (role, status) in exited {
+            self.fleet.processes.remove(&role);
+            match role {
+                Role::Simulator if !status.success() && self.may_restart_simulator() => {
+                    self.restart_simulator(format!("the simulator exited: {}", describe(status)))?;
+                }
+                Role::Simulator => return Ok(Some(status)),
+                Role::Keeper(k) => {
+                    let what = format!("{role} exited: {}", describe(status));
+                    if status.code() == Some(EXIT_CANNOT_RESUME) {
+                        self.fault(what.clone(), "not restarted: it cannot resume".into());
+                        return Err(RunFailure::CannotResume {
+                            what,
+                            log: log_tail(&self.log(role)),
+                        }
+                        .into());
+                    }
+                    self.restart(k, what)?;
+                }
+            }
+        }
+        Ok(None)
+    }
+
+    /// Kills the processes silent for longer than the heartbeat timeout and
+    /// restarts those that may be.
+    fn kill_hung(&mut self) -> Result<(), SupervisorError> {
+        let timeout = self.config.heartbeat_timeout;
+        let hung: Vec<Role> = self
+            .fleet
+            .processes
+            .keys()
+            .filter(|r| self.last_heard.get(r).is_some_and(|t| t.elapsed() > timeout))
+            .copied()
+            .collect();
+        for role in hung {
+            if let Some(mut process) = self.fleet.processes.remove(&role) {
+                let status = process.kill().map_err(io_error(Path::new("kill")))?;
+                let what = format!(
+                    "{role} silent for {} s: killed ({})",
+                    timeout.as_secs(),
+                    describe(status)
+                );
+                match role {
+                    Role::Simulator if self.may_restart_simulator() => self.restart_simulator(what)?,
+                    Role::Simulator => {
+                        self.fault(what.clone(), "run given up".into());
+                        return Err(RunFailure::SimulatorHung { what }.into());
+                    }
+                    Role::Keeper(k) => self.restart(k, what)?,
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Asks every agent to stop (each checkpoints) and waits for them, killing
@@ -669,7 +760,7 @@ pub fn supervise_run(
 ) -> Result<RunRecord, SupervisorError> {
     fs::create_dir_all(work_dir).map_err(io_error(work_dir))?;
     let spec_path = work_dir.join("spec.json");
-    let spec_json = serde_json::to_vec_pretty(&config.spec).map_err(|e| SupervisorError::Failed(e.to_string()))?;
+    let spec_json = serde_json::to_vec_pretty(&config.spec).map_err(json_error("the experiment spec"))?;
     learnpnp::atomic_file::write_atomic(&spec_path, &spec_json).map_err(io_error(&spec_path))?;
     let owner = Namespace::claim_unique()?;
     let outcome = run_in(config, run, work_dir, &spec_path, &owner, stop, observer);
@@ -695,122 +786,162 @@ fn run_in(
     let namespace = owner.namespace();
     let node = node(namespace, "supervisor")?;
     let _services = RunServices::create(&node)?;
-    let context = RunContext {
-        run_id: rand::rng().random(),
-        run,
-        ipc_prefix: namespace.prefix().to_string(),
-        clock: config.clock,
-        wait: config.wait,
-        spec: spec_path.to_path_buf(),
-        work_dir: work_dir.to_path_buf(),
-    };
-    let identity = serde_json::json!({ "ipc_prefix": context.ipc_prefix, "run_id": context.run_id });
-    let identity_path = work_dir.join(IDENTITY_FILE);
-    learnpnp::atomic_file::write_atomic(&identity_path, identity.to_string().as_bytes())
-        .map_err(io_error(&identity_path))?;
-    let mut watch = Watch {
-        config,
-        namespace,
-        ports: SupervisorPorts::open(&node)?,
-        context,
-        fleet: Fleet {
-            processes: BTreeMap::new(),
-        },
-        started: Instant::now(),
-        last_heard: BTreeMap::new(),
-        pulses: BTreeMap::new(),
-        faults: Vec::new(),
-        restarts: [0; NUM_KEEPERS],
-        simulator_restarts: 0,
-        stop_requested: false,
-        resumes: Vec::new(),
-        control_sequence: 0,
-        fifo_refused: None,
-    };
-    watch.start(Role::Simulator, false)?;
-    for k in 0..NUM_KEEPERS {
-        watch.start(Role::Keeper(k), false)?;
-    }
+    let mut watch = Watch::launch(config, namespace, &node, run, work_dir, spec_path)?;
     let watched = watch.watch(stop, observer);
     watch.stop_agents(Duration::from_secs(10))?;
-    let failure = match watched {
-        Ok(status) if status.success() => None,
-        Ok(status) => {
-            let what = format!("the simulator exited: {}", describe(status));
-            watch.fault(what.clone(), "agents stopped; run given up".into());
-            Some(format!("{what} ({})", log_tail(&watch.log(Role::Simulator))))
+    watch.collect(watched)
+}
+
+impl<'a> Watch<'a> {
+    /// Starts run `run`'s simulator and agents, with their files in
+    /// `work_dir` and the experiment in `spec_path`, and names the run's
+    /// namespace and id in its [`IDENTITY_FILE`].
+    fn launch(
+        config: &'a SupervisorConfig,
+        namespace: &'a Namespace,
+        node: &Node<Ipc>,
+        run: usize,
+        work_dir: &Path,
+        spec_path: &Path,
+    ) -> Result<Self, SupervisorError> {
+        let context = RunContext {
+            run_id: rand::rng().random(),
+            run,
+            ipc_prefix: namespace.prefix().to_string(),
+            clock: config.clock,
+            wait: config.wait,
+            spec: spec_path.to_path_buf(),
+            work_dir: work_dir.to_path_buf(),
+        };
+        let identity = serde_json::json!({ "ipc_prefix": context.ipc_prefix, "run_id": context.run_id });
+        let identity_path = work_dir.join(IDENTITY_FILE);
+        learnpnp::atomic_file::write_atomic(&identity_path, identity.to_string().as_bytes())
+            .map_err(io_error(&identity_path))?;
+        let mut watch = Watch {
+            config,
+            namespace,
+            ports: SupervisorPorts::open(node, config.wait)?,
+            context,
+            fleet: Fleet {
+                processes: BTreeMap::new(),
+            },
+            started: Instant::now(),
+            last_heard: BTreeMap::new(),
+            pulses: BTreeMap::new(),
+            faults: Vec::new(),
+            restarts: [0; NUM_KEEPERS],
+            simulator_restarts: 0,
+            stop_requested: false,
+            resumes: Vec::new(),
+            control_sequence: 0,
+            fifo_refused: None,
+        };
+        watch.start(Role::Simulator, false)?;
+        for k in 0..NUM_KEEPERS {
+            watch.start(Role::Keeper(k), false)?;
         }
-        Err(SupervisorError::Failed(why)) => Some(why),
-        Err(other) => return Err(other),
-    };
-    let seconds = watch.started.elapsed().as_secs_f64();
-    let result_path = work_dir.join(RESULT_FILE);
-    let sim: SimulatorResult = match fs::read_to_string(&result_path) {
-        Ok(text) => serde_json::from_str(&text)
-            .map_err(|e| SupervisorError::Failed(format!("{}: {e}", result_path.display())))?,
-        Err(_) if failure.is_some() => SimulatorResult::default(),
-        Err(source) => {
-            return Err(SupervisorError::Io {
+        Ok(watch)
+    }
+}
+
+impl Watch<'_> {
+    /// What the stopped run produced, given how watching it ended.
+    fn collect(mut self, watched: Result<ExitStatus, SupervisorError>) -> Result<RunRecord, SupervisorError> {
+        let failure = self.failure(watched)?;
+        let seconds = self.started.elapsed().as_secs_f64();
+        let sim = self.simulator_result(failure.is_some())?;
+        let failure = failure.or_else(|| {
+            let stopped = self.stop_requested;
+            sim.error
+                .clone()
+                .filter(|_| !stopped)
+                .map(|e| format!("the simulator ended the run early: {e}"))
+        });
+        let learning = super::sim_process::keepaway_config(&self.config.spec)?.learning_keepers();
+        let values = self.final_values(learning, failure.is_some())?;
+        let checkpoint_failures = self.pulses.values().map(|p| p.checkpoint_failures).sum();
+        let work_dir = &self.context.work_dir;
+        Ok(RunRecord {
+            run: self.context.run,
+            rejected: self.rejected(&sim),
+            sim,
+            failure,
+            restarts: self.restarts.iter().sum::<u32>() + self.simulator_restarts,
+            resumes: self.resume_checks(learning),
+            faults: std::mem::take(&mut self.faults),
+            histograms: read_histograms(work_dir)?,
+            checkpoint_failures,
+            values,
+            seconds,
+            leftover_files: 0,
+            prefix: String::new(),
+            scheduling: self.scheduling(),
+        })
+    }
+
+    /// Why the run failed, if it did, from how watching it ended (an error
+    /// other than a process's failure is the supervisor's own, returned).
+    fn failure(&mut self, watched: Result<ExitStatus, SupervisorError>) -> Result<Option<String>, SupervisorError> {
+        Ok(match watched {
+            Ok(status) if status.success() => None,
+            Ok(status) => {
+                let what = format!("the simulator exited: {}", describe(status));
+                self.fault(what.clone(), "agents stopped; run given up".into());
+                Some(format!("{what} ({})", log_tail(&self.log(Role::Simulator))))
+            }
+            Err(SupervisorError::Run(failure)) => Some(failure.to_string()),
+            Err(other) => return Err(other),
+        })
+    }
+
+    /// The simulator's result file (empty if the run failed before it was written).
+    fn simulator_result(&self, failed: bool) -> Result<SimulatorResult, SupervisorError> {
+        let result_path = self.context.work_dir.join(RESULT_FILE);
+        match fs::read_to_string(&result_path) {
+            Ok(text) => serde_json::from_str(&text).map_err(json_error(result_path.display())),
+            Err(_) if failed => Ok(SimulatorResult::default()),
+            Err(source) => Err(SupervisorError::Io {
                 path: result_path,
                 source,
-            });
-        }
-    };
-    let failure = failure.or_else(|| {
-        let stopped = watch.stop_requested;
-        sim.error
-            .clone()
-            .filter(|_| !stopped)
-            .map(|e| format!("the simulator ended the run early: {e}"))
-    });
-    let learning = super::simulator::keepaway_config(&config.spec)
-        .map_err(|e| SupervisorError::Failed(e.to_string()))?
-        .learning_keepers();
-    let mut values = Vec::new();
-    for k in 0..learning {
-        let path = work_dir.join(checkpoint_name(k));
-        match persist::load(&path) {
-            Ok(v) => values.push(v),
-            Err(e) if failure.is_none() => return Err(SupervisorError::Failed(e.to_string())),
-            Err(_) => break,
+            }),
         }
     }
-    let checkpoint_failures = watch.pulses.values().map(|p| p.checkpoint_failures).sum();
-    let resumes = watch
-        .resumes
-        .iter()
-        .filter(|r| r.expected.is_some() || r.keeper < learning)
-        .map(|r| {
-            let loaded = persist::load(&resumed_file(work_dir, r.keeper, r.pid)).ok();
-            let (source, survived) = match &r.expected {
-                Some((values, source)) => (source.to_string(), loaded.as_ref() == Some(values)),
-                None => ("none usable".to_string(), false),
-            };
-            ResumeCheck {
-                run,
-                keeper: r.keeper + 1,
-                pid: r.pid,
-                source,
-                survived,
+
+    /// The `learning` keepers' last checkpoints (as many as load, if the run failed).
+    fn final_values(&self, learning: usize, failed: bool) -> Result<Vec<SavedValues>, SupervisorError> {
+        let mut values = Vec::new();
+        for k in 0..learning {
+            let path = self.context.work_dir.join(checkpoint_name(k));
+            match persist::load(&path) {
+                Ok(v) => values.push(v),
+                Err(e) if !failed => return Err(e.into()),
+                Err(_) => break,
             }
-        })
-        .collect();
-    Ok(RunRecord {
-        run,
-        rejected: watch.rejected(&sim),
-        sim,
-        failure,
-        restarts: watch.restarts.iter().sum::<u32>() + watch.simulator_restarts,
-        resumes,
-        faults: std::mem::take(&mut watch.faults),
-        histograms: read_histograms(work_dir)?,
-        checkpoint_failures,
-        values,
-        seconds,
-        leftover_files: 0,
-        prefix: String::new(),
-        scheduling: watch.scheduling(),
-    })
+        }
+        Ok(values)
+    }
+
+    /// For each agent restarted: did it resume with the checkpointed values?
+    fn resume_checks(&self, learning: usize) -> Vec<ResumeCheck> {
+        self.resumes
+            .iter()
+            .filter(|r| r.expected.is_some() || r.keeper < learning)
+            .map(|r| {
+                let loaded = persist::load(&resumed_file(&self.context.work_dir, r.keeper, r.pid)).ok();
+                let (source, survived) = match &r.expected {
+                    Some((values, source)) => (source.to_string(), loaded.as_ref() == Some(values)),
+                    None => ("none usable".to_string(), false),
+                };
+                ResumeCheck {
+                    run: self.context.run,
+                    keeper: r.keeper + 1,
+                    pid: r.pid,
+                    source,
+                    survived,
+                }
+            })
+            .collect()
+    }
 }
 
 /// Where run `run`'s working files (checkpoints, logs, histograms) of the

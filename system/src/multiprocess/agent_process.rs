@@ -12,14 +12,12 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use super::simulator::{FLOOR_END, histogram_file, keepaway_config};
+use super::sim_process::{FLOOR_END, histogram_file, keepaway_config};
 use super::{Clock, HEARTBEAT_EVERY, Pacemaker, ProcessError, RunContext};
-use crate::ipc::convert::{
-    AgentNews, CommandReading, EpisodeNews, Order, ProcessState, Rejection, Role, SnapshotMeta, agent_report,
-    command_message, read_control, read_episode_event, read_snapshot,
-};
-use crate::ipc::services::{AgentPorts, node, receive, send};
-use crate::ipc::wait::{Idle, MAX_BLOCK, TIMED_WAIT_SLACK, wake};
+use crate::ipc::convert::{Rejection, agent_report, command_message, read_control, read_episode_event, read_snapshot};
+use crate::ipc::protocol::{AgentNews, CommandReading, EpisodeNews, Order, ProcessState, Role, SnapshotMeta};
+use crate::ipc::services::{AgentPorts, node, receive};
+use crate::ipc::wait::{Idle, MAX_BLOCK, TIMED_WAIT_SLACK};
 use crate::latency::Latency;
 use learnpnp::domains::keepaway::{KeepawayDomainConfig, PlanKeeper, RunSeeds, registry};
 use learnpnp::experiment::runner::{learner_for, task_rng};
@@ -114,9 +112,7 @@ impl Brain {
         match self {
             Brain::Plan { keeper, .. } => {
                 let idle_before = keeper.idle_cycles();
-                let command = keeper
-                    .act(view, reward)
-                    .map_err(|e| ProcessError::Invalid(format!("the keeper's plan failed: {e}")))?;
+                let command = keeper.act(view, reward).map_err(ProcessError::PlanFailed)?;
                 Ok((command, keeper.idle_cycles() > idle_before))
             }
             Brain::Fixed { policy, memory, config } => Ok((keeper_command(&view, config, memory, policy), false)),
@@ -197,10 +193,7 @@ fn brain(
             config: Box::new(sim_config),
         });
     }
-    let plan = spec
-        .domain
-        .load_plan()?
-        .ok_or_else(|| ProcessError::Invalid("the experiment has no plan for its learning keepers".into()))?;
+    let plan = spec.domain.load_plan()?.ok_or(ProcessError::NoPlan)?;
     let start = if settings.resume {
         Some(load_checkpoint(checkpoint, &plan)?)
     } else {
@@ -214,7 +207,7 @@ fn brain(
         sim_config,
         config.thresholds,
     )
-    .map_err(|e| ProcessError::Invalid(format!("the keeper's plan cannot run: {e}")))?;
+    .map_err(ProcessError::PlanCannotRun)?;
     Ok(Brain::Plan {
         keeper: Box::new(keeper),
         plan,
@@ -318,8 +311,7 @@ impl Agent {
                     }
                     self.pacemaker.pulse.episodes += 1;
                     let report = agent_report(AgentNews::Ended { episode, exploratory }, self.settings.keeper, run_id);
-                    send(&self.ports.report, report)?;
-                    wake(self.context.wait, &self.ports.wake_sim)?;
+                    self.ports.report.send(report)?;
                 }
                 // The episode is discarded: the learner is not told its end,
                 // and the next begin starts afresh.
@@ -397,11 +389,9 @@ impl Agent {
             command,
             idle,
         };
-        send(
-            &self.ports.command,
-            command_message(&reading, self.settings.keeper, self.context.run_id),
-        )?;
-        wake(self.context.wait, &self.ports.wake_sim)?;
+        self.ports
+            .command
+            .send(command_message(&reading, self.settings.keeper, self.context.run_id))?;
         self.pacemaker.pulse.cycles += 1;
         Ok(())
     }
@@ -436,8 +426,7 @@ impl Agent {
                         0,
                         run_id,
                     );
-                    send(&self.ports.floor_pong, pong)?;
-                    wake(self.context.wait, &self.ports.wake_sim)?;
+                    self.ports.floor_pong.send(pong)?;
                     last = Instant::now();
                     self.expected[1] = self.cycle.map(|c| last + c);
                     idle = Idle::new(self.context.wait);
@@ -460,11 +449,9 @@ impl Agent {
         let ready = AgentNews::Ready {
             pid: std::process::id(),
         };
-        send(
-            &self.ports.report,
-            agent_report(ready, self.settings.keeper, self.context.run_id),
-        )?;
-        wake(self.context.wait, &self.ports.wake_sim)?;
+        self.ports
+            .report
+            .send(agent_report(ready, self.settings.keeper, self.context.run_id))?;
         Ok(())
     }
 
@@ -514,13 +501,13 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
     let config = keepaway_config(&spec)?;
     let k = settings.keeper;
     if k >= learnpnp::keepaway_sim::world::NUM_KEEPERS {
-        return Err(ProcessError::Invalid(format!("there is no keeper {}", k + 1)));
+        return Err(ProcessError::NoKeeper(k + 1));
     }
     let checkpoint = context.work_dir.join(checkpoint_name(k));
     let brain = brain(&spec, &config, context, settings, &checkpoint)?;
     let namespace = context.namespace()?;
     let node = node(&namespace, &format!("keeper-{k}"))?;
-    let ports = AgentPorts::open(&node, k)?;
+    let ports = AgentPorts::open(&node, k, context.wait)?;
     let mut agent = Agent {
         context: context.clone(),
         settings: settings.clone(),

@@ -1,5 +1,6 @@
-//! The simulator process: Keepaway with the takers inside, whose keepers are
-//! agent processes. Each cycle it publishes each keeper's snapshot, collects
+//! The simulator process (it runs the simulator itself,
+//! [`learnpnp::keepaway_sim::simulator`]): Keepaway with the takers inside,
+//! whose keepers are agent processes. Each cycle it publishes each keeper's snapshot, collects
 //! each keeper's command (lock-step: as soon as all are in; real time: until
 //! the cycle's 100 ms deadline), and steps the world. It runs the in-process
 //! experiment's episode loop ([`KeepawayTask`]) and protocol
@@ -18,11 +19,11 @@ use shm_layouts::{Header, KeeperSnapshot, PROTOCOL_VERSION, SENDER_SIMULATOR};
 use super::journal::{self, JOURNAL_FILE, Journal, JournalEntry};
 use super::{Clock, Pacemaker, ProcessError, RunContext};
 use crate::ipc::convert::{
-    AgentNews, EpisodeNews, Order, ProcessState, Rejection, Rejections, Role, SnapshotMeta, episode_event,
-    read_agent_report, read_command, read_control, snapshot,
+    Rejection, Rejections, episode_event, read_agent_report, read_command, read_control, snapshot,
 };
-use crate::ipc::services::{IpcError, SimPorts, node, receive, send};
-use crate::ipc::wait::{Idle, MAX_BLOCK, wake};
+use crate::ipc::protocol::{AgentNews, EpisodeNews, Order, ProcessState, Role, SnapshotMeta};
+use crate::ipc::services::{IpcError, SimPorts, node, receive};
+use crate::ipc::wait::{Idle, MAX_BLOCK};
 use crate::latency::Latency;
 use learnpnp::domains::keepaway::{KeepawayDomainConfig, KeepawayTask, KeeperTeam, RunSeeds, TeamStep};
 use learnpnp::domains::{EpisodeOutcome, Task, TaskError};
@@ -208,13 +209,6 @@ impl Link {
             idle.pause(&self.ports.wake, MAX_BLOCK).map_err(remote)?;
         }
     }
-
-    fn wake_keepers(&self) -> Result<(), TaskError> {
-        for notifier in &self.ports.wake_keepers {
-            wake(self.context.wait, notifier).map_err(remote)?;
-        }
-        Ok(())
-    }
 }
 
 fn remote(e: IpcError) -> TaskError {
@@ -236,8 +230,10 @@ impl RemoteTeam {
         let run_id = link.context.run_id;
         let news = EpisodeNews::Abort { cycles: self.cycles };
         let episode = link.totals.episode_seq;
-        send(&link.ports.episode, episode_event(episode, news, run_id)).map_err(remote)?;
-        link.wake_keepers()?;
+        link.ports
+            .episode
+            .send(episode_event(episode, news, run_id))
+            .map_err(remote)?;
         let keepers = (0..NUM_KEEPERS).filter(|&k| link.lost[k]).map(|k| k + 1).collect();
         link.totals.aborted.push(AbortedEpisode {
             episode,
@@ -270,8 +266,7 @@ impl KeeperTeam for RemoteTeam {
         self.start = start;
         self.cycles = 0;
         let event = episode_event(link.totals.episode_seq, EpisodeNews::Begin(start), link.context.run_id);
-        send(&link.ports.episode, event).map_err(remote)?;
-        link.wake_keepers()
+        link.ports.episode.send(event).map_err(remote)
     }
 
     fn act(
@@ -300,8 +295,9 @@ impl KeeperTeam for RemoteTeam {
         let mut published = [Instant::now(); NUM_KEEPERS];
         for (k, view) in views.iter().enumerate() {
             published[k] = Instant::now();
-            send(&link.ports.snapshots[k], snapshot(view, &meta, run_id)).map_err(remote)?;
-            wake(link.context.wait, &link.ports.wake_keepers[k]).map_err(remote)?;
+            link.ports.snapshots[k]
+                .send(snapshot(view, &meta, run_id))
+                .map_err(remote)?;
         }
         let deadline = (link.context.clock == Clock::Realtime).then(|| published[0] + self.period);
         let mut work_left = true;
@@ -381,8 +377,10 @@ impl KeeperTeam for RemoteTeam {
             seconds: f64::from(cycles) * self.seconds_per_cycle,
         };
         let episode = link.totals.episode_seq;
-        send(&link.ports.episode, episode_event(episode, news, run_id)).map_err(remote)?;
-        link.wake_keepers()?;
+        link.ports
+            .episode
+            .send(episode_event(episode, news, run_id))
+            .map_err(remote)?;
         let mut ended = [None; NUM_KEEPERS];
         let mut idle = Idle::new(link.context.wait);
         loop {
@@ -447,11 +445,13 @@ pub fn floor_ping(run_id: u64, sequence: u64) -> KeeperSnapshot {
 fn send_ping(link: &Link, sequence: u64, alone: bool) -> Result<Instant, TaskError> {
     let run_id = link.context.run_id;
     let sent = Instant::now();
-    send(&link.ports.floor_ping, floor_ping(run_id, sequence)).map_err(remote)?;
+    let ping = floor_ping(run_id, sequence);
     if alone {
-        send(&link.ports.floor_ping, floor_ping(run_id, FLOOR_END)).map_err(remote)?;
+        link.ports.floor_ping.send_each([ping, floor_ping(run_id, FLOOR_END)])
+    } else {
+        link.ports.floor_ping.send(ping)
     }
-    wake(link.context.wait, &link.ports.wake_keepers[0]).map_err(remote)?;
+    .map_err(remote)?;
     Ok(sent)
 }
 
@@ -486,14 +486,16 @@ fn measure_floor(link: &mut Link, round_trips: usize) -> Result<(), TaskError> {
         }
         link.floor.record(sent.elapsed());
     }
-    send(&link.ports.floor_ping, floor_ping(link.context.run_id, FLOOR_END)).map_err(remote)?;
-    wake(link.context.wait, &link.ports.wake_keepers[0]).map_err(remote)
+    link.ports
+        .floor_ping
+        .send(floor_ping(link.context.run_id, FLOOR_END))
+        .map_err(remote)
 }
 
 /// Real time: one floor sample per cycle, at `at` (halfway between two
 /// snapshots), while the agents wait for the next cycle. Agent 0 waits for
 /// the ping, one cycle after the last one, as every agent waits for its
-/// snapshot (see [`super::agent::EXPECT_EARLY`]), on the same machine at the
+/// snapshot (see [`super::agent_process::EXPECT_EARLY`]), on the same machine at the
 /// same moment of the run: the floor and the round trips are measured side by
 /// side over the whole run. An echo not back by the cycle's `deadline` is
 /// given up (none is recorded); a cycle that ran past `at` takes no sample.
@@ -523,10 +525,7 @@ pub fn keepaway_config(spec: &ExperimentSpec) -> Result<KeepawayDomainConfig, Pr
         DomainSpec::Keepaway { config, .. } if matches!(config.mode, KeepawayMode::Pass | KeepawayMode::Position) => {
             Ok(*config)
         }
-        other => Err(ProcessError::Invalid(format!(
-            "the multi-process system runs keepaway-position and keepaway-pass, not {}",
-            other.name()
-        ))),
+        other => Err(ProcessError::UnsupportedDomain(other.name())),
     }
 }
 
@@ -613,15 +612,15 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
     let config = keepaway_config(&spec)?;
     let journal_path = context.work_dir.join(JOURNAL_FILE);
     let replay = if resume {
-        journal::read(&journal_path).map_err(|e| ProcessError::Invalid(e.to_string()))?
+        journal::read(&journal_path)?
     } else {
         Vec::new()
     };
-    let journal = Journal::open(&journal_path, &replay).map_err(|e| ProcessError::Invalid(e.to_string()))?;
+    let journal = Journal::open(&journal_path, &replay)?;
     let totals = replay.last().map(|e| e.totals.clone()).unwrap_or_default();
     let namespace = context.namespace()?;
     let node = node(&namespace, "simulator")?;
-    let ports = SimPorts::open(&node)?;
+    let ports = SimPorts::open(&node, context.wait)?;
     let link = Rc::new(RefCell::new(Link {
         context: context.clone(),
         ports,
@@ -676,7 +675,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
         })
     })();
     if context.run == 0 {
-        output.episodes = learning_episodes(&journal_path).map_err(|e| ProcessError::Invalid(e.to_string()))?;
+        output.episodes = learning_episodes(&journal_path)?;
     }
     let mut link = link.borrow_mut();
     let link = &mut *link;
@@ -689,7 +688,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
         totals: link.totals.clone(),
     };
     save_histograms(&context.work_dir, link)?;
-    let json = serde_json::to_vec_pretty(&result).map_err(|e| ProcessError::Invalid(e.to_string()))?;
+    let json = serde_json::to_vec_pretty(&result)?;
     let path = context.work_dir.join(RESULT_FILE);
     learnpnp::atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })?;
     Ok(result)
@@ -718,7 +717,7 @@ pub fn histogram_file(dir: &Path, name: &str) -> PathBuf {
 
 fn save_histograms(dir: &Path, link: &Link) -> Result<(), ProcessError> {
     for histogram in [&link.round_trip, &link.floor] {
-        let bytes = histogram.to_bytes().map_err(|e| ProcessError::Invalid(e.to_string()))?;
+        let bytes = histogram.to_bytes()?;
         let path = histogram_file(dir, histogram.name());
         learnpnp::atomic_file::write_atomic(&path, &bytes).map_err(|source| ProcessError::Io { path, source })?;
     }

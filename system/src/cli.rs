@@ -1,0 +1,90 @@
+//! The command line of the run's child processes (`learnpnp-sim`,
+//! `learnpnp-agent`): the clap arguments that carry a [`RunContext`], as the
+//! supervisor writes them ([`RunContext::to_args`]). The library's types know
+//! nothing of clap; the binaries flatten [`RunContextArgs`] into their own
+//! arguments and convert it.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use learnpnp_cli::args::named;
+
+use crate::ipc::wait::WaitStrategy;
+use crate::multiprocess::{Clock, RunContext};
+
+/// The arguments that give a child process its [`RunContext`].
+#[derive(Debug, Clone, Args)]
+pub struct RunContextArgs {
+    /// The run's id (every message carries it).
+    #[arg(long)]
+    pub run_id: u64,
+    /// The run's index among the experiment's runs (it derives the seeds).
+    #[arg(long, default_value_t = 0)]
+    pub run: usize,
+    /// The run's iceoryx2 prefix.
+    #[arg(long)]
+    pub ipc_prefix: String,
+    /// How the simulator's clock advances.
+    #[arg(long, value_parser = named::<Clock>(), default_value = "lockstep")]
+    pub clock: Clock,
+    /// How processes wait for messages.
+    #[arg(long, value_parser = named::<WaitStrategy>(), default_value = "yield")]
+    pub wait: WaitStrategy,
+    /// The experiment (as `summary.json` of a run holds it, under `spec`, or on its own).
+    #[arg(long)]
+    pub spec: PathBuf,
+    /// Where the process writes its files (histograms, results, checkpoints).
+    #[arg(long)]
+    pub work_dir: PathBuf,
+}
+
+impl From<RunContextArgs> for RunContext {
+    fn from(args: RunContextArgs) -> Self {
+        RunContext {
+            run_id: args.run_id,
+            run: args.run,
+            ipc_prefix: args.ipc_prefix,
+            clock: args.clock,
+            wait: args.wait,
+            spec: args.spec,
+            work_dir: args.work_dir,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::*;
+
+    #[derive(Parser)]
+    struct Child {
+        #[command(flatten)]
+        context: RunContextArgs,
+    }
+
+    /// What the supervisor writes on a child's command line is what the child reads.
+    #[test]
+    fn the_supervisors_arguments_parse_back_into_the_same_context() {
+        for (clock, wait) in [
+            (Clock::Lockstep, WaitStrategy::Yield),
+            (Clock::Realtime, WaitStrategy::Hybrid),
+            (Clock::Lockstep, WaitStrategy::Spin),
+            (Clock::Realtime, WaitStrategy::Block),
+        ] {
+            let context = RunContext {
+                run_id: u64::MAX - 3,
+                run: 7,
+                ipc_prefix: "lpnp_abc_".into(),
+                clock,
+                wait,
+                spec: "/tmp/a b/spec.json".into(),
+                work_dir: "/tmp/run-7".into(),
+            };
+            let args = std::iter::once("child".into()).chain(context.to_args());
+            let parsed: RunContext = Child::try_parse_from(args).unwrap().context.into();
+            assert_eq!(parsed, context);
+        }
+    }
+}

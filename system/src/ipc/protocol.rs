@@ -1,0 +1,163 @@
+//! The protocol's own types: who the run's processes are ([`Role`]), what
+//! their messages say once read ([`SnapshotMeta`], [`CommandReading`],
+//! [`EpisodeNews`], [`AgentNews`], [`Pulse`]) and the supervisor's orders
+//! ([`Order`]). Their shared-memory layouts are the `shm_layouts` crate;
+//! [`super::convert`] converts between the two, validating what it reads.
+
+use serde::Serialize;
+use shm_layouts::SENDER_SIMULATOR;
+
+use super::convert::Rejections;
+use learnpnp::keepaway_sim::command::Command;
+use learnpnp::learning::EpisodeStart;
+
+/// What a snapshot says besides the view.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SnapshotMeta {
+    /// The episode's sequence number.
+    pub episode: u64,
+    /// The cycle's sequence number.
+    pub cycle_seq: u64,
+    /// Reward since the previous snapshot.
+    pub reward: f64,
+    /// How the episode is run.
+    pub start: EpisodeStart,
+}
+
+/// A command as read from shared memory.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CommandReading {
+    /// The episode it belongs to.
+    pub episode: u64,
+    /// The cycle it answers.
+    pub cycle_seq: u64,
+    /// The command.
+    pub command: Command,
+    /// The plan issued no command this cycle.
+    pub idle: bool,
+}
+
+/// What happens to an episode.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EpisodeNews {
+    /// It begins, run as `start` says.
+    Begin(EpisodeStart),
+    /// It ended after `cycles` cycles, lasting `seconds`.
+    End {
+        /// Cycles played.
+        cycles: u32,
+        /// Its duration.
+        seconds: f64,
+    },
+    /// It is discarded after `cycles` cycles.
+    Abort {
+        /// Cycles played.
+        cycles: u32,
+    },
+}
+
+/// An agent's report at an episode boundary.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AgentNews {
+    /// Connected and ready for an episode: the process with this id.
+    Ready {
+        /// The agent's process id.
+        pid: u32,
+    },
+    /// Episode `episode` ended.
+    Ended {
+        /// The episode.
+        episode: u64,
+        /// It explored.
+        exploratory: bool,
+    },
+}
+
+/// Who a process of the run is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Role {
+    /// The simulator.
+    Simulator,
+    /// Keeper k's agent.
+    Keeper(usize),
+}
+
+impl Role {
+    /// The header's sender of this role.
+    pub fn sender(self) -> u32 {
+        match self {
+            Role::Simulator => SENDER_SIMULATOR,
+            Role::Keeper(k) => k as u32,
+        }
+    }
+}
+
+impl std::fmt::Display for Role {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Role::Simulator => write!(f, "simulator"),
+            Role::Keeper(k) => write!(f, "keeper {}", k + 1),
+        }
+    }
+}
+
+/// A process's state as its heartbeat says.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ProcessState {
+    /// Loading.
+    Starting,
+    /// Connected, waiting.
+    Ready,
+    /// Playing.
+    Running,
+    /// Stopping.
+    Stopping,
+}
+
+/// What a heartbeat reports (the counters are the process's totals so far).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Pulse {
+    /// Who sent it.
+    pub role: Role,
+    /// Its process id.
+    pub pid: u32,
+    /// Its state.
+    pub state: ProcessState,
+    /// Its heartbeat counter.
+    pub sequence: u64,
+    /// Simulator: learning episodes done. Agent: episodes ended.
+    pub episodes: u64,
+    /// Cycles played or acted on.
+    pub cycles: u64,
+    /// Messages it refused.
+    pub rejected: Rejections,
+    /// Simulator: commands that missed their cycle.
+    pub missed_deadlines: u64,
+    /// Simulator: episodes aborted.
+    pub aborted_episodes: u64,
+    /// Agent: checkpoints written.
+    pub checkpoints: u64,
+    /// Agent: checkpoint writes that failed.
+    pub checkpoint_failures: u64,
+}
+
+/// A supervisor's command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Order {
+    /// End the run.
+    Stop,
+    /// Checkpoint now.
+    Checkpoint,
+    /// The simulator was restarted (to the agents): drop the episode in
+    /// progress and say you are ready.
+    SimulatorRestarted,
+    /// Keeper `keeper` was lost (to the simulator); process `pid` replaces it.
+    KeeperLost {
+        /// The keeper.
+        keeper: usize,
+        /// Its replacement's process id.
+        pid: u32,
+    },
+}
