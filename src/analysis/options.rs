@@ -159,17 +159,11 @@ pub fn before(plan: &Plan, after: &Marking, t: TransitionId) -> Option<Marking> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plan::{PlanBuilder, Vocabulary};
+    use crate::plan::{Vocabulary, catalog};
 
+    /// The penalty kick of Figure 3.6: walk straight or turn, then kick.
     fn kick() -> Plan {
-        let mut b = PlanBuilder::new("kick");
-        let start = b.initial_place("start");
-        let ready = b.place("ready");
-        b.action_into(start, "WalkStraight", ready);
-        b.action_into(start, "Turn", ready);
-        let goal = b.goal_place();
-        b.action_into(ready, "Kick", goal);
-        b.build(Vocabulary::Open).expect("plan builds")
+        Plan::from_net(catalog::penalty_kick_plain().expect("a net"), Vocabulary::Open).expect("a plan")
     }
 
     #[test]

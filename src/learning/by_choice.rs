@@ -246,18 +246,12 @@ mod tests {
     use super::*;
     use crate::executor::PlanKey;
     use crate::learning::{StateKey, ValueTable};
-    use crate::plan::{PlanBuilder, Vocabulary};
+    use crate::plan::{PlanBuilder, Vocabulary, catalog};
 
     #[test]
     fn options_are_grouped_under_their_choice_with_the_greedy_one_marked() {
-        let mut b = PlanBuilder::new("kick");
-        let start = b.initial_place("start");
-        let ready = b.place("ready");
-        b.action_into(start, "WalkStraight", ready);
-        b.action_into(start, "Turn", ready);
-        let goal = b.goal_place();
-        b.action_into(ready, "Kick", goal);
-        let plan = b.build(Vocabulary::Open).expect("a plan");
+        let net = catalog::penalty_kick_plain().expect("the kick of Figure 3.6");
+        let plan = Plan::from_net(net, Vocabulary::Open).expect("a plan");
         let options = crate::analysis::choices_at(&plan, &plan.initial_marking())
             .pop()
             .expect("a choice")
