@@ -19,6 +19,7 @@ use learnpnp::result_dir::ResultDir;
 use learnpnp_cli::args::parse_experiment_flags;
 use learnpnp_system::ipc::namespace::{Namespace, SHM_DIR};
 use learnpnp_system::multiprocess::garbage::Garbage;
+use learnpnp_system::multiprocess::journal::JOURNAL_FILE;
 use learnpnp_system::multiprocess::supervisor::{IDENTITY_FILE, run_work_dir};
 use serde_json::Value;
 use shm_layouts::{
@@ -605,8 +606,16 @@ fn sigterm_stops_the_run_with_a_final_checkpoint() {
         fs::read_to_string(run_work_dir(&out, 0).join("simulator.log")).is_ok()
             && pids_with_all(&["learnpnp-sim", &run_work_dir(&out, 0).to_string_lossy()]).len() == 1
     }));
-    sleep(Duration::from_secs(2));
     let work = run_work_dir(&out, 0);
+    // Learning under way, however loaded the machine: a few learning episodes
+    // journalled (the agents have ended the earlier ones by then).
+    let learned =
+        || fs::read_to_string(work.join(JOURNAL_FILE)).map_or(0, |text| text.matches("\"mode\":\"Learn\"").count());
+    assert!(
+        wait_until(Duration::from_secs(120), || learned() >= 3),
+        "no learning episode ended"
+    );
+    // The checkpoint of the starting values (the next is 1000 episodes away).
     let start = learnpnp::learning::persist::load(&work.join("values.bin")).unwrap();
     // Twice at once, as `timeout` sends it (to the process, then to its
     // group): still one orderly stop, not the second signal's exit at once.
