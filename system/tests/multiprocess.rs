@@ -94,6 +94,19 @@ impl Drop for Sandbox {
             // SAFETY: kill has no memory effects.
             unsafe { libc::kill(pid, libc::SIGKILL) };
         }
+        // A test that failed half-way leaves its runs' shared memory behind:
+        // remove every namespace of the sandbox once its processes are gone.
+        wait_until(Duration::from_secs(5), || {
+            pids_with(&self.root.to_string_lossy()).is_empty()
+        });
+        for entry in fs::read_dir(&self.ipc).into_iter().flatten().flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if entry.path().is_dir()
+                && let Ok(namespace) = Namespace::at(&self.ipc, &format!("{name}_"))
+            {
+                let _ = namespace.remove_all();
+            }
+        }
         let _ = fs::remove_dir_all(&self.root);
         let _ = fs::remove_dir_all(&self.ipc);
     }
