@@ -27,7 +27,7 @@ use learnpnp_system::ipc::namespace::Namespace;
 use learnpnp_system::ipc::protocol::{CommandReading, SnapshotMeta};
 use learnpnp_system::ipc::services::{AgentPorts, RunServices, SimPorts, node, receive};
 use learnpnp_system::ipc::wait::WaitStrategy;
-use learnpnp_system::multiprocess::sim_process::{FLOOR_END, floor_ping};
+use learnpnp_system::multiprocess::sim_process::{FLOOR_END, floor_ping, floor_pong};
 
 const ECHO: &str = "LEARNPNP_BENCH_ECHO";
 const RUN_ID: u64 = 42;
@@ -43,13 +43,7 @@ fn echo(prefix: &str) {
             if sequence == FLOOR_END {
                 return;
             }
-            let pong = CommandReading {
-                episode: 0,
-                cycle_seq: sequence,
-                command: Command::None,
-                idle: false,
-            };
-            ports.floor_pong.send(command_message(&pong, 0, RUN_ID)).expect("send");
+            ports.floor_pong.send(floor_pong(RUN_ID, sequence)).expect("send");
             continue;
         }
         if let Some(reading) = receive(&ports.snapshot, |m| read_snapshot(m, 0, RUN_ID)).expect("receive") {

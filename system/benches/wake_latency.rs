@@ -16,13 +16,10 @@ use std::time::{Duration, Instant};
 
 use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::{CallbackProgression, SignalHandlingMode, WaitSet, WaitSetBuilder};
-use learnpnp::keepaway_sim::command::Command;
-use learnpnp_system::ipc::convert::command_message;
 use learnpnp_system::ipc::namespace::Namespace;
-use learnpnp_system::ipc::protocol::CommandReading;
 use learnpnp_system::ipc::services::{AgentPorts, Ipc, RunServices, SimPorts, node, receive};
 use learnpnp_system::ipc::wait::{Idle, MAX_BLOCK, WaitStrategy};
-use learnpnp_system::multiprocess::sim_process::{FLOOR_END, floor_ping};
+use learnpnp_system::multiprocess::sim_process::{FLOOR_END, floor_ping, floor_pong};
 
 /// The echo process's environment variable: `<prefix> <mode>`.
 const ECHO: &str = "LEARNPNP_BENCH_WAKE";
@@ -80,13 +77,7 @@ fn echo(prefix: &str, mode: &str) {
         if sequence == FLOOR_END {
             return;
         }
-        let pong = CommandReading {
-            episode: 0,
-            cycle_seq: sequence,
-            command: Command::None,
-            idle: false,
-        };
-        ports.floor_pong.send(command_message(&pong, 0, RUN_ID)).expect("send");
+        ports.floor_pong.send(floor_pong(RUN_ID, sequence)).expect("send");
     }
 }
 

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use super::sim_process::{FLOOR_END, histogram_file, keepaway_config};
+use super::sim_process::{FLOOR_END, floor_pong, histogram_file, keepaway_config};
 use super::{Clock, HEARTBEAT_EVERY, Pacemaker, ProcessError, RunContext};
 use crate::ipc::convert::{Rejection, agent_report, command_message, read_control, read_episode_event, read_snapshot};
 use crate::ipc::protocol::{AgentNews, CommandReading, EpisodeNews, Order, ProcessState, Role, SnapshotMeta};
@@ -416,17 +416,7 @@ impl Agent {
             match next.take() {
                 Some(Some(FLOOR_END)) => return Ok(true),
                 Some(Some(sequence)) => {
-                    let pong = command_message(
-                        &CommandReading {
-                            episode: 0,
-                            cycle_seq: sequence,
-                            command: Command::None,
-                            idle: false,
-                        },
-                        0,
-                        run_id,
-                    );
-                    self.ports.floor_pong.send(pong)?;
+                    self.ports.floor_pong.send(floor_pong(run_id, sequence))?;
                     last = Instant::now();
                     self.expected[1] = self.cycle.map(|c| last + c);
                     idle = Idle::new(self.context.wait);

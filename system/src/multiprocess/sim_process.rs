@@ -14,14 +14,14 @@ use std::rc::Rc;
 use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
-use shm_layouts::{Header, KeeperSnapshot, PROTOCOL_VERSION, SENDER_SIMULATOR};
+use shm_layouts::{Header, KeeperCommand, KeeperSnapshot, PROTOCOL_VERSION, SENDER_SIMULATOR};
 
 use super::journal::{self, JOURNAL_FILE, Journal, JournalEntry};
 use super::{Clock, Pacemaker, ProcessError, RunContext};
 use crate::ipc::convert::{
-    Rejection, Rejections, episode_event, read_agent_report, read_command, read_control, snapshot,
+    Rejection, Rejections, command_message, episode_event, read_agent_report, read_command, read_control, snapshot,
 };
-use crate::ipc::protocol::{AgentNews, EpisodeNews, Order, ProcessState, Role, SnapshotMeta};
+use crate::ipc::protocol::{AgentNews, CommandReading, EpisodeNews, Order, ProcessState, Role, SnapshotMeta};
 use crate::ipc::services::{IpcError, SimPorts, node, receive};
 use crate::ipc::wait::{Idle, MAX_BLOCK};
 use crate::latency::Latency;
@@ -417,6 +417,17 @@ impl KeeperTeam for RemoteTeam {
 
 /// The cycle sequence number that ends the floor measurement.
 pub const FLOOR_END: u64 = u64::MAX;
+
+/// The answer to floor ping `sequence`: the command payload, doing nothing.
+pub fn floor_pong(run_id: u64, sequence: u64) -> KeeperCommand {
+    let reading = CommandReading {
+        episode: 0,
+        cycle_seq: sequence,
+        command: Command::None,
+        idle: false,
+    };
+    command_message(&reading, 0, run_id)
+}
 
 /// A ping of the floor measurement: the snapshot payload, zeroed.
 pub fn floor_ping(run_id: u64, sequence: u64) -> KeeperSnapshot {
