@@ -155,6 +155,7 @@ pub mod pnml;
 pub mod result_dir;
 pub mod rng;
 pub mod schema;
+pub mod stepwise;
 
 pub use condition::{AtomId, AtomTable, KnowledgeBase};
 pub use domains::{PlanAgent, TaskError};

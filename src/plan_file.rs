@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::plan::{Plan, PlanError, Vocabulary};
-use crate::pnml::{self, PnmlFileError};
+use crate::pnml::{self, PnmlError, PnmlFileError};
 use crate::schema::{self, SchemaFileError};
 
 /// A plan file that cannot be loaded; the message starts with its path.
@@ -27,6 +27,55 @@ pub enum LoadError {
         /// What is wrong, naming the element and token.
         source: Box<PlanError>,
     },
+}
+
+impl LoadError {
+    /// The file the error is about.
+    pub fn path(&self) -> &Path {
+        match self {
+            LoadError::File(e) => e.path(),
+            LoadError::Schema(SchemaFileError::Io { path, .. } | SchemaFileError::Schema { path, .. }) => path,
+            LoadError::Plan { path, .. } => path,
+        }
+    }
+
+    /// The element at fault (a place, transition or arc id; a schema's
+    /// `line N`), where the error names one.
+    pub fn element(&self) -> Option<String> {
+        match self {
+            LoadError::File(PnmlFileError::Pnml { error, .. }) => match error {
+                PnmlError::BadCount { id, .. } => Some(id.clone()),
+                PnmlError::MissingEnd { arc, .. } => Some(arc.clone()),
+                _ => None,
+            },
+            LoadError::Schema(SchemaFileError::Schema { source, .. }) => source.line.map(|l| format!("line {l}")),
+            LoadError::Plan { source, .. } => match source.as_ref() {
+                PlanError::PlaceLabel { place, .. } => Some(place.clone()),
+                PlanError::TransitionLabel { transition, .. } | PlanError::Guard { transition, .. } => {
+                    Some(transition.clone())
+                }
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+
+    /// The offending token as written, where the error names one.
+    pub fn token(&self) -> Option<String> {
+        match self {
+            LoadError::File(PnmlFileError::Pnml {
+                error: PnmlError::BadCount { text, .. },
+                ..
+            }) => Some(text.clone()),
+            LoadError::Schema(SchemaFileError::Schema { source, .. }) => Some(source.token.clone()),
+            LoadError::Plan { source, .. } => match source.as_ref() {
+                PlanError::PlaceLabel { token, .. } | PlanError::TransitionLabel { token, .. } => Some(token.clone()),
+                PlanError::Guard { source, .. } => Some(source.token.clone()),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
 }
 
 /// Reads and interprets the plan in `path` (JARP or standard PNML), or the

@@ -9,6 +9,7 @@ mod analysis_choice;
 mod condition_grammar;
 mod dot_export;
 mod executor_semantics;
+mod keepaway_decisions;
 mod keepaway_episodes;
 mod keepaway_interception;
 mod keepaway_physics;

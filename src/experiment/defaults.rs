@@ -155,6 +155,58 @@ pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec
     }
 }
 
+/// The parameters of `algorithm` for a plan outside the thesis's domains (a
+/// user's plan, driven from Python or by a world in its own process), whose
+/// returns are unknown: TD with Sutton and Barto's usual alpha 0.1 and a
+/// constant epsilon 0.1 from values of 0; SoSMC and MCESP as in the grid worlds
+/// (chapter 6: a 100-episode exploratory phase, then exploitation, from no
+/// estimate).
+pub fn plan_learner(algorithm: Algorithm) -> LearnerSpec {
+    let td = |lambda: f64, target: Target| TdConfig {
+        gamma: 1.0,
+        alpha: 0.1,
+        lambda,
+        target,
+        scope: Scope::Choices,
+        exploration: Exploration::EpsilonGreedy(Schedule::constant(0.1)),
+        initial_value: 0.0,
+        consistent: false,
+    };
+    let sosmc = |sigma: Sigma, initial: Schedule, assessing: Schedule| SoSmcConfig {
+        gamma: 1.0,
+        initial_phase: 100,
+        sigma,
+        initial_parameter: initial,
+        assessing_parameter: assessing,
+        assessment: Assessment::Never,
+        step_size: StepSize::Constant(0.01),
+        initial_value: f64::NEG_INFINITY,
+        threshold: None,
+    };
+    match algorithm {
+        Algorithm::EpsSosmc => LearnerSpec::Sosmc(sosmc(
+            Sigma::EpsilonGreedy,
+            Schedule::constant(1.0),
+            Schedule::constant(0.1),
+        )),
+        Algorithm::SoftSosmc => LearnerSpec::Sosmc(sosmc(
+            Sigma::Softmax,
+            Schedule::linear(1.0, 0.05, 100),
+            Schedule::constant(0.05),
+        )),
+        Algorithm::SarsaLambda => LearnerSpec::Td(td(0.9, Target::OnPolicy)),
+        Algorithm::Sarsa0 => LearnerSpec::Td(td(0.0, Target::OnPolicy)),
+        Algorithm::QLearning => LearnerSpec::Td(td(0.0, Target::Max)),
+        Algorithm::Mcesp => LearnerSpec::Mcesp(McespConfig {
+            gamma: 1.0,
+            stage_length: 10,
+            alpha_min: 0.01,
+            initial_value: f64::NEG_INFINITY,
+        }),
+        Algorithm::Random => LearnerSpec::Random,
+    }
+}
+
 /// The base seed of experiments and of the thesis's presets.
 pub const DEFAULT_SEED: u64 = 2011;
 
@@ -304,6 +356,72 @@ pub struct Overrides {
 }
 
 impl Overrides {
+    /// The parameter names [`Overrides::set`] takes: the flags of `learnpnp
+    /// experiment`, without dashes.
+    pub const NAMES: &'static [&'static str] = &[
+        "gamma",
+        "alpha",
+        "lambda",
+        "epsilon",
+        "tau",
+        "greedy",
+        "initial_value",
+        "initial_phase",
+        "initial_parameter",
+        "assess",
+        "step_size",
+        "threshold",
+        "stage_length",
+        "alpha_min",
+        "consistent",
+        "every_marking",
+    ];
+
+    /// Sets parameter `name` (a flag of `learnpnp experiment`, with `_` or
+    /// `-` between words) from `text` as the flag would read it, checked against
+    /// the same range; switches (`greedy`, `consistent`, `every_marking`) take
+    /// `true` or `false`.
+    pub fn set(&mut self, name: &str, text: &str) -> Result<(), String> {
+        let schedule_in = |range: ranges::RealRange| -> Result<Schedule, String> {
+            let schedule = parse_schedule(text)?;
+            range.check_schedule(&schedule)?;
+            Ok(schedule)
+        };
+        let switch = || match text {
+            "true" | "True" => Ok(true),
+            "false" | "False" => Ok(false),
+            _ => Err(format!("'{text}' is not a switch: it must be true or false")),
+        };
+        let result: Result<(), String> = (|| {
+            match name.replace('-', "_").as_str() {
+                "gamma" => self.gamma = Some(ranges::GAMMA.parse(text)?),
+                "alpha" => self.alpha = Some(ranges::STEP.parse(text)?),
+                "lambda" => self.lambda = Some(ranges::LAMBDA.parse(text)?),
+                "epsilon" => self.epsilon = Some(schedule_in(ranges::EPSILON)?),
+                "tau" => self.tau = Some(schedule_in(ranges::TEMPERATURE)?),
+                "greedy" => self.greedy = switch()?,
+                "initial_value" => self.initial_value = Some(ranges::parse_initial_value(text)?),
+                "initial_phase" => self.initial_phase = Some(ranges::WHOLE.parse(text)?),
+                "initial_parameter" => self.initial_parameter = Some(schedule_in(ranges::EXPLORATION)?),
+                "assess" => self.assessment = Some(text.parse::<AssessmentArg>()?.0),
+                "step_size" => self.step_size = Some(parse_step_size(text)?),
+                "threshold" => self.threshold = Some(parse_threshold(text)?),
+                "stage_length" => self.stage_length = Some(ranges::STAGE_LENGTH.parse(text)?),
+                "alpha_min" => self.alpha_min = Some(ranges::STEP.parse(text)?),
+                "consistent" => self.consistent = switch()?,
+                "every_marking" => self.every_marking = switch()?,
+                _ => {
+                    return Err(format!(
+                        "unknown parameter: the parameters are {}",
+                        Self::NAMES.join(", ")
+                    ));
+                }
+            }
+            Ok(())
+        })();
+        result.map_err(|e| format!("{name}: {e}"))
+    }
+
     /// Applies the overrides to `spec`.
     pub fn apply(&self, spec: &mut LearnerSpec) {
         match spec {

@@ -103,7 +103,12 @@ pub fn learner_for(spec: &ExperimentSpec, run: usize, agent: usize, initial: Opt
 
 /// The random stream of run `run`'s task (its world and fixed policies).
 pub fn task_rng(spec: &ExperimentSpec, run: usize) -> SimRng {
-    seeded(derive_seed(derive_seed(spec.seed, run as u64), 2))
+    run_task_rng(spec.seed, run)
+}
+
+/// The random stream of run `run`'s task in an experiment of base seed `seed`.
+pub fn run_task_rng(seed: u64, run: usize) -> SimRng {
+    seeded(derive_seed(derive_seed(seed, run as u64), 2))
 }
 
 /// Runs run `run` of `spec` with the plan already loaded; `None` if `stop`

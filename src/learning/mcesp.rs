@@ -112,10 +112,12 @@ impl Chooser for Mcesp {
         let index = if let Some(i) = self.memory.get(&obs).and_then(|&a| position(a)) {
             i
         } else {
+            // A greedy episode follows the policy: the explored pair is for
+            // learning and evaluation episodes only.
             let front = self
                 .queue
                 .front()
-                .filter(|(o, _)| *o == obs)
+                .filter(|(o, _)| *o == obs && !self.greedy)
                 .and_then(|&(_, a)| position(a));
             let policy = self.policy.get(&obs).and_then(|&a| position(a));
             let i = match (front, policy) {

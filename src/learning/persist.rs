@@ -536,41 +536,59 @@ fn split_u64(bytes: &[u8]) -> (u64, &[u8]) {
     (u64::from_le_bytes(word), rest)
 }
 
-/// Lists `values` as CSV: `plan,marking,value,visits`, one row per entry.
-///
-/// `plan` is the plan's name, `marking` the names of its marked places (see
-/// [`PlanLabels::describe`]), `value` printed exactly (the shortest text that
-/// reads back to the same number, e.g. `0.5`, `3.0`, `1e-300`; `-inf` for no
-/// estimate), `visits` the update count.
-/// Fields with commas, quotes or line breaks are quoted. Rows are sorted by
-/// plan index, then marking text. Inconsistent values (see
-/// [`SavedValues::validate`]) are refused with [`io::ErrorKind::InvalidData`].
-pub fn write_csv(values: &SavedValues, out: &mut impl Write) -> io::Result<()> {
-    values
-        .validate()
-        .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))?;
-    let mut rows: Vec<(u16, String, &SavedEntry)> = values
+/// One entry of a saved table as `learnpnp values` lists it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ValueRow {
+    /// The plan's name.
+    pub plan: String,
+    /// The names of its marked places (see [`PlanLabels::describe`]).
+    pub marking: String,
+    /// The value; negative infinity means "no estimate yet".
+    pub value: f64,
+    /// Updates of the entry so far.
+    pub visits: u64,
+}
+
+/// The entries of `values`, sorted by plan index, then marking text; refused
+/// when the values are inconsistent (see [`SavedValues::validate`]).
+pub fn rows(values: &SavedValues) -> Result<Vec<ValueRow>, Inconsistency> {
+    values.validate()?;
+    let mut rows: Vec<(u16, ValueRow)> = values
         .entries
         .iter()
         .map(|e| {
-            let text = values
-                .plans
-                .get(usize::from(e.plan))
-                .map_or_else(String::new, |p| p.describe(&e.tokens));
-            (e.plan, text, e)
+            let plan = values.plans.get(usize::from(e.plan));
+            let row = ValueRow {
+                plan: plan.map_or_else(String::new, |p| p.name.clone()),
+                marking: plan.map_or_else(String::new, |p| p.describe(&e.tokens)),
+                value: e.value,
+                visits: e.visits,
+            };
+            (e.plan, row)
         })
         .collect();
-    rows.sort_by(|a, b| (a.0, &a.1).cmp(&(b.0, &b.1)));
+    rows.sort_by(|a, b| (a.0, &a.1.marking).cmp(&(b.0, &b.1.marking)));
+    Ok(rows.into_iter().map(|(_, row)| row).collect())
+}
+
+/// Lists `values` as CSV: `plan,marking,value,visits`, one row per entry
+/// (the [`rows`]).
+///
+/// `value` is printed exactly (the shortest text that reads back to the same
+/// number, e.g. `0.5`, `3.0`, `1e-300`; `-inf` for no estimate). Fields with
+/// commas, quotes or line breaks are quoted. Inconsistent values are refused
+/// with [`io::ErrorKind::InvalidData`].
+pub fn write_csv(values: &SavedValues, out: &mut impl Write) -> io::Result<()> {
+    let rows = rows(values).map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))?;
     writeln!(out, "plan,marking,value,visits")?;
-    for (plan, marking, e) in rows {
-        let name = values.plans.get(usize::from(plan)).map_or("", |p| p.name.as_str());
+    for row in rows {
         writeln!(
             out,
             "{},{},{:?},{}",
-            csv_field(name),
-            csv_field(&marking),
-            e.value,
-            e.visits
+            csv_field(&row.plan),
+            csv_field(&row.marking),
+            row.value,
+            row.visits
         )?;
     }
     Ok(())

@@ -8,6 +8,7 @@
 mod actions;
 mod agent;
 mod config;
+mod decisions;
 mod task;
 mod team;
 mod world;
@@ -15,6 +16,7 @@ mod world;
 pub use actions::{decision_name, goto_name, registry};
 pub use agent::{MAX_STEPS_PER_CYCLE, PlanKeeper};
 pub use config::{FixedPolicy, KeepawayDomainConfig, KeepawayMode};
+pub use decisions::{Decision, PassDecisions, Start, Stop};
 pub use task::{KeepawayTask, RunSeeds};
 pub use team::{KeeperTeam, LocalTeam, TeamStep};
 pub use world::{ATOMS, KeeperWorld, atoms};

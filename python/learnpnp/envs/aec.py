@@ -1,0 +1,96 @@
+"""``KeepawayAECEnv``: the three keepers learning their pass decisions together (PettingZoo AEC).
+
+AEC is the form that fits: a keeper decides only when the ball is kickable
+for it, so decisions come one at a time, at irregular moments, and never two
+at once. ``agent_selection`` is the keeper that must decide; every keeper is
+paid the seconds each step lasted, so each keeper's return is the episode's
+duration from the first decision on.
+"""
+
+import numpy as np
+from pettingzoo import AECEnv
+
+from .. import _native
+from .spaces import action_space, observation_space
+
+
+class KeepawayAECEnv(AECEnv):
+    """Keepers ``keeper_0``, ``keeper_1``, ``keeper_2`` each decide hold or pass
+    when they have the ball. Options as ``KeepawayPassEnv`` (``vision``,
+    ``field_length``, ``field_width``). A keeper's observation is the state
+    variables of its latest decision (zeros before its first).
+    """
+
+    metadata = {"name": "keepaway_v0", "render_modes": [], "is_parallelizable": False}
+
+    def __init__(self, vision="full-state", field_length=20.0, field_width=20.0, render_mode=None):
+        super().__init__()
+        if render_mode is not None:
+            raise ValueError("KeepawayAECEnv has no render mode")
+        self.render_mode = None
+        self.possible_agents = [f"keeper_{k}" for k in range(3)]
+        self._observation_space = observation_space(field_length, field_width)
+        self._action_space = action_space()
+        self._game = _native.KeepawayGame(3, 0, vision, "handcoded", field_length, field_width)
+        self._seeded = False
+
+    def observation_space(self, agent):
+        """The 13 state variables."""
+        return self._observation_space
+
+    def action_space(self, agent):
+        """Hold, pass to the nearest teammate, pass to the second nearest."""
+        return self._action_space
+
+    def observe(self, agent):
+        """The state variables of ``agent``'s latest decision."""
+        return self._observations[agent].copy()
+
+    def reset(self, seed=None, options=None):
+        """Starts an episode at its first decision."""
+        if seed is not None:
+            self._game.reseed(seed)
+            self._seeded = True
+        elif not self._seeded:
+            self._game.reseed(int(np.random.default_rng().integers(2**63)))
+            self._seeded = True
+        self.agents = self.possible_agents[:]
+        self.rewards = {a: 0.0 for a in self.agents}
+        self._cumulative_rewards = {a: 0.0 for a in self.agents}
+        self.terminations = {a: False for a in self.agents}
+        self.truncations = {a: False for a in self.agents}
+        self.infos = {a: {} for a in self.agents}
+        self._observations = {a: np.zeros(self._observation_space.shape, dtype=np.float32) for a in self.agents}
+        decision, before, skipped = self._game.reset()
+        self._decide(decision)
+        self.infos[self.agent_selection].update(seconds_before=before, skipped_episodes=skipped)
+
+    def _decide(self, decision):
+        keeper, state, handcoded = decision
+        self.agent_selection = self.possible_agents[keeper]
+        self._observations[self.agent_selection] = np.asarray(state, dtype=np.float32)
+        self.infos[self.agent_selection] = {"handcoded_action": handcoded}
+
+    def step(self, action):
+        """The selected keeper's decision; play goes on to the next one."""
+        if self.terminations[self.agent_selection] or self.truncations[self.agent_selection]:
+            self._was_dead_step(action)
+            return
+        self._cumulative_rewards[self.agent_selection] = 0.0
+        decision, seconds, episode_seconds = self._game.step(int(action))
+        for agent in self.agents:
+            self.rewards[agent] = float(seconds)
+        if decision is None:
+            for agent in self.agents:
+                self.terminations[agent] = True
+                self.infos[agent] = {"episode_seconds": episode_seconds}
+        else:
+            self._decide(decision)
+        self._accumulate_rewards()
+
+    def render(self):
+        """No rendering (record games with ``learnpnp experiment --record``)."""
+        return None
+
+    def close(self):
+        """Nothing to release."""

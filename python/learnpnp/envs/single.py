@@ -1,0 +1,58 @@
+"""``KeepawayPassEnv``: one learning keeper's pass decision as a gymnasium environment."""
+
+import gymnasium as gym
+import numpy as np
+
+from .. import _native
+from .spaces import action_space, observation_space
+
+
+class KeepawayPassEnv(gym.Env):
+    """The pass decision of keeper 0; the other two keepers play ``others``.
+
+    Options: ``vision`` (``full-state`` or ``quantised``), ``others`` (the
+    other keepers' fixed policy: ``handcoded``, the framework's, by default;
+    ``threshold``, ``always-hold``, ``random``), ``field_length`` and
+    ``field_width`` (metres, 20 x 20 by default). ``info`` carries
+    ``handcoded_action`` (what the framework's hand-coded policy would choose
+    at this decision); ``reset``'s info also ``seconds_before`` (played before
+    the first decision) and ``skipped_episodes`` (durations of episodes that
+    ended before any decision), and the last step's ``episode_seconds``.
+    There is no render mode.
+    """
+
+    metadata = {"render_modes": []}
+
+    def __init__(self, vision="full-state", others="handcoded", field_length=20.0, field_width=20.0, render_mode=None):
+        if render_mode is not None:
+            raise ValueError("KeepawayPassEnv has no render mode (record games with `learnpnp experiment --record`)")
+        self.observation_space = observation_space(field_length, field_width)
+        self.action_space = action_space()
+        self._game = _native.KeepawayGame(1, 0, vision, others, field_length, field_width)
+        self._seeded = False
+        self._last = np.zeros(self.observation_space.shape, dtype=np.float32)
+
+    def reset(self, *, seed=None, options=None):
+        """Starts an episode and returns its first decision's observation."""
+        super().reset(seed=seed)
+        if seed is not None:
+            self._game.reseed(seed)
+            self._seeded = True
+        elif not self._seeded:
+            self._game.reseed(int(self.np_random.integers(2**63)))
+            self._seeded = True
+        (_, state, handcoded), before, skipped = self._game.reset()
+        self._last = np.asarray(state, dtype=np.float32)
+        info = {"handcoded_action": handcoded, "seconds_before": before, "skipped_episodes": skipped}
+        return self._last.copy(), info
+
+    def step(self, action):
+        """Answers the decision and plays to the next one (or the episode's end)."""
+        decision, seconds, episode_seconds = self._game.step(int(action))
+        info = {}
+        if decision is not None:
+            _, state, info["handcoded_action"] = decision
+            self._last = np.asarray(state, dtype=np.float32)
+        else:
+            info["episode_seconds"] = episode_seconds
+        return self._last.copy(), float(seconds), decision is None, False, info

@@ -1,0 +1,98 @@
+"""Keepaway for Python RL: the environments pass gymnasium's and PettingZoo's
+own checks, and with the same seed play the episodes of the Rust in-process
+experiment."""
+
+import csv
+import subprocess
+
+import gymnasium as gym
+import numpy as np
+from gymnasium.utils.env_checker import check_env
+from pettingzoo.test import api_test
+
+import learnpnp  # noqa: F401  (registers learnpnp/KeepawayPass-v0)
+from learnpnp.envs import KeepawayAECEnv, KeepawayPassEnv, KeepawayVectorEnv
+
+
+
+def play_handcoded(env, seed, episodes, skipped=True):
+    """Durations of ``episodes`` episodes answered with the hand-coded choice
+    (with those that ended before any decision, unless ``skipped`` is false);
+    checks that each episode's rewards add up to its duration."""
+    durations = []
+    obs, info = env.reset(seed=seed)
+    while len(durations) < episodes:
+        if skipped:
+            durations.extend(info["skipped_episodes"])
+        total = info["seconds_before"]
+        while True:
+            obs, reward, terminated, truncated, info = env.step(info["handcoded_action"])
+            assert env.observation_space.contains(obs) and not truncated
+            total += reward
+            if terminated:
+                assert abs(total - info["episode_seconds"]) < 1e-9
+                durations.append(info["episode_seconds"])
+                break
+        obs, info = env.reset()
+    return durations[:episodes]
+
+
+def test_pass_env_passes_gymnasiums_checker():
+    check_env(KeepawayPassEnv(), skip_render_check=True)
+    env = gym.make("learnpnp/KeepawayPass-v0", vision="quantised", field_length=25.0, field_width=25.0)
+    check_env(env.unwrapped, skip_render_check=True)
+    assert env.action_space.n == 3 and env.observation_space.shape == (13,)
+
+
+def test_aec_env_passes_pettingzoos_api_test():
+    api_test(KeepawayAECEnv(), num_cycles=300)
+
+
+def test_same_seed_same_episodes_as_the_rust_experiment(tmp_path, learnpnp_cli):
+    seed, episodes = 7, 30
+    out = tmp_path / "fixed"
+    subprocess.run(
+        [learnpnp_cli, "experiment", "keepaway-fixed", "--policy", "handcoded", "--seed", str(seed), "--runs", "1",
+         "--episodes", str(episodes), "--eval-episodes", "0", "--greedy-episodes", "0", "--out", str(out)],
+        capture_output=True, check=True,
+    )
+    with open(out / "episodes.csv") as f:
+        expected = [float(row["return"]) for row in csv.DictReader(f)]
+    assert play_handcoded(KeepawayPassEnv(), seed, episodes) == expected
+    # Three deciders answering as the hand-coded keepers would: the same episodes.
+    aec = KeepawayAECEnv()
+    aec.reset(seed=seed)
+    durations = list(aec.infos[aec.agent_selection]["skipped_episodes"])
+    while len(durations) < episodes:
+        for agent in aec.agent_iter():
+            obs, reward, terminated, truncated, info = aec.last()
+            if terminated:
+                aec.step(None)
+                continue
+            aec.step(info["handcoded_action"])
+        durations.append(info["episode_seconds"])
+        aec.reset()
+        durations.extend(aec.infos[aec.agent_selection]["skipped_episodes"])
+    assert durations[:episodes] == expected
+
+
+def test_vector_env_steps_copies_together_with_next_step_autoreset():
+    n, seed, episodes = 8, 5, 6
+    vec = KeepawayVectorEnv(n)
+    obs, info = vec.reset(seed=seed)
+    assert obs.shape == (n, 13) and obs.dtype == np.float32
+    ended = [[] for _ in range(n)]
+    finished_last = np.zeros(n, dtype=bool)
+    while min(len(e) for e in ended) < episodes:
+        obs, rewards, terminated, truncated, info = vec.step(info["handcoded_action"])
+        assert vec.observation_space.contains(obs)
+        # The step after an episode's end starts the next one: no reward.
+        assert np.all(rewards[finished_last] == 0.0) and not np.any(terminated[finished_last])
+        for i in np.flatnonzero(terminated):
+            ended[i].append(info["episode_seconds"][i])
+        finished_last = terminated
+    # Copy 0 plays run 0: the single environment's episodes (the vector does
+    # not report episodes that ended before any decision).
+    single = play_handcoded(KeepawayPassEnv(), seed, episodes, skipped=False)
+    assert ended[0][:episodes] == single
+    assert len({tuple(e[:episodes]) for e in ended}) == n, "each copy plays its own run"
