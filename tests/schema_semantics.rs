@@ -180,21 +180,25 @@ fn higher_machines_preempt_lower_ones() {
         lines(&["1 -> [s1, tick, {true}] r=1 t=1", "1 -> [s2] r=0 t=0"])
     );
     world.take_lines();
+    world.set(&[]);
+    exec.step(&mut world, &mut chooser).unwrap();
+    world.take_lines();
     // Both machines' events: the caller follows its edge and the sub-machine,
     // which runs in both states, keeps running without following its own.
     world.set(&["go", "tick"]);
     exec.step(&mut world, &mut chooser).unwrap();
     assert_eq!(
         chooser.take_lines(),
-        lines(&["0 -> [run, go, {true}] r=2 t=2", "0 -> [next] r=0 t=0"])
+        lines(&["0 -> [run, go, {true}] r=3 t=3", "0 -> [next] r=0 t=0"])
     );
     assert_eq!(world.take_lines(), lines(&["step keep_9"]));
-    // The caller has nothing to follow: the sub-machine's turn.
+    // The caller has nothing to follow: the sub-machine's turn. It did not
+    // sense while preempted, so `tick`, false when it last sensed, has risen.
     world.set(&["tick"]);
     exec.step(&mut world, &mut chooser).unwrap();
     assert_eq!(
         chooser.take_lines(),
-        lines(&["1 -> [s2, tick, {true}] r=2 t=2", "1 -> [s1] r=0 t=0"])
+        lines(&["1 -> [s2, tick, {true}] r=3 t=3", "1 -> [s1] r=0 t=0"])
     );
     world.take_lines();
     // Leaving the states that run the sub-machine ends it.
@@ -263,13 +267,90 @@ fn when_the_event_happens_and_no_condition_holds_the_state_loops() {
     exec.step(&mut world, &mut chooser).unwrap();
     assert_eq!(chooser.take_lines(), lines(&["0 -> [approach] r=2 t=2"]));
     assert_eq!(world.take_lines(), lines(&["step keep_9", "step keep_9"]));
+    // The event happened and is over: `close` holding on is no new event.
+    world.set(&["close", "facing"]);
+    exec.step(&mut world, &mut chooser).unwrap();
+    assert!(chooser.take_lines().is_empty(), "no new event, no transition");
+    world.set(&["facing"]);
+    exec.step(&mut world, &mut chooser).unwrap();
+    assert!(chooser.take_lines().is_empty());
     world.set(&["close", "facing"]);
     exec.step(&mut world, &mut chooser).unwrap();
     assert_eq!(
         chooser.take_lines(),
-        lines(&["0 -> [approach, close, {facing}] r=1 t=1", "0 -> [punt] r=0 t=0"])
+        lines(&["0 -> [approach, close, {facing}] r=3 t=3", "0 -> [punt] r=0 t=0"])
     );
-    assert_eq!(world.take_lines(), lines(&["step keep_9"]), "keep_9 runs on");
+    assert_eq!(world.take_lines(), lines(&["step keep_9"; 3]), "keep_9 runs on");
+}
+
+/// Thesis 3.1.3 on the football robot (`plans/football_choice.schema`): in
+/// `approach`, `closeToBall` happens while neither FacingGoal nor FarFromGoal
+/// holds, so its edges cannot be followed; the robot stays close to the ball.
+/// Events are instantaneous: that one is over, and when `ballLost` happens the
+/// robot starts again (a level-triggered `closeToBall` would block it for ever).
+/// An event that held when the state was entered happened before it.
+#[test]
+fn football_an_event_whose_guards_fail_does_not_block_ball_lost() {
+    const FOOTBALL: [&str; 6] = [
+        "BallSeen",
+        "closeToBall",
+        "FacingGoal",
+        "FarFromGoal",
+        "ballLost",
+        "kickTerminated",
+    ];
+    let atoms: AtomTable = FOOTBALL.into_iter().collect();
+    let plan = Arc::new(
+        learnpnp::load_plan(
+            &crate::util::shipped("football_choice.schema"),
+            Vocabulary::Closed(&atoms),
+        )
+        .unwrap(),
+    );
+    let mut registry = Registry::new();
+    for action in ["TurnBody", "ScanHead", "GoToBall", "TrackBall", "PuntKick", "SideKick"] {
+        registry.action(action, &[], |n| Timed::new(&format!("{n}_1000")));
+    }
+    let mut exec = Executor::new(Arc::clone(&plan), &registry).unwrap();
+    let (mut world, mut chooser) = (Log::new(), Recorder::new(&plan, &[]));
+    let sees = |world: &mut Log, facts: &[&str]| {
+        for (i, a) in FOOTBALL.iter().enumerate() {
+            world.kb.set(AtomId(i as u32), facts.contains(a));
+        }
+    };
+    // Entering `approach` with the ball already close: no event yet.
+    sees(&mut world, &["BallSeen", "closeToBall", "FacingGoal"]);
+    exec.reset(&mut world, &mut chooser);
+    exec.step(&mut world, &mut chooser).unwrap();
+    assert_eq!(plan.describe(exec.marking()), "[approach]");
+    exec.step(&mut world, &mut chooser).unwrap();
+    assert_eq!(
+        plan.describe(exec.marking()),
+        "[approach]",
+        "closeToBall happened before approach"
+    );
+    // closeToBall happens with no guard holding: it loops, and is over.
+    sees(&mut world, &["BallSeen"]);
+    exec.step(&mut world, &mut chooser).unwrap();
+    sees(&mut world, &["BallSeen", "closeToBall"]);
+    exec.step(&mut world, &mut chooser).unwrap();
+    assert_eq!(plan.describe(exec.marking()), "[approach]");
+    chooser.take_lines();
+    sees(&mut world, &["closeToBall", "ballLost"]);
+    exec.step(&mut world, &mut chooser).unwrap();
+    assert_eq!(plan.describe(exec.marking()), "[start]", "ballLost is sensed");
+    // Both events at once: one is perceived, the first whose guards hold.
+    let mut exec = Executor::new(Arc::clone(&plan), &registry).unwrap();
+    sees(&mut world, &["BallSeen"]);
+    exec.reset(&mut world, &mut chooser);
+    exec.step(&mut world, &mut chooser).unwrap();
+    sees(&mut world, &["BallSeen", "closeToBall", "ballLost"]);
+    exec.step(&mut world, &mut chooser).unwrap();
+    assert_eq!(
+        plan.describe(exec.marking()),
+        "[start]",
+        "closeToBall's guards fail: ballLost is the event"
+    );
 }
 
 #[test]
@@ -325,6 +406,7 @@ fn a_choice_offers_the_afterstates_of_the_options() {
     assert_eq!(world.take_lines(), lines(&["step keep_9", "start act_2"]));
     // A constituent with one plan-action is no choice.
     let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();
+    world.set(&[]);
     exec.reset(&mut world, &mut chooser);
     chooser.take_lines();
     world.set(&["close", "far"]);

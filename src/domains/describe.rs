@@ -5,6 +5,7 @@
 use std::fmt;
 
 use super::keepaway::{self, KeepawayDomainConfig, KeepawayMode};
+use super::nmdp::{self, NmdpConfig};
 use super::parr_russell::{self, ParrRussellConfig};
 use super::penalty_kick::{self, PenaltyKickConfig};
 use super::sutton::{self, SuttonConfig};
@@ -122,6 +123,31 @@ pub fn domains() -> Vec<DomainDescription> {
             ),
             episode_end: "the plan reaches its goal marking (after Kick)".to_string(),
         },
+        DomainDescription {
+            name: "nmdp",
+            about: "The small N-MDP of thesis Figure 4.3: A1 or B1 in the first state, A2 or B2 in the \
+                    second (which does not tell the first choice); each of the four policies' returns is \
+                    normally distributed"
+                .to_string(),
+            plan: "built in (S1 -> A1 | B1 -> S2 -> A2 | B2 -> goal)".to_string(),
+            actions: entries(&nmdp::registry()),
+            atoms: Vec::new(),
+            reward: {
+                let r = NmdpConfig::default().returns;
+                format!(
+                    "at the end, from N(mean, sd): A1-A2 N({}, {}), A1-B2 N({}, {}), B1-A2 N({}, {}), B1-B2 N({}, {})",
+                    r[0][0].mean,
+                    r[0][0].sd,
+                    r[0][1].mean,
+                    r[0][1].sd,
+                    r[1][0].mean,
+                    r[1][0].sd,
+                    r[1][1].mean,
+                    r[1][1].sd
+                )
+            },
+            episode_end: "after the second choice".to_string(),
+        },
         keepaway("keepaway-pass", KeepawayMode::Pass),
         keepaway("keepaway-position", KeepawayMode::Position),
         keepaway(
@@ -156,6 +182,8 @@ fn action_about(name: &str) -> String {
         "WalkStraight" => "walk to the ball keeping the goal ahead (one step)",
         "Turn" => "turn before walking to the ball (one step; the kick then misses)",
         "Kick" => "kick: scores if the robot faces the goal",
+        "A1" | "B1" => "the first state's choice (one step; the second state does not tell it)",
+        "A2" | "B2" => "the second state's choice (one step), then the policy's return is drawn",
         _ => "",
     }
     .to_string()

@@ -8,6 +8,7 @@ pub mod describe;
 mod driver;
 pub mod grid;
 pub mod keepaway;
+pub mod nmdp;
 pub mod parr_russell;
 pub mod penalty_kick;
 pub mod sutton;

@@ -6,15 +6,27 @@
 //!    sub-machine below it (a sub-machine's reward accrues to the calling state);
 //! 3. from the root down, a machine senses the events of its current state's
 //!    edges, named events in order of first appearance and the empty event
-//!    (always triggered) last; the first event sensed is the step's event
-//!    (the thesis assumes no two happen at once). The conditions that hold pick
-//!    its constituent state <s, e, C>, reported to the chooser with the reward
-//!    and time since the last change; if C has several plan-actions the chooser
+//!    (no event: always triggered) last. A named event is instantaneous
+//!    (thesis 3.1.3: it marks the moment a region is entered, and no two are
+//!    perceived at once): it is triggered when its condition starts to hold,
+//!    and not again until the condition has been false. Entering a state
+//!    (by any edge) takes the baseline: the condition with the world's atoms as
+//!    they are and the actions' own conditions (`A.finished`, `A.failed`,
+//!    declared ones) false, since the state's actions have only just started.
+//!    So an action's termination is an event of the state that started it,
+//!    while a world condition that already held on entry happened before and
+//!    is not one. Of the events triggered in a step,
+//!    the step's event (the thesis assumes no two happen at once) is the first
+//!    whose guards let it be followed: the conditions that hold pick its
+//!    constituent state <s, e, C>, reported to the chooser with the reward and
+//!    time since the last change; if C has several plan-actions the chooser
 //!    picks one among their afterstates; the plan-action (zero time) enters the
 //!    target state: actions not in it end, new ones start, common ones keep
-//!    running. If no condition holds, the event loops on the state (reported,
-//!    nothing changes). A machine that followed an edge preempts the machines
-//!    below it for this step; a sub-machine started in this step waits for the next.
+//!    running. An event whose guards all fail does not block the others; if
+//!    none can be followed, the first triggered event loops on the state
+//!    (reported, nothing changes). A machine that followed an edge preempts
+//!    the machines below it for this step; a sub-machine started in this step
+//!    waits for the next.
 //!
 //! Final states are absorbing: the machine has finished (or failed) and runs
 //! nothing; its caller senses `M.finished` (or `M.failed`).
@@ -43,6 +55,9 @@ pub(crate) struct MachineRun<W> {
     fresh: bool,
     pending: PendingReward,
     options: Vec<Marking>,
+    /// Per event group of the current state: whether its event's condition
+    /// held at the previous sensing in this visit (the baseline on entry).
+    sensed: Vec<bool>,
 }
 
 impl<W: World> MachineRun<W> {
@@ -79,12 +94,29 @@ impl<W: World> MachineRun<W> {
             fresh: true,
             pending: PendingReward::default(),
             options: Vec::new(),
+            sensed: Vec::new(),
             process,
         })
     }
 
     fn process(&self) -> &MachineProcess {
         &self.process.machines()[self.machine]
+    }
+
+    /// A new visit of the current state: each event's baseline is its
+    /// condition on the world as it is, with the actions' own conditions false.
+    fn enter(&mut self, world: &W) {
+        let process = Arc::clone(&self.process);
+        self.sensed.clear();
+        self.sensed
+            .extend(process.machines()[self.machine].groups(self.state).iter().map(|group| {
+                group.compiled_event.as_ref().is_some_and(|event| {
+                    event.eval(&|atom| match atom {
+                        AtomRef::Fact(id) => world.holds(id),
+                        AtomRef::Internal(_) => false,
+                    })
+                })
+            }));
     }
 
     fn set_place(&mut self, place: ProcessStateId) {
@@ -132,71 +164,81 @@ impl<W: World> MachineRun<W> {
     fn follow<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) -> Result<bool, ExecError> {
         let process = Arc::clone(&self.process);
         let mp = &process.machines()[self.machine];
-        for group in mp.groups(self.state) {
-            let triggered = group.compiled_event.as_ref().is_none_or(|e| self.holds(e, world));
-            if !triggered {
+        let mut first_triggered = None;
+        let mut followed = None;
+        for (i, group) in mp.groups(self.state).iter().enumerate() {
+            let triggered = match group.compiled_event.as_ref() {
+                None => true,
+                Some(event) => {
+                    let holds = self.holds(event, world);
+                    let rose = holds && !self.sensed[i];
+                    self.sensed[i] = holds;
+                    rose
+                }
+            };
+            if !triggered || followed.is_some() {
                 continue;
             }
-            let mask = group
-                .compiled_conditions
-                .iter()
-                .enumerate()
-                .fold(0u32, |m, (i, c)| if self.holds(c, world) { m | 1 << i } else { m });
-            let Some(constituent) = group.constituent(mask) else {
-                // No condition holds: the event loops on the state.
-                if group.loops {
-                    self.report(chooser);
-                }
-                return Ok(false);
-            };
-            // The event: a time-extended transition into <s, e, C>, carrying the reward.
-            self.set_place(constituent.state);
-            self.report(chooser);
-            let actions = &constituent.plan_actions;
-            let index = if actions.len() > 1 {
-                self.options
-                    .resize_with(actions.len(), || Marking::empty(mp.states().len()));
-                for (option, action) in self.options.iter_mut().zip(actions) {
-                    option.clone_from(&self.marking);
-                    option.set(PlaceId::new(constituent.state), 0);
-                    option.set(PlaceId::new(action.enters), 1);
-                }
-                let index = chooser.choose(self.key, &self.marking, &self.options[..actions.len()]);
-                if index >= actions.len() {
-                    return Err(ExecError::InvalidChoice {
-                        plan: mp.name().to_string(),
-                        index,
-                        count: actions.len(),
-                    });
-                }
-                index
-            } else {
-                0
-            };
-            // The plan-action: zero time, no reward.
-            let action = actions[index];
-            let (old, new) = (mp.state_actions(self.state), mp.state_actions(action.target));
-            for &a in old {
-                if !new.contains(&a) {
-                    self.end_action(a, world);
-                }
-            }
-            self.state = action.target;
-            self.set_place(action.enters);
-            self.status = match mp.kind(action.target) {
-                StateKind::Ordinary => Status::Running,
-                StateKind::Final => Status::Goal,
-                StateKind::Failure => Status::Failed,
-            };
-            for &a in new {
-                if !old.contains(&a) {
-                    self.start_action(a, world, chooser);
-                }
-            }
-            chooser.transition(self.key, &self.marking, 0.0, 0);
-            return Ok(true);
+            first_triggered.get_or_insert(i);
+            let mask = group.compiled_conditions.iter().enumerate().fold(0u32, |m, (c, cond)| {
+                if self.holds(cond, world) { m | 1 << c } else { m }
+            });
+            followed = group.constituent(mask);
         }
-        Ok(false)
+        let Some(constituent) = followed else {
+            // No triggered event can be followed: the first loops on the state.
+            if first_triggered.is_some_and(|i| mp.groups(self.state)[i].loops) {
+                self.report(chooser);
+            }
+            return Ok(false);
+        };
+        // The event: a time-extended transition into <s, e, C>, carrying the reward.
+        self.set_place(constituent.state);
+        self.report(chooser);
+        let actions = &constituent.plan_actions;
+        let index = if actions.len() > 1 {
+            self.options
+                .resize_with(actions.len(), || Marking::empty(mp.states().len()));
+            for (option, action) in self.options.iter_mut().zip(actions) {
+                option.clone_from(&self.marking);
+                option.set(PlaceId::new(constituent.state), 0);
+                option.set(PlaceId::new(action.enters), 1);
+            }
+            let index = chooser.choose(self.key, &self.marking, &self.options[..actions.len()]);
+            if index >= actions.len() {
+                return Err(ExecError::InvalidChoice {
+                    plan: mp.name().to_string(),
+                    index,
+                    count: actions.len(),
+                });
+            }
+            index
+        } else {
+            0
+        };
+        // The plan-action: zero time, no reward.
+        let action = actions[index];
+        let (old, new) = (mp.state_actions(self.state), mp.state_actions(action.target));
+        for &a in old {
+            if !new.contains(&a) {
+                self.end_action(a, world);
+            }
+        }
+        self.state = action.target;
+        self.enter(world);
+        self.set_place(action.enters);
+        self.status = match mp.kind(action.target) {
+            StateKind::Ordinary => Status::Running,
+            StateKind::Final => Status::Goal,
+            StateKind::Failure => Status::Failed,
+        };
+        for &a in new {
+            if !old.contains(&a) {
+                self.start_action(a, world, chooser);
+            }
+        }
+        chooser.transition(self.key, &self.marking, 0.0, 0);
+        Ok(true)
     }
 }
 
@@ -209,6 +251,7 @@ impl<W: World> Activation<W> for MachineRun<W> {
     fn start<C: Chooser + ?Sized>(&mut self, world: &mut W, chooser: &mut C) {
         let initial = self.process().machine().initial();
         self.state = initial;
+        self.enter(world);
         self.set_place(initial);
         self.status = Status::Running;
         self.fresh = true;

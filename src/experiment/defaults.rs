@@ -33,6 +33,7 @@ fn bounds(domain: &DomainSpec) -> Bounds {
             high: config.goal_reward,
         },
         DomainSpec::Keepaway { .. } => Bounds { low: 0.0, high: 60.0 },
+        DomainSpec::Nmdp { .. } => Bounds { low: 0.0, high: 20.0 },
     }
 }
 
@@ -102,6 +103,8 @@ pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec
     }
     let b = bounds(domain);
     let sutton = matches!(domain, DomainSpec::Sutton { .. });
+    // Figure 4.3: the assessment with k = 50, memoryless averages (4.2.2, 4.3).
+    let nmdp = matches!(domain, DomainSpec::Nmdp { .. });
     let td = |lambda: f64, target: Target| TdConfig {
         gamma: 1.0,
         alpha: if sutton { 0.1 } else { 0.01 },
@@ -124,10 +127,16 @@ pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec
         assessing_parameter: assessing,
         assessment: if sutton {
             Assessment::EveryN(20)
+        } else if nmdp {
+            Assessment::AfterK(50)
         } else {
             Assessment::Never
         },
-        step_size: StepSize::Constant(0.01),
+        step_size: if nmdp {
+            StepSize::InverseCount
+        } else {
+            StepSize::Constant(0.01)
+        },
         initial_value: if sutton { b.high } else { f64::NEG_INFINITY },
         threshold: None,
     };
@@ -253,6 +262,14 @@ pub(crate) fn default_protocol(domain: &DomainSpec) -> Protocol {
             eval_every: 10,
             eval_episodes: 10,
             greedy_episodes: 10,
+            trace_every: None,
+        },
+        DomainSpec::Nmdp { .. } => Protocol {
+            runs: 20,
+            episodes: 600,
+            eval_every: 50,
+            eval_episodes: 20,
+            greedy_episodes: 100,
             trace_every: None,
         },
     }

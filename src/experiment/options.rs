@@ -9,6 +9,7 @@ use std::path::PathBuf;
 use super::defaults::{self, Overrides};
 use super::spec::{Algorithm, DomainSpec, ExperimentError, ExperimentSpec};
 use crate::domains::keepaway::{FixedPolicy, KeepawayDomainConfig, KeepawayMode};
+use crate::domains::nmdp::NmdpConfig;
 use crate::domains::parr_russell::ParrRussellConfig;
 use crate::domains::penalty_kick::{PenaltyKickConfig, Variant};
 use crate::domains::sutton::SuttonConfig;
@@ -25,6 +26,8 @@ pub enum DomainName {
     Sutton,
     /// The penalty kick.
     PenaltyKick,
+    /// The small N-MDP of thesis Figure 4.3.
+    Nmdp,
     /// Keepaway 3 vs 2, one keeper learning the pass decision (thesis 7.2).
     KeepawayPass,
     /// Keepaway 3 vs 2, every keeper learning where to stand (thesis 7.3).
@@ -39,6 +42,7 @@ impl Named for DomainName {
         DomainName::ParrRussell,
         DomainName::Sutton,
         DomainName::PenaltyKick,
+        DomainName::Nmdp,
         DomainName::KeepawayPass,
         DomainName::KeepawayPosition,
         DomainName::KeepawayFixed,
@@ -49,6 +53,7 @@ impl Named for DomainName {
             DomainName::ParrRussell => "parr-russell",
             DomainName::Sutton => "sutton",
             DomainName::PenaltyKick => "penalty-kick",
+            DomainName::Nmdp => "nmdp",
             DomainName::KeepawayPass => "keepaway-pass",
             DomainName::KeepawayPosition => "keepaway-position",
             DomainName::KeepawayFixed => "keepaway-fixed",
@@ -131,6 +136,10 @@ impl ExperimentOptions {
                     variant: self.variant,
                     ..Default::default()
                 },
+                plan,
+            },
+            DomainName::Nmdp => DomainSpec::Nmdp {
+                config: NmdpConfig::default(),
                 plan,
             },
             DomainName::KeepawayPass | DomainName::KeepawayPosition | DomainName::KeepawayFixed => {

@@ -1,10 +1,11 @@
-//! The thesis's figures as experiment presets (chapter 6), with its parameters
+//! The thesis's figures as experiment presets (chapters 4, 6 and 7), with its parameters
 //! where it gives them and documented choices where it does not
 //! (docs/results/RESULTS.md lists both).
 
 use super::defaults::{default_learner, default_protocol};
 use super::spec::{Algorithm, DomainSpec, ExperimentSpec, LearnerSpec, Protocol};
 use crate::domains::keepaway::{FixedPolicy, KeepawayDomainConfig, KeepawayMode};
+use crate::domains::nmdp::NmdpConfig;
 use crate::domains::parr_russell::ParrRussellConfig;
 use crate::domains::sutton::SuttonConfig;
 use crate::learning::{Assessment, Exploration, Schedule, Sigma};
@@ -242,6 +243,37 @@ fn trace_figure(
     }
 }
 
+/// Figure 4.3: e-SoSMC's values of the four actions of the small N-MDP
+/// (section 4.2.1) over one run: 100 uniformly random episodes, then the
+/// assessment with k = 50 and memoryless averages (the domain's defaults).
+fn figure_4_3() -> Figure {
+    let d = DomainSpec::Nmdp {
+        config: NmdpConfig::default(),
+        plan: None,
+    };
+    let p = Protocol {
+        runs: 1,
+        episodes: 600,
+        eval_every: 50,
+        eval_episodes: 20,
+        greedy_episodes: 100,
+        trace_every: Some(1),
+    };
+    Figure {
+        id: "4.3",
+        title: "e-SoSMC in the N-MDP of Figure 4.3: values of A1, B1 (first state) and A2, B2 (second)",
+        claim: "After the exploratory phase A1 and A2 hold the highest upper bounds (A1-A2's high variance, not its mean); the assessment averages them down and finds the policy of the best mean, B1-A2",
+        kind: FigureKind::Traces,
+        curves: vec![experiment(
+            "e-SoSMC",
+            d.clone(),
+            Algorithm::EpsSosmc,
+            default_learner(Algorithm::EpsSosmc, &d),
+            p,
+        )],
+    }
+}
+
 /// Figure 6.10: Soft-SoSMC's values of the initial observation, one point per episode.
 fn figure_6_10() -> Figure {
     let d = parr_russell();
@@ -434,6 +466,7 @@ pub fn figures() -> Vec<Figure> {
     let eps = Exploration::EpsilonGreedy(Schedule::constant(0.1));
     let soft = |tau: f64| Exploration::Softmax(Schedule::constant(tau));
     vec![
+        figure_4_3(),
         figure_6_3(),
         figure_6_4(),
         trace_figure(

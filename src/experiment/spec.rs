@@ -9,6 +9,7 @@ use super::plot::Reference;
 use super::ranges;
 use crate::analysis;
 use crate::domains::keepaway::{self, KeepawayDomainConfig, KeepawayMode, KeepawayTask};
+use crate::domains::nmdp::{self, Nmdp, NmdpConfig};
 use crate::domains::parr_russell::{self, ParrRussell, ParrRussellConfig};
 use crate::domains::penalty_kick::{self, PenaltyKick, PenaltyKickConfig};
 use crate::domains::sutton::{self, Sutton, SuttonConfig};
@@ -48,6 +49,13 @@ pub enum DomainSpec {
         /// Its parameters (the variant picks the built-in plan).
         config: PenaltyKickConfig,
         /// A plan file to use instead of the variant's plan.
+        plan: Option<PathBuf>,
+    },
+    /// The small N-MDP of thesis Figure 4.3.
+    Nmdp {
+        /// The four policies' return distributions.
+        config: NmdpConfig,
+        /// A plan file to use instead of the figure's plan.
         plan: Option<PathBuf>,
     },
     /// Keepaway 3 vs 2.
@@ -104,6 +112,12 @@ impl DomainSpec {
             DomainSpec::PenaltyKick { config, .. } => {
                 field("goal reward", ranges::RETURN.check(config.goal_reward))?;
             }
+            DomainSpec::Nmdp { config, .. } => {
+                for d in config.returns.iter().flatten() {
+                    field("return mean", ranges::RETURN.check(d.mean))?;
+                    field("return deviation", ranges::DISTANCE.check(d.sd))?;
+                }
+            }
             DomainSpec::Keepaway { config, .. } => {
                 field("hold-threshold", ranges::DISTANCE.check(config.hold_threshold))?;
                 field("lane-threshold", ranges::DISTANCE.check(config.thresholds.pass_line))?;
@@ -122,6 +136,7 @@ impl DomainSpec {
             DomainSpec::ParrRussell { .. } => "parr-russell",
             DomainSpec::Sutton { .. } => "sutton",
             DomainSpec::PenaltyKick { .. } => "penalty-kick",
+            DomainSpec::Nmdp { .. } => "nmdp",
             DomainSpec::Keepaway { config, .. } => match config.mode {
                 KeepawayMode::Pass => "keepaway-pass",
                 KeepawayMode::Position => "keepaway-position",
@@ -180,6 +195,7 @@ impl DomainSpec {
             DomainSpec::ParrRussell { plan, .. }
             | DomainSpec::Sutton { plan, .. }
             | DomainSpec::PenaltyKick { plan, .. }
+            | DomainSpec::Nmdp { plan, .. }
             | DomainSpec::Keepaway { plan, .. } => plan.as_deref(),
         }
     }
@@ -198,6 +214,8 @@ impl DomainSpec {
             DomainSpec::Sutton { plan: None, .. } => sutton::default_plan()?,
             DomainSpec::PenaltyKick { plan: Some(p), .. } => load_plan(p, Vocabulary::Open)?,
             DomainSpec::PenaltyKick { config, plan: None } => penalty_kick::plan(config.variant)?,
+            DomainSpec::Nmdp { plan: Some(p), .. } => load_plan(p, Vocabulary::Open)?,
+            DomainSpec::Nmdp { plan: None, .. } => nmdp::plan()?,
         };
         for w in plan.warnings() {
             eprintln!("warning: {w}");
@@ -226,6 +244,9 @@ impl DomainSpec {
             }
             DomainSpec::PenaltyKick { config, .. } => {
                 Box::new(PenaltyKick::new(*config, plan.ok_or_else(needs_plan)?, learner(0))?)
+            }
+            DomainSpec::Nmdp { config, .. } => {
+                Box::new(Nmdp::new(*config, plan.ok_or_else(needs_plan)?, learner(0), rng)?)
             }
         })
     }
