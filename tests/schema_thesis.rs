@@ -377,3 +377,20 @@ fn a_schema_and_the_equivalent_plan_learn_the_same_policy_with_the_same_seed() {
         }
     }
 }
+
+/// The penalty kick's schema variants (`--variant schema`, `schema-restructured`,
+/// the `reproduce 3.6 / 3.7` presets) are the shipped schema files.
+#[test]
+fn the_kick_schema_variants_are_the_shipped_files() {
+    use learnpnp::domains::penalty_kick::{self, Variant};
+    use learnpnp::learning::persist::PlanLabels;
+    for (variant, file) in [
+        (Variant::Schema, "penalty_kick.schema"),
+        (Variant::SchemaRestructured, "penalty_kick_restructured.schema"),
+    ] {
+        let built = penalty_kick::plan(variant).unwrap();
+        let shipped = learnpnp::load_plan(&crate::util::shipped(file), learnpnp::Vocabulary::Open).unwrap();
+        assert!(built.schema_process().is_some(), "{file}: a schema's process");
+        assert_eq!(PlanLabels::of(&built), PlanLabels::of(&shipped), "{file}");
+    }
+}

@@ -114,7 +114,7 @@ pub fn domains() -> Vec<DomainDescription> {
             about: "The penalty kick (thesis Figures 3.6 and 5.2 - 5.6): a robot facing the goal walks \
                     straight or turns, then kicks"
                 .to_string(),
-            plan: "one of --variant plain | tree | memory (plans/penalty_kick_*.pnml)".to_string(),
+            plan: "one of --variant plain | tree | memory (plans/penalty_kick_*.pnml) | schema | schema-restructured (plans/penalty_kick*.schema)".to_string(),
             actions: entries(&penalty_kick::registry()),
             atoms: Vec::new(),
             reward: format!(

@@ -27,36 +27,60 @@ pub enum Variant {
     Tree,
     /// Figure 5.4: memory places record the choice.
     Memory,
+    /// Figure 3.6 as a plan schema (`plans/penalty_kick.schema`): one Kick state.
+    Schema,
+    /// Figure 3.7 as a plan schema (`plans/penalty_kick_restructured.schema`):
+    /// a Kick state after each choice.
+    SchemaRestructured,
 }
+
+/// The plan schema of Figure 3.6, as shipped.
+const SCHEMA: &str = include_str!("../../plans/penalty_kick.schema");
+/// The plan schema of Figure 3.7, as shipped.
+const SCHEMA_RESTRUCTURED: &str = include_str!("../../plans/penalty_kick_restructured.schema");
 
 impl Named for Variant {
     const KIND: &'static str = "variant";
-    const ALL: &'static [Self] = &[Variant::Plain, Variant::Tree, Variant::Memory];
+    const ALL: &'static [Self] = &[
+        Variant::Plain,
+        Variant::Tree,
+        Variant::Memory,
+        Variant::Schema,
+        Variant::SchemaRestructured,
+    ];
 
     fn name(self) -> &'static str {
         match self {
             Variant::Plain => "plain",
             Variant::Tree => "tree",
             Variant::Memory => "memory",
+            Variant::Schema => "schema",
+            Variant::SchemaRestructured => "schema-restructured",
         }
     }
 }
 
 impl Variant {
-    /// The variant's plan.
-    pub fn net(self) -> Result<PetriNet, NetError> {
+    /// The variant's Petri Net Plan; `None` for the plan schemas (see [`plan`]).
+    pub fn net(self) -> Option<Result<PetriNet, NetError>> {
         match self {
-            Variant::Plain => catalog::penalty_kick_plain(),
-            Variant::Tree => catalog::penalty_kick_tree(),
-            Variant::Memory => catalog::penalty_kick_memory(),
+            Variant::Plain => Some(catalog::penalty_kick_plain()),
+            Variant::Tree => Some(catalog::penalty_kick_tree()),
+            Variant::Memory => Some(catalog::penalty_kick_memory()),
+            Variant::Schema | Variant::SchemaRestructured => None,
         }
     }
 
+    /// The markings whose values are traced: the afterstates of the first choice.
     fn traced_labels(self) -> [(&'static str, Vec<&'static str>); 2] {
         match self {
             Variant::Memory => [
                 ("WalkStraight", vec!["WalkStraight.exec", "walked"]),
                 ("Turn", vec!["Turn.exec", "turned"]),
+            ],
+            Variant::Schema | Variant::SchemaRestructured => [
+                ("WalkStraight", vec!["[start, -, {true}: walk]"]),
+                ("Turn", vec!["[start, -, {true}: turn]"]),
             ],
             _ => [("WalkStraight", vec!["WalkStraight.exec"]), ("Turn", vec!["Turn.exec"])],
         }
@@ -182,10 +206,21 @@ pub fn registry() -> Registry<Pitch> {
     r
 }
 
-/// The variant's plan.
+/// The variant's plan (a plan schema's constructed process for the schema variants).
 pub fn plan(variant: Variant) -> Result<Plan, TaskError> {
-    let net = variant.net().map_err(crate::plan::PlanError::from)?;
-    Ok(Plan::from_net(net, Vocabulary::Open)?)
+    let schema_text = match variant.net() {
+        Some(net) => {
+            let net = net.map_err(crate::plan::PlanError::from)?;
+            return Ok(Plan::from_net(net, Vocabulary::Open)?);
+        }
+        None if variant == Variant::Schema => SCHEMA,
+        None => SCHEMA_RESTRUCTURED,
+    };
+    let invalid = |e: crate::schema::SchemaError| TaskError::Invalid(format!("the shipped schema: {e}"));
+    let schema = crate::schema::parse_schema(schema_text).map_err(invalid)?;
+    Ok(crate::schema::Process::new(&schema, Vocabulary::Open)
+        .map_err(invalid)?
+        .into_plan())
 }
 
 /// Learning runs of the penalty kick.

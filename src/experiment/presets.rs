@@ -7,8 +7,9 @@ use super::spec::{Algorithm, DomainSpec, ExperimentSpec, LearnerSpec, Protocol};
 use crate::domains::keepaway::{FixedPolicy, KeepawayDomainConfig, KeepawayMode};
 use crate::domains::nmdp::NmdpConfig;
 use crate::domains::parr_russell::ParrRussellConfig;
+use crate::domains::penalty_kick::{PenaltyKickConfig, Variant};
 use crate::domains::sutton::SuttonConfig;
-use crate::learning::{Assessment, Exploration, Schedule, Sigma};
+use crate::learning::{Assessment, Exploration, Schedule, Scope, Sigma};
 
 /// What a figure shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -243,6 +244,89 @@ fn trace_figure(
     }
 }
 
+/// The penalty kick with the plan schema of `variant`.
+fn kick_schema(variant: Variant) -> DomainSpec {
+    DomainSpec::PenaltyKick {
+        config: PenaltyKickConfig {
+            variant,
+            ..PenaltyKickConfig::default()
+        },
+        plan: None,
+    }
+}
+
+/// "Q-learning" of the schema demonstrations: one-step Q-learning on every
+/// state of the constructed process, behaving uniformly at random (it learns
+/// off-policy, so neither option's estimate lags), step size 0.02.
+fn kick_q_learning(domain: &DomainSpec) -> LearnerSpec {
+    with_td(Algorithm::QLearning, domain, |c| {
+        c.scope = Scope::Markings;
+        c.exploration = Exploration::EpsilonGreedy(Schedule::constant(1.0));
+        c.alpha = 0.02;
+    })
+}
+
+/// The protocol of the schema demonstrations: 200 runs of 2000 episodes.
+fn kick_protocol() -> Protocol {
+    Protocol {
+        runs: 200,
+        episodes: 2000,
+        eval_every: 100,
+        eval_episodes: 10,
+        greedy_episodes: 10,
+        trace_every: None,
+    }
+}
+
+/// Not a thesis experiment: chapter 3 argues (3.2.2) without one that methods
+/// bootstrapping from the next state cannot tell WalkStraight from Turn in the
+/// schema of Figure 3.6, while a method crediting each choice with the return
+/// that followed it can. The project's demonstration, with its own parameters.
+fn schema_3_6() -> Figure {
+    let d = kick_schema(Variant::Schema);
+    Figure {
+        id: "3.6",
+        title: "Demonstration of 3.2.2 (not a thesis experiment): the penalty kick's schema of Figure 3.6",
+        claim: "(3.2.2's argument, demonstrated here) Q-learning gives the edges into WalkStraight and Turn the same value (both lead to the Kick state with no reward between), so its greedy choice is a coin toss; SoSMC, crediting each choice with the return that followed it, learns to walk straight",
+        kind: FigureKind::Curves,
+        curves: vec![
+            experiment(
+                "Q-learning",
+                d.clone(),
+                Algorithm::QLearning,
+                kick_q_learning(&d),
+                kick_protocol(),
+            ),
+            experiment(
+                "e-SoSMC",
+                d.clone(),
+                Algorithm::EpsSosmc,
+                default_learner(Algorithm::EpsSosmc, &d),
+                kick_protocol(),
+            ),
+        ],
+    }
+}
+
+/// Not a thesis experiment: Figure 3.7's restructured schema, which 3.2.2
+/// says lets Q-learning learn the kick; the project's demonstration.
+fn schema_3_7() -> Figure {
+    let d = kick_schema(Variant::SchemaRestructured);
+    Figure {
+        id: "3.7",
+        title: "Demonstration of 3.2.2 (not a thesis experiment): the restructured schema of Figure 3.7",
+        claim: "(3.2.2's argument, demonstrated here) With a Kick state after each choice the plan lets Q-learning learn to walk straight",
+        kind: FigureKind::Curves,
+        curves: vec![experiment(
+            "Q-learning",
+            d.clone(),
+            Algorithm::QLearning,
+            kick_q_learning(&d),
+            kick_protocol(),
+        )],
+    }
+}
+
 /// Figure 4.3: e-SoSMC's values of the four actions of the small N-MDP
 /// (section 4.2.1) over one run: 100 uniformly random episodes, then the
 /// assessment with k = 50 and memoryless averages (the domain's defaults).
@@ -466,6 +550,8 @@ pub fn figures() -> Vec<Figure> {
     let eps = Exploration::EpsilonGreedy(Schedule::constant(0.1));
     let soft = |tau: f64| Exploration::Softmax(Schedule::constant(tau));
     vec![
+        schema_3_6(),
+        schema_3_7(),
         figure_4_3(),
         figure_6_3(),
         figure_6_4(),
