@@ -11,9 +11,13 @@ use learnpnp::plan_file::load_plan;
 use learnpnp::pnml::{self, Dialect};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let dir = std::env::args()
-        .nth(1)
-        .map_or_else(|| std::env::temp_dir().join("learnpnp-build-and-save"), PathBuf::from);
+    run(std::env::args().nth(1))
+}
+
+/// The example, given the directory to write into (a temporary one by default); the tests call it
+/// without the test harness's own arguments.
+fn run(arg: Option<String>) -> Result<(), Box<dyn std::error::Error>> {
+    let dir = arg.map_or_else(|| std::env::temp_dir().join("learnpnp-build-and-save"), PathBuf::from);
     std::fs::create_dir_all(&dir)?;
 
     // The penalty kick of thesis Figure 3.6: walk straight or turn, then kick.
@@ -55,5 +59,5 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
 #[test]
 fn the_example_runs() {
-    main().expect("the example runs");
+    run(None).expect("the example runs");
 }

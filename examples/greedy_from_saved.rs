@@ -42,7 +42,13 @@ fn greedy_mean(values: &std::path::Path) -> Result<f64, Box<dyn std::error::Erro
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let values = match std::env::args().nth(1) {
+    run(std::env::args().nth(1))
+}
+
+/// The example, given a saved values file (by default, one trained here); the tests call it
+/// without the test harness's own arguments.
+fn run(arg: Option<String>) -> Result<(), Box<dyn std::error::Error>> {
+    let values = match arg {
         Some(path) => PathBuf::from(path),
         None => {
             let agent = courier::train(7, 3000)?;
@@ -65,7 +71,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
 #[test]
 fn the_example_runs() {
-    main().expect("the example runs");
+    run(None).expect("the example runs");
 }
 
 /// The greedy policy from a saved table earns the optimum, -5 per episode:

@@ -18,9 +18,13 @@ use learnpnp::pnml::{self, Dialect};
 const EPISODES: u64 = 3000;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let dir = std::env::args()
-        .nth(1)
-        .map_or_else(|| std::env::temp_dir().join("learnpnp-own-world"), PathBuf::from);
+    run(std::env::args().nth(1))
+}
+
+/// The example, given the directory to write into (a temporary one by default); the tests call it
+/// without the test harness's own arguments.
+fn run(arg: Option<String>) -> Result<(), Box<dyn std::error::Error>> {
+    let dir = arg.map_or_else(|| std::env::temp_dir().join("learnpnp-own-world"), PathBuf::from);
     std::fs::create_dir_all(&dir)?;
     let agent = courier::train(7, EPISODES)?;
     let plan = agent.plan();
@@ -73,7 +77,7 @@ fn greedy_routes(seed: u64) -> Vec<(String, String)> {
 
 #[test]
 fn the_example_runs() {
-    main().expect("the example runs");
+    run(None).expect("the example runs");
 }
 
 /// Short is best when dry (-2 against -3), long in the rain (-3 against -7):
