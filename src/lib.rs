@@ -40,7 +40,7 @@
 //! ```
 //! use std::sync::Arc;
 //!
-//! use learnpnp::learning::{Assessment, Schedule, Sigma, StepSize};
+//! use learnpnp::learning::{Assessment, ExploitPolicy, Schedule, Sigma, StepSize, Unestimated};
 //! use learnpnp::rng::seeded;
 //! use learnpnp::{
 //!     Action, AtomId, AtomTable, EpisodeMode, EpisodeStart, KnowledgeBase, Learner, PlanAgent, PlanBuilder,
@@ -108,6 +108,8 @@
 //!     step_size: StepSize::Constant(0.1),
 //!     initial_value: f64::NEG_INFINITY,
 //!     threshold: None,
+//!     unestimated: Unestimated::AsBest,
+//!     exploit: ExploitPolicy::Greedy,
 //! };
 //! let mut agent = PlanAgent::new(plan, &registry, Box::new(SoSmc::new(config, seeded(7))))?;
 //! let episode = |agent: &mut PlanAgent<Doors>, mode| -> Result<f64, TaskError> {

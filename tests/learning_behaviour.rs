@@ -9,8 +9,8 @@ use learnpnp::domains::parr_russell::{self, ParrRussell, ParrRussellConfig};
 use learnpnp::domains::penalty_kick::{self, PenaltyKick, PenaltyKickConfig, Variant};
 use learnpnp::executor::{Chooser, PendingReward, PlanKey};
 use learnpnp::learning::{
-    Assessment, EpisodeMode, EpisodeStart, Exploration, Learner, Mcesp, McespConfig, Schedule, Scope, Sigma, SoSmc,
-    SoSmcConfig, StepSize, Target, TdConfig, TdLearner, ThresholdRule, ValueTable,
+    Assessment, EpisodeMode, EpisodeStart, ExploitPolicy, Exploration, Learner, Mcesp, McespConfig, Schedule, Scope,
+    Sigma, SoSmc, SoSmcConfig, StepSize, Target, TdConfig, TdLearner, ThresholdRule, Unestimated, ValueTable,
 };
 use learnpnp::net::Marking;
 use learnpnp::rng::{derive_seed, seeded};
@@ -26,6 +26,8 @@ fn sosmc(initial_phase: u64, assessment: Assessment) -> SoSmcConfig {
         step_size: StepSize::Constant(0.01),
         initial_value: f64::NEG_INFINITY,
         threshold: None,
+        unestimated: Unestimated::AsBest,
+        exploit: ExploitPolicy::Greedy,
     }
 }
 
@@ -395,4 +397,53 @@ fn figure_4_3_exploration_favours_variance_and_the_assessment_finds_the_best_mea
         "A1-A2 looked best after exploration in {variance_first} of 20"
     );
     assert!(best_found >= 14, "B1-A2 greedy at the end in {best_found} of 20");
+}
+
+/// Exploiting episodes (`--exploit-policy`): taking the greedy policy anew
+/// follows the averages down to the other option; Algorithm 1's "last policy
+/// chosen" keeps the option until an exploratory episode, which never comes
+/// without exploration in the assessing phase.
+#[test]
+fn exploiting_episodes_take_the_greedy_policy_anew_or_keep_the_last_one() {
+    let choices = |exploit: ExploitPolicy| -> Vec<usize> {
+        let mut learner = SoSmc::new(
+            SoSmcConfig {
+                initial_parameter: Schedule::constant(1.0),
+                step_size: StepSize::InverseCount,
+                exploit,
+                ..sosmc(40, Assessment::Never)
+            },
+            seeded(3),
+        );
+        let state = Marking::from_tokens(vec![1, 0, 0]);
+        let options = [Marking::from_tokens(vec![0, 1, 0]), Marking::from_tokens(vec![0, 0, 1])];
+        let mut taken = Vec::new();
+        for episode in 0..100 {
+            learner.begin_episode(EpisodeStart::LEARN);
+            learner.plan_started(PlanKey::ROOT, &state);
+            let i = learner.choose(PlanKey::ROOT, &state, &options);
+            learner.transition(PlanKey::ROOT, &options[i], 0.0, 1);
+            // Option 1 pays 2 while exploring, then 0; option 0 always 1.
+            let reward = if i == 0 {
+                1.0
+            } else if episode < 40 {
+                2.0
+            } else {
+                0.0
+            };
+            learner.end_episode(PendingReward { reward, elapsed: 1 });
+            if episode >= 40 {
+                taken.push(i);
+            }
+        }
+        taken
+    };
+    let greedy = choices(ExploitPolicy::Greedy);
+    assert_eq!(greedy[0], 1, "the best upper bound first");
+    assert!(
+        greedy[10..].iter().all(|&i| i == 0),
+        "averaged down, option 1 gives way: {greedy:?}"
+    );
+    let last = choices(ExploitPolicy::Last);
+    assert!(last.iter().all(|&i| i == 1), "the last policy chosen is kept: {last:?}");
 }

@@ -9,7 +9,9 @@ use std::sync::Arc;
 
 use learnpnp::condition::{AtomId, AtomTable, BitKnowledgeBase};
 use learnpnp::executor::{Chooser, ExecError, Executor, PlanKey, Registry, Status};
-use learnpnp::learning::{Assessment, EpisodeStart, Learner, Schedule, Sigma, SoSmc, SoSmcConfig, StepSize};
+use learnpnp::learning::{
+    Assessment, EpisodeStart, ExploitPolicy, Learner, Schedule, Sigma, SoSmc, SoSmcConfig, StepSize, Unestimated,
+};
 use learnpnp::net::Marking;
 use learnpnp::plan::{Plan, Vocabulary};
 use learnpnp::rng::seeded;
@@ -509,6 +511,8 @@ fn each_machine_learns_on_its_own() {
         step_size: StepSize::Constant(0.1),
         initial_value: f64::NEG_INFINITY,
         threshold: None,
+        unestimated: Unestimated::AsBest,
+        exploit: ExploitPolicy::Greedy,
     };
     let mut learner = SoSmc::new(config, seeded(3));
     let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();

@@ -13,8 +13,8 @@ use learnpnp::executor::PlanKey;
 use learnpnp::experiment::defaults::default_learner;
 use learnpnp::experiment::spec::{Algorithm, DomainSpec};
 use learnpnp::learning::{
-    Assessment, EpisodeMode, Exploration, Learner, Schedule, Scope, Sigma, SoSmc, SoSmcConfig, StepSize, Target,
-    TdConfig, TdLearner,
+    Assessment, EpisodeMode, ExploitPolicy, Exploration, Learner, Schedule, Scope, Sigma, SoSmc, SoSmcConfig, StepSize,
+    Target, TdConfig, TdLearner, Unestimated,
 };
 use learnpnp::net::{Marking, PlaceId};
 use learnpnp::plan::{Plan, Vocabulary};
@@ -262,6 +262,8 @@ fn figure_3_6_sosmc_learns_to_walk_straight() {
         step_size: StepSize::Constant(0.1),
         initial_value: f64::NEG_INFINITY,
         threshold: None,
+        unestimated: Unestimated::AsBest,
+        exploit: ExploitPolicy::Greedy,
     };
     for seed in 0..SEEDS {
         let (walk, turn, greedy) = kick("penalty_kick", Box::new(SoSmc::new(config, seeded(seed))), 100);

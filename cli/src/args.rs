@@ -14,7 +14,7 @@ use learnpnp::experiment::options::ExperimentOptions;
 use learnpnp::experiment::ranges;
 use learnpnp::experiment::spec::Algorithm;
 use learnpnp::keepaway_sim::params::VisionMode;
-use learnpnp::learning::{Schedule, StepSize, ThresholdRule};
+use learnpnp::learning::{ExploitPolicy, Schedule, StepSize, ThresholdRule, Unestimated};
 use learnpnp::named::Named;
 
 /// A value parser for an enumeration picked by name: clap lists the names in
@@ -152,6 +152,16 @@ pub struct ExperimentFlags {
     /// bootstrap at every state of the process, not only at choices).
     #[arg(long)]
     every_marking: bool,
+    /// Soft-SoSMC: the weight of an option with no estimate yet: as-best (the
+    /// default: that of the best estimated option) or none (eq. 1.8 as written).
+    #[arg(long, value_parser = named::<Unestimated>())]
+    unestimated: Option<Unestimated>,
+    /// SoSMC: the policy of exploiting episodes: greedy (the default: taken
+    /// anew every episode, as the thesis's figures need) or last (Algorithm 1
+    /// as written: the last policy chosen, the greedy one taken anew only
+    /// after an exploratory episode).
+    #[arg(long, value_parser = named::<ExploitPolicy>())]
+    exploit_policy: Option<ExploitPolicy>,
 }
 
 impl ExperimentFlags {
@@ -202,6 +212,8 @@ impl From<ExperimentFlags> for ExperimentOptions {
                 alpha_min: args.alpha_min,
                 consistent: args.consistent,
                 every_marking: args.every_marking,
+                unestimated: args.unestimated,
+                exploit_policy: args.exploit_policy,
             },
         }
     }

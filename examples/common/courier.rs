@@ -14,7 +14,8 @@ use learnpnp::condition::{AtomId, AtomTable, KnowledgeBase};
 use learnpnp::domains::{PlanAgent, TaskError};
 use learnpnp::executor::{Action, Registry, World};
 use learnpnp::learning::{
-    Assessment, EpisodeMode, EpisodeStart, Learner, Schedule, Sigma, SoSmc, SoSmcConfig, StepSize,
+    Assessment, EpisodeMode, EpisodeStart, ExploitPolicy, Learner, Schedule, Sigma, SoSmc, SoSmcConfig, StepSize,
+    Unestimated,
 };
 use learnpnp::plan::{Plan, PlanBuilder, PlanError, Vocabulary};
 use learnpnp::rng::{SimRng, seeded};
@@ -215,6 +216,8 @@ pub fn learner(seed: u64) -> Box<dyn Learner> {
             step_size: StepSize::Constant(0.05),
             initial_value: f64::NEG_INFINITY,
             threshold: None,
+            unestimated: Unestimated::AsBest,
+            exploit: ExploitPolicy::Greedy,
         },
         seeded(seed),
     ))

@@ -46,6 +46,9 @@ def test_parameters_have_the_commands_names_and_ranges():
     learnpnp.PlanAgent(doors(), algo="sarsa-lambda", alpha=0.5, lambda_=0.8, epsilon="0.2:0:1000", gamma=1)
     learnpnp.PlanAgent(doors(), algo="soft-sosmc", tau=0.5, assess="every:10", step_size="inverse", initial_value=-4)
     learnpnp.PlanAgent(doors(), algo="sarsa0", consistent=True, every_marking=False, initial_value=-math.inf)
+    learnpnp.PlanAgent(doors(), algo="soft-sosmc", unestimated="none", exploit_policy="last")
+    with pytest.raises(ValueError, match="unknown exploit policy 'best'"):
+        learnpnp.PlanAgent(doors(), algo="eps-sosmc", exploit_policy="best")
     with pytest.raises(ValueError, match=r"alpha: 5 is out of range: it must be a number from 0 \(excluded\) to 1"):
         learnpnp.PlanAgent(doors(), algo="q-learning", alpha=5)
     with pytest.raises(ValueError, match="it must be a finite number above 0"):

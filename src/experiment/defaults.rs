@@ -9,9 +9,10 @@ use super::ranges;
 use super::spec::{Algorithm, DomainSpec, LearnerSpec, Protocol};
 use crate::domains::keepaway::KeepawayMode;
 use crate::learning::{
-    Assessment, Exploration, McespConfig, Schedule, Scope, Sigma, SoSmcConfig, StepSize, Target, TdConfig,
-    ThresholdRule,
+    Assessment, ExploitPolicy, Exploration, McespConfig, Schedule, Scope, Sigma, SoSmcConfig, StepSize, Target,
+    TdConfig, ThresholdRule, Unestimated,
 };
+use crate::named::Named;
 
 /// Values of the domains' returns that serve as pessimistic and optimistic initial values.
 struct Bounds {
@@ -55,6 +56,8 @@ fn keepaway_learner(algorithm: Algorithm, mode: KeepawayMode) -> LearnerSpec {
             threshold: 18.0,
             window: 200,
         }),
+        unestimated: Unestimated::AsBest,
+        exploit: ExploitPolicy::Greedy,
     };
     let td = |lambda: f64, target: Target| TdConfig {
         gamma: 1.0,
@@ -137,8 +140,16 @@ pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec
         } else {
             StepSize::Constant(0.01)
         },
-        initial_value: if sutton { b.high } else { f64::NEG_INFINITY },
+        // Chapter 6 (6.1.2): "when not differently specified the Q-function
+        // has been initialised at -4" in Parr and Russell's grid.
+        initial_value: match domain {
+            DomainSpec::Sutton { .. } => b.high,
+            DomainSpec::ParrRussell { .. } => b.low,
+            _ => f64::NEG_INFINITY,
+        },
         threshold: None,
+        unestimated: Unestimated::AsBest,
+        exploit: ExploitPolicy::Greedy,
     };
     match algorithm {
         Algorithm::EpsSosmc => LearnerSpec::Sosmc(sosmc(
@@ -191,6 +202,8 @@ pub fn plan_learner(algorithm: Algorithm) -> LearnerSpec {
         step_size: StepSize::Constant(0.01),
         initial_value: f64::NEG_INFINITY,
         threshold: None,
+        unestimated: Unestimated::AsBest,
+        exploit: ExploitPolicy::Greedy,
     };
     match algorithm {
         Algorithm::EpsSosmc => LearnerSpec::Sosmc(sosmc(
@@ -370,6 +383,10 @@ pub struct Overrides {
     pub consistent: bool,
     /// TD: values on every marking ([`Scope::Markings`]) instead of the choices' afterstates.
     pub every_marking: bool,
+    /// Soft-SoSMC: the weight of an option with no estimate.
+    pub unestimated: Option<Unestimated>,
+    /// SoSMC: the policy of exploiting episodes.
+    pub exploit_policy: Option<ExploitPolicy>,
 }
 
 impl Overrides {
@@ -392,6 +409,8 @@ impl Overrides {
         "alpha_min",
         "consistent",
         "every_marking",
+        "unestimated",
+        "exploit_policy",
     ];
 
     /// Sets parameter `name` (a flag of `learnpnp experiment`, with `_` or
@@ -427,6 +446,10 @@ impl Overrides {
                 "alpha_min" => self.alpha_min = Some(ranges::STEP.parse(text)?),
                 "consistent" => self.consistent = switch()?,
                 "every_marking" => self.every_marking = switch()?,
+                "unestimated" => self.unestimated = Some(Unestimated::from_name(text).map_err(|e| e.to_string())?),
+                "exploit_policy" => {
+                    self.exploit_policy = Some(ExploitPolicy::from_name(text).map_err(|e| e.to_string())?)
+                }
                 _ => {
                     return Err(format!(
                         "unknown parameter: the parameters are {}",
@@ -475,6 +498,8 @@ impl Overrides {
                 if self.threshold.is_some() {
                     c.threshold = self.threshold;
                 }
+                set(&mut c.unestimated, self.unestimated);
+                set(&mut c.exploit, self.exploit_policy);
             }
             LearnerSpec::Mcesp(c) => {
                 set(&mut c.gamma, self.gamma);

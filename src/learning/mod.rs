@@ -21,7 +21,7 @@ pub use mcesp::{Mcesp, McespConfig};
 pub use monte_carlo::{MonteCarlo, MonteCarloConfig};
 pub use random::RandomLearner;
 pub use selection::{Exploration, Schedule, Strategy};
-pub use sosmc::{Assessment, Sigma, SoSmc, SoSmcConfig, StepSize, ThresholdRule};
+pub use sosmc::{Assessment, ExploitPolicy, Sigma, SoSmc, SoSmcConfig, StepSize, ThresholdRule, Unestimated};
 pub use td::{Scope, Target, TdConfig, TdLearner};
 pub use trajectory::{Trajectory, discount};
 pub use values::{KeyId, StateKey, ValueTable, blend};

@@ -50,8 +50,13 @@ pub enum Strategy {
     Greedy,
     /// A uniformly random option with probability epsilon, else greedy.
     EpsilonGreedy(f64),
-    /// Softmax (Boltzmann) with temperature tau.
+    /// Softmax (Boltzmann) with temperature tau, thesis eq. 1.8: an option
+    /// with no estimate (negative infinity) has weight e^(-inf/tau) = 0.
     Softmax(f64),
+    /// Softmax with temperature tau in which an option with no estimate
+    /// weighs like the best estimated one: its upper bound is unknown, so it
+    /// is as promising as anything seen (SoSMC's `--unestimated as-best`).
+    SoftmaxUnestimatedAsBest(f64),
 }
 
 /// An exploration rule whose parameter follows a schedule (over decisions or episodes).
@@ -115,15 +120,15 @@ pub fn select(strategy: Strategy, values: &[f64], rng: &mut SimRng, scratch: &mu
                 greedy(values, rng, scratch)
             }
         }
-        Strategy::Softmax(tau) => softmax(values, tau, rng, scratch),
+        Strategy::Softmax(tau) => softmax(values, tau, 0.0, rng, scratch),
+        Strategy::SoftmaxUnestimatedAsBest(tau) => softmax(values, tau, 1.0, rng, scratch),
     }
 }
 
-/// A softmax draw. An option without an estimate (negative infinity) weighs
-/// like the best estimated option: its upper bound is unknown, so it is as
-/// promising as anything seen (SoSMC's initial phase must reach every pair).
-/// With no estimate at all the draw is uniform; a temperature of zero is greedy.
-fn softmax(values: &[f64], tau: f64, rng: &mut SimRng, scratch: &mut Vec<usize>) -> usize {
+/// A softmax draw; an option without an estimate (negative infinity) has
+/// weight `unestimated` (relative to the best estimated option's 1). With no
+/// estimate at all the draw is uniform; a temperature of zero is greedy.
+fn softmax(values: &[f64], tau: f64, unestimated: f64, rng: &mut SimRng, scratch: &mut Vec<usize>) -> usize {
     let max = values
         .iter()
         .copied()
@@ -135,7 +140,13 @@ fn softmax(values: &[f64], tau: f64, rng: &mut SimRng, scratch: &mut Vec<usize>)
     if tau <= 0.0 {
         return greedy(values, rng, scratch);
     }
-    let weight = |v: f64| if v.is_finite() { ((v - max) / tau).exp() } else { 1.0 };
+    let weight = |v: f64| {
+        if v.is_finite() {
+            ((v - max) / tau).exp()
+        } else {
+            unestimated
+        }
+    };
     let total: f64 = values.iter().map(|&v| weight(v)).sum();
     let mut draw = rng.random::<f64>() * total;
     for (i, &v) in values.iter().enumerate() {
@@ -176,30 +187,34 @@ mod tests {
     }
 
     #[test]
-    fn softmax_prefers_higher_values_and_weighs_missing_estimates_as_the_best() {
+    fn softmax_prefers_higher_values_and_weighs_missing_estimates_as_asked() {
         let mut rng = seeded(2);
         let mut scratch = Vec::new();
-        let mut seen = [0; 3];
         let n = 4000;
+        let values = [0.0, 1.0, f64::NEG_INFINITY];
+        let mut as_best = [0; 3];
+        let mut eq_1_8 = [0; 3];
         for _ in 0..n {
-            seen[select(
-                Strategy::Softmax(1.0),
-                &[0.0, 1.0, f64::NEG_INFINITY],
-                &mut rng,
-                &mut scratch,
-            )] += 1;
+            as_best[select(Strategy::SoftmaxUnestimatedAsBest(1.0), &values, &mut rng, &mut scratch)] += 1;
+            eq_1_8[select(Strategy::Softmax(1.0), &values, &mut rng, &mut scratch)] += 1;
         }
-        // Weights 1/e, 1, 1: P(1) = P(2) = e / (1 + 2e) = 0.422.
+        // As the best: weights 1/e, 1, 1: P(1) = P(2) = e / (1 + 2e) = 0.422.
         for i in [1, 2] {
-            let p = seen[i] as f64 / n as f64;
+            let p = as_best[i] as f64 / n as f64;
             assert!((p - 0.422).abs() < 0.03, "{i}: {p}");
         }
-        // No estimate at all: uniform.
-        let mut uniform = [0; 2];
-        for _ in 0..n {
-            uniform[select(Strategy::Softmax(0.1), &[f64::NEG_INFINITY; 2], &mut rng, &mut scratch)] += 1;
+        // Eq. 1.8: weights 1/e, 1, 0: P(1) = e / (1 + e) = 0.731, never 2.
+        assert_eq!(eq_1_8[2], 0);
+        let p = eq_1_8[1] as f64 / n as f64;
+        assert!((p - 0.731).abs() < 0.03, "{p}");
+        // No estimate at all: uniform, either way.
+        for strategy in [Strategy::Softmax(0.1), Strategy::SoftmaxUnestimatedAsBest(0.1)] {
+            let mut uniform = [0; 2];
+            for _ in 0..n {
+                uniform[select(strategy, &[f64::NEG_INFINITY; 2], &mut rng, &mut scratch)] += 1;
+            }
+            assert!((uniform[0] as f64 / n as f64 - 0.5).abs() < 0.03);
         }
-        assert!((uniform[0] as f64 / n as f64 - 0.5).abs() < 0.03);
     }
 
     #[test]

@@ -66,6 +66,71 @@ pub enum Sigma {
     Softmax,
 }
 
+/// Soft-SoSMC: the weight of an option with no estimate yet (its value
+/// negative infinity) among estimated ones.
+///
+/// Eq. 1.8 gives such an option e^(-inf/tau) = 0: it is never drawn once
+/// another option has an estimate. Section 4.2.2's stochastic search needs a
+/// strategy Sigma that gives every policy a non-zero probability (its
+/// condition 3), which that violates; the default weighs the option as the
+/// best estimated one, as promising as anything seen (docs/results/RESULTS.md
+/// has the figures both ways).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Unestimated {
+    /// The weight of the best estimated option.
+    #[default]
+    AsBest,
+    /// Softmax exactly as eq. 1.8 writes it: weight 0, the option is not
+    /// drawn while another has an estimate.
+    None,
+}
+
+impl crate::named::Named for Unestimated {
+    const KIND: &'static str = "unestimated weight";
+    const ALL: &'static [Self] = &[Unestimated::AsBest, Unestimated::None];
+
+    fn name(self) -> &'static str {
+        match self {
+            Unestimated::None => "none",
+            Unestimated::AsBest => "as-best",
+        }
+    }
+}
+
+/// The policy of an exploiting episode.
+///
+/// Algorithm 1's pseudo-code keeps "the last policy chosen" between
+/// exploratory episodes; the thesis's own Figure 6.3 (section 6.1.2: SoSMC
+/// with no exploration after the initial phase converging to the optimum
+/// shortly after it) needs the greedy policy taken anew, since with the last
+/// policy kept that policy is frozen at the end of the initial phase. The
+/// default follows the results the thesis reports (docs/results/RESULTS.md
+/// has the figures both ways).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ExploitPolicy {
+    /// The greedy policy, taken anew in every exploiting episode.
+    #[default]
+    Greedy,
+    /// Algorithm 1 as written: the last policy chosen; the policy that
+    /// greedily maximises the values is taken anew only in the episode after
+    /// an exploratory one (the initial phase's last included).
+    Last,
+}
+
+impl crate::named::Named for ExploitPolicy {
+    const KIND: &'static str = "exploit policy";
+    const ALL: &'static [Self] = &[ExploitPolicy::Greedy, ExploitPolicy::Last];
+
+    fn name(self) -> &'static str {
+        match self {
+            ExploitPolicy::Last => "last",
+            ExploitPolicy::Greedy => "greedy",
+        }
+    }
+}
+
 /// The parameters of SoSMC.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct SoSmcConfig {
@@ -88,6 +153,12 @@ pub struct SoSmcConfig {
     pub initial_value: f64,
     /// The optional threshold rule.
     pub threshold: Option<ThresholdRule>,
+    /// Softmax: the weight of an option with no estimate.
+    #[serde(default)]
+    pub unestimated: Unestimated,
+    /// The policy of exploiting episodes.
+    #[serde(default)]
+    pub exploit: ExploitPolicy,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -113,6 +184,10 @@ pub struct SoSmc {
     kind: Kind,
     parameter: f64,
     learning: bool,
+    greedy_mode: bool,
+    /// The next exploiting episode takes the greedy policy anew (it follows an
+    /// exploratory one).
+    repick: bool,
     left_greedy: bool,
     exploratory: bool,
     exploit_streak: u64,
@@ -141,6 +216,8 @@ impl SoSmc {
             kind: Kind::Initial,
             parameter: 0.0,
             learning: true,
+            greedy_mode: false,
+            repick: true,
             left_greedy: false,
             exploratory: false,
             exploit_streak: 0,
@@ -192,7 +269,10 @@ impl SoSmc {
     fn strategy(&self) -> Strategy {
         match self.config.sigma {
             Sigma::EpsilonGreedy => Strategy::EpsilonGreedy(self.parameter),
-            Sigma::Softmax => Strategy::Softmax(self.parameter),
+            Sigma::Softmax => match self.config.unestimated {
+                Unestimated::None => Strategy::Softmax(self.parameter),
+                Unestimated::AsBest => Strategy::SoftmaxUnestimatedAsBest(self.parameter),
+            },
         }
     }
 
@@ -232,6 +312,20 @@ impl SoSmc {
     }
 }
 
+impl SoSmc {
+    /// The option of an exploiting episode at observation `obs`: the last
+    /// policy's where Algorithm 1 keeps it, else the greedy one.
+    fn exploit_choice(&mut self, obs: KeyId) -> usize {
+        let keep = self.config.exploit == ExploitPolicy::Last && !self.repick && !self.greedy_mode;
+        let last = self
+            .last_policy
+            .get(&obs)
+            .filter(|_| keep)
+            .and_then(|after| self.ids.iter().position(|id| id == after));
+        last.unwrap_or_else(|| selection::greedy(&self.option_values, &mut self.rng, &mut self.scratch))
+    }
+}
+
 impl Chooser for SoSmc {
     fn choose(&mut self, plan: PlanKey, state: &Marking, options: &[Marking]) -> usize {
         let obs = self.observations.intern(plan, state);
@@ -245,7 +339,7 @@ impl Chooser for SoSmc {
             Some(i) => i,
             None => {
                 let i = match self.kind {
-                    Kind::Exploit => selection::greedy(&self.option_values, &mut self.rng, &mut self.scratch),
+                    Kind::Exploit => self.exploit_choice(obs),
                     Kind::Initial | Kind::Explore => {
                         selection::select(self.strategy(), &self.option_values, &mut self.rng, &mut self.scratch)
                     }
@@ -277,6 +371,7 @@ impl Learner for SoSmc {
         self.decisions.clear();
         self.left_greedy = false;
         self.learning = start.learning();
+        self.greedy_mode = start.greedy();
         self.kind = if start.greedy() {
             Kind::Exploit
         } else {
@@ -302,6 +397,7 @@ impl Learner for SoSmc {
             return;
         }
         self.update();
+        self.repick = self.exploratory;
         if self.exploratory {
             self.exploit_streak = 0;
         } else {
