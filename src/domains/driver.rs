@@ -98,6 +98,16 @@ impl<W: World> PlanAgent<W> {
     }
 }
 
+/// The root plan's marking with one token in the first place carrying each
+/// label, as a key of a value table (the values a domain traces); `None` if
+/// `plan` lacks one of the labels.
+pub(crate) fn root_key(plan: &Plan, labels: &[&str]) -> Option<StateKey> {
+    marking_with(plan, labels).ok().map(|marking| StateKey {
+        plan: crate::executor::PlanKey::ROOT,
+        marking,
+    })
+}
+
 /// The marking of `plan` with one token in the first place carrying each label.
 pub(crate) fn marking_with(plan: &Plan, labels: &[&str]) -> Result<Marking, TaskError> {
     let mut m = Marking::empty(plan.net().places().len());

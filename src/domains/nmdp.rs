@@ -15,9 +15,9 @@ use std::sync::Arc;
 use rand_distr::{Distribution, Normal};
 
 use super::Task;
-use super::driver::{EpisodeOutcome, PlanAgent, TaskError, marking_with, traced};
+use super::driver::{EpisodeOutcome, PlanAgent, TaskError, root_key, traced};
 use crate::condition::{AtomId, KnowledgeBase};
-use crate::executor::{Action, PlanKey, Registry, World};
+use crate::executor::{Action, Registry, World};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};
 use crate::plan::{Plan, PlanBuilder, Vocabulary};
 use crate::rng::SimRng;
@@ -147,15 +147,7 @@ impl Nmdp {
             .iter()
             .enumerate()
             .filter_map(|(i, name)| {
-                marking_with(&plan, &[&format!("{name}.exec")]).ok().map(|marking| {
-                    (
-                        format!("S{}/{name}", 1 + i / 2),
-                        StateKey {
-                            plan: PlanKey::ROOT,
-                            marking,
-                        },
-                    )
-                })
+                root_key(&plan, &[&format!("{name}.exec")]).map(|key| (format!("S{}/{name}", 1 + i / 2), key))
             })
             .collect();
         let world = NmdpWorld {

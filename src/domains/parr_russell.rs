@@ -13,10 +13,10 @@ use std::sync::Arc;
 use rand::RngExt;
 
 use super::Task;
-use super::driver::{EpisodeOutcome, PlanAgent, TaskError, marking_with, traced};
+use super::driver::{EpisodeOutcome, PlanAgent, TaskError, root_key, traced};
 use super::grid::{Direction, Mover};
 use crate::condition::{AtomId, AtomTable, KnowledgeBase};
-use crate::executor::{PlanKey, Registry, World};
+use crate::executor::{Registry, World};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};
 use crate::plan::{Plan, Vocabulary, catalog};
 use crate::rng::SimRng;
@@ -194,14 +194,8 @@ impl ParrRussell {
         let mut traced = Vec::new();
         // The initial observation: a wall west only.
         for name in catalog::MOVES {
-            if let Ok(m) = marking_with(&plan, &["WallLeft", "not_WallRight", &format!("{name}.exec")]) {
-                traced.push((
-                    name.to_string(),
-                    StateKey {
-                        plan: PlanKey::ROOT,
-                        marking: m,
-                    },
-                ));
+            if let Some(key) = root_key(&plan, &["WallLeft", "not_WallRight", &format!("{name}.exec")]) {
+                traced.push((name.to_string(), key));
             }
         }
         Ok(ParrRussell {

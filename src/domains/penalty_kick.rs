@@ -9,9 +9,9 @@
 use std::sync::Arc;
 
 use super::Task;
-use super::driver::{EpisodeOutcome, PlanAgent, TaskError, marking_with, traced};
+use super::driver::{EpisodeOutcome, PlanAgent, TaskError, root_key, traced};
 use crate::condition::{AtomId, KnowledgeBase};
-use crate::executor::{Action, PlanKey, Registry, World};
+use crate::executor::{Action, Registry, World};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};
 use crate::named::Named;
 use crate::net::{NetError, PetriNet};
@@ -238,17 +238,7 @@ impl PenaltyKick {
             .variant
             .traced_labels()
             .into_iter()
-            .filter_map(|(name, labels)| {
-                marking_with(&plan, &labels).ok().map(|m| {
-                    (
-                        name.to_string(),
-                        StateKey {
-                            plan: PlanKey::ROOT,
-                            marking: m,
-                        },
-                    )
-                })
-            })
+            .filter_map(|(name, labels)| root_key(&plan, &labels).map(|key| (name.to_string(), key)))
             .collect();
         let pitch = Pitch {
             goal_reward: config.goal_reward,

@@ -38,6 +38,37 @@ fn bounds(domain: &DomainSpec) -> Bounds {
     }
 }
 
+/// The learner `algorithm` names, from a domain's SoSMC and TD parameters
+/// (`sosmc(sigma, initial phase's parameter, assessing parameter)`,
+/// `td(lambda, target)`): e-SoSMC explores uniformly in its initial phase and
+/// with epsilon 0.1 after it, Soft-SoSMC with the temperatures of `soft`;
+/// MCESP is the reference library's (stage 10, smallest step 0.01, no estimate).
+fn learner_of(
+    algorithm: Algorithm,
+    sosmc: impl Fn(Sigma, Schedule, Schedule) -> SoSmcConfig,
+    td: impl Fn(f64, Target) -> TdConfig,
+    soft: (Schedule, Schedule),
+) -> LearnerSpec {
+    match algorithm {
+        Algorithm::EpsSosmc => LearnerSpec::Sosmc(sosmc(
+            Sigma::EpsilonGreedy,
+            Schedule::constant(1.0),
+            Schedule::constant(0.1),
+        )),
+        Algorithm::SoftSosmc => LearnerSpec::Sosmc(sosmc(Sigma::Softmax, soft.0, soft.1)),
+        Algorithm::SarsaLambda => LearnerSpec::Td(td(0.9, Target::OnPolicy)),
+        Algorithm::Sarsa0 => LearnerSpec::Td(td(0.0, Target::OnPolicy)),
+        Algorithm::QLearning => LearnerSpec::Td(td(0.0, Target::Max)),
+        Algorithm::Mcesp => LearnerSpec::Mcesp(McespConfig {
+            gamma: 1.0,
+            stage_length: 10,
+            alpha_min: 0.01,
+            initial_value: f64::NEG_INFINITY,
+        }),
+        Algorithm::Random => LearnerSpec::Random,
+    }
+}
+
 /// Keepaway's defaults (thesis chapter 7; choices documented in RESULTS.md).
 /// Returns are episode durations in seconds.
 fn keepaway_learner(algorithm: Algorithm, mode: KeepawayMode) -> LearnerSpec {
@@ -74,28 +105,12 @@ fn keepaway_learner(algorithm: Algorithm, mode: KeepawayMode) -> LearnerSpec {
         initial_value: 0.0,
         consistent: false,
     };
-    match algorithm {
-        Algorithm::EpsSosmc => LearnerSpec::Sosmc(sosmc(
-            Sigma::EpsilonGreedy,
-            Schedule::constant(1.0),
-            Schedule::constant(0.1),
-        )),
-        Algorithm::SoftSosmc => LearnerSpec::Sosmc(sosmc(
-            Sigma::Softmax,
-            Schedule::linear(5.0, 3.0, 100),
-            Schedule::constant(3.0),
-        )),
-        Algorithm::SarsaLambda => LearnerSpec::Td(td(0.9, Target::OnPolicy)),
-        Algorithm::Sarsa0 => LearnerSpec::Td(td(0.0, Target::OnPolicy)),
-        Algorithm::QLearning => LearnerSpec::Td(td(0.0, Target::Max)),
-        Algorithm::Mcesp => LearnerSpec::Mcesp(McespConfig {
-            gamma: 1.0,
-            stage_length: 10,
-            alpha_min: 0.01,
-            initial_value: f64::NEG_INFINITY,
-        }),
-        Algorithm::Random => LearnerSpec::Random,
-    }
+    learner_of(
+        algorithm,
+        sosmc,
+        td,
+        (Schedule::linear(5.0, 3.0, 100), Schedule::constant(3.0)),
+    )
 }
 
 /// The thesis's parameters for `algorithm` in `domain` (chapter 6; where the
@@ -151,28 +166,15 @@ pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec
         unestimated: Unestimated::AsBest,
         exploit: ExploitPolicy::Greedy,
     };
-    match algorithm {
-        Algorithm::EpsSosmc => LearnerSpec::Sosmc(sosmc(
-            Sigma::EpsilonGreedy,
-            Schedule::constant(1.0),
-            Schedule::constant(0.1),
-        )),
-        Algorithm::SoftSosmc => LearnerSpec::Sosmc(sosmc(
-            Sigma::Softmax,
+    learner_of(
+        algorithm,
+        sosmc,
+        td,
+        (
             Schedule::linear(1.0, 0.05, 100),
             Schedule::constant(if sutton { 4.0 } else { 0.05 }),
-        )),
-        Algorithm::SarsaLambda => LearnerSpec::Td(td(0.9, Target::OnPolicy)),
-        Algorithm::Sarsa0 => LearnerSpec::Td(td(0.0, Target::OnPolicy)),
-        Algorithm::QLearning => LearnerSpec::Td(td(0.0, Target::Max)),
-        Algorithm::Mcesp => LearnerSpec::Mcesp(McespConfig {
-            gamma: 1.0,
-            stage_length: 10,
-            alpha_min: 0.01,
-            initial_value: f64::NEG_INFINITY,
-        }),
-        Algorithm::Random => LearnerSpec::Random,
-    }
+        ),
+    )
 }
 
 /// The parameters of `algorithm` for a plan outside the thesis's domains (a
@@ -205,28 +207,12 @@ pub fn plan_learner(algorithm: Algorithm) -> LearnerSpec {
         unestimated: Unestimated::AsBest,
         exploit: ExploitPolicy::Greedy,
     };
-    match algorithm {
-        Algorithm::EpsSosmc => LearnerSpec::Sosmc(sosmc(
-            Sigma::EpsilonGreedy,
-            Schedule::constant(1.0),
-            Schedule::constant(0.1),
-        )),
-        Algorithm::SoftSosmc => LearnerSpec::Sosmc(sosmc(
-            Sigma::Softmax,
-            Schedule::linear(1.0, 0.05, 100),
-            Schedule::constant(0.05),
-        )),
-        Algorithm::SarsaLambda => LearnerSpec::Td(td(0.9, Target::OnPolicy)),
-        Algorithm::Sarsa0 => LearnerSpec::Td(td(0.0, Target::OnPolicy)),
-        Algorithm::QLearning => LearnerSpec::Td(td(0.0, Target::Max)),
-        Algorithm::Mcesp => LearnerSpec::Mcesp(McespConfig {
-            gamma: 1.0,
-            stage_length: 10,
-            alpha_min: 0.01,
-            initial_value: f64::NEG_INFINITY,
-        }),
-        Algorithm::Random => LearnerSpec::Random,
-    }
+    learner_of(
+        algorithm,
+        sosmc,
+        td,
+        (Schedule::linear(1.0, 0.05, 100), Schedule::constant(0.05)),
+    )
 }
 
 /// The base seed of experiments and of the thesis's presets.

@@ -9,7 +9,6 @@ use std::sync::Arc;
 use super::agent::PlanKeeper;
 use super::config::{KeepawayDomainConfig, KeepawayMode};
 use crate::domains::TaskError;
-use crate::executor::PlanKey;
 use crate::keepaway_sim::command::Command;
 use crate::keepaway_sim::keeper::{KeeperMemory, keeper_command};
 use crate::keepaway_sim::params::KeepawayConfig;
@@ -127,18 +126,7 @@ impl LocalTeam {
 fn position_traces(plan: &Plan, k: usize) -> impl Iterator<Item = (String, usize, StateKey)> + '_ {
     catalog::POSITIONS.iter().filter_map(move |point| {
         let at = format!("at{point}");
-        crate::domains::driver::marking_with(plan, &[&at, "decide"])
-            .ok()
-            .map(|marking| {
-                (
-                    format!("keeper{}/{point}", k + 1),
-                    k,
-                    StateKey {
-                        plan: PlanKey::ROOT,
-                        marking,
-                    },
-                )
-            })
+        crate::domains::driver::root_key(plan, &[&at, "decide"]).map(|key| (format!("keeper{}/{point}", k + 1), k, key))
     })
 }
 
