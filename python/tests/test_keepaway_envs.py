@@ -4,6 +4,7 @@ experiment."""
 
 import csv
 import subprocess
+import sys
 
 import gymnasium as gym
 import numpy as np
@@ -96,3 +97,17 @@ def test_vector_env_steps_copies_together_with_next_step_autoreset():
     single = play_handcoded(KeepawayPassEnv(), seed, episodes, skipped=False)
     assert ended[0][:episodes] == single
     assert len({tuple(e[:episodes]) for e in ended}) == n, "each copy plays its own run"
+
+
+def test_the_gymnasium_environments_need_no_pettingzoo(tmp_path):
+    # PettingZoo is optional: without it the gymnasium environments work and
+    # the AEC environment says what to install.
+    script = (
+        "import sys; sys.modules['pettingzoo'] = None\n"
+        "import learnpnp.envs as e\n"
+        "e.KeepawayPassEnv().reset(seed=1); e.KeepawayVectorEnv(2).reset(seed=1)\n"
+        "try:\n    e.KeepawayAECEnv\nexcept ImportError as err:\n    print(err)\n"
+    )
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True, cwd=tmp_path)
+    out = run.stdout
+    assert "KeepawayAECEnv needs PettingZoo" in out

@@ -16,8 +16,21 @@ angles in degrees). With seed ``s`` an environment plays run 0 of a ``learnpnp
 experiment`` of base seed ``s`` (copy ``i`` of a vector plays run ``i``).
 """
 
-from .aec import KeepawayAECEnv
 from .single import KeepawayPassEnv
 from .vector import KeepawayVectorEnv
 
 __all__ = ["KeepawayAECEnv", "KeepawayPassEnv", "KeepawayVectorEnv"]
+
+
+def __getattr__(name):
+    """``KeepawayAECEnv`` is imported on first use: it needs PettingZoo, an
+    optional dependency (``pip install './python[pettingzoo]'``)."""
+    if name == "KeepawayAECEnv":
+        try:
+            from .aec import KeepawayAECEnv
+        except ImportError as missing:
+            raise ImportError(
+                "KeepawayAECEnv needs PettingZoo: pip install pettingzoo (or './python[pettingzoo]')"
+            ) from missing
+        return KeepawayAECEnv
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
