@@ -335,6 +335,14 @@ impl StepwiseAgent {
         })
     }
 
+    /// Discards the episode in progress (if any), as when the world lost an
+    /// agent: the learner is not told its end, and the next step begins a new
+    /// episode.
+    pub fn abort_episode(&mut self) {
+        self.world.reward = 0.0;
+        self.in_episode = false;
+    }
+
     /// Ends the episode in progress (if any): the reward reported since the
     /// last step and the steps since the last marking change go to the learner.
     pub fn end_episode(&mut self) {

@@ -1,4 +1,5 @@
-//! `learnpnp-agent`: one keeper's process in a multi-process run (started by
+//! `learnpnp-agent`: one keeper's process in a Keepaway run, or one agent's
+//! in the run of a world in its own process (started by
 //! `learnpnp-supervisor`, which passes every argument).
 
 use std::process::ExitCode;
@@ -7,17 +8,22 @@ use clap::Parser;
 use learnpnp_system::cli::RunContextArgs;
 use learnpnp_system::multiprocess::agent_process::{self, AgentSettings};
 use learnpnp_system::multiprocess::supervisor::EXIT_CANNOT_RESUME;
+use learnpnp_system::multiprocess::world_agent::{self, EXIT_PLAN_DOES_NOT_FIT, WorldAgentSettings};
 use learnpnp_system::multiprocess::{ProcessError, RunContext};
 
-/// One keeper: its plan, learner and executor, behind iceoryx2 services.
+/// One keeper or one world's agent: its plan, learner and executor, behind iceoryx2 services.
 #[derive(Parser)]
 #[command(name = "learnpnp-agent", version)]
+#[command(group = clap::ArgGroup::new("who").required(true).args(["keeper", "world_agent"]))]
 struct Args {
     #[command(flatten)]
     context: RunContextArgs,
-    /// The keeper (1, 2 or 3).
+    /// The keeper (1, 2 or 3) of a Keepaway run.
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=3))]
-    keeper: u8,
+    keeper: Option<u8>,
+    /// The agent (1 to 16) of a world in its own process.
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=16))]
+    world_agent: Option<u8>,
     /// Checkpoint the values every this many learning episodes (0: only on request and at the end).
     #[arg(long, default_value_t = 100)]
     checkpoint_every: u64,
@@ -33,19 +39,38 @@ fn main() -> ExitCode {
     // SAFETY: setting a signal's disposition to "ignore" has no other effect.
     unsafe { libc::signal(libc::SIGXFSZ, libc::SIG_IGN) };
     let args = Args::parse();
-    let settings = AgentSettings {
-        keeper: usize::from(args.keeper) - 1,
-        checkpoint_every: args.checkpoint_every,
-        resume: args.resume,
+    let context = RunContext::from(args.context);
+    let (who, outcome) = match (args.keeper, args.world_agent) {
+        (Some(keeper), _) => {
+            let settings = AgentSettings {
+                keeper: usize::from(keeper) - 1,
+                checkpoint_every: args.checkpoint_every,
+                resume: args.resume,
+            };
+            (format!("keeper {keeper}"), agent_process::run(&context, &settings))
+        }
+        (None, agent) => {
+            let agent = agent.unwrap_or(1);
+            let settings = WorldAgentSettings {
+                agent: usize::from(agent) - 1,
+                checkpoint_every: args.checkpoint_every,
+                resume: args.resume,
+            };
+            (format!("agent {agent}"), world_agent::run(&context, &settings))
+        }
     };
-    match agent_process::run(&RunContext::from(args.context), &settings) {
+    match outcome {
         Ok(()) => ExitCode::SUCCESS,
         Err(e @ ProcessError::CannotResume(_)) => {
-            eprintln!("error: keeper {}: {e}", args.keeper);
+            eprintln!("error: {who}: {e}");
             ExitCode::from(EXIT_CANNOT_RESUME as u8)
         }
+        Err(e @ ProcessError::PlanDoesNotFit(_)) => {
+            eprintln!("error: {who}: {e}");
+            ExitCode::from(EXIT_PLAN_DOES_NOT_FIT as u8)
+        }
         Err(e) => {
-            eprintln!("error: keeper {}: {e}", args.keeper);
+            eprintln!("error: {who}: {e}");
             ExitCode::FAILURE
         }
     }

@@ -13,7 +13,7 @@ use std::time::Duration;
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use learnpnp::experiment::options::DomainName;
-use learnpnp::experiment::spec::Algorithm;
+use learnpnp::experiment::spec::{Algorithm, DomainSpec};
 use learnpnp::named::Named;
 use learnpnp::result_dir::ResultDir;
 use learnpnp_cli::args::{ExperimentFlags, named};
@@ -78,6 +78,15 @@ struct RunArgs {
     /// The experiment.
     #[arg(long, value_enum, default_value = "keepaway-position")]
     domain: Domain,
+    /// Run a world in its own process instead of Keepaway: this command
+    /// (run with `sh -c`, given the run in LEARNPNP_* environment variables;
+    /// see shm_layouts/README.md) serves the world, and --plan is each agent's plan.
+    #[arg(long, requires = "plan")]
+    world_cmd: Option<String>,
+    /// With --world-cmd: how many agents, each in its own process with its
+    /// own learner and checkpoints (1 to 16).
+    #[arg(long, default_value_t = 1, requires = "world_cmd", value_parser = clap::value_parser!(u8).range(1..=16))]
+    agents: u8,
     /// lockstep: step as soon as every command is in; realtime: every 100 ms.
     #[arg(long, value_parser = named::<Clock>(), default_value = "lockstep")]
     mode: Clock,
@@ -148,6 +157,9 @@ struct BenchArgs {
 const DEFAULT_RUNS: usize = 1;
 const DEFAULT_EPISODES: u64 = 10_000;
 
+/// Learning episodes of a world run when the user gives no --episodes.
+const DEFAULT_WORLD_EPISODES: u64 = 1_000;
+
 /// Learning episodes of a soak or benchmark run, which its time limit ends.
 const UNBOUNDED_EPISODES: u64 = 1_000_000_000;
 
@@ -158,11 +170,23 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
         Domain::KeepawayPosition => DomainName::KeepawayPosition,
         Domain::KeepawayPass => DomainName::KeepawayPass,
     };
-    let spec = args
-        .flags
-        .options()
-        .or_defaults(Algorithm::SoftSosmc, DEFAULT_RUNS, episodes)
-        .spec(domain)?;
+    let options = args.flags.options();
+    let spec = match (&args.world_cmd, &options.plan) {
+        (Some(command), Some(plan)) => {
+            let world = DomainSpec::World {
+                command: command.clone(),
+                plan: plan.clone(),
+                agents: usize::from(args.agents),
+            };
+            let episodes = options.episodes.unwrap_or(episodes.min(DEFAULT_WORLD_EPISODES));
+            options
+                .or_defaults(Algorithm::EpsSosmc, DEFAULT_RUNS, episodes)
+                .spec_for(world)?
+        }
+        _ => options
+            .or_defaults(Algorithm::SoftSosmc, DEFAULT_RUNS, episodes)
+            .spec(domain)?,
+    };
     spec.protocol.validate()?;
     let out = ResultDir::open(&args.out)?;
     let wait = args.wait.unwrap_or(match args.mode {
@@ -189,9 +213,13 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
     };
     let p = config.spec.protocol;
     eprintln!(
-        "learnpnp-supervisor: {} with {} on a simulator and 3 keeper processes; {} mode, {} wait; {} run(s) x {} learning episodes, evaluation every {} ({} episodes), seed {}; results in {}",
+        "learnpnp-supervisor: {} with {} on {}; {} mode, {} wait; {} run(s) x {} learning episodes, evaluation every {} ({} episodes), seed {}; results in {}",
         config.spec.domain.name(),
         config.spec.algorithm.name(),
+        match &config.spec.domain {
+            DomainSpec::World { command, agents, .. } => format!("a world ({command}) and {agents} agent process(es)"),
+            _ => "a simulator and 3 keeper processes".to_string(),
+        },
         args.mode.name(),
         wait.name(),
         p.runs,
@@ -227,15 +255,23 @@ fn run_system(
     let report = supervise(config, out, interrupt.flag(), observer)?;
     let summary = &report.summary;
     print!("{}", report.latency_table());
-    if let Some(e) = &summary.experiment {
-        println!(
+    match (&summary.experiment, &config.spec.domain) {
+        (Some(e), DomainSpec::World { .. }) => println!(
+            "learning: final evaluation {:.3} (95% CI {:.3} .. {:.3}), greedy {}",
+            e.final_mean,
+            e.final_ci95[0],
+            e.final_ci95[1],
+            learnpnp::experiment::output::greedy_text(e),
+        ),
+        (Some(e), _) => println!(
             "learning: final evaluation {:.2} s of possession (95% CI {:.2} .. {:.2}), greedy {}, mean episode {:.2} s",
             e.final_mean,
             e.final_ci95[0],
             e.final_ci95[1],
             learnpnp::experiment::output::greedy_text(e),
             summary.mean_episode_seconds
-        );
+        ),
+        (None, _) => {}
     }
     println!(
         "results in {}: summary.json, curve.csv, curve.svg, episodes.csv, latency.svg, latency/*.hgrm, values*.bin, runs/*/ (logs, checkpoints)",

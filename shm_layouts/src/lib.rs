@@ -326,6 +326,154 @@ pub struct Control {
     pub reserved: u32,
 }
 
+/// The most atoms a world has: [`WorldSnapshot::atoms`] is a bitset of this many bits.
+pub const MAX_ATOMS: usize = 256;
+
+/// The most numeric fluents a world has ([`WorldSnapshot::fluents`]).
+pub const MAX_FLUENTS: usize = 16;
+
+/// The most numeric arguments an action takes ([`WorldCommand::args`]).
+pub const MAX_ARGS: usize = 4;
+
+/// The most actions a world has (an action's index is below it).
+pub const MAX_ACTIONS: usize = 256;
+
+/// The most agents a world serves (agent indices `0..MAX_AGENTS`).
+pub const MAX_AGENTS: usize = 16;
+
+/// The bytes of a name in a [`WorldVocabulary`] (UTF-8, padded with zeros;
+/// a name of exactly this length has no terminating zero).
+pub const NAME_LEN: usize = 32;
+
+/// Names carried by one [`WorldVocabulary`] message.
+pub const NAMES_PER_PART: usize = 16;
+
+/// The `sender` of a world's messages: a world takes the simulator's place.
+pub const SENDER_WORLD: u32 = SENDER_SIMULATOR;
+
+/// [`WorldCommand::action`] of a command that names no action: the plan has
+/// ended, or the agent acknowledges the snapshot that ended an episode.
+pub const NO_ACTION: u32 = u32::MAX;
+
+/// Tags of [`WorldSnapshot::episode_status`].
+pub mod episode_status {
+    /// The episode goes on: the agent answers with its next action.
+    pub const RUNNING: u8 = 0;
+    /// The episode reached a terminal state (gymnasium's `terminated`).
+    pub const TERMINATED: u8 = 1;
+    /// The episode was cut short (gymnasium's `truncated`, a step limit).
+    pub const TRUNCATED: u8 = 2;
+    /// The episode is discarded (an agent was lost): agents forget it and
+    /// say they are ready again.
+    pub const ABORTED: u8 = 3;
+}
+
+/// Tags of [`WorldSnapshot::action_status`]: what became of the action the
+/// agent's previous command started.
+pub mod action_status {
+    /// No action in progress (the first snapshot of an episode).
+    pub const NONE: u8 = 0;
+    /// It goes on (a durative action).
+    pub const RUNNING: u8 = 1;
+    /// It ended normally.
+    pub const FINISHED: u8 = 2;
+    /// It failed.
+    pub const FAILED: u8 = 3;
+}
+
+/// One agent's knowledge-base snapshot of a world in its own process: what
+/// holds, the fluents, the reward since the previous snapshot, the episode's
+/// and the action's status. World to agent `agent`, on [`services::world_snapshot`].
+/// Every snapshot is answered by one [`WorldCommand`] carrying its `cycle`.
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[type_name("learnpnp::WorldSnapshot")]
+#[repr(C)]
+pub struct WorldSnapshot {
+    /// Sender [`SENDER_WORLD`].
+    pub header: Header,
+    /// The episode, numbered from 1 by the world process (a restarted world
+    /// numbers afresh).
+    pub episode: u64,
+    /// The snapshot's sequence number over the world process's life, from 1,
+    /// increasing (the same for every agent in one step of the world).
+    pub cycle: u64,
+    /// `CLOCK_MONOTONIC` in nanoseconds when the world published it.
+    pub sent_ns: u64,
+    /// The cycle of this agent's last command the world took (0: none yet).
+    pub answer_cycle: u64,
+    /// `CLOCK_MONOTONIC` in nanoseconds when the world read that command.
+    pub answer_received_ns: u64,
+    /// Reward since the previous snapshot (finite).
+    pub reward: f64,
+    /// The agent this snapshot is for.
+    pub agent: u32,
+    /// Steps of the world since the episode began (0 in its first snapshot).
+    pub step: u32,
+    /// An [`episode_status`] tag.
+    pub episode_status: u8,
+    /// An [`action_status`] tag.
+    pub action_status: u8,
+    /// Zero.
+    pub reserved: [u8; 6],
+    /// The truth of the atoms: atom `i` holds if bit `i % 64` of word `i / 64`
+    /// is set; bits beyond the vocabulary's atoms are zero.
+    pub atoms: [u64; MAX_ATOMS / 64],
+    /// The numeric fluents (finite); those beyond the vocabulary's are zero.
+    pub fluents: [f64; MAX_FLUENTS],
+}
+
+/// An agent's answer to one [`WorldSnapshot`]: the action to run, by its
+/// index in the world's vocabulary, and its arguments. Agent to world, on
+/// [`services::world_command`].
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[type_name("learnpnp::WorldCommand")]
+#[repr(C)]
+pub struct WorldCommand {
+    /// Sender: the agent's index.
+    pub header: Header,
+    /// The snapshot's episode.
+    pub episode: u64,
+    /// The snapshot's cycle.
+    pub cycle: u64,
+    /// Nanoseconds the agent took from reading the snapshot to sending this.
+    pub compute_ns: u64,
+    /// The action's index in the vocabulary's actions, or [`NO_ACTION`].
+    pub action: u32,
+    /// Zero.
+    pub reserved: u32,
+    /// The action's numeric arguments (finite; zero when unused).
+    pub args: [f64; MAX_ARGS],
+}
+
+/// Part of a world's vocabulary: the names of its atoms, fluents and actions,
+/// in that order, [`NAMES_PER_PART`] to a message. World to every agent, on
+/// [`services::WORLD_VOCABULARY`], repeated while the world waits for its agents.
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[type_name("learnpnp::WorldVocabulary")]
+#[repr(C)]
+pub struct WorldVocabulary {
+    /// Sender [`SENDER_WORLD`].
+    pub header: Header,
+    /// The world's atoms (at most [`MAX_ATOMS`]).
+    pub atoms: u32,
+    /// Its fluents (at most [`MAX_FLUENTS`]).
+    pub fluents: u32,
+    /// Its actions (at most [`MAX_ACTIONS`]).
+    pub actions: u32,
+    /// The agents it serves (1 to [`MAX_AGENTS`]).
+    pub agents: u32,
+    /// This message's index, from 0.
+    pub part: u32,
+    /// How many messages the vocabulary takes.
+    pub parts: u32,
+    /// The index of this message's first name in the list atoms, fluents, actions.
+    pub first: u32,
+    /// Names in this message (at most [`NAMES_PER_PART`]).
+    pub count: u32,
+    /// The names, zero-padded; entries beyond `count` are zero.
+    pub names: [[u8; NAME_LEN]; NAMES_PER_PART],
+}
+
 /// The names of the services, relative to the run's iceoryx2 prefix (which
 /// isolates runs from each other).
 pub mod services {
@@ -352,7 +500,25 @@ pub mod services {
         format!("learnpnp/keeper/{k}/command")
     }
 
-    /// The event service that wakes a blocked process (`sim`, `keeper-0`, ...).
+    /// A world to every agent: [`super::WorldVocabulary`].
+    pub const WORLD_VOCABULARY: &str = "learnpnp/world/vocabulary";
+    /// Floor measurement of a world run, supervisor to agent 0: [`super::WorldSnapshot`].
+    pub const WORLD_FLOOR_PING: &str = "learnpnp/world/floor/ping";
+    /// Floor measurement of a world run, agent 0 to supervisor: [`super::WorldCommand`].
+    pub const WORLD_FLOOR_PONG: &str = "learnpnp/world/floor/pong";
+
+    /// A world to agent `a`: [`super::WorldSnapshot`].
+    pub fn world_snapshot(a: usize) -> String {
+        format!("learnpnp/world/agent/{a}/snapshot")
+    }
+
+    /// Agent `a` to its world: [`super::WorldCommand`].
+    pub fn world_command(a: usize) -> String {
+        format!("learnpnp/world/agent/{a}/command")
+    }
+
+    /// The event service that wakes a blocked process (`sim`, `keeper-0`,
+    /// `world`, `agent-0`, ...).
     pub fn wake(process: &str) -> String {
         format!("learnpnp/wake/{process}")
     }
@@ -460,6 +626,157 @@ mod tests {
     }
 
     #[test]
+    fn world_snapshot_layout() {
+        assert_eq!((size_of::<WorldSnapshot>(), align_of::<WorldSnapshot>()), (240, 8));
+        assert_eq!(offset_of!(WorldSnapshot, header), 0);
+        assert_eq!(offset_of!(WorldSnapshot, episode), 16);
+        assert_eq!(offset_of!(WorldSnapshot, cycle), 24);
+        assert_eq!(offset_of!(WorldSnapshot, sent_ns), 32);
+        assert_eq!(offset_of!(WorldSnapshot, answer_cycle), 40);
+        assert_eq!(offset_of!(WorldSnapshot, answer_received_ns), 48);
+        assert_eq!(offset_of!(WorldSnapshot, reward), 56);
+        assert_eq!(offset_of!(WorldSnapshot, agent), 64);
+        assert_eq!(offset_of!(WorldSnapshot, step), 68);
+        assert_eq!(offset_of!(WorldSnapshot, episode_status), 72);
+        assert_eq!(offset_of!(WorldSnapshot, action_status), 73);
+        assert_eq!(offset_of!(WorldSnapshot, reserved), 74);
+        assert_eq!(offset_of!(WorldSnapshot, atoms), 80);
+        assert_eq!(offset_of!(WorldSnapshot, fluents), 112);
+    }
+
+    #[test]
+    fn world_command_layout() {
+        assert_eq!((size_of::<WorldCommand>(), align_of::<WorldCommand>()), (80, 8));
+        assert_eq!(offset_of!(WorldCommand, header), 0);
+        assert_eq!(offset_of!(WorldCommand, episode), 16);
+        assert_eq!(offset_of!(WorldCommand, cycle), 24);
+        assert_eq!(offset_of!(WorldCommand, compute_ns), 32);
+        assert_eq!(offset_of!(WorldCommand, action), 40);
+        assert_eq!(offset_of!(WorldCommand, reserved), 44);
+        assert_eq!(offset_of!(WorldCommand, args), 48);
+    }
+
+    #[test]
+    fn world_vocabulary_layout() {
+        assert_eq!((size_of::<WorldVocabulary>(), align_of::<WorldVocabulary>()), (560, 8));
+        assert_eq!(offset_of!(WorldVocabulary, header), 0);
+        assert_eq!(offset_of!(WorldVocabulary, atoms), 16);
+        assert_eq!(offset_of!(WorldVocabulary, fluents), 20);
+        assert_eq!(offset_of!(WorldVocabulary, actions), 24);
+        assert_eq!(offset_of!(WorldVocabulary, agents), 28);
+        assert_eq!(offset_of!(WorldVocabulary, part), 32);
+        assert_eq!(offset_of!(WorldVocabulary, parts), 36);
+        assert_eq!(offset_of!(WorldVocabulary, first), 40);
+        assert_eq!(offset_of!(WorldVocabulary, count), 44);
+        assert_eq!(offset_of!(WorldVocabulary, names), 48);
+    }
+
+    /// A type's size and its fields' offsets, as `layouts.json` lists them.
+    macro_rules! layout {
+        ($t:ty, $($field:ident),+) => {
+            (
+                stringify!($t),
+                size_of::<$t>(),
+                vec![$((stringify!($field), offset_of!($t, $field))),+],
+            )
+        };
+    }
+
+    /// `layouts.json` as these types make it: every type's size and field
+    /// offsets, and the limits, for programs in other languages to check
+    /// their own mirrors against (the Python world kit's test does).
+    fn layouts_json() -> String {
+        let types = [
+            layout!(Header, version, sender, run_id),
+            layout!(
+                WorldSnapshot,
+                header,
+                episode,
+                cycle,
+                sent_ns,
+                answer_cycle,
+                answer_received_ns,
+                reward,
+                agent,
+                step,
+                episode_status,
+                action_status,
+                reserved,
+                atoms,
+                fluents
+            ),
+            layout!(WorldCommand, header, episode, cycle, compute_ns, action, reserved, args),
+            layout!(
+                WorldVocabulary,
+                header,
+                atoms,
+                fluents,
+                actions,
+                agents,
+                part,
+                parts,
+                first,
+                count,
+                names
+            ),
+            layout!(AgentReport, header, episode, kind, pid, exploratory, reserved),
+            layout!(
+                Heartbeat,
+                header,
+                pid,
+                state,
+                sequence,
+                episodes,
+                cycles,
+                rejected,
+                missed_deadlines,
+                aborted_episodes,
+                checkpoints,
+                checkpoint_failures
+            ),
+            layout!(Control, header, command, target, sequence, pid, reserved),
+        ];
+        let mut out = String::from("{\n  \"protocol_version\": ");
+        out += &format!("{PROTOCOL_VERSION},\n  \"limits\": {{");
+        let limits = [
+            ("MAX_ATOMS", MAX_ATOMS),
+            ("MAX_FLUENTS", MAX_FLUENTS),
+            ("MAX_ARGS", MAX_ARGS),
+            ("MAX_ACTIONS", MAX_ACTIONS),
+            ("MAX_AGENTS", MAX_AGENTS),
+            ("NAME_LEN", NAME_LEN),
+            ("NAMES_PER_PART", NAMES_PER_PART),
+        ];
+        let limits: Vec<String> = limits.iter().map(|(n, v)| format!("\"{n}\": {v}")).collect();
+        out += &limits.join(", ");
+        out += "},\n  \"types\": {\n";
+        let types: Vec<String> = types
+            .iter()
+            .map(|(name, size, fields)| {
+                let fields: Vec<String> = fields.iter().map(|(f, o)| format!("\"{f}\": {o}")).collect();
+                format!(
+                    "    \"{name}\": {{\"size\": {size}, \"offsets\": {{{}}}}}",
+                    fields.join(", ")
+                )
+            })
+            .collect();
+        out += &types.join(",\n");
+        out += "\n  }\n}\n";
+        out
+    }
+
+    #[test]
+    fn layouts_json_is_current() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/layouts.json");
+        let expected = layouts_json();
+        let found = std::fs::read_to_string(path).unwrap_or_default();
+        assert!(
+            found == expected,
+            "{path} is not what the layouts are; it should read:\n{expected}"
+        );
+    }
+
+    #[test]
     fn type_names_are_stable() {
         use iceoryx2::prelude::ZeroCopySend;
         // SAFETY: type_name only reads the derive's constant.
@@ -471,6 +788,9 @@ mod tests {
                 AgentReport::type_name(),
                 Heartbeat::type_name(),
                 Control::type_name(),
+                WorldSnapshot::type_name(),
+                WorldCommand::type_name(),
+                WorldVocabulary::type_name(),
             ]
         };
         assert_eq!(
@@ -482,6 +802,9 @@ mod tests {
                 "learnpnp::AgentReport",
                 "learnpnp::Heartbeat",
                 "learnpnp::Control",
+                "learnpnp::WorldSnapshot",
+                "learnpnp::WorldCommand",
+                "learnpnp::WorldVocabulary",
             ]
         );
     }

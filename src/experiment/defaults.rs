@@ -35,6 +35,7 @@ fn bounds(domain: &DomainSpec) -> Bounds {
         },
         DomainSpec::Keepaway { .. } => Bounds { low: 0.0, high: 60.0 },
         DomainSpec::Nmdp { .. } => Bounds { low: 0.0, high: 20.0 },
+        DomainSpec::World { .. } => Bounds { low: 0.0, high: 0.0 },
     }
 }
 
@@ -116,8 +117,10 @@ fn keepaway_learner(algorithm: Algorithm, mode: KeepawayMode) -> LearnerSpec {
 /// The thesis's parameters for `algorithm` in `domain` (chapter 6; where the
 /// thesis is silent, the choice documented in docs/results/RESULTS.md).
 pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec {
-    if let DomainSpec::Keepaway { config, .. } = domain {
-        return keepaway_learner(algorithm, config.mode);
+    match domain {
+        DomainSpec::Keepaway { config, .. } => return keepaway_learner(algorithm, config.mode),
+        DomainSpec::World { .. } => return plan_learner(algorithm),
+        _ => {}
     }
     let b = bounds(domain);
     let sutton = matches!(domain, DomainSpec::Sutton { .. });
@@ -270,6 +273,15 @@ pub(crate) fn default_protocol(domain: &DomainSpec) -> Protocol {
             eval_episodes: 20,
             greedy_episodes: 100,
             trace_every: None,
+        },
+        // One run (a world process may be a robot); the greedy policy at the end.
+        DomainSpec::World { .. } => Protocol {
+            runs: 1,
+            episodes: 1000,
+            eval_every: 100,
+            eval_episodes: 0,
+            greedy_episodes: 100,
+            trace_every: Some(0),
         },
     }
 }

@@ -173,11 +173,16 @@ impl ExperimentOptions {
 
     /// The experiment these options describe in domain `name`.
     pub fn spec(&self, name: DomainName) -> Result<ExperimentSpec, ExperimentError> {
-        let domain = self.domain(name);
-        let algo = match (self.algo, name) {
-            (Some(a), _) => a,
-            (None, DomainName::KeepawayFixed) => Algorithm::Random,
-            (None, _) => {
+        self.spec_for(self.domain(name))
+    }
+
+    /// The experiment these options describe in `domain` (a world in its
+    /// own process, which has no name of its own on the command line).
+    pub fn spec_for(&self, domain: DomainSpec) -> Result<ExperimentSpec, ExperimentError> {
+        let algo = match self.algo {
+            Some(a) => a,
+            None if domain.is_fixed_policy() => Algorithm::Random,
+            None => {
                 return Err(ExperimentError::Invalid(format!(
                     "--algo is needed for {}",
                     domain.name()

@@ -65,7 +65,20 @@ pub enum DomainSpec {
         /// A plan file for the learning keepers instead of the thesis's plan.
         plan: Option<PathBuf>,
     },
+    /// A world in a process of its own (a robot, a user's simulator, a
+    /// gymnasium environment), played only by `learnpnp-supervisor --world-cmd`.
+    World {
+        /// The command that starts the world process (run with `sh -c`).
+        command: String,
+        /// The plan of every agent.
+        plan: PathBuf,
+        /// How many agents, each in its own process.
+        agents: usize,
+    },
 }
+
+/// The most agents a world serves (as `shm_layouts::MAX_AGENTS`).
+pub const MAX_WORLD_AGENTS: usize = 16;
 
 /// Why an experiment cannot be set up or run.
 #[derive(Debug, thiserror::Error)]
@@ -118,6 +131,16 @@ impl DomainSpec {
                     field("return deviation", ranges::DISTANCE.check(d.sd))?;
                 }
             }
+            DomainSpec::World { agents, command, .. } => {
+                if !(1..=MAX_WORLD_AGENTS).contains(agents) {
+                    return Err(ExperimentError::Invalid(format!(
+                        "agents: {agents} is not between 1 and {MAX_WORLD_AGENTS}"
+                    )));
+                }
+                if command.trim().is_empty() {
+                    return Err(ExperimentError::Invalid("the world command is empty".into()));
+                }
+            }
             DomainSpec::Keepaway { config, .. } => {
                 field("hold-threshold", ranges::DISTANCE.check(config.hold_threshold))?;
                 field("lane-threshold", ranges::DISTANCE.check(config.thresholds.pass_line))?;
@@ -142,6 +165,7 @@ impl DomainSpec {
                 KeepawayMode::Position => "keepaway-position",
                 KeepawayMode::Fixed(_) => "keepaway-fixed",
             },
+            DomainSpec::World { .. } => "world",
         }
     }
 
@@ -197,6 +221,7 @@ impl DomainSpec {
             | DomainSpec::PenaltyKick { plan, .. }
             | DomainSpec::Nmdp { plan, .. }
             | DomainSpec::Keepaway { plan, .. } => plan.as_deref(),
+            DomainSpec::World { plan, .. } => Some(plan),
         }
     }
 
@@ -216,6 +241,7 @@ impl DomainSpec {
             DomainSpec::PenaltyKick { config, plan: None } => penalty_kick::plan(config.variant)?,
             DomainSpec::Nmdp { plan: Some(p), .. } => load_plan(p, Vocabulary::Open)?,
             DomainSpec::Nmdp { plan: None, .. } => nmdp::plan()?,
+            DomainSpec::World { plan, .. } => load_plan(plan, Vocabulary::Open)?,
         };
         for w in plan.warnings() {
             eprintln!("warning: {w}");
@@ -247,6 +273,11 @@ impl DomainSpec {
             }
             DomainSpec::Nmdp { config, .. } => {
                 Box::new(Nmdp::new(*config, plan.ok_or_else(needs_plan)?, learner(0), rng)?)
+            }
+            DomainSpec::World { .. } => {
+                return Err(ExperimentError::Invalid(
+                    "a world in its own process is played by learnpnp-supervisor --world-cmd".into(),
+                ));
             }
         })
     }

@@ -66,7 +66,7 @@ fn bench(c: &mut Criterion) {
     let owner = Namespace::claim_unique().expect("namespace");
     let prefix = owner.namespace().prefix().to_string();
     let node = node(owner.namespace(), "bench").expect("node");
-    let _services = RunServices::create(&node).expect("services");
+    let _services = RunServices::create(&node, learnpnp_system::ipc::protocol::Roster::Keepaway).expect("services");
     let ports = SimPorts::open(&node, WaitStrategy::Yield).expect("ports");
     let mut child = std::process::Command::new(std::env::current_exe().expect("exe"))
         .env(ECHO, &prefix)

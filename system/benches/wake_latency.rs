@@ -137,7 +137,7 @@ fn main() {
     let prefix = owner.namespace().prefix().to_string();
     {
         let node = node(owner.namespace(), "bench").expect("node");
-        let _services = RunServices::create(&node).expect("services");
+        let _services = RunServices::create(&node, learnpnp_system::ipc::protocol::Roster::Keepaway).expect("services");
         let ports = SimPorts::open(&node, WaitStrategy::Block).expect("ports");
         let mut sequence = 0;
         let mut all: Vec<Vec<f64>> = vec![Vec::new(); MODES.len()];

@@ -17,7 +17,7 @@ fn a_blocking_pause_with_no_time_left_returns() {
         let owner = Namespace::claim_unique().unwrap();
         {
             let node = node(owner.namespace(), "waiter").unwrap();
-            let _services = RunServices::create(&node).unwrap();
+            let _services = RunServices::create(&node, learnpnp_system::ipc::protocol::Roster::Keepaway).unwrap();
             let ports = AgentPorts::open(&node, 0, WaitStrategy::Block).unwrap();
             for strategy in [WaitStrategy::Block, WaitStrategy::Hybrid] {
                 let mut idle = Idle::new(strategy);

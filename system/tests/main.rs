@@ -7,3 +7,4 @@ mod util;
 
 mod ipc_wait;
 mod multiprocess;
+mod world;

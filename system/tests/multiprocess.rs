@@ -29,13 +29,13 @@ use shm_layouts::{
 
 /// A test's directories: results, and iceoryx2 namespaces (kept short:
 /// unix socket paths are).
-struct Sandbox {
+pub(crate) struct Sandbox {
     root: PathBuf,
     ipc: PathBuf,
 }
 
 impl Sandbox {
-    fn new(name: &str) -> Self {
+    pub(crate) fn new(name: &str) -> Self {
         let root = std::env::temp_dir().join(format!("learnpnp-mp-{name}-{}", std::process::id()));
         let ipc = PathBuf::from(format!("/tmp/lpt{}-{name}", std::process::id()));
         for dir in [&root, &ipc] {
@@ -45,15 +45,15 @@ impl Sandbox {
         Sandbox { root, ipc }
     }
 
-    fn ipc(&self) -> PathBuf {
+    pub(crate) fn ipc(&self) -> PathBuf {
         self.ipc.clone()
     }
 
-    fn out(&self, name: &str) -> PathBuf {
+    pub(crate) fn out(&self, name: &str) -> PathBuf {
         self.root.join(name)
     }
 
-    fn supervisor(&self, out: &str, args: &[&str]) -> Command {
+    pub(crate) fn supervisor(&self, out: &str, args: &[&str]) -> Command {
         let mut command = Command::new(env!("CARGO_BIN_EXE_learnpnp-supervisor"));
         command
             .arg("--out")
@@ -67,7 +67,7 @@ impl Sandbox {
 
     /// Checks that the namespaces of `prefixes` left nothing, that the
     /// namespace directory is empty and that no process of this test lives.
-    fn assert_clean(&self, prefixes: &[String]) {
+    pub(crate) fn assert_clean(&self, prefixes: &[String]) {
         for prefix in prefixes {
             let left: Vec<String> = fs::read_dir(SHM_DIR)
                 .unwrap()
@@ -112,12 +112,12 @@ impl Drop for Sandbox {
     }
 }
 
-fn summary(out: &Path) -> Value {
+pub(crate) fn summary(out: &Path) -> Value {
     let path = out.join("summary.json");
     serde_json::from_str(&fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))).unwrap()
 }
 
-fn prefixes(summary: &Value) -> Vec<String> {
+pub(crate) fn prefixes(summary: &Value) -> Vec<String> {
     summary["ipc_prefixes"]
         .as_array()
         .unwrap()
@@ -126,7 +126,7 @@ fn prefixes(summary: &Value) -> Vec<String> {
         .collect()
 }
 
-fn wait_until(limit: Duration, mut done: impl FnMut() -> bool) -> bool {
+pub(crate) fn wait_until(limit: Duration, mut done: impl FnMut() -> bool) -> bool {
     let started = Instant::now();
     while started.elapsed() < limit {
         if done() {
@@ -138,7 +138,7 @@ fn wait_until(limit: Duration, mut done: impl FnMut() -> bool) -> bool {
 }
 
 /// Processes whose command line contains every one of `parts`.
-fn pids_with_all(parts: &[&str]) -> Vec<i32> {
+pub(crate) fn pids_with_all(parts: &[&str]) -> Vec<i32> {
     let mut pids = Vec::new();
     for entry in fs::read_dir("/proc").unwrap().flatten() {
         let Ok(pid) = entry.file_name().to_string_lossy().parse::<i32>() else {
@@ -160,7 +160,7 @@ fn pids_with(part: &str) -> Vec<i32> {
     pids_with_all(&[part])
 }
 
-fn kill(pid: i32, signal: i32) {
+pub(crate) fn kill(pid: i32, signal: i32) {
     // SAFETY: kill has no memory effects.
     assert_eq!(unsafe { libc::kill(pid, signal) }, 0, "kill {pid}");
 }

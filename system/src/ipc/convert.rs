@@ -16,7 +16,7 @@ use learnpnp::keepaway_sim::perception::{PlayerId, PlayerView, SeenBall, SeenPla
 use learnpnp::keepaway_sim::world::{NUM_KEEPERS, NUM_PLAYERS};
 use learnpnp::learning::{EpisodeMode, EpisodeStart};
 
-use super::protocol::{AgentNews, CommandReading, EpisodeNews, Order, ProcessState, Pulse, Role, SnapshotMeta};
+use super::protocol::{AgentNews, CommandReading, EpisodeNews, Order, ProcessState, Pulse, Role, Roster, SnapshotMeta};
 
 const _: () = assert!(shm_layouts::NUM_KEEPERS == NUM_KEEPERS && shm_layouts::NUM_PLAYERS == NUM_PLAYERS);
 
@@ -334,9 +334,9 @@ pub fn agent_report(news: AgentNews, keeper: usize, run_id: u64) -> AgentReport 
     }
 }
 
-/// Reads a report: the keeper that sent it and what it says.
-pub fn read_agent_report(msg: &AgentReport, run_id: u64) -> Result<(usize, AgentNews), Rejection> {
-    check_header(&msg.header, run_id, |s| (s as usize) < NUM_KEEPERS)?;
+/// Reads a report from one of `agents` agents: the agent that sent it and what it says.
+pub fn read_agent_report(msg: &AgentReport, run_id: u64, agents: usize) -> Result<(usize, AgentNews), Rejection> {
+    check_header(&msg.header, run_id, |s| (s as usize) < agents)?;
     let news = match (msg.kind, msg.exploratory) {
         (report::READY, 0) => AgentNews::Ready { pid: msg.pid },
         (report::ENDED, e @ (0 | 1)) => AgentNews::Ended {
@@ -346,15 +346,6 @@ pub fn read_agent_report(msg: &AgentReport, run_id: u64) -> Result<(usize, Agent
         _ => return Err(Rejection::Content),
     };
     Ok((msg.header.sender as usize, news))
-}
-
-/// The role of a header's sender, if it is one of the run's processes.
-fn role_of_sender(sender: u32) -> Option<Role> {
-    match sender {
-        SENDER_SIMULATOR => Some(Role::Simulator),
-        k if (k as usize) < NUM_KEEPERS => Some(Role::Keeper(k as usize)),
-        _ => None,
-    }
 }
 
 /// The heartbeat carrying `pulse`.
@@ -379,10 +370,10 @@ pub fn heartbeat(pulse: &Pulse, run_id: u64) -> Heartbeat {
     }
 }
 
-/// Reads a heartbeat.
-pub fn read_heartbeat(msg: &Heartbeat, run_id: u64) -> Result<Pulse, Rejection> {
-    check_header(&msg.header, run_id, |s| role_of_sender(s).is_some())?;
-    let role = role_of_sender(msg.header.sender).ok_or(Rejection::Sender)?;
+/// Reads a heartbeat from one of `roster`'s processes.
+pub fn read_heartbeat(msg: &Heartbeat, run_id: u64, roster: Roster) -> Result<Pulse, Rejection> {
+    check_header(&msg.header, run_id, |s| roster.role_of(s).is_some())?;
+    let role = roster.role_of(msg.header.sender).ok_or(Rejection::Sender)?;
     let state = match msg.state {
         state::STARTING => ProcessState::Starting,
         state::READY => ProcessState::Ready,
@@ -423,6 +414,14 @@ pub fn control_message(order: Order, target: Option<Role>, sequence: u64, run_id
     }
 }
 
+/// The most agents a run of `me`'s kind has (a world checks its own number).
+fn agents_of(me: Role) -> usize {
+    match me {
+        Role::Simulator | Role::Keeper(_) => NUM_KEEPERS,
+        Role::World | Role::Agent(_) => shm_layouts::MAX_AGENTS,
+    }
+}
+
 /// Reads a control message as `me` receives it: `None` if it is for someone else.
 pub fn read_control(msg: &Control, me: Role, run_id: u64) -> Result<Option<Order>, Rejection> {
     check_header(&msg.header, run_id, |s| s == SENDER_SUPERVISOR)?;
@@ -430,14 +429,14 @@ pub fn read_control(msg: &Control, me: Role, run_id: u64) -> Result<Option<Order
     match msg.command {
         control::STOP if for_me => Ok(Some(Order::Stop)),
         control::CHECKPOINT if for_me => Ok(Some(Order::Checkpoint)),
-        control::KEEPER_LOST if (msg.target as usize) < NUM_KEEPERS => {
-            Ok((me == Role::Simulator).then_some(Order::KeeperLost {
+        control::KEEPER_LOST if (msg.target as usize) < agents_of(me) => {
+            Ok(me.is_host().then_some(Order::KeeperLost {
                 keeper: msg.target as usize,
                 pid: msg.pid,
             }))
         }
         control::SIM_RESTARTED if msg.target == control::ALL => {
-            Ok((me != Role::Simulator).then_some(Order::SimulatorRestarted))
+            Ok((!me.is_host()).then_some(Order::SimulatorRestarted))
         }
         control::STOP | control::CHECKPOINT => Ok(None),
         _ => Err(Rejection::Content),
@@ -578,12 +577,12 @@ mod tests {
             episode: 5,
             exploratory: true,
         };
-        assert_eq!(read_agent_report(&agent_report(news, 2, 3), 3), Ok((2, news)));
+        assert_eq!(read_agent_report(&agent_report(news, 2, 3), 3, 3), Ok((2, news)));
         let ready = AgentNews::Ready { pid: 4242 };
-        assert_eq!(read_agent_report(&agent_report(ready, 0, 3), 3), Ok((0, ready)));
+        assert_eq!(read_agent_report(&agent_report(ready, 0, 3), 3, 3), Ok((0, ready)));
         let mut m = agent_report(news, 2, 3);
         m.header.sender = 3;
-        assert_eq!(read_agent_report(&m, 3), Err(Rejection::Sender));
+        assert_eq!(read_agent_report(&m, 3, 3), Err(Rejection::Sender));
 
         let pulse = Pulse {
             role: Role::Keeper(1),
@@ -601,7 +600,7 @@ mod tests {
             checkpoints: 1,
             checkpoint_failures: 0,
         };
-        assert_eq!(read_heartbeat(&heartbeat(&pulse, 3), 3), Ok(pulse));
+        assert_eq!(read_heartbeat(&heartbeat(&pulse, 3), 3, Roster::Keepaway), Ok(pulse));
 
         let stop = control_message(Order::Stop, None, 1, 3);
         assert_eq!(read_control(&stop, Role::Keeper(0), 3), Ok(Some(Order::Stop)));

@@ -13,3 +13,4 @@ pub mod namespace;
 pub mod protocol;
 pub mod services;
 pub mod wait;
+pub mod world;

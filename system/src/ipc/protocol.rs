@@ -77,18 +77,35 @@ pub enum AgentNews {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Role {
-    /// The simulator.
+    /// The Keepaway simulator.
     Simulator,
     /// Keeper k's agent.
     Keeper(usize),
+    /// A world in its own process.
+    World,
+    /// Agent a of a world.
+    Agent(usize),
 }
 
 impl Role {
     /// The header's sender of this role.
     pub fn sender(self) -> u32 {
         match self {
-            Role::Simulator => SENDER_SIMULATOR,
-            Role::Keeper(k) => k as u32,
+            Role::Simulator | Role::World => SENDER_SIMULATOR,
+            Role::Keeper(k) | Role::Agent(k) => k as u32,
+        }
+    }
+
+    /// Whether this role hosts the run's episodes (the simulator or the world).
+    pub fn is_host(self) -> bool {
+        matches!(self, Role::Simulator | Role::World)
+    }
+
+    /// The learner's index of an agent role (`None` for a host).
+    pub fn agent_index(self) -> Option<usize> {
+        match self {
+            Role::Keeper(k) | Role::Agent(k) => Some(k),
+            Role::Simulator | Role::World => None,
         }
     }
 }
@@ -98,6 +115,64 @@ impl std::fmt::Display for Role {
         match self {
             Role::Simulator => write!(f, "simulator"),
             Role::Keeper(k) => write!(f, "keeper {}", k + 1),
+            Role::World => write!(f, "world"),
+            Role::Agent(a) => write!(f, "agent {}", a + 1),
+        }
+    }
+}
+
+/// The processes a run has: Keepaway's simulator and three keepers, or a
+/// world in its own process and its agents.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Roster {
+    /// The Keepaway simulator and its keepers.
+    Keepaway,
+    /// A world and `agents` agents.
+    World {
+        /// How many agents.
+        agents: usize,
+    },
+}
+
+impl Roster {
+    /// How many agent processes.
+    pub fn agents(self) -> usize {
+        match self {
+            Roster::Keepaway => shm_layouts::NUM_KEEPERS,
+            Roster::World { agents } => agents,
+        }
+    }
+
+    /// The host: the simulator or the world.
+    pub fn host(self) -> Role {
+        match self {
+            Roster::Keepaway => Role::Simulator,
+            Roster::World { .. } => Role::World,
+        }
+    }
+
+    /// Agent `k`'s role.
+    pub fn agent(self, k: usize) -> Role {
+        match self {
+            Roster::Keepaway => Role::Keeper(k),
+            Roster::World { .. } => Role::Agent(k),
+        }
+    }
+
+    /// Every role, the host first.
+    pub fn roles(self) -> Vec<Role> {
+        std::iter::once(self.host())
+            .chain((0..self.agents()).map(|k| self.agent(k)))
+            .collect()
+    }
+
+    /// The role of a header's sender, if it is one of the run's processes.
+    pub fn role_of(self, sender: u32) -> Option<Role> {
+        match sender {
+            SENDER_SIMULATOR => Some(self.host()),
+            k if (k as usize) < self.agents() => Some(self.agent(k as usize)),
+            _ => None,
         }
     }
 }

@@ -12,10 +12,12 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::{NodeBuilder, ServiceName, SignalHandlingMode, ZeroCopySend, ipc};
 use iceoryx2::service::port_factory::{event, publish_subscribe};
 use shm_layouts::{
-    AgentReport, Control, EpisodeEvent, Heartbeat, KeeperCommand, KeeperSnapshot, NUM_KEEPERS, services,
+    AgentReport, Control, EpisodeEvent, Heartbeat, KeeperCommand, KeeperSnapshot, NUM_KEEPERS, WorldCommand,
+    WorldSnapshot, WorldVocabulary, services,
 };
 
 use super::namespace::Namespace;
+use super::protocol::{Role, Roster};
 use super::wait::WaitStrategy;
 
 /// The iceoryx2 service variant of every port: inter-process, single-threaded ports.
@@ -120,6 +122,24 @@ pub fn keeper_process(k: usize) -> String {
     format!("keeper-{k}")
 }
 
+/// The wake-up service name of a world.
+pub const WORLD_PROCESS: &str = "world";
+
+/// The wake-up service name of a world's agent `a`.
+pub fn agent_process(a: usize) -> String {
+    format!("agent-{a}")
+}
+
+/// The wake-up service name of `role`'s process.
+pub fn wake_name(role: Role) -> String {
+    match role {
+        Role::Simulator => SIM_PROCESS.to_string(),
+        Role::Keeper(k) => keeper_process(k),
+        Role::World => WORLD_PROCESS.to_string(),
+        Role::Agent(a) => agent_process(a),
+    }
+}
+
 /// A node of the run in `namespace`, named `name`; signals are left to the program.
 pub fn node(namespace: &Namespace, name: &str) -> Result<Node<Ipc>, IpcError> {
     let config = namespace.config()?;
@@ -172,9 +192,26 @@ fn notifier(node: &Node<Ipc>, process: &str) -> Result<Notifier<Ipc>, IpcError> 
 type Service<T> = publish_subscribe::PortFactory<Ipc, T, ()>;
 
 /// Every service of a run, created by the supervisor before it starts the
-/// processes (so the limits are its own) and kept open for the run's life
-/// (the fields are held for that alone).
-pub struct RunServices {
+/// processes (so the limits are its own) and kept open for the run's life.
+pub enum RunServices {
+    /// A Keepaway run's.
+    Keepaway(KeepawayServices),
+    /// A world run's.
+    World(WorldServices),
+}
+
+impl RunServices {
+    /// Creates every service of a run of `roster` on `node`.
+    pub fn create(node: &Node<Ipc>, roster: Roster) -> Result<Self, IpcError> {
+        Ok(match roster {
+            Roster::Keepaway => RunServices::Keepaway(KeepawayServices::create(node)?),
+            Roster::World { agents } => RunServices::World(WorldServices::create(node, agents)?),
+        })
+    }
+}
+
+/// A Keepaway run's services (the fields are held to keep them open).
+pub struct KeepawayServices {
     _snapshots: Vec<Service<KeeperSnapshot>>,
     _commands: Vec<Service<KeeperCommand>>,
     _episode: Service<EpisodeEvent>,
@@ -187,11 +224,11 @@ pub struct RunServices {
     _wake_keepers: Vec<event::PortFactory<Ipc>>,
 }
 
-impl RunServices {
-    /// Creates every service of the run on `node`.
+impl KeepawayServices {
+    /// Creates every service of a Keepaway run on `node`.
     pub fn create(node: &Node<Ipc>) -> Result<Self, IpcError> {
         let keepers = 0..NUM_KEEPERS;
-        Ok(RunServices {
+        Ok(KeepawayServices {
             _snapshots: keepers
                 .clone()
                 .map(|k| pubsub(node, &services::snapshot(k), POINT_TO_POINT))
@@ -209,6 +246,45 @@ impl RunServices {
             _wake_sim: wake_service(node, SIM_PROCESS)?,
             _wake_keepers: keepers
                 .map(|k| wake_service(node, &keeper_process(k)))
+                .collect::<Result<_, _>>()?,
+        })
+    }
+}
+
+/// A world run's services (the fields are held to keep them open).
+pub struct WorldServices {
+    _snapshots: Vec<Service<WorldSnapshot>>,
+    _commands: Vec<Service<WorldCommand>>,
+    _vocabulary: Service<WorldVocabulary>,
+    _agent_report: Service<AgentReport>,
+    _heartbeat: Service<Heartbeat>,
+    _control: Service<Control>,
+    _floor_ping: Service<WorldSnapshot>,
+    _floor_pong: Service<WorldCommand>,
+    _wakes: Vec<event::PortFactory<Ipc>>,
+}
+
+impl WorldServices {
+    /// Creates every service of a world run with `agents` agents on `node`.
+    pub fn create(node: &Node<Ipc>, agents: usize) -> Result<Self, IpcError> {
+        let roster = Roster::World { agents };
+        Ok(WorldServices {
+            _snapshots: (0..agents)
+                .map(|a| pubsub(node, &services::world_snapshot(a), POINT_TO_POINT))
+                .collect::<Result<_, _>>()?,
+            _commands: (0..agents)
+                .map(|a| pubsub(node, &services::world_command(a), POINT_TO_POINT))
+                .collect::<Result<_, _>>()?,
+            _vocabulary: pubsub(node, services::WORLD_VOCABULARY, SHARED)?,
+            _agent_report: pubsub(node, services::AGENT_REPORT, SHARED)?,
+            _heartbeat: pubsub(node, services::HEARTBEAT, SHARED)?,
+            _control: pubsub(node, services::CONTROL, SHARED)?,
+            _floor_ping: pubsub(node, services::WORLD_FLOOR_PING, POINT_TO_POINT)?,
+            _floor_pong: pubsub(node, services::WORLD_FLOOR_PONG, POINT_TO_POINT)?,
+            _wakes: roster
+                .roles()
+                .into_iter()
+                .map(|role| wake_service(node, &wake_name(role)))
                 .collect::<Result<_, _>>()?,
         })
     }
@@ -360,6 +436,92 @@ impl AgentPorts {
     }
 }
 
+/// A world's agent's ports (agent a).
+pub struct WorldAgentPorts {
+    /// Its snapshots.
+    pub snapshot: Sub<WorldSnapshot>,
+    /// Its commands (waking the world).
+    pub command: Outlet<WorldCommand>,
+    /// The world's vocabulary.
+    pub vocabulary: Sub<WorldVocabulary>,
+    /// Its readiness reports to the world (waking it).
+    pub report: Outlet<AgentReport>,
+    /// Heartbeats to the supervisor.
+    pub heartbeat: Pub<Heartbeat>,
+    /// The supervisor's commands.
+    pub control: Sub<Control>,
+    /// The supervisor's floor pings (agent 0 answers them).
+    pub floor_ping: Sub<WorldSnapshot>,
+    /// Floor pongs to the supervisor (which polls without blocking).
+    pub floor_pong: Pub<WorldCommand>,
+    /// Wakes this agent when it blocks.
+    pub wake: Listener<Ipc>,
+}
+
+impl WorldAgentPorts {
+    /// Opens agent `a`'s ports on `node`, for processes that wait with `wait`.
+    pub fn open(node: &Node<Ipc>, a: usize, wait: WaitStrategy) -> Result<Self, IpcError> {
+        let world = [WORLD_PROCESS.to_string()];
+        Ok(WorldAgentPorts {
+            snapshot: subscriber(node, &services::world_snapshot(a), POINT_TO_POINT)?,
+            command: Outlet::open(node, &services::world_command(a), POINT_TO_POINT, &world, wait)?,
+            vocabulary: subscriber(node, services::WORLD_VOCABULARY, SHARED)?,
+            report: Outlet::open(node, services::AGENT_REPORT, SHARED, &world, wait)?,
+            heartbeat: publisher(node, services::HEARTBEAT, SHARED)?,
+            control: subscriber(node, services::CONTROL, SHARED)?,
+            floor_ping: subscriber(node, services::WORLD_FLOOR_PING, POINT_TO_POINT)?,
+            floor_pong: publisher(node, services::WORLD_FLOOR_PONG, POINT_TO_POINT)?,
+            wake: listener(node, &agent_process(a))?,
+        })
+    }
+}
+
+/// A world's ports, for a world written in Rust (the Python world kit opens
+/// the same services).
+pub struct WorldPorts {
+    /// Snapshots to agent a (waking it).
+    pub snapshots: Vec<Outlet<WorldSnapshot>>,
+    /// Commands from agent a.
+    pub commands: Vec<Sub<WorldCommand>>,
+    /// The vocabulary to every agent.
+    pub vocabulary: Pub<WorldVocabulary>,
+    /// Agents' readiness reports.
+    pub reports: Sub<AgentReport>,
+    /// Heartbeats to the supervisor.
+    pub heartbeat: Pub<Heartbeat>,
+    /// The supervisor's commands.
+    pub control: Sub<Control>,
+    /// Wakes the world when it blocks.
+    pub wake: Listener<Ipc>,
+}
+
+impl WorldPorts {
+    /// Opens the ports of a world of `agents` agents on `node`, for processes that wait with `wait`.
+    pub fn open(node: &Node<Ipc>, agents: usize, wait: WaitStrategy) -> Result<Self, IpcError> {
+        Ok(WorldPorts {
+            snapshots: (0..agents)
+                .map(|a| {
+                    Outlet::open(
+                        node,
+                        &services::world_snapshot(a),
+                        POINT_TO_POINT,
+                        &[agent_process(a)],
+                        wait,
+                    )
+                })
+                .collect::<Result<_, _>>()?,
+            commands: (0..agents)
+                .map(|a| subscriber(node, &services::world_command(a), POINT_TO_POINT))
+                .collect::<Result<_, _>>()?,
+            vocabulary: publisher(node, services::WORLD_VOCABULARY, SHARED)?,
+            reports: subscriber(node, services::AGENT_REPORT, SHARED)?,
+            heartbeat: publisher(node, services::HEARTBEAT, SHARED)?,
+            control: subscriber(node, services::CONTROL, SHARED)?,
+            wake: listener(node, WORLD_PROCESS)?,
+        })
+    }
+}
+
 /// The supervisor's ports.
 pub struct SupervisorPorts {
     /// Every process's heartbeats.
@@ -369,13 +531,37 @@ pub struct SupervisorPorts {
 }
 
 impl SupervisorPorts {
-    /// Opens the supervisor's ports on `node`, for processes that wait with `wait`.
-    pub fn open(node: &Node<Ipc>, wait: WaitStrategy) -> Result<Self, IpcError> {
-        let mut everyone = vec![SIM_PROCESS.to_string()];
-        everyone.extend(every_keeper());
+    /// Opens the supervisor's ports on `node` for a run of `roster`, whose
+    /// processes wait with `wait`.
+    pub fn open(node: &Node<Ipc>, wait: WaitStrategy, roster: Roster) -> Result<Self, IpcError> {
+        let everyone: Vec<String> = roster.roles().into_iter().map(wake_name).collect();
         Ok(SupervisorPorts {
             heartbeats: subscriber(node, services::HEARTBEAT, SHARED)?,
             control: Outlet::open(node, services::CONTROL, SHARED, &everyone, wait)?,
+        })
+    }
+}
+
+/// The supervisor's side of a world run's floor measurement with agent 0.
+pub struct FloorPorts {
+    /// Pings to agent 0 (waking it).
+    pub ping: Outlet<WorldSnapshot>,
+    /// Its pongs.
+    pub pong: Sub<WorldCommand>,
+}
+
+impl FloorPorts {
+    /// Opens them on `node`, for an agent that waits with `wait`.
+    pub fn open(node: &Node<Ipc>, wait: WaitStrategy) -> Result<Self, IpcError> {
+        Ok(FloorPorts {
+            ping: Outlet::open(
+                node,
+                services::WORLD_FLOOR_PING,
+                POINT_TO_POINT,
+                &[agent_process(0)],
+                wait,
+            )?,
+            pong: subscriber(node, services::WORLD_FLOOR_PONG, POINT_TO_POINT)?,
         })
     }
 }

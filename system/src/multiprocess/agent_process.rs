@@ -151,7 +151,7 @@ impl Brain {
 /// Loads a checkpoint for a restart: the file, or, if it is unusable, its
 /// previous good version, reporting the problem; an error naming the file if
 /// neither can be used or the values belong to another plan.
-fn load_checkpoint(path: &Path, plan: &Plan) -> Result<SavedValues, ProcessError> {
+pub(super) fn load_checkpoint(path: &Path, plan: &Plan) -> Result<SavedValues, ProcessError> {
     let saved = match persist::load(path) {
         Ok(saved) => saved,
         Err(problem) => {

@@ -329,10 +329,7 @@ impl Chaos {
         let keepers: Vec<(usize, u32)> = view
             .processes
             .iter()
-            .filter_map(|(role, pid)| match role {
-                Role::Keeper(k) => Some((*k, *pid)),
-                Role::Simulator => None,
-            })
+            .filter_map(|(role, pid)| role.agent_index().map(|k| (k, *pid)))
             .filter(|(k, _)| !learning_only || view.work_dir.join(checkpoint_name(*k)).exists())
             .collect();
         if keepers.is_empty() {

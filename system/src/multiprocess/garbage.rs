@@ -9,7 +9,7 @@ use iceoryx2::node::Node;
 use iceoryx2::prelude::{ServiceName, ZeroCopySend};
 use shm_layouts::{
     AgentReport, Control, EpisodeEvent, Header, KeeperCommand, KeeperSnapshot, NUM_KEEPERS, PROTOCOL_VERSION,
-    SENDER_SIMULATOR, SENDER_SUPERVISOR, services,
+    SENDER_SIMULATOR, SENDER_SUPERVISOR, WorldCommand, WorldSnapshot, WorldVocabulary, services,
 };
 
 use super::sim_process::floor_ping;
@@ -28,6 +28,12 @@ pub struct Garbage {
     pub reports: Vec<AgentReport>,
     /// On the supervisor's control service.
     pub control: Vec<Control>,
+    /// A world run: snapshots on agent a's service (index a).
+    pub world_snapshots: Vec<Vec<WorldSnapshot>>,
+    /// A world run: commands on agent a's service (index a).
+    pub world_commands: Vec<Vec<WorldCommand>>,
+    /// A world run: vocabulary parts.
+    pub vocabulary: Vec<WorldVocabulary>,
 }
 
 /// How many subscribers a service's garbage reached (the fewest over its messages).
@@ -168,8 +174,18 @@ impl Garbage {
         let episode = burst(node, services::EPISODE, &self.episode, &mut delivered)?;
         let reports = burst(node, services::AGENT_REPORT, &self.reports, &mut delivered)?;
         let control = burst(node, services::CONTROL, &self.control, &mut delivered)?;
+        let mut world_snapshots = Vec::new();
+        for (a, values) in self.world_snapshots.iter().enumerate() {
+            world_snapshots.push(burst(node, &services::world_snapshot(a), values, &mut delivered)?);
+        }
+        let mut world_commands = Vec::new();
+        for (a, values) in self.world_commands.iter().enumerate() {
+            world_commands.push(burst(node, &services::world_command(a), values, &mut delivered)?);
+        }
+        let vocabulary = burst(node, services::WORLD_VOCABULARY, &self.vocabulary, &mut delivered)?;
         std::thread::sleep(hold);
         drop((commands, snapshots, episode, reports, control));
+        drop((world_snapshots, world_commands, vocabulary));
         Ok(delivered)
     }
 }

@@ -1,9 +1,11 @@
-//! The simulator's journal: one JSON line per whole episode (its mode, what
-//! it earned, the simulator's random state after it, and the counters), so a
-//! simulator that was killed can be restarted from the last episode boundary.
-//! The restarted simulator replays the journaled outcomes through the
-//! protocol (rebuilding the run's results without playing them again),
-//! restores the random state, and plays on.
+//! A journal of whole episodes: one JSON line per episode. The simulator's
+//! ([`JournalEntry`]: its mode, what it earned, the simulator's random state
+//! after it, and the counters) lets a simulator that was killed be restarted
+//! from the last episode boundary: it replays the journaled outcomes through
+//! the protocol (rebuilding the run's results without playing them again),
+//! restores the random state, and plays on. A world's agent, which runs the
+//! protocol itself, journals its episodes the same way
+//! (`super::world_agent`).
 //!
 //! Lines are appended and flushed (no `fsync`: they outlive the process,
 //! which is what a restart needs). A kill in the middle of a line leaves a
@@ -60,7 +62,7 @@ pub enum JournalError {
 }
 
 /// Reads every whole entry of the journal at `path` (none if there is no journal).
-pub fn read(path: &Path) -> Result<Vec<JournalEntry>, JournalError> {
+pub fn read<E: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<E>, JournalError> {
     let io = |source| JournalError::Io {
         path: path.to_path_buf(),
         source,
@@ -99,7 +101,7 @@ pub struct Journal {
 impl Journal {
     /// Opens the journal at `path`: a fresh one (truncated) or, to resume, the
     /// one there is with `keep` whole entries (a torn last line is cut off).
-    pub fn open(path: &Path, keep: &[JournalEntry]) -> Result<Self, JournalError> {
+    pub fn open<E: Serialize>(path: &Path, keep: &[E]) -> Result<Self, JournalError> {
         let io = |source| JournalError::Io {
             path: path.to_path_buf(),
             source,
@@ -116,7 +118,7 @@ impl Journal {
     }
 
     /// Appends `entry` and flushes it to the operating system.
-    pub fn append(&mut self, entry: &JournalEntry) -> Result<(), JournalError> {
+    pub fn append<E: Serialize>(&mut self, entry: &E) -> Result<(), JournalError> {
         write_line(&mut self.file, entry)
             .and_then(|()| self.file.flush())
             .map_err(|source| JournalError::Io {
@@ -126,7 +128,7 @@ impl Journal {
     }
 }
 
-fn write_line(file: &mut File, entry: &JournalEntry) -> io::Result<()> {
+fn write_line<E: Serialize>(file: &mut File, entry: &E) -> io::Result<()> {
     let mut line = serde_json::to_vec(entry).map_err(io::Error::other)?;
     line.push(b'\n');
     file.write_all(&line)
@@ -160,27 +162,30 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("learnpnp-journal-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join(JOURNAL_FILE);
-        let mut journal = Journal::open(&path, &[]).unwrap();
+        let mut journal = Journal::open::<JournalEntry>(&path, &[]).unwrap();
         for i in 1..=3 {
             journal.append(&entry(i)).unwrap();
         }
         drop(journal);
         let mut text = std::fs::read_to_string(&path).unwrap();
-        assert_eq!(read(&path).unwrap(), vec![entry(1), entry(2), entry(3)]);
+        assert_eq!(read::<JournalEntry>(&path).unwrap(), vec![entry(1), entry(2), entry(3)]);
         text.push_str("{\"mode\":\"Le");
         std::fs::write(&path, &text).unwrap();
-        let read_back = read(&path).unwrap();
+        let read_back = read::<JournalEntry>(&path).unwrap();
         assert_eq!(read_back.len(), 3, "the torn line is ignored");
         let mut journal = Journal::open(&path, &read_back).unwrap();
         journal.append(&entry(4)).unwrap();
         assert_eq!(
-            read(&path).unwrap().len(),
+            read::<JournalEntry>(&path).unwrap().len(),
             4,
             "and cut off when the journal is reopened"
         );
         std::fs::write(&path, format!("garbage\n{text}")).unwrap();
-        assert!(matches!(read(&path), Err(JournalError::Corrupt { line: 1, .. })));
-        assert!(read(&dir.join("none")).unwrap().is_empty());
+        assert!(matches!(
+            read::<JournalEntry>(&path),
+            Err(JournalError::Corrupt { line: 1, .. })
+        ));
+        assert!(read::<JournalEntry>(&dir.join("none")).unwrap().is_empty());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

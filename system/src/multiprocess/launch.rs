@@ -12,7 +12,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 
 use super::RunContext;
+use crate::ipc::namespace::Namespace;
 use crate::ipc::protocol::Role;
+use learnpnp::experiment::spec::{DomainSpec, ExperimentSpec};
+use learnpnp::rng::derive_seed;
 
 /// The simulator's binary.
 pub const SIM_BINARY: &str = "learnpnp-sim";
@@ -186,20 +189,61 @@ impl Process {
 /// Starts `binary` as `role` with `args`, its output appended to `log`; it
 /// gets its own process group and is killed when the supervisor dies.
 pub fn spawn(binary: &Path, role: Role, args: &[OsString], log: &Path) -> Result<Process, LaunchError> {
+    let mut command = Command::new(binary);
+    command.args(args);
+    spawn_command(command, role, &binary.display().to_string(), log)
+}
+
+/// Starts the world of `spec` (a [`DomainSpec::World`]) for `context`'s run
+/// with `sh -c`, in the supervisor's working directory, with the run in its
+/// environment (`shm_layouts/README.md`: the world process's environment).
+pub fn spawn_world(
+    spec: &ExperimentSpec,
+    context: &RunContext,
+    namespace: &Namespace,
+    log: &Path,
+) -> Result<Process, LaunchError> {
+    let DomainSpec::World {
+        command: line, agents, ..
+    } = &spec.domain
+    else {
+        return Err(LaunchError::Spawn {
+            what: "the world".into(),
+            source: io::Error::other(format!("the experiment is {}, not a world", spec.domain.name())),
+        });
+    };
+    use super::supervisor::{WORLD_PERIOD, world_env};
+    let seed = derive_seed(derive_seed(spec.seed, context.run as u64), WORLD_SEED_STREAM);
+    let mut command = Command::new("sh");
+    command
+        .arg("-c")
+        .arg(line)
+        .env(world_env::PREFIX, namespace.prefix())
+        .env(world_env::ROOT, format!("{}/", namespace.root().display()))
+        .env(world_env::RUN_ID, context.run_id.to_string())
+        .env(world_env::AGENTS, agents.to_string())
+        .env(world_env::CLOCK, context.clock.name())
+        .env(world_env::PERIOD_MS, WORLD_PERIOD.as_millis().to_string())
+        .env(world_env::WAIT, context.wait.name())
+        .env(world_env::SEED, seed.to_string());
+    spawn_command(command, Role::World, line, log)
+}
+
+/// The stream of a run's seed the world's seed is drawn from (the run's task
+/// stream, as an in-process domain's world draws from it).
+const WORLD_SEED_STREAM: u64 = 2;
+
+/// Starts `command` as `role` (described as `what`), its output appended to
+/// `log`; it gets its own process group and is killed when the supervisor dies.
+fn spawn_command(mut command: Command, role: Role, what: &str, log: &Path) -> Result<Process, LaunchError> {
     let fail = |source| LaunchError::Spawn {
-        what: format!("{role} ({})", binary.display()),
+        what: format!("{role} ({what})"),
         source,
     };
     let out = File::options().create(true).append(true).open(log).map_err(fail)?;
     let err = out.try_clone().map_err(fail)?;
     let parent = std::process::id();
-    let mut command = Command::new(binary);
-    command
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(out)
-        .stderr(err)
-        .process_group(0);
+    command.stdin(Stdio::null()).stdout(out).stderr(err).process_group(0);
     // SAFETY: the closure only calls async-signal-safe functions (prctl, getppid).
     unsafe {
         command.pre_exec(move || {

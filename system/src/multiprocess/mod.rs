@@ -20,6 +20,7 @@
 pub mod agent_process;
 pub mod bench_latency;
 pub mod chaos;
+pub mod floor_probe;
 pub mod garbage;
 pub mod journal;
 pub mod launch;
@@ -28,6 +29,8 @@ pub mod report;
 pub mod sim_process;
 pub mod soak;
 pub mod supervisor;
+pub mod world_agent;
+pub mod world_host;
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -140,6 +143,21 @@ pub enum ProcessError {
     /// There is no such keeper (1-based).
     #[error("there is no keeper {0}")]
     NoKeeper(usize),
+    /// There is no such agent of the world (1-based).
+    #[error("there is no agent {0}")]
+    NoAgent(usize),
+    /// A world agent's plan cannot be run by the stepwise executor.
+    #[error("the agent's plan cannot run: {0}")]
+    Task(learnpnp::domains::TaskError),
+    /// A world agent's plan names atoms or actions the world lacks.
+    #[error("{0}")]
+    PlanDoesNotFit(Box<world_agent::Misfit>),
+    /// The world announced no vocabulary.
+    #[error("the world announced no vocabulary within {0} s")]
+    NoVocabulary(u64),
+    /// The supervisor said stop.
+    #[error("stopped")]
+    Stopped,
     /// The keeper's plan cannot be run in its world.
     #[error("the keeper's plan cannot run: {0}")]
     PlanCannotRun(learnpnp::executor::ExecError),

@@ -158,7 +158,9 @@ impl Link {
     /// Reads the agents' reports: readiness clears `awaiting`, episode ends go to `ended`.
     fn read_reports(&mut self, episode: u64, ended: &mut [Option<bool>; NUM_KEEPERS]) -> Result<(), TaskError> {
         let run_id = self.context.run_id;
-        while let Some(report) = receive(&self.ports.reports, |m| read_agent_report(m, run_id)).map_err(remote)? {
+        while let Some(report) =
+            receive(&self.ports.reports, |m| read_agent_report(m, run_id, NUM_KEEPERS)).map_err(remote)?
+        {
             match report {
                 Ok((k, AgentNews::Ready { pid })) => {
                     self.ready[k] = Some(pid);
@@ -622,7 +624,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
     let spec = context.load_spec()?;
     let config = keepaway_config(&spec)?;
     let journal_path = context.work_dir.join(JOURNAL_FILE);
-    let replay = if resume {
+    let replay: Vec<JournalEntry> = if resume {
         journal::read(&journal_path)?
     } else {
         Vec::new()
@@ -708,7 +710,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
 /// Every learning episode of the journal at `path`, numbered as the protocol
 /// numbers them.
 fn learning_episodes(path: &Path) -> Result<Vec<EpisodeRecord>, journal::JournalError> {
-    let learning = journal::read(path)?
+    let learning = journal::read::<JournalEntry>(path)?
         .into_iter()
         .filter(|e| e.mode == EpisodeMode::Learn);
     Ok((1..)

@@ -1,9 +1,10 @@
 //! The supervisor: for each run of an experiment it picks a run-unique
-//! iceoryx2 namespace, creates the services, starts the simulator and one
-//! agent process per keeper, watches their exit status and heartbeats,
-//! restarts an agent that dies or hangs (from its last checkpoint; the
-//! simulator aborts the episode in flight), stops everything on request with a
-//! final checkpoint, and removes every shared-memory file of the run.
+//! iceoryx2 namespace, creates the services, starts the host (the Keepaway
+//! simulator, or a world in its own process) and one agent process per
+//! keeper or agent, watches their exit status and heartbeats, restarts an
+//! agent that dies or hangs (from its last checkpoint; the host aborts the
+//! episode in flight) and a world that dies, stops everything on request with
+//! a final checkpoint, and removes every shared-memory file of the run.
 
 use learnpnp::result_dir::{self, ResultDir, ResultDirError};
 use std::collections::BTreeMap;
@@ -17,19 +18,20 @@ use rand::RngExt;
 use serde::Serialize;
 
 use super::agent_process::{checkpoint_name, compute_histogram, resumed_file};
-use super::launch::{Binaries, LaunchError, Process, set_fifo_priority, spawn};
+use super::floor_probe::FloorProbe;
+use super::launch::{Binaries, LaunchError, Process, set_fifo_priority, spawn, spawn_world};
 use super::sim_process::{FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult};
+use super::world_agent::{EXIT_PLAN_DOES_NOT_FIT, agent_compute_histogram, agent_result_file};
 use super::{Clock, ProcessError, RunContext};
 use crate::ipc::convert::{Rejections, control_message, read_heartbeat};
 use crate::ipc::namespace::{Namespace, NamespaceError, NamespaceOwner};
-use crate::ipc::protocol::{Order, Pulse, Role};
+use crate::ipc::protocol::{Order, Pulse, Role, Roster};
 use crate::ipc::services::{Ipc, IpcError, RunServices, SupervisorPorts, node, receive};
 use crate::ipc::wait::WaitStrategy;
 use crate::latency::plot::PlotFailure;
 use crate::latency::{Latency, LatencyError};
 use iceoryx2::node::Node;
 use learnpnp::experiment::spec::{ExperimentError, ExperimentSpec};
-use learnpnp::keepaway_sim::world::NUM_KEEPERS;
 use learnpnp::learning::persist::{self, PersistError, SavedValues};
 
 /// The file in a run's work directory naming its iceoryx2 prefix and run id
@@ -39,6 +41,29 @@ pub const IDENTITY_FILE: &str = "ipc.json";
 /// The exit code of an agent that cannot resume from its checkpoint: it is
 /// not restarted again.
 pub const EXIT_CANNOT_RESUME: i32 = 3;
+
+/// The variables that give a world process its run (`shm_layouts/README.md`).
+pub mod world_env {
+    /// The run's iceoryx2 prefix.
+    pub const PREFIX: &str = "LEARNPNP_IPC_PREFIX";
+    /// The run's iceoryx2 root directory, ending in `/`.
+    pub const ROOT: &str = "LEARNPNP_IPC_ROOT";
+    /// The run id.
+    pub const RUN_ID: &str = "LEARNPNP_RUN_ID";
+    /// How many agents.
+    pub const AGENTS: &str = "LEARNPNP_AGENTS";
+    /// `lockstep` or `realtime`.
+    pub const CLOCK: &str = "LEARNPNP_CLOCK";
+    /// Real time: the cycle in milliseconds.
+    pub const PERIOD_MS: &str = "LEARNPNP_PERIOD_MS";
+    /// The wait strategy.
+    pub const WAIT: &str = "LEARNPNP_WAIT";
+    /// The world's seed for the run.
+    pub const SEED: &str = "LEARNPNP_SEED";
+}
+
+/// A world's real-time cycle: 100 ms, as the soccer server's (a robot at 10 Hz).
+pub const WORLD_PERIOD: Duration = Duration::from_millis(100);
 
 /// How the supervisor runs the system.
 #[derive(Debug, Clone)]
@@ -69,6 +94,16 @@ pub struct SupervisorConfig {
     pub restart_simulator: bool,
     /// The simulator's and agents' binaries.
     pub binaries: Binaries,
+}
+
+impl SupervisorConfig {
+    /// The run's processes: Keepaway's, or a world's and its agents.
+    pub fn roster(&self) -> Roster {
+        match self.spec.domain {
+            learnpnp::experiment::spec::DomainSpec::World { agents, .. } => Roster::World { agents },
+            _ => Roster::Keepaway,
+        }
+    }
 }
 
 /// Why a run of the system failed.
@@ -145,6 +180,14 @@ pub enum RunFailure {
         /// How many times it happened.
         restarts: u32,
         /// The last lines of its log.
+        log: String,
+    },
+    /// An agent's plan names atoms or actions the world lacks.
+    #[error("{what}: {log}")]
+    PlanDoesNotFit {
+        /// What happened.
+        what: String,
+        /// The last lines of its log (the lists).
         log: String,
     },
     /// The simulator was lost once more than the restarts allowed.
@@ -372,8 +415,13 @@ struct Watch<'a> {
     last_heard: BTreeMap<Role, Instant>,
     pulses: BTreeMap<(Role, u32), Pulse>,
     faults: Vec<Fault>,
-    restarts: [u32; NUM_KEEPERS],
-    simulator_restarts: u32,
+    roster: Roster,
+    /// Restarts of each process so far.
+    restarts: BTreeMap<Role, u32>,
+    /// World runs: agents that completed their protocol and exited.
+    done: Vec<usize>,
+    /// World runs: the floor measurement's ports (pings to agent 0).
+    floor: Option<FloorProbe>,
     /// The run was asked to stop (a signal, or an observer).
     stop_requested: bool,
     resumes: Vec<PendingResume>,
@@ -387,6 +435,8 @@ impl Watch<'_> {
         let name = match role {
             Role::Simulator => "simulator.log".to_string(),
             Role::Keeper(k) => format!("keeper{}.log", k + 1),
+            Role::World => "world.log".to_string(),
+            Role::Agent(a) => format!("agent{}.log", a + 1),
         };
         self.context.work_dir.join(name)
     }
@@ -402,15 +452,31 @@ impl Watch<'_> {
                 args.push(self.config.floor_round_trips.to_string().into());
                 &self.config.binaries.sim
             }
-            Role::Keeper(k) => {
-                args.push("--keeper".into());
+            Role::Keeper(k) | Role::Agent(k) => {
+                args.push(
+                    if role == Role::Keeper(k) {
+                        "--keeper"
+                    } else {
+                        "--world-agent"
+                    }
+                    .into(),
+                );
                 args.push((k + 1).to_string().into());
                 args.push("--checkpoint-every".into());
                 args.push(self.config.checkpoint_every.to_string().into());
                 &self.config.binaries.agent
             }
+            Role::World => {
+                let process = spawn_world(&self.config.spec, &self.context, self.namespace, &self.log(role))?;
+                return self.started(role, process);
+            }
         };
         let process = spawn(binary, role, &args, &self.log(role))?;
+        self.started(role, process)
+    }
+
+    /// Takes a started process into the fleet.
+    fn started(&mut self, role: Role, process: Process) -> Result<(), SupervisorError> {
         if let Some(priority) = self.fifo_priority()
             && let Err(e) = set_fifo_priority(process.pid(), priority)
         {
@@ -458,8 +524,8 @@ impl Watch<'_> {
 
     /// Reads the heartbeats.
     fn heartbeats(&mut self) -> Result<(), SupervisorError> {
-        let run_id = self.context.run_id;
-        while let Some(reading) = receive(&self.ports.heartbeats, |m| read_heartbeat(m, run_id))? {
+        let (run_id, roster) = (self.context.run_id, self.roster);
+        while let Some(reading) = receive(&self.ports.heartbeats, |m| read_heartbeat(m, run_id, roster))? {
             // Heartbeats that do not read are a foreign process's: ignored here,
             // counted by the processes that must act on such messages.
             if let Ok(pulse) = reading {
@@ -477,16 +543,24 @@ impl Watch<'_> {
         Ok(())
     }
 
-    /// Replaces keeper `k`'s agent after it `what` (exited or hung).
+    /// Counts one more restart of `role`; returns how many so far.
+    fn count_restart(&mut self, role: Role) -> u32 {
+        let restarts = self.restarts.entry(role).or_default();
+        *restarts += 1;
+        *restarts
+    }
+
+    /// Replaces agent `k` (a keeper or a world's agent) after it `what` (exited or hung).
     fn restart(&mut self, k: usize, what: String) -> Result<(), SupervisorError> {
-        self.restarts[k] += 1;
-        if self.restarts[k] > self.config.max_restarts {
+        let role = self.roster.agent(k);
+        let restarts = self.count_restart(role);
+        if restarts > self.config.max_restarts {
             let outcome = format!("not restarted: {} restarts already", self.config.max_restarts);
             self.fault(what.clone(), outcome);
             return Err(RunFailure::TooManyRestarts {
                 what,
-                restarts: self.restarts[k],
-                log: log_tail(&self.log(Role::Keeper(k))),
+                restarts,
+                log: log_tail(&self.log(role)),
             }
             .into());
         }
@@ -498,9 +572,9 @@ impl Watch<'_> {
                 .ok()
                 .map(|values| (values, "previous checkpoint")),
         };
-        self.start(Role::Keeper(k), true)?;
-        let pid = self.fleet.processes.get(&Role::Keeper(k)).map_or(0, Process::pid);
-        self.order(Order::KeeperLost { keeper: k, pid }, Some(Role::Simulator))?;
+        self.start(role, true)?;
+        let pid = self.fleet.processes.get(&role).map_or(0, Process::pid);
+        self.order(Order::KeeperLost { keeper: k, pid }, Some(self.roster.host()))?;
         self.resumes.push(PendingResume {
             keeper: k,
             pid,
@@ -518,15 +592,24 @@ impl Watch<'_> {
         Ok(())
     }
 
-    fn may_restart_simulator(&self) -> bool {
-        self.config.restart_simulator && !self.stop_requested
+    /// Whether a host that died is restarted: a world always (the agents
+    /// keep the protocol), the simulator in chaos soaks.
+    fn may_restart_host(&self) -> bool {
+        let restartable = self.config.restart_simulator || self.roster != Roster::Keepaway;
+        restartable && !self.stop_requested && !self.agents_done()
     }
 
-    /// Replaces the simulator after it `what`: the new one continues from its
-    /// journal's last episode boundary; the agents drop the episode in progress.
-    fn restart_simulator(&mut self, what: String) -> Result<(), SupervisorError> {
-        self.simulator_restarts += 1;
-        if self.simulator_restarts > self.config.max_restarts {
+    /// World runs: every agent has completed its protocol.
+    fn agents_done(&self) -> bool {
+        self.roster != Roster::Keepaway && self.done.len() == self.roster.agents()
+    }
+
+    /// Replaces the host after it `what`: a new simulator continues from its
+    /// journal's last episode boundary, a new world begins a new episode;
+    /// the agents drop the episode in progress.
+    fn restart_host(&mut self, what: String) -> Result<(), SupervisorError> {
+        let host = self.roster.host();
+        if self.count_restart(host) > self.config.max_restarts {
             self.fault(
                 what.clone(),
                 format!("not restarted: {} restarts already", self.config.max_restarts),
@@ -534,18 +617,23 @@ impl Watch<'_> {
             return Err(RunFailure::SimulatorGivenUp { what }.into());
         }
         self.order(Order::SimulatorRestarted, None)?;
-        self.start(Role::Simulator, true)?;
-        self.fault(what, "restarted from its journal's last episode boundary".into());
+        self.start(host, true)?;
+        let outcome = match host {
+            Role::World => "restarted; the agents dropped the episode in flight",
+            _ => "restarted from its journal's last episode boundary",
+        };
+        self.fault(what, outcome.into());
         Ok(())
     }
 
     /// What an observer sees now.
     fn view(&self) -> RunView<'_> {
+        let host = self.roster.host();
         let simulator = self
             .fleet
             .processes
-            .get(&Role::Simulator)
-            .and_then(|p| self.pulses.get(&(Role::Simulator, p.pid())));
+            .get(&host)
+            .and_then(|p| self.pulses.get(&(host, p.pid())));
         RunView {
             run: self.context.run,
             seconds: self.started.elapsed().as_secs_f64(),
@@ -563,11 +651,14 @@ impl Watch<'_> {
         }
     }
 
-    /// Watches until the simulator exits; restarts agents on the way.
+    /// Watches until the host exits; restarts agents on the way.
     fn watch(&mut self, stop: &AtomicBool, observer: &mut dyn RunObserver) -> Result<ExitStatus, SupervisorError> {
         loop {
             self.heartbeats()?;
             self.consult(stop, observer)?;
+            if let Some(floor) = &mut self.floor {
+                floor.sample()?;
+            }
             if let Some(status) = self.reap()? {
                 return Ok(status);
             }
@@ -588,13 +679,13 @@ impl Watch<'_> {
         }
         if !self.stop_requested && (stop.load(Ordering::Relaxed) || !go_on) {
             self.stop_requested = true;
-            self.order(Order::Stop, Some(Role::Simulator))?;
+            self.order(Order::Stop, Some(self.roster.host()))?;
             let why = if go_on {
                 "stop requested (signal)"
             } else {
                 "stop requested (observer)"
             };
-            self.fault(why.into(), "the simulator ends the run".into());
+            self.fault(why.into(), format!("the {} ends the run", self.roster.host()));
         }
         Ok(())
     }
@@ -611,15 +702,34 @@ impl Watch<'_> {
         for (role, status) in exited {
             self.fleet.processes.remove(&role);
             match role {
-                Role::Simulator if !status.success() && self.may_restart_simulator() => {
-                    self.restart_simulator(format!("the simulator exited: {}", describe(status)))?;
+                Role::Simulator if !status.success() && self.may_restart_host() => {
+                    self.restart_host(format!("the simulator exited: {}", describe(status)))?;
                 }
-                Role::Simulator => return Ok(Some(status)),
-                Role::Keeper(k) => {
+                // A world ends when its agents are done and the supervisor says stop.
+                Role::World if self.may_restart_host() => {
+                    self.restart_host(format!("the world exited: {}", describe(status)))?;
+                }
+                Role::Simulator | Role::World => return Ok(Some(status)),
+                Role::Agent(a) if status.success() => {
+                    // Its protocol is complete; once every agent's is, the world stops.
+                    self.done.push(a);
+                    if self.agents_done() {
+                        self.order(Order::Stop, Some(Role::World))?;
+                    }
+                }
+                Role::Keeper(k) | Role::Agent(k) => {
                     let what = format!("{role} exited: {}", describe(status));
                     if status.code() == Some(EXIT_CANNOT_RESUME) {
                         self.fault(what.clone(), "not restarted: it cannot resume".into());
                         return Err(RunFailure::CannotResume {
+                            what,
+                            log: log_tail(&self.log(role)),
+                        }
+                        .into());
+                    }
+                    if status.code() == Some(EXIT_PLAN_DOES_NOT_FIT) {
+                        self.fault(what.clone(), "not restarted: its plan does not fit the world".into());
+                        return Err(RunFailure::PlanDoesNotFit {
                             what,
                             log: log_tail(&self.log(role)),
                         }
@@ -652,12 +762,12 @@ impl Watch<'_> {
                     describe(status)
                 );
                 match role {
-                    Role::Simulator if self.may_restart_simulator() => self.restart_simulator(what)?,
-                    Role::Simulator => {
+                    Role::Simulator | Role::World if self.may_restart_host() => self.restart_host(what)?,
+                    Role::Simulator | Role::World => {
                         self.fault(what.clone(), "run given up".into());
                         return Err(RunFailure::SimulatorHung { what }.into());
                     }
-                    Role::Keeper(k) => self.restart(k, what)?,
+                    Role::Keeper(k) | Role::Agent(k) => self.restart(k, what)?,
                 }
             }
         }
@@ -703,32 +813,48 @@ impl Watch<'_> {
         Ok(())
     }
 
-    /// Messages refused, summed over every incarnation of each process.
+    /// Messages refused, summed over every incarnation of each process
+    /// (the simulator's from its result, the others' from their last heartbeats).
     fn rejected(&self, sim: &SimulatorResult) -> BTreeMap<String, Rejections> {
         let mut by_process: BTreeMap<String, Rejections> = BTreeMap::new();
-        by_process.insert(Role::Simulator.to_string(), sim.totals.rejected);
+        if self.roster == Roster::Keepaway {
+            by_process.insert(Role::Simulator.to_string(), sim.totals.rejected);
+        }
         for ((role, _), pulse) in &self.pulses {
-            if let Role::Keeper(_) = role {
+            if *role != Role::Simulator {
                 let entry = by_process.entry(role.to_string()).or_default();
                 *entry = entry.plus(&pulse.rejected);
             }
         }
         by_process
     }
+
+    /// World runs: the deadlines the world's incarnations missed.
+    fn world_missed_deadlines(&self) -> u64 {
+        self.pulses
+            .iter()
+            .filter(|((role, _), _)| *role == Role::World)
+            .map(|(_, pulse)| pulse.missed_deadlines)
+            .sum()
+    }
 }
 
-/// Reads every histogram the run's processes wrote into `dir`, the
-/// incarnations of each process merged (`<name>.<pid>.hdr`).
-fn read_histograms(dir: &Path) -> Result<Vec<Latency>, SupervisorError> {
+/// Reads every histogram the processes of a run of `roster` wrote into
+/// `dir`, the incarnations of each process merged (`<name>.<pid>.hdr`).
+fn read_histograms(dir: &Path, roster: Roster) -> Result<Vec<Latency>, SupervisorError> {
     let mut files: Vec<PathBuf> = fs::read_dir(dir)
         .map_err(io_error(dir))?
         .flatten()
         .map(|e| e.path())
         .collect();
     files.sort();
+    let compute = |k| match roster {
+        Roster::Keepaway => compute_histogram(k),
+        Roster::World { .. } => agent_compute_histogram(k),
+    };
     let names = [ROUND_TRIP.to_string(), FLOOR.to_string()]
         .into_iter()
-        .chain((0..NUM_KEEPERS).map(compute_histogram));
+        .chain((0..roster.agents()).map(compute));
     let mut histograms = Vec::new();
     for name in names {
         let mut merged = Latency::new(name.clone());
@@ -785,7 +911,7 @@ fn run_in(
 ) -> Result<RunRecord, SupervisorError> {
     let namespace = owner.namespace();
     let node = node(namespace, "supervisor")?;
-    let _services = RunServices::create(&node)?;
+    let _services = RunServices::create(&node, config.roster())?;
     let mut watch = Watch::launch(config, namespace, &node, run, work_dir, spec_path)?;
     let watched = watch.watch(stop, observer);
     watch.stop_agents(Duration::from_secs(10))?;
@@ -820,7 +946,7 @@ impl<'a> Watch<'a> {
         let mut watch = Watch {
             config,
             namespace,
-            ports: SupervisorPorts::open(node, config.wait)?,
+            ports: SupervisorPorts::open(node, config.wait, config.roster())?,
             context,
             fleet: Fleet {
                 processes: BTreeMap::new(),
@@ -829,17 +955,34 @@ impl<'a> Watch<'a> {
             last_heard: BTreeMap::new(),
             pulses: BTreeMap::new(),
             faults: Vec::new(),
-            restarts: [0; NUM_KEEPERS],
-            simulator_restarts: 0,
+            roster: config.roster(),
+            restarts: BTreeMap::new(),
+            done: Vec::new(),
+            floor: None,
             stop_requested: false,
             resumes: Vec::new(),
             control_sequence: 0,
             fifo_refused: None,
         };
-        watch.start(Role::Simulator, false)?;
-        for k in 0..NUM_KEEPERS {
-            watch.start(Role::Keeper(k), false)?;
+        if watch.roster == Roster::Keepaway {
+            watch.start(Role::Simulator, false)?;
+            for k in 0..shm_layouts::NUM_KEEPERS {
+                watch.start(Role::Keeper(k), false)?;
+            }
+            return Ok(watch);
         }
+        // A world run: the agents first; agent 0 answers the floor
+        // measurement (lock-step: before the world starts; real time: a
+        // ping every cycle, side by side with the run), then the world.
+        for a in 0..watch.roster.agents() {
+            watch.start(Role::Agent(a), false)?;
+        }
+        let mut floor = FloorProbe::open(node, config.wait, watch.context.run_id, work_dir)?;
+        match config.clock {
+            Clock::Lockstep => floor.measure(config.floor_round_trips)?,
+            Clock::Realtime => watch.floor = Some(floor),
+        }
+        watch.start(Role::World, false)?;
         Ok(watch)
     }
 }
@@ -849,15 +992,23 @@ impl Watch<'_> {
     fn collect(mut self, watched: Result<ExitStatus, SupervisorError>) -> Result<RunRecord, SupervisorError> {
         let failure = self.failure(watched)?;
         let seconds = self.started.elapsed().as_secs_f64();
-        let sim = self.simulator_result(failure.is_some())?;
+        let mut sim = self.simulator_result(failure.is_some())?;
+        sim.totals.missed_deadlines += self.world_missed_deadlines();
+        let host = match self.roster {
+            Roster::Keepaway => "the simulator",
+            Roster::World { .. } => "agent 1",
+        };
         let failure = failure.or_else(|| {
             let stopped = self.stop_requested;
             sim.error
                 .clone()
                 .filter(|_| !stopped)
-                .map(|e| format!("the simulator ended the run early: {e}"))
+                .map(|e| format!("{host} ended the run early: {e}"))
         });
-        let learning = super::sim_process::keepaway_config(&self.config.spec)?.learning_keepers();
+        let learning = match self.roster {
+            Roster::Keepaway => super::sim_process::keepaway_config(&self.config.spec)?.learning_keepers(),
+            Roster::World { agents } => agents,
+        };
         let values = self.final_values(learning, failure.is_some())?;
         let checkpoint_failures = self.pulses.values().map(|p| p.checkpoint_failures).sum();
         let work_dir = &self.context.work_dir;
@@ -866,10 +1017,15 @@ impl Watch<'_> {
             rejected: self.rejected(&sim),
             sim,
             failure,
-            restarts: self.restarts.iter().sum::<u32>() + self.simulator_restarts,
+            restarts: self.restarts.values().sum::<u32>(),
             resumes: self.resume_checks(learning),
             faults: std::mem::take(&mut self.faults),
-            histograms: read_histograms(work_dir)?,
+            histograms: {
+                if let Some(floor) = &self.floor {
+                    floor.save()?;
+                }
+                read_histograms(work_dir, self.roster)?
+            },
             checkpoint_failures,
             values,
             seconds,
@@ -885,18 +1041,24 @@ impl Watch<'_> {
         Ok(match watched {
             Ok(status) if status.success() => None,
             Ok(status) => {
-                let what = format!("the simulator exited: {}", describe(status));
+                let host = self.roster.host();
+                let what = format!("the {host} exited: {}", describe(status));
                 self.fault(what.clone(), "agents stopped; run given up".into());
-                Some(format!("{what} ({})", log_tail(&self.log(Role::Simulator))))
+                Some(format!("{what} ({})", log_tail(&self.log(host))))
             }
             Err(SupervisorError::Run(failure)) => Some(failure.to_string()),
             Err(other) => return Err(other),
         })
     }
 
-    /// The simulator's result file (empty if the run failed before it was written).
+    /// The simulator's result file, or in a world run agent 1's (empty if
+    /// the run failed before it was written).
     fn simulator_result(&self, failed: bool) -> Result<SimulatorResult, SupervisorError> {
-        let result_path = self.context.work_dir.join(RESULT_FILE);
+        let file = match self.roster {
+            Roster::Keepaway => RESULT_FILE.to_string(),
+            Roster::World { .. } => agent_result_file(0),
+        };
+        let result_path = self.context.work_dir.join(file);
         match fs::read_to_string(&result_path) {
             Ok(text) => serde_json::from_str(&text).map_err(json_error(result_path.display())),
             Err(_) if failed => Ok(SimulatorResult::default()),

@@ -1,0 +1,81 @@
+"""The world kit: any environment as the world process of a learnpnp run.
+
+A run started with ``learnpnp-supervisor --world-cmd COMMAND --plan FILE`` has
+one world process (COMMAND) and one learning agent process per agent, which
+exchange snapshots and commands through iceoryx2 shared memory. ``serve``
+makes a gymnasium environment that world::
+
+    import gymnasium as gym
+    from learnpnp.world import serve
+
+    env = gym.make("FrozenLake-v1", is_slippery=False)
+    serve(env, atoms=lambda obs: {f"at_{obs}"}, atom_names=[f"at_{s}" for s in range(16)],
+          actions=["left", "down", "right", "up"])
+
+The message types (``WorldSnapshot``, ``WorldCommand``, ...) mirror
+``shm_layouts`` for programs that speak the protocol themselves. Needs the
+iceoryx2 package (``pip install iceoryx2==0.10.0``, or the ``world`` extra).
+"""
+
+from .layouts import (
+    MAX_ACTIONS,
+    MAX_AGENTS,
+    MAX_ARGS,
+    MAX_ATOMS,
+    MAX_FLUENTS,
+    MESSAGE_TYPES,
+    NAME_LEN,
+    NAMES_PER_PART,
+    NO_ACTION,
+    PROTOCOL_VERSION,
+    SENDER_SUPERVISOR,
+    SENDER_WORLD,
+    ActionStatus,
+    AgentReport,
+    Control,
+    ControlCommand,
+    EpisodeStatus,
+    Header,
+    Heartbeat,
+    Reject,
+    Report,
+    State,
+    WorldCommand,
+    WorldSnapshot,
+    WorldVocabulary,
+)
+from .ports import WorldError
+from .record import RecordEpisodes
+from .server import RunSettings, serve
+
+__all__ = [
+    "RecordEpisodes",
+    "MAX_ACTIONS",
+    "MAX_AGENTS",
+    "MAX_ARGS",
+    "MAX_ATOMS",
+    "MAX_FLUENTS",
+    "MESSAGE_TYPES",
+    "NAME_LEN",
+    "NAMES_PER_PART",
+    "NO_ACTION",
+    "PROTOCOL_VERSION",
+    "SENDER_SUPERVISOR",
+    "SENDER_WORLD",
+    "ActionStatus",
+    "AgentReport",
+    "Control",
+    "ControlCommand",
+    "EpisodeStatus",
+    "Header",
+    "Heartbeat",
+    "Reject",
+    "Report",
+    "RunSettings",
+    "State",
+    "WorldCommand",
+    "WorldError",
+    "WorldSnapshot",
+    "WorldVocabulary",
+    "serve",
+]

@@ -1,0 +1,128 @@
+"""Worlds no one here wrote, each served from a Python process by the world kit
+and learned in plan space by a Rust agent process over shared memory
+(``learnpnp-supervisor --world-cmd``): gymnasium's Taxi-v4 and MiniGrid's
+DoorKey-5x5. The world records every episode it served (``--record``), an
+account independent of the agent's.
+
+Taxi is deterministic, so greedy episodes are judged exactly: no policy earns
+more from a start state than the optimum (value iteration on gymnasium's own
+table), so a greedy mean equal to the optimum's mean over the same start
+states means the greedy policy was optimal from every one of them. Taxi's
+registered reward_threshold (8) is above that optimum (7.93 on average over
+the start states), so no policy reaches it in expectation; the tests assert
+the optimum instead (as tests/test_taxi.py does in-process).
+"""
+
+import json
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+import tempfile
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+EXAMPLES = ROOT / "python" / "examples"
+GREEDY = 100
+
+pytest.importorskip("iceoryx2")
+
+
+@pytest.fixture
+def supervisor(learnpnp_cli):
+    """The `learnpnp-supervisor` built beside the `learnpnp` command."""
+    path = pathlib.Path(learnpnp_cli).parent / "learnpnp-supervisor"
+    if not path.is_file():
+        pytest.skip(f"{path} is not built")
+    return str(path)
+
+
+@pytest.fixture
+def sandbox():
+    """A results directory and a short iceoryx2 namespace directory (unix
+    socket paths are short); checks that the runs left nothing behind."""
+    root = pathlib.Path(tempfile.mkdtemp(prefix="lpw", dir="/tmp"))
+    yield root
+    shutil.rmtree(root, ignore_errors=True)
+
+
+def run_world(supervisor, sandbox, name, example, plan, *args):
+    """Runs the supervisor with ``example`` as the world; returns the summary
+    and the world's record of its episodes."""
+    out, ipc, record = sandbox / name, sandbox / "ipc", sandbox / f"{name}.jsonl"
+    world = f"{sys.executable} {EXAMPLES / example} --record {record}"
+    command = [supervisor, "--world-cmd", world, "--plan", str(ROOT / "plans" / plan)]
+    command += ["--out", str(out), "--floor-round-trips", "2000", "--greedy-episodes", str(GREEDY), *args]
+    done = subprocess.run(
+        command, env={**os.environ, "LEARNPNP_IPC_DIR": str(ipc)}, capture_output=True, text=True, timeout=600
+    )
+    assert done.returncode == 0, done.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["complete"], summary
+    left = [f for f in os.listdir("/dev/shm") if any(f.startswith(p) for p in summary["ipc_prefixes"])]
+    assert left == [], left
+    assert list(ipc.iterdir()) == []
+    episodes = [json.loads(line) for line in record.read_text().splitlines()]
+    return summary, [e for e in episodes if e["ended"]], out
+
+
+def optimal_returns():
+    """The optimal return from every Taxi state (value iteration, undiscounted)."""
+    table = gym.make("Taxi-v4").unwrapped.P
+    value = np.zeros(len(table))
+    while True:
+        q = np.array(
+            [
+                [sum(p * (r + (0.0 if done else value[s2])) for p, s2, r, done in table[s][a]) for a in table[s]]
+                for s in range(len(value))
+            ]
+        )
+        if np.abs(q.max(1) - value).max() < 1e-9:
+            return q.max(1)
+        value = q.max(1)
+
+
+TAXI = ("--algo", "q-learning", "--alpha", "0.1", "--epsilon", "0.1", "--episodes", "2000")
+TAXI += ("--eval-every", "2000", "--eval-episodes", "0", "--wait", "hybrid")
+
+
+def test_taxi_from_a_python_world_is_learned_to_the_optimum_and_a_seed_repeats(supervisor, sandbox):
+    optimum = optimal_returns()
+    for seed in ("1", "2", "3"):
+        summary, episodes, out = run_world(supervisor, sandbox, f"taxi{seed}", "taxi_world.py", "taxi.pnml", *TAXI,
+                                           "--seed", seed)
+        greedy = episodes[-GREEDY:]
+        assert len(episodes) == 2000 + GREEDY
+        world_mean = np.mean([e["return"] for e in greedy])
+        assert summary["experiment"]["final_greedy_mean"] == pytest.approx(world_mean), "the agent's and the world's accounts"
+        best = np.mean([optimum[e["start"]] for e in greedy])
+        print(f"Taxi over shared memory, seed {seed}: greedy {world_mean:.3f}, optimum over the same starts {best:.3f}; "
+              f"round trip p50 {summary['latency_us']['p50']:.1f} us, floor p50 {summary['floor_us']['p50']:.1f} us")
+        assert world_mean == pytest.approx(best), f"seed {seed}: greedy below the optimum from some start state"
+        assert gym.spec("Taxi-v4").reward_threshold > optimum[np.flatnonzero(gym.make("Taxi-v4").unwrapped.initial_state_distrib)].mean()
+    again, episodes_again, out_again = run_world(supervisor, sandbox, "taxi1-again", "taxi_world.py", "taxi.pnml", *TAXI,
+                                                 "--seed", "1")
+    first = (sandbox / "taxi1" / "episodes.csv").read_text()
+    assert (out_again / "episodes.csv").read_text() == first, "the same seed plays the same episodes"
+    assert (sandbox / "taxi1.jsonl").read_text() == (sandbox / "taxi1-again.jsonl").read_text()
+
+
+def test_doorkey_from_a_python_world_reaches_the_goal_greedily(supervisor, sandbox):
+    pytest.importorskip("minigrid")
+    for seed in ("1", "2", "3"):
+        summary, episodes, _ = run_world(supervisor, sandbox, f"doorkey{seed}", "doorkey_world.py", "doorkey.pnml",
+                                         "--algo", "q-learning", "--gamma", "0.9", "--episodes", "200",
+                                         "--eval-every", "200", "--eval-episodes", "0", "--wait", "hybrid",
+                                         "--seed", seed)
+        learning, greedy = episodes[:200], episodes[-GREEDY:]
+        success = np.mean([e["terminated"] and e["return"] > 0 for e in greedy])
+        steps = np.mean([e["steps"] for e in greedy])
+        early = np.mean([e["steps"] for e in learning[:20]])
+        print(f"DoorKey over shared memory, seed {seed}: greedy success {success:.0%} in {steps:.1f} steps "
+              f"(first 20 learning episodes: {early:.1f} steps)")
+        assert success >= 0.9, f"seed {seed}: {success:.0%} of greedy episodes reach the goal"
+        assert steps <= 15, f"seed {seed}: greedy episodes take {steps:.1f} steps"

@@ -1,0 +1,669 @@
+//! An agent of a world in its own process: its plan, run by a
+//! [`StepwiseAgent`] with its learner, against the world's snapshots.
+//!
+//! Before the first episode it reads the world's vocabulary and checks its
+//! plan against it (a plan naming an atom or action the world lacks is
+//! refused with both lists: exit code [`EXIT_PLAN_DOES_NOT_FIT`]). The agent
+//! runs the experiment's protocol itself ([`run_protocol`]): each episode the
+//! world plays is the protocol's next one, learning or evaluated. Every whole
+//! episode is journaled, so that a restarted agent (values from its last
+//! checkpoint) resumes the protocol where the run is; the world discards the
+//! episode in flight. Each snapshot: credit the reward, set the atoms, step
+//! the plan, answer with the action's index in the world's vocabulary.
+
+use std::collections::VecDeque;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use serde::{Deserialize, Serialize};
+use shm_layouts::MAX_ARGS;
+
+use super::agent_process::{checkpoint_name, load_checkpoint, resumed_file};
+use super::journal::{self, Journal};
+use super::sim_process::{ROUND_TRIP, SimTotals, SimulatorResult, histogram_file};
+use super::{HEARTBEAT_EVERY, Pacemaker, ProcessError, RunContext};
+use crate::ipc::convert::{Rejection, agent_report, read_control};
+use crate::ipc::protocol::{AgentNews, Order, ProcessState, Role};
+use crate::ipc::services::{WorldAgentPorts, node, receive, send};
+use crate::ipc::wait::{Idle, MAX_BLOCK};
+use crate::ipc::world::{
+    ActionStatus, EpisodeStatus, Vocabulary, VocabularyReader, WorldOrder, WorldView, floor_pong, read_world_snapshot,
+    world_command,
+};
+use crate::latency::Latency;
+use learnpnp::domains::{EpisodeOutcome, Task, TaskError};
+use learnpnp::experiment::runner::{RunOutput, learner_for, run_protocol};
+use learnpnp::experiment::spec::DomainSpec;
+use learnpnp::learning::persist::{self, SavedValues};
+use learnpnp::learning::{EpisodeMode, Learner};
+use learnpnp::named::Named;
+use learnpnp::stepwise::{ActionOutcome, StepError, StepwiseAgent, action_names, atom_table};
+
+/// The exit code of an agent whose plan does not fit the world's
+/// vocabulary: it is not restarted, and the run stops.
+pub const EXIT_PLAN_DOES_NOT_FIT: i32 = 4;
+
+/// How long an agent waits for the world's vocabulary before it gives up.
+pub const VOCABULARY_TIMEOUT: Duration = Duration::from_secs(60);
+
+/// The name of agent `a`'s compute-time histogram.
+pub fn agent_compute_histogram(a: usize) -> String {
+    format!("compute-agent{}", a + 1)
+}
+
+/// Agent `a`'s result file in the run's work directory.
+pub fn agent_result_file(a: usize) -> String {
+    format!("agent{}.json", a + 1)
+}
+
+/// Agent `a`'s journal of whole episodes.
+fn journal_file(a: usize) -> String {
+    format!("agent{}.journal", a + 1)
+}
+
+/// An agent's settings beyond the run's.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorldAgentSettings {
+    /// The agent (0-based).
+    pub agent: usize,
+    /// Checkpoint every this many learning episodes (0: only on request and at the end).
+    pub checkpoint_every: u64,
+    /// Start from the checkpoint and journal in the work directory (a restart).
+    pub resume: bool,
+}
+
+/// A plan that names what the world does not have.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Misfit {
+    /// Atoms the plan tests that the world lacks.
+    pub atoms: Vec<String>,
+    /// Actions the plan runs that the world lacks.
+    pub actions: Vec<String>,
+    /// The world's vocabulary.
+    pub world: Vocabulary,
+}
+
+impl std::fmt::Display for Misfit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let list = |names: &[String]| {
+            if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(", ")
+            }
+        };
+        write!(
+            f,
+            "the plan does not fit the world: atoms it lacks: {}; actions it lacks: {} (the world's atoms: {}; its actions: {})",
+            list(&self.atoms),
+            list(&self.actions),
+            list(&self.world.atoms),
+            list(&self.world.actions)
+        )
+    }
+}
+
+/// Where each of the plan's atoms and actions is in the world's vocabulary.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Binding {
+    /// World atom index of each plan atom.
+    atoms: Vec<usize>,
+    /// World action index of each plan action.
+    actions: Vec<usize>,
+}
+
+/// Binds a plan's atoms and actions to the world's vocabulary, or says what is missing.
+pub fn bind(plan_atoms: &[String], plan_actions: &[String], world: &Vocabulary) -> Result<Binding, Box<Misfit>> {
+    let find = |names: &[String], within: &[String]| -> (Vec<usize>, Vec<String>) {
+        let mut found = Vec::new();
+        let mut missing = Vec::new();
+        for name in names {
+            match within.iter().position(|w| w == name) {
+                Some(i) => found.push(i),
+                None => missing.push(name.clone()),
+            }
+        }
+        (found, missing)
+    };
+    let (atoms, missing_atoms) = find(plan_atoms, &world.atoms);
+    let (actions, missing_actions) = find(plan_actions, &world.actions);
+    if missing_atoms.is_empty() && missing_actions.is_empty() {
+        Ok(Binding { atoms, actions })
+    } else {
+        Err(Box::new(Misfit {
+            atoms: missing_atoms,
+            actions: missing_actions,
+            world: world.clone(),
+        }))
+    }
+}
+
+/// One whole episode, as the agent's journal keeps it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+struct AgentJournalEntry {
+    mode: EpisodeMode,
+    outcome: EpisodeOutcome,
+    totals: SimTotals,
+}
+
+/// The episode the agent is in.
+#[derive(Debug, Clone, Copy, Default)]
+struct Episode {
+    /// The world's number of it.
+    number: u64,
+    ret: f64,
+    actions: u32,
+}
+
+/// The agent while it runs.
+struct WorldAgent {
+    context: RunContext,
+    settings: WorldAgentSettings,
+    ports: WorldAgentPorts,
+    stepwise: StepwiseAgent,
+    binding: Binding,
+    atoms: usize,
+    fluents: usize,
+    algorithm: &'static str,
+    pacemaker: Pacemaker,
+    compute: Latency,
+    round_trip: Latency,
+    checkpoint: PathBuf,
+    journal: Journal,
+    replay: VecDeque<AgentJournalEntry>,
+    totals: SimTotals,
+    started: Instant,
+    /// No snapshot has come since the agent (re)started or since the world
+    /// discarded an episode: it says it is ready.
+    announcing: bool,
+    announced: Option<Instant>,
+    /// The last cycle taken (none after a world restart).
+    last_cycle: Option<u64>,
+    /// The snapshot last answered: its cycle and when the world sent it.
+    answered: Option<(u64, u64)>,
+    episode: Option<Episode>,
+    backlog: VecDeque<WorldView>,
+    learning_episodes: u64,
+    stop: bool,
+}
+
+/// Writes a line to the agent's log (its stderr), ignoring a failed write.
+fn report(line: &str) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr(), "{line}");
+}
+
+impl WorldAgent {
+    fn count(&mut self, why: Rejection) {
+        self.pacemaker.pulse.rejected.count(why);
+        self.totals.rejected.count(why);
+    }
+
+    fn values(&self) -> SavedValues {
+        SavedValues::new(
+            self.algorithm,
+            self.stepwise.learner().values(),
+            &self.stepwise.plan().activation_plans(),
+        )
+    }
+
+    /// Writes the checkpoint and the histograms; a failure is reported and
+    /// counted, the previous checkpoint stays.
+    fn save(&mut self) {
+        match persist::save(&self.checkpoint, &self.values()) {
+            Ok(()) => self.pacemaker.pulse.checkpoints += 1,
+            Err(e) => {
+                self.pacemaker.pulse.checkpoint_failures += 1;
+                report(&format!("error: checkpoint not written, the previous one is kept: {e}"));
+            }
+        }
+        for histogram in [&self.compute, &self.round_trip] {
+            let file = histogram_file(&self.context.work_dir, histogram.name());
+            match histogram.to_bytes() {
+                Ok(bytes) => {
+                    if let Err(e) = learnpnp::atomic_file::write_atomic(&file, &bytes) {
+                        report(&format!("error: {}: {e}", file.display()));
+                    }
+                }
+                Err(e) => report(&format!("error: {e}")),
+            }
+        }
+    }
+
+    /// Heartbeat, the supervisor's commands, readiness, floor pings.
+    fn housekeeping(&mut self) -> Result<(), ProcessError> {
+        self.pacemaker.pulse.cycles = self.totals.cycles;
+        self.pacemaker.tick(&self.ports.heartbeat)?;
+        let (me, run_id) = (Role::Agent(self.settings.agent), self.context.run_id);
+        while let Some(order) = receive(&self.ports.control, |m| read_control(m, me, run_id))? {
+            match order {
+                Ok(Some(Order::Stop)) => self.stop = true,
+                Ok(Some(Order::Checkpoint)) => self.save(),
+                Ok(Some(Order::SimulatorRestarted)) => {
+                    // A new world numbers its cycles afresh; the episode in
+                    // flight is dropped (the learner is not told its end).
+                    self.discard_episode();
+                    self.last_cycle = None;
+                    self.answered = None;
+                    self.backlog.clear();
+                    while receive(&self.ports.snapshot, |_| ())?.is_some() {}
+                }
+                Ok(Some(Order::KeeperLost { .. }) | None) => {}
+                Err(why) => self.count(why),
+            }
+        }
+        if self.announcing && self.announced.is_none_or(|t| t.elapsed() >= HEARTBEAT_EVERY) {
+            let ready = AgentNews::Ready {
+                pid: std::process::id(),
+            };
+            self.ports
+                .report
+                .send(agent_report(ready, self.settings.agent, run_id))?;
+            self.announced = Some(Instant::now());
+        }
+        if self.settings.agent == 0 {
+            answer_floor(&self.ports, run_id)?;
+        }
+        Ok(())
+    }
+
+    /// Drops the episode in progress and says it is ready for the next.
+    fn discard_episode(&mut self) {
+        if self.episode.take().is_some() {
+            self.stepwise.abort_episode();
+            self.totals.aborted.push(super::sim_process::AbortedEpisode {
+                episode: self.totals.episode_seq,
+                mode: self.stepwise.mode(),
+                cycles: 0,
+                keepers: Vec::new(),
+            });
+        }
+        self.announcing = true;
+        self.announced = None;
+    }
+
+    /// The next snapshot taken (validated, in sequence), if one has come. A
+    /// snapshot of a running episode that a newer one of the same episode
+    /// follows is skipped, its reward credited to the newer (an agent that
+    /// fell behind in real time acts once, on the newest).
+    fn next_view(&mut self) -> Result<Option<WorldView>, ProcessError> {
+        let (a, run_id, atoms, fluents) = (self.settings.agent, self.context.run_id, self.atoms, self.fluents);
+        while let Some(reading) = receive(&self.ports.snapshot, |m| {
+            read_world_snapshot(m, a, run_id, atoms, fluents)
+        })? {
+            match reading {
+                Ok(view) => {
+                    let stale = self.last_cycle.is_some_and(|c| view.cycle <= c)
+                        || self.episode.is_some_and(|e| view.episode < e.number);
+                    if stale {
+                        self.count(Rejection::Sequence);
+                    } else {
+                        self.last_cycle = Some(view.cycle);
+                        self.backlog.push_back(view);
+                    }
+                }
+                Err(why) => self.count(why),
+            }
+        }
+        while let Some(view) = self.backlog.pop_front() {
+            let superseded = view.episode_status == EpisodeStatus::Running
+                && self
+                    .backlog
+                    .front()
+                    .is_some_and(|next| next.episode == view.episode && next.episode_status != EpisodeStatus::Aborted);
+            if superseded {
+                if let Some(next) = self.backlog.front_mut() {
+                    next.reward += view.reward;
+                }
+                continue;
+            }
+            return Ok(Some(view));
+        }
+        Ok(None)
+    }
+
+    /// Takes one snapshot; returns the episode's outcome when it ended.
+    fn take(&mut self, view: WorldView, started: Instant) -> Result<Option<EpisodeOutcome>, ProcessError> {
+        self.announcing = false;
+        self.pacemaker.pulse.state = ProcessState::Running;
+        if let (Some((cycle, received)), Some((sent_cycle, sent_ns))) = (view.answered, self.answered)
+            && cycle == sent_cycle
+        {
+            self.round_trip
+                .record(Duration::from_nanos(received.saturating_sub(sent_ns)));
+            self.answered = None;
+        }
+        if view.episode_status == EpisodeStatus::Aborted {
+            self.discard_episode();
+            return Ok(None);
+        }
+        if self.episode.is_none_or(|e| e.number != view.episode) {
+            if self.episode.is_some() {
+                // A new episode while one was open: the world dropped it.
+                self.discard_episode();
+                self.announcing = false;
+            }
+            self.totals.episode_seq += 1;
+            self.episode = Some(Episode {
+                number: view.episode,
+                ..Episode::default()
+            });
+        }
+        let mut episode = self.episode.unwrap_or_default();
+        self.stepwise
+            .reward(view.reward)
+            .map_err(|e| ProcessError::CannotResume(e.to_string()))?;
+        episode.ret += view.reward;
+        self.totals.cycles += 1;
+        self.totals.cycle_seq = view.cycle;
+        let (action, ended) = if view.episode_status.ended() {
+            self.stepwise.end_episode();
+            (None, true)
+        } else {
+            let holds: Vec<learnpnp::AtomId> = self
+                .binding
+                .atoms
+                .iter()
+                .enumerate()
+                .filter(|&(_, &w)| view.holds(w))
+                .map(|(i, _)| learnpnp::AtomId(i as u32))
+                .collect();
+            self.stepwise.set_atoms(&holds);
+            let outcome = match view.action_status {
+                ActionStatus::Running => ActionOutcome::Running,
+                ActionStatus::Failed => ActionOutcome::Failed,
+                ActionStatus::None | ActionStatus::Finished => ActionOutcome::Finished,
+            };
+            match self.stepwise.act(outcome) {
+                Ok(next) => (next.map(|i| self.binding.actions[i]), false),
+                Err(stalled @ StepError::Stalled { .. }) => {
+                    report(&format!("warning: {stalled}; the agent answers with no action"));
+                    (None, false)
+                }
+                Err(e) => return Err(ProcessError::CannotResume(e.to_string())),
+            }
+        };
+        if action.is_some() {
+            episode.actions += 1;
+        }
+        let compute = started.elapsed();
+        let order = WorldOrder {
+            episode: view.episode,
+            cycle: view.cycle,
+            compute_ns: compute.as_nanos() as u64,
+            action,
+            args: [0.0; MAX_ARGS],
+        };
+        self.ports
+            .command
+            .send(world_command(&order, self.settings.agent, self.context.run_id))?;
+        self.compute.record(compute);
+        self.answered = Some((view.cycle, view.sent_ns));
+        if !ended {
+            self.episode = Some(episode);
+            return Ok(None);
+        }
+        self.episode = None;
+        self.pacemaker.pulse.episodes += 1;
+        Ok(Some(EpisodeOutcome {
+            ret: episode.ret,
+            actions: episode.actions,
+            steps: episode.actions,
+            exploratory: self.stepwise.learner().exploratory(),
+        }))
+    }
+
+    /// Plays the world's next whole episode in `mode`.
+    fn play(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, ProcessError> {
+        self.stepwise.set_mode(mode);
+        let mut idle = Idle::new(self.context.wait);
+        loop {
+            self.housekeeping()?;
+            if self.stop {
+                return Err(ProcessError::Stopped);
+            }
+            match self.next_view()? {
+                Some(view) => {
+                    idle = Idle::new(self.context.wait);
+                    if let Some(outcome) = self.take(view, Instant::now())? {
+                        return Ok(outcome);
+                    }
+                }
+                None => idle.pause(&self.ports.wake, MAX_BLOCK)?,
+            }
+        }
+    }
+
+    /// Journals a whole episode and checkpoints if one is due.
+    fn record(&mut self, mode: EpisodeMode, outcome: EpisodeOutcome) -> Result<(), ProcessError> {
+        if mode == EpisodeMode::Learn {
+            self.totals.learning_episodes += 1;
+            self.learning_episodes += 1;
+            let every = self.settings.checkpoint_every;
+            if every > 0 && self.learning_episodes.is_multiple_of(every) {
+                self.save();
+            }
+        }
+        self.totals.seconds += self.started.elapsed().as_secs_f64();
+        self.started = Instant::now();
+        let entry = AgentJournalEntry {
+            mode,
+            outcome,
+            totals: self.totals.clone(),
+        };
+        self.journal.append(&entry)?;
+        Ok(())
+    }
+}
+
+impl Task for WorldAgent {
+    fn episode(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
+        if let Some(entry) = self.replay.pop_front() {
+            if entry.mode != mode {
+                return Err(TaskError::Invalid(format!(
+                    "the journal does not follow the protocol: a {:?} episode where a {mode:?} one is due",
+                    entry.mode
+                )));
+            }
+            self.totals = entry.totals;
+            if entry.mode == EpisodeMode::Learn {
+                self.learning_episodes += 1;
+            }
+            return Ok(entry.outcome);
+        }
+        let outcome = self.play(mode).map_err(|e| match e {
+            ProcessError::Stopped => TaskError::Stopped,
+            other => TaskError::Remote(other.to_string()),
+        })?;
+        self.record(mode, outcome)
+            .map_err(|e| TaskError::Remote(e.to_string()))?;
+        Ok(outcome)
+    }
+
+    fn traced_values(&self) -> Vec<(String, f64)> {
+        Vec::new()
+    }
+
+    fn learners(&self) -> Vec<&dyn Learner> {
+        vec![self.stepwise.learner()]
+    }
+}
+
+/// Agent 0 answers the supervisor's floor pings at once.
+fn answer_floor(ports: &WorldAgentPorts, run_id: u64) -> Result<(), ProcessError> {
+    while let Some(sequence) = receive(&ports.floor_ping, |m| {
+        (m.header.run_id == run_id && m.header.sender == shm_layouts::SENDER_SUPERVISOR).then_some(m.cycle)
+    })? {
+        if let Some(sequence) = sequence {
+            send(&ports.floor_pong, floor_pong(run_id, sequence))?;
+        }
+    }
+    Ok(())
+}
+
+/// Waits for the world's whole vocabulary (answering the supervisor and
+/// floor pings meanwhile); `None` if the supervisor said stop first.
+fn await_vocabulary(
+    ports: &WorldAgentPorts,
+    pacemaker: &mut Pacemaker,
+    context: &RunContext,
+    agent: usize,
+) -> Result<Option<Vocabulary>, ProcessError> {
+    let mut reader = VocabularyReader::default();
+    let started = Instant::now();
+    let mut idle = Idle::new(context.wait);
+    let run_id = context.run_id;
+    loop {
+        pacemaker.tick(&ports.heartbeat)?;
+        while let Some(order) = receive(&ports.control, |m| read_control(m, Role::Agent(agent), run_id))? {
+            match order {
+                Ok(Some(Order::Stop)) => return Ok(None),
+                Ok(_) => {}
+                Err(why) => pacemaker.pulse.rejected.count(why),
+            }
+        }
+        if agent == 0 {
+            answer_floor(ports, run_id)?;
+        }
+        while let Some(part) = receive(&ports.vocabulary, |m| reader.read(m, run_id))? {
+            match part {
+                Ok(Some(vocabulary)) => return Ok(Some(vocabulary)),
+                Ok(None) => {}
+                Err(why) => pacemaker.pulse.rejected.count(why),
+            }
+        }
+        if started.elapsed() > VOCABULARY_TIMEOUT {
+            return Err(ProcessError::NoVocabulary(VOCABULARY_TIMEOUT.as_secs()));
+        }
+        idle.pause(&ports.wake, MAX_BLOCK)?;
+    }
+}
+
+/// Runs agent `settings.agent` of `context`'s world run until its protocol
+/// ends or the supervisor stops it; writes its result, journal, histograms
+/// and checkpoints into the work directory. A fresh start checkpoints its
+/// starting values at once, so that a restart always has a checkpoint.
+pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), ProcessError> {
+    let spec = context.load_spec()?;
+    let DomainSpec::World { agents, .. } = spec.domain else {
+        return Err(ProcessError::UnsupportedDomain(spec.domain.name()));
+    };
+    let a = settings.agent;
+    if a >= agents {
+        return Err(ProcessError::NoAgent(a + 1));
+    }
+    let plan = spec.domain.load_plan()?.ok_or(ProcessError::NoPlan)?;
+    let checkpoint = context.work_dir.join(checkpoint_name(a));
+    let start = if settings.resume {
+        Some(load_checkpoint(&checkpoint, &plan)?)
+    } else {
+        spec.load_initial_values(Some(&plan))?.into_iter().nth(a)
+    };
+    let learner = learner_for(&spec, context.run, a, start.as_ref());
+    let stepwise = StepwiseAgent::new(Arc::clone(&plan), learner).map_err(ProcessError::Task)?;
+    let namespace = context.namespace()?;
+    let node = node(&namespace, &format!("agent-{a}"))?;
+    let ports = WorldAgentPorts::open(&node, a, context.wait)?;
+    let mut pacemaker = Pacemaker::new(Role::Agent(a), context.run_id);
+    pacemaker.beat(&ports.heartbeat)?;
+    let Some(vocabulary) = await_vocabulary(&ports, &mut pacemaker, context, a)? else {
+        return Ok(());
+    };
+    if vocabulary.agents != agents {
+        return Err(ProcessError::CannotResume(format!(
+            "the world serves {} agents, the run has {agents}",
+            vocabulary.agents
+        )));
+    }
+    let plan_atoms: Vec<String> = atom_table(&plan).names().map(str::to_string).collect();
+    let binding = bind(&plan_atoms, &action_names(&plan), &vocabulary).map_err(ProcessError::PlanDoesNotFit)?;
+    let journal_path = context.work_dir.join(journal_file(a));
+    let replay: Vec<AgentJournalEntry> = if settings.resume {
+        journal::read(&journal_path)?
+    } else {
+        Vec::new()
+    };
+    let journal = Journal::open(&journal_path, &replay)?;
+    let mut agent = WorldAgent {
+        context: context.clone(),
+        settings: settings.clone(),
+        ports,
+        stepwise,
+        binding,
+        atoms: vocabulary.atoms.len(),
+        fluents: vocabulary.fluents.len(),
+        algorithm: spec.algorithm.name(),
+        pacemaker,
+        compute: Latency::new(agent_compute_histogram(a)),
+        round_trip: Latency::new(ROUND_TRIP),
+        checkpoint,
+        journal,
+        replay: replay.into(),
+        totals: SimTotals::default(),
+        started: Instant::now(),
+        announcing: true,
+        announced: None,
+        last_cycle: None,
+        answered: None,
+        episode: None,
+        backlog: VecDeque::new(),
+        learning_episodes: 0,
+        stop: false,
+    };
+    if settings.resume {
+        let path = resumed_file(&context.work_dir, a, std::process::id());
+        persist::save(&path, &agent.values())?;
+    } else {
+        agent.save();
+    }
+    agent.pacemaker.pulse.state = ProcessState::Ready;
+    agent.pacemaker.beat(&agent.ports.heartbeat)?;
+    let mut output = RunOutput::default();
+    let played = run_protocol(&spec, &mut agent, context.run, true, &mut output, |_| {}, || false);
+    agent.pacemaker.pulse.state = ProcessState::Stopping;
+    agent.pacemaker.beat(&agent.ports.heartbeat)?;
+    agent.save();
+    if let Err(e) = &played
+        && agent.stop
+    {
+        report(&format!("stopped before the protocol ended: {e}"));
+    }
+    let result = SimulatorResult {
+        complete: played.is_ok(),
+        error: played.err().map(|e| e.to_string()),
+        output,
+        totals: agent.totals.clone(),
+    };
+    let json = serde_json::to_vec_pretty(&result)?;
+    let path = context.work_dir.join(agent_result_file(a));
+    learnpnp::atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(list: &[&str]) -> Vec<String> {
+        list.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn a_plan_binds_to_the_world_names_it_uses() {
+        let world = Vocabulary {
+            atoms: names(&["a", "b", "c"]),
+            fluents: Vec::new(),
+            actions: names(&["left", "right", "noop"]),
+            agents: 1,
+        };
+        let binding = bind(&names(&["c", "a"]), &names(&["right"]), &world).unwrap();
+        assert_eq!(binding.atoms, vec![2, 0]);
+        assert_eq!(binding.actions, vec![1]);
+        let misfit = bind(&names(&["a", "z"]), &names(&["jump"]), &world).unwrap_err();
+        assert_eq!(misfit.atoms, names(&["z"]));
+        assert_eq!(misfit.actions, names(&["jump"]));
+        let text = misfit.to_string();
+        assert!(text.contains("atoms it lacks: z") && text.contains("the world's atoms: a, b, c"));
+    }
+}

@@ -1,0 +1,421 @@
+//! A world written in Rust, served as the world process of a run: the
+//! world's side of the protocol of `shm_layouts/README.md` ("A world in its
+//! own process"), the same the Python world kit (`learnpnp.world`) speaks.
+//! A [`ServedWorld`] says what holds and steps; [`serve`] does the rest:
+//! heartbeats, the vocabulary, waiting for the agents, snapshots and
+//! commands (lock-step, or real time on the world's own clock), the
+//! supervisor's orders, and refusing what does not read.
+
+use std::time::{Duration, Instant};
+
+use shm_layouts::MAX_FLUENTS;
+
+use super::supervisor::world_env;
+use super::{Clock, HEARTBEAT_EVERY, Pacemaker};
+use crate::ipc::convert::{Rejection, read_agent_report, read_control};
+use crate::ipc::namespace::Namespace;
+use crate::ipc::protocol::{AgentNews, Order, ProcessState, Role};
+use crate::ipc::services::{IpcError, WorldPorts, node, receive, send};
+use crate::ipc::wait::{Idle, MAX_BLOCK, WaitStrategy};
+use crate::ipc::world::{
+    ATOM_WORDS, ActionStatus, EpisodeStatus, Vocabulary, VocabularyError, WorldView, monotonic_ns, read_world_command,
+    world_snapshot,
+};
+use learnpnp::named::Named;
+
+/// What one agent sees: the atoms that hold (by index) and the fluents.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Observation {
+    /// Indices of the atoms that hold.
+    pub atoms: Vec<usize>,
+    /// The fluents' values.
+    pub fluents: Vec<f64>,
+}
+
+/// What a step did to one agent.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepResult {
+    /// Its reward.
+    pub reward: f64,
+    /// What became of its action.
+    pub action: ActionStatus,
+}
+
+/// A world in Rust, for [`serve`].
+pub trait ServedWorld {
+    /// Its atoms, fluents and actions (the agents are the run's).
+    fn vocabulary(&self) -> Vocabulary;
+    /// Begins an episode; the first one is given the run's seed.
+    fn reset(&mut self, seed: Option<u64>);
+    /// What agent `agent` sees now.
+    fn observe(&self, agent: usize) -> Observation;
+    /// Steps the world with each agent's action (`None`: the agent idles).
+    fn step(&mut self, actions: &[Option<usize>]) -> Vec<StepResult>;
+    /// Whether the episode reached a terminal state.
+    fn terminated(&self) -> bool;
+    /// Whether the episode is cut short (a step limit).
+    fn truncated(&self) -> bool;
+}
+
+/// Why a world cannot be served.
+#[derive(Debug, thiserror::Error)]
+pub enum WorldHostError {
+    /// A variable of the run is missing or malformed.
+    #[error("environment variable {name}: {problem}")]
+    Environment {
+        /// The variable.
+        name: &'static str,
+        /// What is wrong.
+        problem: String,
+    },
+    /// The vocabulary does not fit the layouts.
+    #[error("the world's vocabulary: {0}")]
+    Vocabulary(#[from] VocabularyError),
+    /// Shared memory failed.
+    #[error(transparent)]
+    Ipc(#[from] IpcError),
+    /// The namespace is unusable.
+    #[error(transparent)]
+    Namespace(#[from] crate::ipc::namespace::NamespaceError),
+}
+
+/// The run as the world process's environment gives it.
+#[derive(Debug, Clone)]
+pub struct WorldRun {
+    /// The run's namespace.
+    pub namespace: Namespace,
+    /// The run id.
+    pub run_id: u64,
+    /// How many agents.
+    pub agents: usize,
+    /// Lock-step or real time.
+    pub clock: Clock,
+    /// Real time: the cycle.
+    pub period: Duration,
+    /// How processes wait.
+    pub wait: WaitStrategy,
+    /// The seed of the first reset.
+    pub seed: u64,
+}
+
+impl WorldRun {
+    /// Reads the run from the environment the supervisor gives a world.
+    pub fn from_env() -> Result<Self, WorldHostError> {
+        fn var(name: &'static str) -> Result<String, WorldHostError> {
+            std::env::var(name).map_err(|_| WorldHostError::Environment {
+                name,
+                problem: "not set (a world is started by learnpnp-supervisor --world-cmd)".into(),
+            })
+        }
+        fn number<T: std::str::FromStr>(name: &'static str) -> Result<T, WorldHostError> {
+            let text = var(name)?;
+            text.parse().map_err(|_| WorldHostError::Environment {
+                name,
+                problem: format!("'{text}' is not a number"),
+            })
+        }
+        fn named<T: Named>(name: &'static str) -> Result<T, WorldHostError> {
+            let text = var(name)?;
+            T::from_name(&text).map_err(|e| WorldHostError::Environment {
+                name,
+                problem: e.to_string(),
+            })
+        }
+        let root = var(world_env::ROOT)?;
+        let base = std::path::Path::new(root.trim_end_matches('/'))
+            .parent()
+            .map(std::path::Path::to_path_buf)
+            .unwrap_or_default();
+        Ok(WorldRun {
+            namespace: Namespace::at(&base, &var(world_env::PREFIX)?)?,
+            run_id: number(world_env::RUN_ID)?,
+            agents: number(world_env::AGENTS)?,
+            clock: named(world_env::CLOCK)?,
+            period: Duration::from_millis(number(world_env::PERIOD_MS)?),
+            wait: named(world_env::WAIT)?,
+            seed: number(world_env::SEED)?,
+        })
+    }
+}
+
+/// The world's side of the run.
+struct Host<'w, W: ServedWorld> {
+    world: &'w mut W,
+    run: WorldRun,
+    ports: WorldPorts,
+    pacemaker: Pacemaker,
+    vocabulary: Vocabulary,
+    actions: usize,
+    episode: u64,
+    cycle: u64,
+    step: u32,
+    /// Each agent's last command taken: its cycle and when it was read.
+    answered: Vec<Option<(u64, u64)>>,
+    /// Each agent's ready process (its pid), and the replacement awaited.
+    ready: Vec<Option<u32>>,
+    expected: Vec<Option<u32>>,
+    lost: bool,
+    stop: bool,
+    first_reset: bool,
+}
+
+/// Why an episode's loop ended early.
+enum Interruption {
+    /// The supervisor said stop.
+    Stop,
+    /// An agent was lost: the episode is discarded.
+    Lost,
+}
+
+impl<W: ServedWorld> Host<'_, W> {
+    fn count(&mut self, why: Rejection) {
+        self.pacemaker.pulse.rejected.count(why);
+    }
+
+    /// Heartbeat, the supervisor's orders, the agents' reports.
+    fn housekeeping(&mut self) -> Result<(), WorldHostError> {
+        self.pacemaker.pulse.cycles = self.cycle;
+        self.pacemaker.tick(&self.ports.heartbeat)?;
+        let run_id = self.run.run_id;
+        while let Some(order) = receive(&self.ports.control, |m| read_control(m, Role::World, run_id))? {
+            match order {
+                Ok(Some(Order::Stop)) => self.stop = true,
+                Ok(Some(Order::KeeperLost { keeper, pid })) if keeper < self.run.agents => {
+                    self.lost = true;
+                    self.expected[keeper] = Some(pid);
+                    if self.ready[keeper] != Some(pid) {
+                        self.ready[keeper] = None;
+                    }
+                }
+                Ok(Some(Order::KeeperLost { .. })) => self.count(Rejection::Content),
+                Ok(_) => {}
+                Err(why) => self.count(why),
+            }
+        }
+        let agents = self.run.agents;
+        while let Some(report) = receive(&self.ports.reports, |m| read_agent_report(m, run_id, agents))? {
+            match report {
+                Ok((a, AgentNews::Ready { pid })) if self.expected[a].is_none_or(|p| p == pid) => {
+                    self.ready[a] = Some(pid);
+                }
+                Ok(_) => {}
+                Err(why) => self.count(why),
+            }
+        }
+        Ok(())
+    }
+
+    /// Announces the vocabulary until every agent is ready; false on stop.
+    fn await_agents(&mut self) -> Result<bool, WorldHostError> {
+        self.pacemaker.pulse.state = ProcessState::Ready;
+        let parts = self.vocabulary.parts(self.run.run_id);
+        let mut announced: Option<Instant> = None;
+        let mut idle = Idle::new(self.run.wait);
+        loop {
+            if announced.is_none_or(|t| t.elapsed() >= HEARTBEAT_EVERY) {
+                for part in &parts {
+                    send(&self.ports.vocabulary, *part)?;
+                }
+                announced = Some(Instant::now());
+            }
+            self.housekeeping()?;
+            if self.stop {
+                return Ok(false);
+            }
+            if self.ready.iter().all(Option::is_some) {
+                self.lost = false;
+                self.pacemaker.pulse.state = ProcessState::Running;
+                return Ok(true);
+            }
+            idle.pause(&self.ports.wake, MAX_BLOCK)?;
+        }
+    }
+
+    /// Publishes each agent's snapshot of the world now.
+    fn publish(&mut self, status: EpisodeStatus, results: &[StepResult]) -> Result<(), WorldHostError> {
+        self.cycle += 1;
+        for a in 0..self.run.agents {
+            let seen = self.world.observe(a);
+            let mut atoms = [0u64; ATOM_WORDS];
+            for &i in &seen.atoms {
+                atoms[i / 64] |= 1 << (i % 64);
+            }
+            let mut fluents = [0.0; MAX_FLUENTS];
+            for (slot, value) in fluents.iter_mut().zip(&seen.fluents) {
+                *slot = *value;
+            }
+            let (reward, action_status) = results
+                .get(a)
+                .map_or((0.0, ActionStatus::None), |r| (r.reward, r.action));
+            let view = WorldView {
+                episode: self.episode,
+                cycle: self.cycle,
+                sent_ns: monotonic_ns(),
+                answered: self.answered[a],
+                reward,
+                step: self.step,
+                episode_status: status,
+                action_status,
+                atoms,
+                fluents,
+            };
+            self.ports.snapshots[a].send(world_snapshot(&view, a, self.run.run_id))?;
+        }
+        Ok(())
+    }
+
+    /// Tells every agent the episode is discarded.
+    fn abort(&mut self) -> Result<(), WorldHostError> {
+        self.publish(EpisodeStatus::Aborted, &[])?;
+        self.pacemaker.pulse.aborted_episodes += 1;
+        Ok(())
+    }
+
+    /// Collects each agent's command for the current cycle: lock-step until
+    /// all are in, real time until the next cycle is due (`deadline`).
+    fn collect(
+        &mut self,
+        deadline: Option<Instant>,
+    ) -> Result<Result<Vec<Option<usize>>, Interruption>, WorldHostError> {
+        let agents = self.run.agents;
+        let mut commands: Vec<Option<Option<usize>>> = vec![None; agents];
+        let mut idle = Idle::new(self.run.wait);
+        loop {
+            for (a, slot) in commands.iter_mut().enumerate() {
+                while slot.is_none() {
+                    let read = receive(&self.ports.commands[a], |m| {
+                        read_world_command(m, a, self.run.run_id, self.actions)
+                    })?;
+                    let Some(reading) = read else { break };
+                    match reading {
+                        Ok(order) if order.episode == self.episode && order.cycle == self.cycle => {
+                            self.answered[a] = Some((order.cycle, monotonic_ns()));
+                            *slot = Some(order.action);
+                        }
+                        Ok(order) if order.cycle < self.cycle => {
+                            if self.run.clock == Clock::Lockstep {
+                                self.pacemaker.pulse.rejected.count(Rejection::Sequence);
+                            }
+                        }
+                        Ok(_) => self.pacemaker.pulse.rejected.count(Rejection::Sequence),
+                        Err(why) => self.pacemaker.pulse.rejected.count(why),
+                    }
+                }
+            }
+            if commands.iter().all(Option::is_some) {
+                return Ok(Ok(commands.into_iter().flatten().collect()));
+            }
+            if let Some(deadline) = deadline
+                && Instant::now() >= deadline
+            {
+                self.pacemaker.pulse.missed_deadlines += commands.iter().filter(|c| c.is_none()).count() as u64;
+                return Ok(Ok(commands.into_iter().map(Option::flatten).collect()));
+            }
+            self.housekeeping()?;
+            if self.stop {
+                return Ok(Err(Interruption::Stop));
+            }
+            if self.lost {
+                return Ok(Err(Interruption::Lost));
+            }
+            match deadline {
+                Some(deadline) => idle.pause_until(&self.ports.wake, deadline)?,
+                None => idle.pause(&self.ports.wake, MAX_BLOCK)?,
+            }
+        }
+    }
+
+    /// Plays one episode; `Err` if it was interrupted.
+    fn episode(&mut self) -> Result<Result<(), Interruption>, WorldHostError> {
+        let seed = std::mem::take(&mut self.first_reset).then_some(self.run.seed);
+        self.world.reset(seed);
+        self.episode += 1;
+        self.step = 0;
+        let realtime = self.run.clock == Clock::Realtime;
+        let mut last: Vec<Option<usize>> = vec![None; self.run.agents];
+        self.publish(EpisodeStatus::Running, &[])?;
+        loop {
+            let deadline = realtime.then(|| Instant::now() + self.run.period);
+            let mut actions = match self.collect(deadline)? {
+                Ok(actions) => actions,
+                Err(interruption) => return Ok(Err(interruption)),
+            };
+            if realtime {
+                // A robot keeps doing what it was last told.
+                for (action, previous) in actions.iter_mut().zip(&last) {
+                    if action.is_none() {
+                        *action = *previous;
+                    }
+                }
+                last.clone_from(&actions);
+                if let Some(deadline) = deadline {
+                    std::thread::sleep(deadline.saturating_duration_since(Instant::now()));
+                }
+            }
+            let plans_ended = self.run.agents == 1 && actions[0].is_none() && !realtime;
+            let results = self.world.step(&actions);
+            self.step += 1;
+            let status = if self.world.terminated() {
+                EpisodeStatus::Terminated
+            } else if self.world.truncated() || plans_ended {
+                EpisodeStatus::Truncated
+            } else {
+                EpisodeStatus::Running
+            };
+            self.publish(status, &results)?;
+            if status.ended() {
+                // Each agent acknowledges the end once it has learned from it.
+                let deadline = realtime.then(|| Instant::now() + self.run.period);
+                return Ok(self.collect(deadline)?.map(drop));
+            }
+        }
+    }
+}
+
+/// Serves `world` as the world process of the run in this process's
+/// environment until the supervisor says stop.
+pub fn serve<W: ServedWorld>(world: &mut W) -> Result<(), WorldHostError> {
+    let run = WorldRun::from_env()?;
+    let mut vocabulary = world.vocabulary();
+    vocabulary.agents = run.agents;
+    vocabulary.validate()?;
+    let node = node(&run.namespace, "world")?;
+    let ports = WorldPorts::open(&node, run.agents, run.wait)?;
+    let agents = run.agents;
+    let mut host = Host {
+        actions: vocabulary.actions.len(),
+        vocabulary,
+        pacemaker: Pacemaker::new(Role::World, run.run_id),
+        world,
+        ports,
+        episode: 0,
+        cycle: 0,
+        step: 0,
+        answered: vec![None; agents],
+        ready: vec![None; agents],
+        expected: vec![None; agents],
+        lost: false,
+        stop: false,
+        first_reset: true,
+        run,
+    };
+    host.pacemaker.beat(&host.ports.heartbeat)?;
+    while host.await_agents()? {
+        loop {
+            match host.episode()? {
+                Ok(()) => host.pacemaker.pulse.episodes += 1,
+                Err(Interruption::Stop) => break,
+                Err(Interruption::Lost) => {
+                    host.abort()?;
+                    break;
+                }
+            }
+        }
+        if host.stop {
+            break;
+        }
+    }
+    host.pacemaker.pulse.state = ProcessState::Stopping;
+    host.pacemaker.beat(&host.ports.heartbeat)?;
+    Ok(())
+}

@@ -1,0 +1,324 @@
+//! A world in its own process: `learnpnp-supervisor --world-cmd` with the
+//! corridor world (`learnpnp-corridor`, each agent walks a corridor of five
+//! cells; the best return is -4) and `plans/corridor.pnml`, whose one choice
+//! point is forward or back. Learning over shared memory, repeatability, a
+//! plan that does not fit, the world and an agent killed, and garbage on the
+//! world's services; each test leaves `/dev/shm` as it was.
+
+use std::fs;
+use std::path::Path;
+use std::process::{Child, Output, Stdio};
+use std::time::Duration;
+
+use crate::multiprocess::{Sandbox, kill, pids_with_all, prefixes, summary, wait_until};
+use crate::util::{shipped_arg, text};
+use learnpnp_system::ipc::namespace::Namespace;
+use learnpnp_system::ipc::services::node;
+use learnpnp_system::multiprocess::garbage::Garbage;
+use learnpnp_system::multiprocess::supervisor::{IDENTITY_FILE, run_work_dir};
+use serde_json::Value;
+use shm_layouts::{
+    Header, MAX_ARGS, MAX_FLUENTS, NAME_LEN, NAMES_PER_PART, NO_ACTION, SENDER_WORLD, WorldCommand, WorldSnapshot,
+    WorldVocabulary,
+};
+
+const CORRIDOR: &str = env!("CARGO_BIN_EXE_learnpnp-corridor");
+
+/// The corridor world's arguments, with `episodes` learning episodes.
+fn corridor_run(episodes: u64) -> Vec<String> {
+    [
+        "--world-cmd",
+        CORRIDOR,
+        "--plan",
+        &shipped_arg("corridor.pnml"),
+        "--algo",
+        "q-learning",
+        "--episodes",
+        &episodes.to_string(),
+        "--eval-every",
+        &episodes.min(100).to_string(),
+        "--eval-episodes",
+        "0",
+        "--greedy-episodes",
+        "5",
+    ]
+    .map(str::to_string)
+    .to_vec()
+}
+
+fn run(sandbox: &Sandbox, out: &str, args: &[String]) -> Output {
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    sandbox.supervisor(out, &args).output().unwrap()
+}
+
+fn greedy(summary: &Value) -> f64 {
+    summary["experiment"]["final_greedy_mean"].as_f64().unwrap()
+}
+
+#[test]
+fn the_corridor_is_learned_over_shared_memory_and_a_seed_repeats_its_episodes() {
+    let sandbox = Sandbox::new("world-learns");
+    let mut used = Vec::new();
+    for seed in ["1", "2", "3"] {
+        let mut args = corridor_run(150);
+        args.extend(["--seed".to_string(), seed.to_string()]);
+        let output = run(&sandbox, &format!("seed{seed}"), &args);
+        assert!(output.status.success(), "{}", text(&output.stderr));
+        let s = summary(&sandbox.out(&format!("seed{seed}")));
+        assert_eq!(s["complete"], true, "{s}");
+        assert_eq!(greedy(&s), -4.0, "seed {seed}: the greedy walk goes straight forward");
+        assert!(s["latency_us"]["p50"].as_f64().unwrap() > 0.0);
+        assert!(s["floor_us"]["p50"].as_f64().unwrap() > 0.0);
+        used.extend(prefixes(&s));
+    }
+    let mut args = corridor_run(150);
+    args.extend(["--seed".to_string(), "1".to_string()]);
+    let output = run(&sandbox, "again", &args);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    used.extend(prefixes(&summary(&sandbox.out("again"))));
+    let episodes = |out: &str| fs::read_to_string(sandbox.out(out).join("episodes.csv")).unwrap();
+    assert_eq!(
+        episodes("seed1"),
+        episodes("again"),
+        "the same seed plays the same episodes"
+    );
+    assert_ne!(episodes("seed1"), episodes("seed2"));
+    sandbox.assert_clean(&used);
+}
+
+#[test]
+fn two_agents_learn_in_one_world_each_with_its_own_values() {
+    let sandbox = Sandbox::new("world-agents");
+    let mut args = corridor_run(150);
+    args.extend(["--agents".to_string(), "2".to_string()]);
+    let output = run(&sandbox, "two", &args);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let out = sandbox.out("two");
+    let s = summary(&out);
+    assert_eq!(s["complete"], true, "{s}");
+    assert_eq!(greedy(&s), -4.0);
+    for file in ["values.bin", "values-agent2.bin"] {
+        assert!(run_work_dir(&out, 0).join(file).exists(), "{file}");
+    }
+    sandbox.assert_clean(&prefixes(&s));
+}
+
+#[test]
+fn a_plan_naming_what_the_world_lacks_is_refused_before_any_episode() {
+    let sandbox = Sandbox::new("world-misfit");
+    let mut args = corridor_run(100);
+    args[3] = shipped_arg("sutton.pnml");
+    let output = run(&sandbox, "misfit", &args);
+    assert!(!output.status.success());
+    let s = summary(&sandbox.out("misfit"));
+    let failure = s["failure"].as_str().unwrap();
+    assert!(
+        failure.contains("does not fit the world") && failure.contains("the world's atoms: at_end"),
+        "{failure}"
+    );
+    assert_eq!(s["episodes_played"], 0, "{s}");
+    sandbox.assert_clean(&prefixes(&s));
+}
+
+/// The process of the world of the run whose namespace is `prefix`: the one
+/// whose environment names it and whose command line is the corridor's.
+fn world_pid(prefix: &str) -> Option<i32> {
+    pids_with_all(&[CORRIDOR]).into_iter().find(|pid| {
+        fs::read(format!("/proc/{pid}/environ"))
+            .map(|env| text(&env).contains(&format!("LEARNPNP_IPC_PREFIX={prefix}")))
+            .unwrap_or(false)
+    })
+}
+
+/// The identity of run 0 of `out` (its prefix and id), once it exists.
+fn identity(out: &Path) -> (String, u64) {
+    let path = || run_work_dir(out, 0).join(IDENTITY_FILE);
+    assert!(wait_until(Duration::from_secs(60), || path().exists()));
+    let identity: Value = serde_json::from_str(&fs::read_to_string(path()).unwrap()).unwrap();
+    (
+        identity["ipc_prefix"].as_str().unwrap().to_string(),
+        identity["run_id"].as_u64().unwrap(),
+    )
+}
+
+/// Waits until agent 1 has journaled `episodes` whole episodes.
+fn wait_for_episodes(out: &Path, episodes: usize) {
+    let journal = || run_work_dir(out, 0).join("agent1.journal");
+    assert!(
+        wait_until(Duration::from_secs(120), || fs::read_to_string(journal())
+            .is_ok_and(|t| t.lines().count() >= episodes)),
+        "the run made no progress"
+    );
+}
+
+fn spawn(sandbox: &Sandbox, out: &str, args: &[String]) -> Child {
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    sandbox
+        .supervisor(out, &args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+#[test]
+fn a_killed_world_is_restarted_and_the_agent_keeps_learning() {
+    let sandbox = Sandbox::new("world-killed");
+    let child = spawn(&sandbox, "killed", &corridor_run(3000));
+    let out = sandbox.out("killed");
+    let (prefix, _) = identity(&out);
+    wait_for_episodes(&out, 100);
+    let pid = world_pid(&prefix).expect("the world process");
+    kill(pid, libc::SIGKILL);
+    let output = child.wait_with_output().unwrap();
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let s = summary(&out);
+    assert_eq!(s["complete"], true, "{s}");
+    assert!(s["restarts"].as_u64().unwrap() >= 1, "{s}");
+    let faults = s["faults"].to_string();
+    assert!(faults.contains("the world exited"), "{faults}");
+    assert_eq!(greedy(&s), -4.0);
+    sandbox.assert_clean(&prefixes(&s));
+}
+
+#[test]
+fn a_killed_agent_resumes_from_its_checkpoint() {
+    let sandbox = Sandbox::new("world-agent-killed");
+    let mut args = corridor_run(3000);
+    args.extend(["--checkpoint-every".to_string(), "50".to_string()]);
+    let child = spawn(&sandbox, "agent", &args);
+    let out = sandbox.out("agent");
+    identity(&out);
+    wait_for_episodes(&out, 200);
+    // The agent's work directory is in the sandbox (the result set's staging directory).
+    let root = out.parent().unwrap().display().to_string();
+    let pids = pids_with_all(&["--world-agent", &root]);
+    assert_eq!(pids.len(), 1, "{pids:?}");
+    kill(pids[0], libc::SIGKILL);
+    let output = child.wait_with_output().unwrap();
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let s = summary(&out);
+    assert_eq!(s["complete"], true, "{s}");
+    assert_eq!(s["values_survived"], true, "{s}");
+    assert_eq!(s["resumes"].as_array().unwrap().len(), 1, "{s}");
+    assert_eq!(greedy(&s), -4.0);
+    sandbox.assert_clean(&prefixes(&s));
+}
+
+/// Snapshots a foreign process sends agent 0, each refused for its reason.
+fn garbage_snapshots(run_id: u64) -> Vec<WorldSnapshot> {
+    let good = WorldSnapshot {
+        header: Header::new(SENDER_WORLD, run_id),
+        episode: 1,
+        cycle: 1,
+        sent_ns: 0,
+        answer_cycle: 0,
+        answer_received_ns: 0,
+        reward: 0.0,
+        agent: 0,
+        step: 0,
+        episode_status: 0,
+        action_status: 0,
+        reserved: [0; 6],
+        atoms: [0; 4],
+        fluents: [0.0; MAX_FLUENTS],
+    };
+    let mut nan = good;
+    nan.fluents[0] = f64::NAN;
+    let mut beyond = good;
+    beyond.atoms[3] = 1;
+    vec![
+        WorldSnapshot {
+            header: Header::new(SENDER_WORLD, run_id ^ 1),
+            ..good
+        },
+        WorldSnapshot {
+            header: Header::new(3, run_id),
+            ..good
+        },
+        nan,
+        beyond,
+        WorldSnapshot {
+            episode_status: 9,
+            ..good
+        },
+        // Well formed, but older than what the agent has taken.
+        good,
+    ]
+}
+
+/// Commands a foreign process sends the world on agent 0's service.
+fn garbage_commands(run_id: u64) -> Vec<WorldCommand> {
+    let good = WorldCommand {
+        header: Header::new(0, run_id),
+        episode: 1,
+        cycle: 1,
+        compute_ns: 0,
+        action: NO_ACTION,
+        reserved: 0,
+        args: [0.0; MAX_ARGS],
+    };
+    vec![
+        WorldCommand {
+            header: Header::new(1, run_id),
+            ..good
+        },
+        WorldCommand { action: 99, ..good },
+        WorldCommand {
+            args: [f64::NAN; MAX_ARGS],
+            ..good
+        },
+        WorldCommand {
+            header: Header::new(0, run_id + 1),
+            ..good
+        },
+    ]
+}
+
+#[test]
+fn garbage_on_the_world_services_is_refused_and_counted() {
+    let sandbox = Sandbox::new("world-garbage");
+    let child = spawn(&sandbox, "garbage", &corridor_run(4000));
+    let out = sandbox.out("garbage");
+    let (prefix, run_id) = identity(&out);
+    wait_for_episodes(&out, 100);
+    let namespace = Namespace::at(&sandbox.ipc(), &prefix).unwrap();
+    let foreign = node(&namespace, "foreign").unwrap();
+    let garbage = Garbage {
+        world_snapshots: vec![garbage_snapshots(run_id)],
+        world_commands: vec![garbage_commands(run_id)],
+        vocabulary: vec![WorldVocabulary {
+            header: Header::new(SENDER_WORLD, run_id),
+            atoms: 1,
+            fluents: 1,
+            actions: 2,
+            agents: 1,
+            part: 0,
+            parts: 7,
+            first: 0,
+            count: 4,
+            names: [[0; NAME_LEN]; NAMES_PER_PART],
+        }],
+        ..Garbage::default()
+    };
+    garbage.publish(&foreign, Duration::from_millis(500)).unwrap();
+    drop(foreign);
+    let output = child.wait_with_output().unwrap();
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let s = summary(&out);
+    assert_eq!(s["complete"], true, "{s}");
+    assert_eq!(greedy(&s), -4.0, "no refused message was applied");
+    let agent = &s["rejected_messages"]["agent 1"];
+    assert_eq!(
+        [&agent["run"], &agent["sender"], &agent["content"], &agent["sequence"]],
+        [1, 1, 3, 1],
+        "{agent}"
+    );
+    let world = &s["rejected_messages"]["world"];
+    assert_eq!(
+        [&world["run"], &world["sender"], &world["content"]],
+        [1, 1, 2],
+        "{world}"
+    );
+    sandbox.assert_clean(&prefixes(&s));
+}
