@@ -22,6 +22,7 @@ use learnpnp_system::ipc::namespace::{Namespace, clean_stale};
 use learnpnp_system::ipc::wait::WaitStrategy;
 use learnpnp_system::multiprocess::Clock;
 use learnpnp_system::multiprocess::bench_latency::{bench_latency, configurations};
+use learnpnp_system::multiprocess::bench_world::bench_world;
 use learnpnp_system::multiprocess::chaos::{Chaos, GARBAGE_COMMAND, SoakLength, publish_garbage};
 use learnpnp_system::multiprocess::launch::Binaries;
 use learnpnp_system::multiprocess::soak::{Soak, SoakLimits};
@@ -56,6 +57,9 @@ enum Command {
     Soak(SoakArgs),
     /// Measure floor, round trip and compute time per wait strategy, idle and under load.
     BenchLatency(BenchArgs),
+    /// Measure how a world run's cycles/s and round trip grow with the agents
+    /// (default: the corridor world beside this binary, lock-step).
+    BenchWorld(BenchWorldArgs),
     /// (Chaos soaks) Publish garbage on every service of a run, as a foreign process.
     #[command(name = GARBAGE_COMMAND, hide = true)]
     PublishGarbage(GarbageArgs),
@@ -147,6 +151,16 @@ struct BenchArgs {
     /// The wait strategies measured.
     #[arg(long, value_parser = named::<WaitStrategy>(), value_delimiter = ',', default_value = "spin,yield,block,hybrid")]
     strategies: Vec<WaitStrategy>,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+/// The world benchmark.
+#[derive(Args, Debug)]
+struct BenchWorldArgs {
+    /// The numbers of agents measured.
+    #[arg(long = "agent-counts", value_delimiter = ',', default_value = "1,2,4,8,16", value_parser = clap::value_parser!(u8).range(1..=16))]
+    agent_counts: Vec<u8>,
     #[command(flatten)]
     run: RunArgs,
 }
@@ -372,6 +386,28 @@ fn bench(args: BenchArgs) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+fn bench_world_cmd(args: BenchWorldArgs) -> Result<ExitCode> {
+    let interrupt = Interrupt::install().context("installing the signal handlers")?;
+    let mut run = args.run;
+    if run.flags.options().plan.is_none() {
+        bail!("bench-world needs the agents' plan: --plan plans/corridor.pnml");
+    }
+    if run.world_cmd.is_none() {
+        let exe = std::env::current_exe().context("locating learnpnp-supervisor")?;
+        run.world_cmd = Some(exe.with_file_name("learnpnp-corridor").display().to_string());
+    }
+    let (config, out) = prepare(&run, DEFAULT_WORLD_EPISODES)?;
+    let out = out.path().to_path_buf();
+    let counts: Vec<usize> = args.agent_counts.iter().map(|&n| usize::from(n)).collect();
+    let (table, _) = bench_world(&config, &counts, &out, interrupt.flag())?;
+    print!("{table}");
+    println!(
+        "results in {}: bench-world.csv, bench-world.svg, agents-N/",
+        out.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
 fn main() -> ExitCode {
     iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
     let cli = Cli::parse();
@@ -380,6 +416,7 @@ fn main() -> ExitCode {
         Some(Command::Run(args)) => run(args),
         Some(Command::Soak(args)) => soak(args),
         Some(Command::BenchLatency(args)) => bench(args),
+        Some(Command::BenchWorld(args)) => bench_world_cmd(args),
         Some(Command::PublishGarbage(args)) => Namespace::from_prefix(&args.ipc_prefix)
             .context("the run's namespace")
             .and_then(|ns| publish_garbage(&ns, args.run_id).context("publishing garbage"))

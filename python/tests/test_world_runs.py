@@ -126,3 +126,32 @@ def test_doorkey_from_a_python_world_reaches_the_goal_greedily(supervisor, sandb
               f"(first 20 learning episodes: {early:.1f} steps)")
         assert success >= 0.9, f"seed {seed}: {success:.0%} of greedy episodes reach the goal"
         assert steps <= 15, f"seed {seed}: greedy episodes take {steps:.1f} steps"
+
+
+def readme_world():
+    """The README's twenty-line world (FrozenLake), as the README shows it."""
+    text = (ROOT / "README.md").read_text()
+    start = text.index("# my_world.py")
+    return text[start : text.index("```", start)]
+
+
+def test_the_readme_world_serves_frozenlake_and_its_plan_is_learned(supervisor, sandbox):
+    import grid
+    import learnpnp
+
+    code = readme_world()
+    assert len(code.strip().splitlines()) <= 22, "the README promises about twenty lines"
+    (sandbox / "my_world.py").write_text(code)
+    grid.build("lake", 16, grid.LAKE_ACTIONS, {15}).save(str(sandbox / "lake.pnml"))
+    out, ipc = sandbox / "lake", sandbox / "ipc"
+    command = [supervisor, "--world-cmd", f"{sys.executable} my_world.py", "--plan", str(sandbox / "lake.pnml"),
+               "--algo", "q-learning", "--episodes", "400", "--eval-every", "400", "--eval-episodes", "0",
+               "--greedy-episodes", "10", "--out", str(out), "--floor-round-trips", "1000"]
+    done = subprocess.run(command, cwd=sandbox, env={**os.environ, "LEARNPNP_IPC_DIR": str(ipc)},
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["experiment"]["final_greedy_mean"] == 1.0, "the greedy walk reaches the goal every time"
+    episodes = (sandbox / "episodes.jsonl").read_text().splitlines()
+    assert len(episodes) >= 410
+    assert learnpnp.Plan.load(str(sandbox / "lake.pnml")).actions == list(grid.LAKE_ACTIONS)

@@ -322,3 +322,53 @@ fn garbage_on_the_world_services_is_refused_and_counted() {
     );
     sandbox.assert_clean(&prefixes(&s));
 }
+
+#[test]
+fn a_world_that_keeps_dying_stops_the_run_with_a_clear_failure() {
+    let sandbox = Sandbox::new("world-dying");
+    let mut args = corridor_run(100);
+    args[1] = "exit 3".to_string();
+    args.extend(["--max-restarts".to_string(), "2".to_string()]);
+    let output = run(&sandbox, "dying", &args);
+    assert!(!output.status.success());
+    let s = summary(&sandbox.out("dying"));
+    let failure = s["failure"].as_str().unwrap();
+    assert!(
+        failure.contains("the world exited: exit code 3") && failure.contains("run given up"),
+        "{failure}"
+    );
+    assert_eq!(s["restarts"], 3, "{s}");
+    sandbox.assert_clean(&prefixes(&s));
+}
+
+#[test]
+fn in_real_time_the_world_keeps_its_clock_and_counts_the_commands_that_miss_it() {
+    let sandbox = Sandbox::new("world-realtime");
+    let mut args = corridor_run(4);
+    args.extend(["--mode".to_string(), "realtime".to_string()]);
+    let child = spawn(&sandbox, "realtime", &args);
+    let out = sandbox.out("realtime");
+    identity(&out);
+    let root = out.parent().unwrap().display().to_string();
+    let agent = || pids_with_all(&["--world-agent", &root]);
+    assert!(wait_until(Duration::from_secs(30), || agent().len() == 1));
+    std::thread::sleep(Duration::from_millis(1000));
+    let pid = agent()[0];
+    kill(pid, libc::SIGSTOP);
+    std::thread::sleep(Duration::from_millis(600));
+    kill(pid, libc::SIGCONT);
+    let output = child.wait_with_output().unwrap();
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let s = summary(&out);
+    assert_eq!(s["complete"], true, "{s}");
+    let missed = s["missed_deadlines"].as_u64().unwrap();
+    assert!(
+        missed >= 4,
+        "an agent stopped for 600 ms misses about 6 cycles of 100 ms: {missed}"
+    );
+    assert!(
+        s["floor_us"]["p50"].as_f64().unwrap() > 0.0,
+        "the floor is sampled beside the run"
+    );
+    sandbox.assert_clean(&prefixes(&s));
+}

@@ -101,14 +101,35 @@ fn pubsub<T: ZeroCopySend + Debug + 'static>(
         .map_err(fail(format!("opening service {name}")))
 }
 
+/// Notifiers of a wake-up event: every sender to its process (a Keepaway run).
+const WAKE_NOTIFIERS: usize = 16;
+
+/// Notifiers of a wake-up event in a world run: up to two per agent (its
+/// commands and its reports wake the world), the supervisor, restarts.
+const WORLD_WAKE_NOTIFIERS: usize = 64;
+
+/// Services every process of a world run publishes to or subscribes from:
+/// room for the world, sixteen agents, the supervisor, restarted and foreign ones.
+const WORLD_SHARED: Limits = Limits {
+    publishers: 40,
+    subscribers: 40,
+    buffer: 256,
+};
+
 /// Opens (or creates) the event service that wakes `process`.
 fn wake_service(node: &Node<Ipc>, process: &str) -> Result<event::PortFactory<Ipc>, IpcError> {
+    wake_service_for(node, process, WAKE_NOTIFIERS)
+}
+
+/// Opens (or creates) the event service that wakes `process`, with room for
+/// `notifiers` (an existing service may have more).
+fn wake_service_for(node: &Node<Ipc>, process: &str, notifiers: usize) -> Result<event::PortFactory<Ipc>, IpcError> {
     let name = services::wake(process);
     let service_name = ServiceName::new(&name).map_err(fail(format!("service name {name}")))?;
     node.service_builder(&service_name)
         .event()
         .max_listeners(2)
-        .max_notifiers(16)
+        .max_notifiers(notifiers)
         .max_nodes(MAX_NODES)
         .open_or_create()
         .map_err(fail(format!("opening event service {name}")))
@@ -275,16 +296,16 @@ impl WorldServices {
             _commands: (0..agents)
                 .map(|a| pubsub(node, &services::world_command(a), POINT_TO_POINT))
                 .collect::<Result<_, _>>()?,
-            _vocabulary: pubsub(node, services::WORLD_VOCABULARY, SHARED)?,
-            _agent_report: pubsub(node, services::AGENT_REPORT, SHARED)?,
-            _heartbeat: pubsub(node, services::HEARTBEAT, SHARED)?,
-            _control: pubsub(node, services::CONTROL, SHARED)?,
+            _vocabulary: pubsub(node, services::WORLD_VOCABULARY, WORLD_SHARED)?,
+            _agent_report: pubsub(node, services::AGENT_REPORT, WORLD_SHARED)?,
+            _heartbeat: pubsub(node, services::HEARTBEAT, WORLD_SHARED)?,
+            _control: pubsub(node, services::CONTROL, WORLD_SHARED)?,
             _floor_ping: pubsub(node, services::WORLD_FLOOR_PING, POINT_TO_POINT)?,
             _floor_pong: pubsub(node, services::WORLD_FLOOR_PONG, POINT_TO_POINT)?,
             _wakes: roster
                 .roles()
                 .into_iter()
-                .map(|role| wake_service(node, &wake_name(role)))
+                .map(|role| wake_service_for(node, &wake_name(role), WORLD_WAKE_NOTIFIERS))
                 .collect::<Result<_, _>>()?,
         })
     }
@@ -450,10 +471,9 @@ pub struct WorldAgentPorts {
     pub heartbeat: Pub<Heartbeat>,
     /// The supervisor's commands.
     pub control: Sub<Control>,
-    /// The supervisor's floor pings (agent 0 answers them).
-    pub floor_ping: Sub<WorldSnapshot>,
-    /// Floor pongs to the supervisor (which polls without blocking).
-    pub floor_pong: Pub<WorldCommand>,
+    /// Agent 0: the supervisor's floor pings, and the pongs answering them
+    /// (the supervisor polls without blocking).
+    pub floor: Option<(Sub<WorldSnapshot>, Pub<WorldCommand>)>,
     /// Wakes this agent when it blocks.
     pub wake: Listener<Ipc>,
 }
@@ -469,8 +489,14 @@ impl WorldAgentPorts {
             report: Outlet::open(node, services::AGENT_REPORT, SHARED, &world, wait)?,
             heartbeat: publisher(node, services::HEARTBEAT, SHARED)?,
             control: subscriber(node, services::CONTROL, SHARED)?,
-            floor_ping: subscriber(node, services::WORLD_FLOOR_PING, POINT_TO_POINT)?,
-            floor_pong: publisher(node, services::WORLD_FLOOR_PONG, POINT_TO_POINT)?,
+            floor: if a == 0 {
+                Some((
+                    subscriber(node, services::WORLD_FLOOR_PING, POINT_TO_POINT)?,
+                    publisher(node, services::WORLD_FLOOR_PONG, POINT_TO_POINT)?,
+                ))
+            } else {
+                None
+            },
             wake: listener(node, &agent_process(a))?,
         })
     }

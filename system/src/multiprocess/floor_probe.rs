@@ -30,8 +30,6 @@ pub struct FloorProbe {
     histogram: Latency,
     work_dir: PathBuf,
     sequence: u64,
-    /// Real time: the ping in flight and when it was sent.
-    outstanding: Option<(u64, Instant)>,
     last_ping: Option<Instant>,
 }
 
@@ -45,7 +43,6 @@ impl FloorProbe {
             histogram: Latency::new(FLOOR),
             work_dir: work_dir.to_path_buf(),
             sequence: 0,
-            outstanding: None,
             last_ping: None,
         })
     }
@@ -105,21 +102,21 @@ impl FloorProbe {
         Ok(false)
     }
 
-    /// Real time: takes the echo in flight, or sends a ping once a cycle
-    /// has passed since the last one.
+    /// Real time: once a cycle, one ping, waited for (yielding) until its
+    /// echo comes or a tenth of a cycle has passed; the supervisor's loop
+    /// does nothing else meanwhile.
     pub fn sample(&mut self) -> Result<(), SupervisorError> {
-        if let Some((sequence, sent)) = self.outstanding {
-            if self.echoed(sequence)? {
-                self.histogram.record(sent.elapsed());
-                self.outstanding = None;
-            } else if sent.elapsed() > WORLD_PERIOD {
-                self.outstanding = None;
-            }
+        if self.last_ping.is_some_and(|t| t.elapsed() < WORLD_PERIOD) {
             return Ok(());
         }
-        if self.last_ping.is_none_or(|t| t.elapsed() >= WORLD_PERIOD) {
-            self.outstanding = Some(self.ping()?);
-            self.last_ping = Some(Instant::now());
+        self.last_ping = Some(Instant::now());
+        let (sequence, sent) = self.ping()?;
+        while sent.elapsed() < WORLD_PERIOD / 10 {
+            if self.echoed(sequence)? {
+                self.histogram.record(sent.elapsed());
+                return Ok(());
+            }
+            std::thread::yield_now();
         }
         Ok(())
     }

@@ -19,6 +19,7 @@
 
 pub mod agent_process;
 pub mod bench_latency;
+pub mod bench_world;
 pub mod chaos;
 pub mod floor_probe;
 pub mod garbage;

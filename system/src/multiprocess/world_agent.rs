@@ -262,9 +262,7 @@ impl WorldAgent {
                 .send(agent_report(ready, self.settings.agent, run_id))?;
             self.announced = Some(Instant::now());
         }
-        if self.settings.agent == 0 {
-            answer_floor(&self.ports, run_id)?;
-        }
+        answer_floor(&self.ports, run_id)?;
         Ok(())
     }
 
@@ -492,11 +490,14 @@ impl Task for WorldAgent {
 
 /// Agent 0 answers the supervisor's floor pings at once.
 fn answer_floor(ports: &WorldAgentPorts, run_id: u64) -> Result<(), ProcessError> {
-    while let Some(sequence) = receive(&ports.floor_ping, |m| {
+    let Some((pings, pongs)) = &ports.floor else {
+        return Ok(());
+    };
+    while let Some(sequence) = receive(pings, |m| {
         (m.header.run_id == run_id && m.header.sender == shm_layouts::SENDER_SUPERVISOR).then_some(m.cycle)
     })? {
         if let Some(sequence) = sequence {
-            send(&ports.floor_pong, floor_pong(run_id, sequence))?;
+            send(pongs, floor_pong(run_id, sequence))?;
         }
     }
     Ok(())
@@ -523,9 +524,7 @@ fn await_vocabulary(
                 Err(why) => pacemaker.pulse.rejected.count(why),
             }
         }
-        if agent == 0 {
-            answer_floor(ports, run_id)?;
-        }
+        answer_floor(ports, run_id)?;
         while let Some(part) = receive(&ports.vocabulary, |m| reader.read(m, run_id))? {
             match part {
                 Ok(Some(vocabulary)) => return Ok(Some(vocabulary)),

@@ -159,6 +159,10 @@ struct Host<'w, W: ServedWorld> {
     first_reset: bool,
 }
 
+/// Each agent's answer in a cycle: `None` if it missed the cycle (real
+/// time), else the action it named (`None`: no action).
+type Answers = Vec<Option<Option<usize>>>;
+
 /// Why an episode's loop ended early.
 enum Interruption {
     /// The supervisor said stop.
@@ -272,11 +276,12 @@ impl<W: ServedWorld> Host<'_, W> {
     }
 
     /// Collects each agent's command for the current cycle: lock-step until
-    /// all are in, real time until the next cycle is due (`deadline`).
+    /// all are in, real time until the next cycle is due (`deadline`; an
+    /// agent whose command is not in by then is `None`).
     fn collect(
         &mut self,
         deadline: Option<Instant>,
-    ) -> Result<Result<Vec<Option<usize>>, Interruption>, WorldHostError> {
+    ) -> Result<Result<Answers, Interruption>, WorldHostError> {
         let agents = self.run.agents;
         let mut commands: Vec<Option<Option<usize>>> = vec![None; agents];
         let mut idle = Idle::new(self.run.wait);
@@ -303,13 +308,13 @@ impl<W: ServedWorld> Host<'_, W> {
                 }
             }
             if commands.iter().all(Option::is_some) {
-                return Ok(Ok(commands.into_iter().flatten().collect()));
+                return Ok(Ok(commands));
             }
             if let Some(deadline) = deadline
                 && Instant::now() >= deadline
             {
                 self.pacemaker.pulse.missed_deadlines += commands.iter().filter(|c| c.is_none()).count() as u64;
-                return Ok(Ok(commands.into_iter().map(Option::flatten).collect()));
+                return Ok(Ok(commands));
             }
             self.housekeeping()?;
             if self.stop {
@@ -336,28 +341,34 @@ impl<W: ServedWorld> Host<'_, W> {
         self.publish(EpisodeStatus::Running, &[])?;
         loop {
             let deadline = realtime.then(|| Instant::now() + self.run.period);
-            let mut actions = match self.collect(deadline)? {
-                Ok(actions) => actions,
+            let answers = match self.collect(deadline)? {
+                Ok(answers) => answers,
                 Err(interruption) => return Ok(Err(interruption)),
             };
-            if realtime {
-                // A robot keeps doing what it was last told.
-                for (action, previous) in actions.iter_mut().zip(&last) {
-                    if action.is_none() {
-                        *action = *previous;
-                    }
-                }
-                last.clone_from(&actions);
-                if let Some(deadline) = deadline {
-                    std::thread::sleep(deadline.saturating_duration_since(Instant::now()));
-                }
+            if let Some(deadline) = deadline {
+                std::thread::sleep(deadline.saturating_duration_since(Instant::now()));
             }
-            let plans_ended = self.run.agents == 1 && actions[0].is_none() && !realtime;
-            let results = self.world.step(&actions);
-            self.step += 1;
-            let status = if self.world.terminated() {
+            if answers.iter().all(Option::is_none) && last.iter().all(Option::is_none) {
+                // Real time, nothing told yet: the same state again a cycle later.
+                self.publish(EpisodeStatus::Running, &[])?;
+                continue;
+            }
+            // A missed command: a robot keeps doing what it was last told.
+            let actions: Vec<Option<usize>> = answers.iter().zip(&last).map(|(a, p)| a.unwrap_or(*p)).collect();
+            last.clone_from(&actions);
+            // A world of one agent whose plan has ended ends the episode unstepped.
+            let plan_ended = self.run.agents == 1 && answers[0] == Some(None);
+            let results = if plan_ended {
+                Vec::new()
+            } else {
+                self.step += 1;
+                self.world.step(&actions)
+            };
+            let status = if plan_ended {
+                EpisodeStatus::Truncated
+            } else if self.world.terminated() {
                 EpisodeStatus::Terminated
-            } else if self.world.truncated() || plans_ended {
+            } else if self.world.truncated() {
                 EpisodeStatus::Truncated
             } else {
                 EpisodeStatus::Running
