@@ -2,6 +2,7 @@
 //! in the run of a world in its own process (started by
 //! `learnpnp-supervisor`, which passes every argument).
 
+use std::io::Write as _;
 use std::process::ExitCode;
 
 use clap::Parser;
@@ -59,19 +60,14 @@ fn main() -> ExitCode {
             (format!("agent {agent}"), world_agent::run(&context, &settings))
         }
     };
-    match outcome {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e @ ProcessError::CannotResume(_)) => {
-            eprintln!("error: {who}: {e}");
-            ExitCode::from(EXIT_CANNOT_RESUME as u8)
-        }
-        Err(e @ ProcessError::PlanDoesNotFit(_)) => {
-            eprintln!("error: {who}: {e}");
-            ExitCode::from(EXIT_PLAN_DOES_NOT_FIT as u8)
-        }
-        Err(e) => {
-            eprintln!("error: {who}: {e}");
-            ExitCode::FAILURE
-        }
+    let Err(e) = outcome else {
+        return ExitCode::SUCCESS;
+    };
+    // Not eprintln!, which panics when the log cannot be written (a full disk).
+    let _ = writeln!(std::io::stderr(), "error: {who}: {e}");
+    match e {
+        ProcessError::CannotResume(_) => ExitCode::from(EXIT_CANNOT_RESUME as u8),
+        ProcessError::PlanDoesNotFit(_) => ExitCode::from(EXIT_PLAN_DOES_NOT_FIT as u8),
+        _ => ExitCode::FAILURE,
     }
 }

@@ -74,6 +74,9 @@ struct GarbageArgs {
     /// The run's id.
     #[arg(long)]
     run_id: u64,
+    /// A world run with this many agents (its services, not Keepaway's).
+    #[arg(long)]
+    world_agents: Option<usize>,
 }
 
 /// A run of the system.
@@ -192,7 +195,13 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
                 plan: plan.clone(),
                 agents: usize::from(args.agents),
             };
-            let episodes = options.episodes.unwrap_or(episodes.min(DEFAULT_WORLD_EPISODES));
+            // A soak's or a benchmark's unbounded run stays unbounded.
+            let default = if episodes == UNBOUNDED_EPISODES {
+                episodes
+            } else {
+                DEFAULT_WORLD_EPISODES
+            };
+            let episodes = options.episodes.unwrap_or(default);
             options
                 .or_defaults(Algorithm::EpsSosmc, DEFAULT_RUNS, episodes)
                 .spec_for(world)?
@@ -419,7 +428,7 @@ fn main() -> ExitCode {
         Some(Command::BenchWorld(args)) => bench_world_cmd(args),
         Some(Command::PublishGarbage(args)) => Namespace::from_prefix(&args.ipc_prefix)
             .context("the run's namespace")
-            .and_then(|ns| publish_garbage(&ns, args.run_id).context("publishing garbage"))
+            .and_then(|ns| publish_garbage(&ns, args.run_id, args.world_agents).context("publishing garbage"))
             .map(|()| ExitCode::SUCCESS),
     };
     match result {

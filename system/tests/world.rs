@@ -17,10 +17,6 @@ use learnpnp_system::ipc::services::node;
 use learnpnp_system::multiprocess::garbage::Garbage;
 use learnpnp_system::multiprocess::supervisor::{IDENTITY_FILE, run_work_dir};
 use serde_json::Value;
-use shm_layouts::{
-    Header, MAX_ARGS, MAX_FLUENTS, NAME_LEN, NAMES_PER_PART, NO_ACTION, SENDER_WORLD, WorldCommand, WorldSnapshot,
-    WorldVocabulary,
-};
 
 const CORRIDOR: &str = env!("CARGO_BIN_EXE_learnpnp-corridor");
 
@@ -205,76 +201,6 @@ fn a_killed_agent_resumes_from_its_checkpoint() {
     sandbox.assert_clean(&prefixes(&s));
 }
 
-/// Snapshots a foreign process sends agent 0, each refused for its reason.
-fn garbage_snapshots(run_id: u64) -> Vec<WorldSnapshot> {
-    let good = WorldSnapshot {
-        header: Header::new(SENDER_WORLD, run_id),
-        episode: 1,
-        cycle: 1,
-        sent_ns: 0,
-        answer_cycle: 0,
-        answer_received_ns: 0,
-        reward: 0.0,
-        agent: 0,
-        step: 0,
-        episode_status: 0,
-        action_status: 0,
-        reserved: [0; 6],
-        atoms: [0; 4],
-        fluents: [0.0; MAX_FLUENTS],
-    };
-    let mut nan = good;
-    nan.fluents[0] = f64::NAN;
-    let mut beyond = good;
-    beyond.atoms[3] = 1;
-    vec![
-        WorldSnapshot {
-            header: Header::new(SENDER_WORLD, run_id ^ 1),
-            ..good
-        },
-        WorldSnapshot {
-            header: Header::new(3, run_id),
-            ..good
-        },
-        nan,
-        beyond,
-        WorldSnapshot {
-            episode_status: 9,
-            ..good
-        },
-        // Well formed, but older than what the agent has taken.
-        good,
-    ]
-}
-
-/// Commands a foreign process sends the world on agent 0's service.
-fn garbage_commands(run_id: u64) -> Vec<WorldCommand> {
-    let good = WorldCommand {
-        header: Header::new(0, run_id),
-        episode: 1,
-        cycle: 1,
-        compute_ns: 0,
-        action: NO_ACTION,
-        reserved: 0,
-        args: [0.0; MAX_ARGS],
-    };
-    vec![
-        WorldCommand {
-            header: Header::new(1, run_id),
-            ..good
-        },
-        WorldCommand { action: 99, ..good },
-        WorldCommand {
-            args: [f64::NAN; MAX_ARGS],
-            ..good
-        },
-        WorldCommand {
-            header: Header::new(0, run_id + 1),
-            ..good
-        },
-    ]
-}
-
 #[test]
 fn garbage_on_the_world_services_is_refused_and_counted() {
     let sandbox = Sandbox::new("world-garbage");
@@ -284,24 +210,9 @@ fn garbage_on_the_world_services_is_refused_and_counted() {
     wait_for_episodes(&out, 100);
     let namespace = Namespace::at(&sandbox.ipc(), &prefix).unwrap();
     let foreign = node(&namespace, "foreign").unwrap();
-    let garbage = Garbage {
-        world_snapshots: vec![garbage_snapshots(run_id)],
-        world_commands: vec![garbage_commands(run_id)],
-        vocabulary: vec![WorldVocabulary {
-            header: Header::new(SENDER_WORLD, run_id),
-            atoms: 1,
-            fluents: 1,
-            actions: 2,
-            agents: 1,
-            part: 0,
-            parts: 7,
-            first: 0,
-            count: 4,
-            names: [[0; NAME_LEN]; NAMES_PER_PART],
-        }],
-        ..Garbage::default()
-    };
-    garbage.publish(&foreign, Duration::from_millis(500)).unwrap();
+    Garbage::every_world_kind(run_id, 1)
+        .publish(&foreign, Duration::from_millis(500))
+        .unwrap();
     drop(foreign);
     let output = child.wait_with_output().unwrap();
     assert!(output.status.success(), "{}", text(&output.stderr));
@@ -327,7 +238,7 @@ fn garbage_on_the_world_services_is_refused_and_counted() {
 fn a_world_that_keeps_dying_stops_the_run_with_a_clear_failure() {
     let sandbox = Sandbox::new("world-dying");
     let mut args = corridor_run(100);
-    args[1] = "exit 3".to_string();
+    args[1] = "sh -c 'exit 3'".to_string();
     args.extend(["--max-restarts".to_string(), "2".to_string()]);
     let output = run(&sandbox, "dying", &args);
     assert!(!output.status.success());

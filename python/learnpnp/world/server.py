@@ -240,6 +240,7 @@ class _World:
         self.next_heartbeat_ns = 0
         self.next_vocabulary_ns = 0
         self.stop = False
+        self.parent = os.getppid()
         #: Agents whose readiness the world waits for.
         self.awaiting = set(range(settings.agents))
         #: The process id the supervisor named for a lost agent's replacement.
@@ -263,6 +264,10 @@ class _World:
         if now >= self.next_heartbeat_ns:
             self.send_heartbeat()
             self.next_heartbeat_ns = now + ANNOUNCE_NS
+            if os.getppid() != self.parent:
+                # The process that started the world (the supervisor, or the
+                # shell it ran the command with) is gone: so is the run.
+                self.stop = True
         while (sample := self.ports.control.receive()) is not None:
             self.apply_control(copy_of(sample, Control))
         while (sample := self.ports.reports.receive()) is not None:

@@ -235,8 +235,9 @@ impl Namespace {
         Ok(removed)
     }
 
-    /// iceoryx2's cleanup of the nodes of this namespace whose process is dead.
-    fn remove_dead_nodes(&self) -> Result<(), NamespaceError> {
+    /// iceoryx2's cleanup of the nodes of this namespace whose process is
+    /// dead (their ports, so that a replacement finds its port's slot free).
+    pub fn remove_dead_nodes(&self) -> Result<(), NamespaceError> {
         let config = self.config()?;
         Node::<iceoryx2::prelude::ipc::Service>::list(&config, |state| {
             if let NodeState::Dead(node) = state {

@@ -29,7 +29,7 @@ use super::garbage::Garbage;
 use super::load::CpuLoad;
 use super::supervisor::{Request, RunRecord, RunView};
 use crate::ipc::namespace::Namespace;
-use crate::ipc::protocol::{Order, Role};
+use crate::ipc::protocol::{Order, Role, Roster};
 use crate::ipc::services::{IpcError, node};
 use learnpnp::learning::persist;
 use learnpnp::rng::{SimRng, seeded};
@@ -203,7 +203,9 @@ pub struct Chaos {
     schedule: VecDeque<(f64, FaultKind)>,
     records: Vec<ChaosRecord>,
     active: Vec<Active>,
-    agent_kills: [usize; learnpnp::keepaway_sim::world::NUM_KEEPERS],
+    agent_kills: [usize; shm_layouts::MAX_AGENTS],
+    /// The run's processes (learned from the first view).
+    roster: Roster,
 }
 
 impl std::fmt::Debug for Chaos {
@@ -268,7 +270,8 @@ impl Chaos {
             schedule: schedule.into(),
             records: Vec::new(),
             active: Vec::new(),
-            agent_kills: [0; learnpnp::keepaway_sim::world::NUM_KEEPERS],
+            agent_kills: [0; shm_layouts::MAX_AGENTS],
+            roster: Roster::Keepaway,
         }
     }
 
@@ -306,6 +309,7 @@ impl Chaos {
     /// Injects the faults that are due at `now` and ends those whose time
     /// is up; returns what the supervisor must do for them.
     pub fn tick(&mut self, now: SoakClock, view: &RunView<'_>) -> Vec<Request> {
+        self.roster = view.roster;
         let seconds = now.seconds;
         let progress = self.progress(now);
         let mut requests = Vec::new();
@@ -359,7 +363,7 @@ impl Chaos {
         let nth = self.agent_kills[k];
         self.agent_kills[k] += 1;
         let record = self.record(
-            format!("SIGKILL keeper {} (pid {pid})", k + 1),
+            format!("SIGKILL {} (pid {pid})", self.roster.agent(k)),
             seconds,
             Check::AgentRestart { keeper: k, nth },
         );
@@ -368,16 +372,14 @@ impl Chaos {
         }
     }
 
-    /// SIGKILL of the simulator (judged at the end from its restart).
+    /// SIGKILL of the host, the simulator or the world (judged at the end
+    /// from its restart).
     fn kill_simulator(&mut self, seconds: f64, view: &RunView<'_>) {
-        let Some(pid) = pid_of(view, Role::Simulator) else {
+        let host = self.roster.host();
+        let Some(pid) = pid_of(view, host) else {
             return;
         };
-        let record = self.record(
-            format!("SIGKILL simulator (pid {pid})"),
-            seconds,
-            Check::SimulatorRestart,
-        );
+        let record = self.record(format!("SIGKILL {host} (pid {pid})"), seconds, Check::SimulatorRestart);
         if !signal(pid, libc::SIGKILL) {
             self.conclude(record, "the signal could not be sent".into(), false);
         }
@@ -389,7 +391,11 @@ impl Chaos {
             return;
         };
         let record = self.record(
-            format!("SIGSTOP keeper {} (pid {pid}) for {} s", k + 1, STOP_FOR.as_secs()),
+            format!(
+                "SIGSTOP {} (pid {pid}) for {} s",
+                self.roster.agent(k),
+                STOP_FOR.as_secs()
+            ),
             seconds,
             Check::Done,
         );
@@ -426,7 +432,7 @@ impl Chaos {
     fn fail_checkpoint_writes(&mut self, seconds: f64, view: &RunView<'_>) -> Option<Request> {
         let (k, pid) = self.random_keeper(view, true)?;
         let record = self.record(
-            format!("checkpoint write of keeper {} fails (file-size limit 0)", k + 1),
+            format!("checkpoint write of {} fails (file-size limit 0)", self.roster.agent(k)),
             seconds,
             Check::Done,
         );
@@ -446,7 +452,7 @@ impl Chaos {
             until: seconds + FAIL_WRITES_FOR.as_secs_f64(),
             failures_before,
         }));
-        Some(Request::Order(Order::Checkpoint, Role::Keeper(k)))
+        Some(Request::Order(Order::Checkpoint, self.roster.agent(k)))
     }
 
     /// Busy threads on every core for [`LOAD_FOR`].
@@ -582,10 +588,10 @@ impl Chaos {
         );
     }
 
-    /// The load was survived if the simulator is still running.
+    /// The load was survived if the host (simulator or world) is still running.
     fn judge_load(&mut self, load: Load, view: &RunView<'_>) {
         let missed = missed(view).saturating_sub(load.missed_before);
-        let alive = pid_of(view, Role::Simulator).is_some();
+        let alive = pid_of(view, self.roster.host()).is_some();
         self.conclude(
             load.record,
             format!("{missed} missed deadlines under load; the run went on"),
@@ -628,10 +634,12 @@ impl Chaos {
         }
         let failed = records.iter().find_map(|r| r.failure.clone());
         let resumes: Vec<_> = records.iter().flat_map(|r| &r.resumes).collect();
+        let host = self.roster.host();
+        let host_exited = format!("the {host} exited");
         let sim_restarts = records
             .iter()
             .flat_map(|r| &r.faults)
-            .filter(|f| f.kind.starts_with("the simulator exited") && f.outcome.starts_with("restarted"))
+            .filter(|f| f.kind.starts_with(&host_exited) && f.outcome.starts_with("restarted"))
             .count();
         let mut sim_kills = 0;
         for r in &mut self.records {
@@ -662,6 +670,9 @@ impl Chaos {
                     let restarted = sim_kills <= sim_restarts;
                     (r.outcome, r.survived) = match &failed {
                         Some(f) => (format!("the run failed: {f}"), false),
+                        None if restarted && host == Role::World => {
+                            ("restarted; the agents dropped the episode in flight".into(), true)
+                        }
                         None if restarted => ("restarted from its journal's last episode boundary".into(), true),
                         None => ("not restarted".into(), false),
                     };
@@ -700,21 +711,31 @@ pub const GARBAGE_COMMAND: &str = "publish-garbage";
 
 /// Starts the garbage publisher: this executable with [`GARBAGE_COMMAND`].
 fn start_garbage_publisher(view: &RunView<'_>) -> std::io::Result<Child> {
-    std::process::Command::new(std::env::current_exe()?)
+    let mut command = std::process::Command::new(std::env::current_exe()?);
+    command
         .args([GARBAGE_COMMAND, "--ipc-prefix", view.namespace.prefix()])
-        .args(["--run-id", &view.run_id.to_string()])
+        .args(["--run-id", &view.run_id.to_string()]);
+    if let Roster::World { agents } = view.roster {
+        command.args(["--world-agents", &agents.to_string()]);
+    }
+    command
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
 }
 
-/// Publishes garbage of every kind ([`Garbage::every_kind`]) on every
-/// service of run `run_id` in `namespace`, and keeps the publishers (which
-/// hold the samples) until it has been read.
-pub fn publish_garbage(namespace: &Namespace, run_id: u64) -> Result<(), IpcError> {
+/// Publishes garbage of every kind on every service of run `run_id` in
+/// `namespace` (a Keepaway run's, [`Garbage::every_kind`], or with
+/// `world_agents`, a world run's, [`Garbage::every_world_kind`]), and keeps
+/// the publishers (which hold the samples) until it has been read.
+pub fn publish_garbage(namespace: &Namespace, run_id: u64, world_agents: Option<usize>) -> Result<(), IpcError> {
     let node = node(namespace, "garbage")?;
-    Garbage::every_kind(run_id).publish(&node, GARBAGE_FOR)?;
+    let garbage = match world_agents {
+        Some(agents) => Garbage::every_world_kind(run_id, agents),
+        None => Garbage::every_kind(run_id),
+    };
+    garbage.publish(&node, GARBAGE_FOR)?;
     Ok(())
 }
 

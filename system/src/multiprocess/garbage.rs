@@ -8,8 +8,9 @@ use std::time::Duration;
 use iceoryx2::node::Node;
 use iceoryx2::prelude::{ServiceName, ZeroCopySend};
 use shm_layouts::{
-    AgentReport, Control, EpisodeEvent, Header, KeeperCommand, KeeperSnapshot, NUM_KEEPERS, PROTOCOL_VERSION,
-    SENDER_SIMULATOR, SENDER_SUPERVISOR, WorldCommand, WorldSnapshot, WorldVocabulary, services,
+    AgentReport, Control, EpisodeEvent, Header, KeeperCommand, KeeperSnapshot, MAX_AGENTS, MAX_ARGS, MAX_FLUENTS,
+    NAME_LEN, NAMES_PER_PART, NO_ACTION, NUM_KEEPERS, PROTOCOL_VERSION, SENDER_SIMULATOR, SENDER_SUPERVISOR,
+    SENDER_WORLD, WorldCommand, WorldSnapshot, WorldVocabulary, services,
 };
 
 use super::sim_process::floor_ping;
@@ -160,6 +161,35 @@ impl Garbage {
         }
     }
 
+    /// Garbage on a world run's services with `agents` agents, as the world
+    /// tests and chaos soaks publish it: on each agent's snapshot service, a
+    /// snapshot of another run, one from another sender, three whose content
+    /// is wrong (a NaN fluent, an atom beyond any vocabulary's first 192, an
+    /// unknown episode status) and a well-formed one out of sequence (cycle
+    /// 1, older than any an agent under way has taken); on each agent's
+    /// command service, a command from another agent, two whose content is
+    /// wrong (an action index beyond the vocabulary, NaN arguments) and one
+    /// of another run; a vocabulary part of no whole.
+    pub fn every_world_kind(run_id: u64, agents: usize) -> Self {
+        Garbage {
+            world_snapshots: (0..agents).map(|a| world_snapshots(run_id, a)).collect(),
+            world_commands: (0..agents).map(|a| world_commands(run_id, a)).collect(),
+            vocabulary: vec![WorldVocabulary {
+                header: Header::new(SENDER_WORLD, run_id),
+                atoms: 1,
+                fluents: 1,
+                actions: 2,
+                agents: 1,
+                part: 0,
+                parts: 7,
+                first: 0,
+                count: 4,
+                names: [[0; NAME_LEN]; NAMES_PER_PART],
+            }],
+            ..Garbage::default()
+        }
+    }
+
     /// Publishes the garbage on the services of `node`'s run and keeps the
     /// publishers (whose memory holds the samples) for `hold`, for the
     /// subscribers to read it; returns what each service's garbage reached.
@@ -188,4 +218,57 @@ impl Garbage {
         drop((world_snapshots, world_commands, vocabulary));
         Ok(delivered)
     }
+}
+
+/// The garbage snapshots of [`Garbage::every_world_kind`] for agent `a`.
+fn world_snapshots(run_id: u64, a: usize) -> Vec<WorldSnapshot> {
+    let good = WorldSnapshot {
+        header: Header::new(SENDER_WORLD, run_id),
+        episode: 1,
+        cycle: 1,
+        sent_ns: 0,
+        answer_cycle: 0,
+        answer_received_ns: 0,
+        reward: 0.0,
+        agent: a as u32,
+        step: 0,
+        episode_status: 0,
+        action_status: 0,
+        reserved: [0; 6],
+        atoms: [0; 4],
+        fluents: [0.0; MAX_FLUENTS],
+    };
+    let mut other_run = good;
+    other_run.header.run_id = run_id ^ 1;
+    let mut other_sender = good;
+    other_sender.header.sender = 3;
+    let mut nan = good;
+    nan.fluents[0] = f64::NAN;
+    let mut beyond = good;
+    beyond.atoms[3] = 1;
+    let mut unknown_status = good;
+    unknown_status.episode_status = 9;
+    vec![other_run, other_sender, nan, beyond, unknown_status, good]
+}
+
+/// The garbage commands of [`Garbage::every_world_kind`] on agent `a`'s service.
+fn world_commands(run_id: u64, a: usize) -> Vec<WorldCommand> {
+    let good = WorldCommand {
+        header: Header::new(a as u32, run_id),
+        episode: 1,
+        cycle: 1,
+        compute_ns: 0,
+        action: NO_ACTION,
+        reserved: 0,
+        args: [0.0; MAX_ARGS],
+    };
+    let mut other_agent = good;
+    other_agent.header.sender = (a as u32 + 1) % MAX_AGENTS as u32;
+    let mut beyond = good;
+    beyond.action = 9999;
+    let mut nan = good;
+    nan.args = [f64::NAN; MAX_ARGS];
+    let mut other_run = good;
+    other_run.header.run_id = run_id.wrapping_add(1);
+    vec![other_agent, beyond, nan, other_run]
 }

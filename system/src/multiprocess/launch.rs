@@ -173,17 +173,36 @@ impl Process {
         self.child.try_wait()
     }
 
-    /// Kills it (SIGKILL) and reaps it.
+    /// Kills it and every process it started (SIGKILL to its process group:
+    /// a world started with `sh -c` may run as the shell's child) and reaps it.
     pub fn kill(&mut self) -> io::Result<ExitStatus> {
+        if let Ok(group) = libc::pid_t::try_from(self.child.id()) {
+            // SAFETY: killpg has no memory effects; the group is the child's own.
+            unsafe { libc::killpg(group, libc::SIGKILL) };
+        }
         // An already exited process makes kill fail; wait still reaps it.
         let _ = self.child.kill();
         self.child.wait()
+    }
+
+    /// Whether process `pid` runs in this process's group (it is this
+    /// process, or one it started, such as the world a shell runs).
+    pub fn leads(&self, pid: u32) -> bool {
+        pid == self.child.id() || process_group(pid) == Some(self.child.id())
     }
 
     /// Waits for it to exit.
     pub fn wait(&mut self) -> io::Result<ExitStatus> {
         self.child.wait()
     }
+}
+
+/// The process group of process `pid`, from `/proc/<pid>/stat`.
+fn process_group(pid: u32) -> Option<u32> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    // The command name (field 2) is in parentheses and may hold spaces.
+    let after_name = &stat[stat.rfind(')')? + 1..];
+    after_name.split_whitespace().nth(2)?.parse().ok()
 }
 
 /// Starts `binary` as `role` with `args`, its output appended to `log`; it
@@ -214,10 +233,8 @@ pub fn spawn_world(
     };
     use super::supervisor::{WORLD_PERIOD, world_env};
     let seed = derive_seed(derive_seed(spec.seed, context.run as u64), WORLD_SEED_STREAM);
-    let mut command = Command::new("sh");
+    let mut command = world_command(line);
     command
-        .arg("-c")
-        .arg(line)
         .env(world_env::PREFIX, namespace.prefix())
         .env(world_env::ROOT, format!("{}/", namespace.root().display()))
         .env(world_env::RUN_ID, context.run_id.to_string())
@@ -227,6 +244,26 @@ pub fn spawn_world(
         .env(world_env::WAIT, context.wait.name())
         .env(world_env::SEED, seed.to_string());
     spawn_command(command, Role::World, line, log)
+}
+
+/// The process running `line`: a simple command (words only) is run
+/// directly, so that the world is the supervisor's child (its pid the one
+/// that is watched and killed); anything a shell must read runs with `sh -c`.
+fn world_command(line: &str) -> Command {
+    let simple = !line.contains(|c: char| "|&;<>()$`\\\"'*?[]#~=%{}!\n".contains(c));
+    let mut words = line.split_whitespace();
+    match (simple, words.next()) {
+        (true, Some(program)) => {
+            let mut command = Command::new(program);
+            command.args(words);
+            command
+        }
+        _ => {
+            let mut command = Command::new("sh");
+            command.arg("-c").arg(line);
+            command
+        }
+    }
 }
 
 /// The stream of a run's seed the world's seed is drawn from (the run's task

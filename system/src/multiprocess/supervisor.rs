@@ -357,8 +357,10 @@ pub struct RunView<'a> {
     pub processes: Vec<(Role, u32)>,
     /// The last heartbeat of each process alive now.
     pub pulses: Vec<Pulse>,
-    /// The current simulator's last heartbeat.
+    /// The current host's (simulator's or world's) last heartbeat.
     pub simulator: Option<&'a Pulse>,
+    /// The run's processes.
+    pub roster: Roster,
 }
 
 /// What an observer asks of the supervisor.
@@ -529,15 +531,18 @@ impl Watch<'_> {
             // Heartbeats that do not read are a foreign process's: ignored here,
             // counted by the processes that must act on such messages.
             if let Ok(pulse) = reading {
-                let from_current = self
+                // Keyed by the process the supervisor started (a world a
+                // shell runs is that shell's child, in its process group).
+                let current = self
                     .fleet
                     .processes
                     .get(&pulse.role)
-                    .is_some_and(|p| p.pid() == pulse.pid);
-                if from_current {
+                    .filter(|p| p.leads(pulse.pid))
+                    .map(Process::pid);
+                if current.is_some() {
                     self.last_heard.insert(pulse.role, Instant::now());
                 }
-                self.pulses.insert((pulse.role, pulse.pid), pulse);
+                self.pulses.insert((pulse.role, current.unwrap_or(pulse.pid)), pulse);
             }
         }
         Ok(())
@@ -572,6 +577,7 @@ impl Watch<'_> {
                 .ok()
                 .map(|values| (values, "previous checkpoint")),
         };
+        self.namespace.remove_dead_nodes()?;
         self.start(role, true)?;
         let pid = self.fleet.processes.get(&role).map_or(0, Process::pid);
         self.order(Order::KeeperLost { keeper: k, pid }, Some(self.roster.host()))?;
@@ -617,6 +623,7 @@ impl Watch<'_> {
             return Err(RunFailure::SimulatorGivenUp { what }.into());
         }
         self.order(Order::SimulatorRestarted, None)?;
+        self.namespace.remove_dead_nodes()?;
         self.start(host, true)?;
         let outcome = match host {
             Role::World => "restarted; the agents dropped the episode in flight",
@@ -648,6 +655,7 @@ impl Watch<'_> {
                 .filter_map(|(role, p)| self.pulses.get(&(*role, p.pid())).copied())
                 .collect(),
             simulator,
+            roster: self.roster,
         }
     }
 

@@ -433,8 +433,11 @@ impl WorldAgent {
         }
     }
 
-    /// Journals a whole episode and checkpoints if one is due.
-    fn record(&mut self, mode: EpisodeMode, outcome: EpisodeOutcome) -> Result<(), ProcessError> {
+    /// Journals a whole episode and checkpoints if one is due. A journal
+    /// entry that cannot be written (a full disk) is reported and counted
+    /// with the checkpoint failures: the agent goes on, and a restart would
+    /// replay the episodes journaled before it.
+    fn record(&mut self, mode: EpisodeMode, outcome: EpisodeOutcome) {
         if mode == EpisodeMode::Learn {
             self.totals.learning_episodes += 1;
             self.learning_episodes += 1;
@@ -450,8 +453,10 @@ impl WorldAgent {
             outcome,
             totals: self.totals.clone(),
         };
-        self.journal.append(&entry)?;
-        Ok(())
+        if let Err(e) = self.journal.append(&entry) {
+            self.pacemaker.pulse.checkpoint_failures += 1;
+            report(&format!("error: {e}: the episode is not journaled"));
+        }
     }
 }
 
@@ -474,8 +479,7 @@ impl Task for WorldAgent {
             ProcessError::Stopped => TaskError::Stopped,
             other => TaskError::Remote(other.to_string()),
         })?;
-        self.record(mode, outcome)
-            .map_err(|e| TaskError::Remote(e.to_string()))?;
+        self.record(mode, outcome);
         Ok(outcome)
     }
 

@@ -157,6 +157,8 @@ struct Host<'w, W: ServedWorld> {
     lost: bool,
     stop: bool,
     first_reset: bool,
+    /// The process that started the world.
+    parent: libc::pid_t,
 }
 
 /// Each agent's answer in a cycle: `None` if it missed the cycle (real
@@ -180,6 +182,12 @@ impl<W: ServedWorld> Host<'_, W> {
     fn housekeeping(&mut self) -> Result<(), WorldHostError> {
         self.pacemaker.pulse.cycles = self.cycle;
         self.pacemaker.tick(&self.ports.heartbeat)?;
+        // SAFETY: getppid has no effects.
+        if unsafe { libc::getppid() } != self.parent {
+            // The process that started the world (the supervisor, or the
+            // shell it ran the command with) is gone: so is the run.
+            self.stop = true;
+        }
         let run_id = self.run.run_id;
         while let Some(order) = receive(&self.ports.control, |m| read_control(m, Role::World, run_id))? {
             match order {
@@ -278,10 +286,7 @@ impl<W: ServedWorld> Host<'_, W> {
     /// Collects each agent's command for the current cycle: lock-step until
     /// all are in, real time until the next cycle is due (`deadline`; an
     /// agent whose command is not in by then is `None`).
-    fn collect(
-        &mut self,
-        deadline: Option<Instant>,
-    ) -> Result<Result<Answers, Interruption>, WorldHostError> {
+    fn collect(&mut self, deadline: Option<Instant>) -> Result<Result<Answers, Interruption>, WorldHostError> {
         let agents = self.run.agents;
         let mut commands: Vec<Option<Option<usize>>> = vec![None; agents];
         let mut idle = Idle::new(self.run.wait);
@@ -408,6 +413,8 @@ pub fn serve<W: ServedWorld>(world: &mut W) -> Result<(), WorldHostError> {
         lost: false,
         stop: false,
         first_reset: true,
+        // SAFETY: getppid has no effects.
+        parent: unsafe { libc::getppid() },
         run,
     };
     host.pacemaker.beat(&host.ports.heartbeat)?;
