@@ -86,14 +86,19 @@ struct RunArgs {
     #[arg(long, value_enum, default_value = "keepaway-position")]
     domain: Domain,
     /// Run a world in its own process instead of Keepaway: this command
-    /// (run with `sh -c`, given the run in LEARNPNP_* environment variables;
-    /// see shm_layouts/README.md) serves the world, and --plan is each agent's plan.
-    #[arg(long, requires = "plan")]
+    /// serves the world (given the run in LEARNPNP_* environment variables;
+    /// see shm_layouts/README.md); --plan is every agent's plan, or
+    /// --agent-plan gives each agent its own.
+    #[arg(long)]
     world_cmd: Option<String>,
-    /// With --world-cmd: how many agents, each in its own process with its
-    /// own learner and checkpoints (1 to 16).
+    /// With --world-cmd and --plan: how many agents, each in its own process
+    /// with its own copy of the plan, learner and checkpoints (1 to 16).
     #[arg(long, default_value_t = 1, requires = "world_cmd", value_parser = clap::value_parser!(u8).range(1..=16))]
     agents: u8,
+    /// With --world-cmd: the next agent's plan (repeat it, one per agent,
+    /// instead of --plan and --agents).
+    #[arg(long = "agent-plan", requires = "world_cmd", conflicts_with = "agents")]
+    agent_plans: Vec<PathBuf>,
     /// lockstep: step as soon as every command is in; realtime: every 100 ms.
     #[arg(long, value_parser = named::<Clock>(), default_value = "lockstep")]
     mode: Clock,
@@ -188,12 +193,18 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
         Domain::KeepawayPass => DomainName::KeepawayPass,
     };
     let options = args.flags.options();
-    let spec = match (&args.world_cmd, &options.plan) {
-        (Some(command), Some(plan)) => {
+    let spec = match &args.world_cmd {
+        Some(command) => {
+            let plans = match (&options.plan, args.agent_plans.as_slice()) {
+                (Some(plan), []) => vec![plan.clone(); usize::from(args.agents)],
+                (None, []) => bail!("--world-cmd needs the agents' plans: --plan FILE, or --agent-plan FILE for each"),
+                (None, plans) if plans.len() <= 16 => plans.to_vec(),
+                (None, plans) => bail!("{} --agent-plan files: a world serves at most 16 agents", plans.len()),
+                (Some(_), _) => bail!("--plan and --agent-plan do not go together: one plan for all, or one each"),
+            };
             let world = DomainSpec::World {
                 command: command.clone(),
-                plan: plan.clone(),
-                agents: usize::from(args.agents),
+                plans,
             };
             // A soak's or a benchmark's unbounded run stays unbounded.
             let default = if episodes == UNBOUNDED_EPISODES {
@@ -206,7 +217,7 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
                 .or_defaults(Algorithm::EpsSosmc, DEFAULT_RUNS, episodes)
                 .spec_for(world)?
         }
-        _ => options
+        None => options
             .or_defaults(Algorithm::SoftSosmc, DEFAULT_RUNS, episodes)
             .spec(domain)?,
     };
@@ -240,7 +251,9 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
         config.spec.domain.name(),
         config.spec.algorithm.name(),
         match &config.spec.domain {
-            DomainSpec::World { command, agents, .. } => format!("a world ({command}) and {agents} agent process(es)"),
+            DomainSpec::World { command, plans } => {
+                format!("a world ({command}) and {} agent process(es)", plans.len())
+            }
             _ => "a simulator and 3 keeper processes".to_string(),
         },
         args.mode.name(),

@@ -68,12 +68,10 @@ pub enum DomainSpec {
     /// A world in a process of its own (a robot, a user's simulator, a
     /// gymnasium environment), played only by `learnpnp-supervisor --world-cmd`.
     World {
-        /// The command that starts the world process (run with `sh -c`).
+        /// The command that starts the world process.
         command: String,
-        /// The plan of every agent.
-        plan: PathBuf,
-        /// How many agents, each in its own process.
-        agents: usize,
+        /// Each agent's plan (one agent per entry, each in its own process).
+        plans: Vec<PathBuf>,
     },
 }
 
@@ -131,10 +129,11 @@ impl DomainSpec {
                     field("return deviation", ranges::DISTANCE.check(d.sd))?;
                 }
             }
-            DomainSpec::World { agents, command, .. } => {
-                if !(1..=MAX_WORLD_AGENTS).contains(agents) {
+            DomainSpec::World { plans, command } => {
+                if !(1..=MAX_WORLD_AGENTS).contains(&plans.len()) {
                     return Err(ExperimentError::Invalid(format!(
-                        "agents: {agents} is not between 1 and {MAX_WORLD_AGENTS}"
+                        "agents: {} is not between 1 and {MAX_WORLD_AGENTS}",
+                        plans.len()
                     )));
                 }
                 if command.trim().is_empty() {
@@ -221,7 +220,16 @@ impl DomainSpec {
             | DomainSpec::PenaltyKick { plan, .. }
             | DomainSpec::Nmdp { plan, .. }
             | DomainSpec::Keepaway { plan, .. } => plan.as_deref(),
-            DomainSpec::World { plan, .. } => Some(plan),
+            DomainSpec::World { plans, .. } => plans.first().map(PathBuf::as_path),
+        }
+    }
+
+    /// Every plan file of the experiment: a world's agents' plans, or the
+    /// plan file replacing the built-in plan.
+    pub fn plan_files(&self) -> Vec<&Path> {
+        match self {
+            DomainSpec::World { plans, .. } => plans.iter().map(PathBuf::as_path).collect(),
+            other => other.plan_file().into_iter().collect(),
         }
     }
 
@@ -241,7 +249,10 @@ impl DomainSpec {
             DomainSpec::PenaltyKick { config, plan: None } => penalty_kick::plan(config.variant)?,
             DomainSpec::Nmdp { plan: Some(p), .. } => load_plan(p, Vocabulary::Open)?,
             DomainSpec::Nmdp { plan: None, .. } => nmdp::plan()?,
-            DomainSpec::World { plan, .. } => load_plan(plan, Vocabulary::Open)?,
+            DomainSpec::World { plans, .. } => match plans.first() {
+                Some(plan) => load_plan(plan, Vocabulary::Open)?,
+                None => return Ok(None),
+            },
         };
         for w in plan.warnings() {
             eprintln!("warning: {w}");
@@ -549,39 +560,53 @@ impl ExperimentSpec {
     /// limit is no refusal. The built-in plans are not checked here (their
     /// tests check them).
     pub(crate) fn check_plan(&self) -> Result<(), ExperimentError> {
+        if let DomainSpec::World { plans, .. } = &self.domain {
+            for path in plans {
+                check_plan_file(path, &load_plan(path, Vocabulary::Open)?)?;
+            }
+            return Ok(());
+        }
         let Some(path) = self.domain.plan_file() else {
             return Ok(());
         };
         let Some(plan) = self.domain.load_plan()? else {
             return Ok(());
         };
-        let failures: Vec<String> = if schema::is_schema_path(path) {
-            // A schema's process has checks of its own (`learnpnp check x.schema`).
-            let process =
-                schema::load_process(path, Vocabulary::Open).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
-            let (report, passed) = schema::check_report(&process);
-            if passed {
-                Vec::new()
-            } else {
-                report
-                    .lines()
-                    .filter_map(|l| l.trim_start().strip_prefix("FAIL "))
-                    .map(str::to_string)
-                    .collect()
-            }
-        } else {
-            let report = analysis::check(&plan, analysis::DEFAULT_LIMIT);
-            report.failures.iter().map(|f| f.to_string()).collect()
-        };
-        if failures.is_empty() {
-            return Ok(());
-        }
-        Err(ExperimentError::FailsCheck {
-            path: path.to_path_buf(),
-            failures,
-        })
+        check_plan_file(path, &plan)
     }
+}
 
+/// Runs `learnpnp check` on `plan`, loaded from `path`: an error listing
+/// the failures if it fails.
+fn check_plan_file(path: &Path, plan: &Plan) -> Result<(), ExperimentError> {
+    let failures: Vec<String> = if schema::is_schema_path(path) {
+        // A schema's process has checks of its own (`learnpnp check x.schema`).
+        let process =
+            schema::load_process(path, Vocabulary::Open).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+        let (report, passed) = schema::check_report(&process);
+        if passed {
+            Vec::new()
+        } else {
+            report
+                .lines()
+                .filter_map(|l| l.trim_start().strip_prefix("FAIL "))
+                .map(str::to_string)
+                .collect()
+        }
+    } else {
+        let report = analysis::check(plan, analysis::DEFAULT_LIMIT);
+        report.failures.iter().map(|f| f.to_string()).collect()
+    };
+    if failures.is_empty() {
+        return Ok(());
+    }
+    Err(ExperimentError::FailsCheck {
+        path: path.to_path_buf(),
+        failures,
+    })
+}
+
+impl ExperimentSpec {
     /// Reads a spec from JSON (as `summary.json` holds it, under `spec`) and
     /// validates it: the way to load a spec from a file.
     pub fn from_json(text: &str) -> Result<ExperimentSpec, ExperimentError> {

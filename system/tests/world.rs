@@ -113,7 +113,28 @@ fn a_plan_naming_what_the_world_lacks_is_refused_before_any_episode() {
         "{failure}"
     );
     assert_eq!(s["episodes_played"], 0, "{s}");
-    sandbox.assert_clean(&prefixes(&s));
+    let mut used = prefixes(&s);
+    // Each agent its own plan: agent 1's fits, agent 2's does not.
+    let mut args = corridor_run(100);
+    args.splice(
+        2..4,
+        [
+            "--agent-plan".to_string(),
+            shipped_arg("corridor.pnml"),
+            "--agent-plan".to_string(),
+            shipped_arg("sutton.pnml"),
+        ],
+    );
+    let output = run(&sandbox, "second", &args);
+    assert!(!output.status.success());
+    let s = summary(&sandbox.out("second"));
+    let failure = s["failure"].as_str().unwrap();
+    assert!(
+        failure.contains("agent 2 exited") && failure.contains("does not fit the world"),
+        "{failure}"
+    );
+    used.extend(prefixes(&s));
+    sandbox.assert_clean(&used);
 }
 
 /// The process of the world of the run whose namespace is `prefix`: the one

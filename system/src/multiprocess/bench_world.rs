@@ -47,8 +47,9 @@ pub fn bench_world(
     let mut figures = Vec::new();
     for &n in agents {
         let mut config = base.clone();
-        if let DomainSpec::World { agents, .. } = &mut config.spec.domain {
-            *agents = n;
+        if let DomainSpec::World { plans, .. } = &mut config.spec.domain {
+            let plan = plans[0].clone();
+            *plans = vec![plan; n];
         }
         let mut dir = ResultDir::open(out.join(format!("agents-{n}")))?;
         let report = supervise(&config, &mut dir, stop, &mut Progress(|_, _| {}))?;

@@ -214,7 +214,8 @@ pub fn spawn(binary: &Path, role: Role, args: &[OsString], log: &Path) -> Result
 }
 
 /// Starts the world of `spec` (a [`DomainSpec::World`]) for `context`'s run
-/// with `sh -c`, in the supervisor's working directory, with the run in its
+/// (directly, or with `sh -c` if a shell must read its command), in the
+/// supervisor's working directory, with the run in its
 /// environment (`shm_layouts/README.md`: the world process's environment).
 pub fn spawn_world(
     spec: &ExperimentSpec,
@@ -222,10 +223,7 @@ pub fn spawn_world(
     namespace: &Namespace,
     log: &Path,
 ) -> Result<Process, LaunchError> {
-    let DomainSpec::World {
-        command: line, agents, ..
-    } = &spec.domain
-    else {
+    let DomainSpec::World { command: line, plans } = &spec.domain else {
         return Err(LaunchError::Spawn {
             what: "the world".into(),
             source: io::Error::other(format!("the experiment is {}, not a world", spec.domain.name())),
@@ -238,7 +236,7 @@ pub fn spawn_world(
         .env(world_env::PREFIX, namespace.prefix())
         .env(world_env::ROOT, format!("{}/", namespace.root().display()))
         .env(world_env::RUN_ID, context.run_id.to_string())
-        .env(world_env::AGENTS, agents.to_string())
+        .env(world_env::AGENTS, plans.len().to_string())
         .env(world_env::CLOCK, context.clock.name())
         .env(world_env::PERIOD_MS, WORLD_PERIOD.as_millis().to_string())
         .env(world_env::WAIT, context.wait.name())

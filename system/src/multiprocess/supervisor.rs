@@ -100,7 +100,7 @@ impl SupervisorConfig {
     /// The run's processes: Keepaway's, or a world's and its agents.
     pub fn roster(&self) -> Roster {
         match self.spec.domain {
-            learnpnp::experiment::spec::DomainSpec::World { agents, .. } => Roster::World { agents },
+            learnpnp::experiment::spec::DomainSpec::World { ref plans, .. } => Roster::World { agents: plans.len() },
             _ => Roster::Keepaway,
         }
     }

@@ -34,10 +34,11 @@ use crate::ipc::world::{
 use crate::latency::Latency;
 use learnpnp::domains::{EpisodeOutcome, Task, TaskError};
 use learnpnp::experiment::runner::{RunOutput, learner_for, run_protocol};
-use learnpnp::experiment::spec::DomainSpec;
+use learnpnp::experiment::spec::{DomainSpec, ExperimentError};
 use learnpnp::learning::persist::{self, SavedValues};
 use learnpnp::learning::{EpisodeMode, Learner};
 use learnpnp::named::Named;
+use learnpnp::plan_file::load_plan;
 use learnpnp::stepwise::{ActionOutcome, StepError, StepwiseAgent, action_names, atom_table};
 
 /// The exit code of an agent whose plan does not fit the world's
@@ -549,14 +550,12 @@ fn await_vocabulary(
 /// starting values at once, so that a restart always has a checkpoint.
 pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), ProcessError> {
     let spec = context.load_spec()?;
-    let DomainSpec::World { agents, .. } = spec.domain else {
+    let DomainSpec::World { plans, .. } = &spec.domain else {
         return Err(ProcessError::UnsupportedDomain(spec.domain.name()));
     };
-    let a = settings.agent;
-    if a >= agents {
-        return Err(ProcessError::NoAgent(a + 1));
-    }
-    let plan = spec.domain.load_plan()?.ok_or(ProcessError::NoPlan)?;
+    let (a, agents) = (settings.agent, plans.len());
+    let path = plans.get(a).ok_or(ProcessError::NoAgent(a + 1))?;
+    let plan = Arc::new(load_plan(path, learnpnp::Vocabulary::Open).map_err(ExperimentError::from)?);
     let checkpoint = context.work_dir.join(checkpoint_name(a));
     let start = if settings.resume {
         Some(load_checkpoint(&checkpoint, &plan)?)
