@@ -57,6 +57,7 @@ pub fn run_quietly(spec: &ExperimentSpec, threads: usize) -> ExperimentOutput {
         threads,
         progress: false,
         stop: None,
+        only: None,
     };
     run_experiment(spec, options, Completed::default()).expect("the experiment runs")
 }

@@ -6,9 +6,10 @@ use anyhow::{Context, Result};
 use clap::Args;
 use learnpnp::experiment::checkpoint::{ResumePoint, resume_point};
 use learnpnp::experiment::options::DomainName;
-use learnpnp::experiment::output::{SummaryFile, ci_text, greedy_text, replay_name, with_unit, write_results};
+use learnpnp::experiment::output::{SummaryFile, ci_text, greedy_text, replay_name, with_unit, write_shard_results};
 use learnpnp::experiment::ranges;
 use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
+use learnpnp::experiment::shard::{Shard, ShardRecord};
 use learnpnp::experiment::spec::ExperimentSpec;
 use learnpnp::result_dir::{Contents, ResultDir};
 use learnpnp_cli::args::{ExperimentFlags, named};
@@ -35,6 +36,10 @@ pub struct ExperimentArgs {
     /// Worker threads (default: all cores; 1 to 256).
     #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::THREADS.parse_usize(s))]
     threads: Option<usize>,
+    /// Play only shard I of N (0-based: the runs r with r % N == I, each with
+    /// the seeds the whole experiment gives it), for `learnpnp merge` to combine.
+    #[arg(long)]
+    shard: Option<Shard>,
 }
 
 /// The default worker count: every core.
@@ -55,15 +60,17 @@ pub enum Finished {
     AlreadyComplete,
 }
 
-/// Runs `spec` (continuing a partial result in `dir` when `resume`) and writes
-/// its results into `dir`. A signal stops it: the completed runs are written
-/// as a partial result and [`Interrupted`] is returned.
+/// Runs `spec` (continuing a partial result in `dir` when `resume`; only
+/// `shard`'s runs when one is given) and writes its results into `dir`. A
+/// signal stops it: the completed runs are written as a partial result and
+/// [`Interrupted`] is returned.
 pub fn run_into(
     spec: &ExperimentSpec,
     dir: &mut ResultDir,
     resume: bool,
     threads: usize,
     interrupt: &Interrupt,
+    shard: Option<Shard>,
 ) -> Result<Finished> {
     let completed = if resume {
         match resume_point(dir, spec)? {
@@ -92,13 +99,18 @@ pub fn run_into(
         }
         Completed::default()
     };
+    let planned = spec.protocol.runs;
+    let record = shard.map(|shard| ShardRecord {
+        shard,
+        runs: shard.runs(planned),
+    });
     let options = RunOptions {
         threads,
         progress: true,
         stop: Some(interrupt.flag()),
+        only: record.as_ref().map(|r| r.runs.as_slice()),
     };
     let output = run_experiment(spec, options, completed).context("experiment failed")?;
-    let planned = spec.protocol.runs;
     if output.runs.is_empty() {
         return Err(Interrupted {
             status: interrupt.exit_status(),
@@ -109,8 +121,12 @@ pub fn run_into(
         }
         .into());
     }
-    let summary = write_results(&output, dir).context("writing results")?;
-    if !output.is_complete() {
+    let summary = write_shard_results(&output, record.as_ref(), dir).context("writing results")?;
+    let complete = match &record {
+        Some(record) => output.runs.len() == record.runs.len(),
+        None => output.is_complete(),
+    };
+    if !complete {
         return Err(Interrupted {
             status: interrupt.exit_status(),
             message: format!(
@@ -121,6 +137,14 @@ pub fn run_into(
             ),
         }
         .into());
+    }
+    if let Some(record) = &record {
+        eprintln!(
+            "shard {} complete: run(s) {:?} of {planned} in {}; combine the shards with learnpnp merge OUT DIR...",
+            record.shard,
+            record.runs,
+            dir.path().display()
+        );
     }
     Ok(Finished::Complete {
         summary: Box::new(summary),
@@ -139,11 +163,12 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
         "configuration ({threads} worker threads; saved in {} with the results):\n{configuration}",
         args.out.join("summary.json").display()
     );
-    match run_into(&spec, &mut dir, args.resume, threads, &interrupt)? {
+    match run_into(&spec, &mut dir, args.resume, threads, &interrupt, args.shard)? {
         Finished::AlreadyComplete => println!(
             "{} already holds the complete results of this experiment; nothing to do",
             args.out.display()
         ),
+        Finished::Complete { .. } if args.shard.is_some() => {}
         Finished::Complete { summary, .. } => {
             let unit = spec.domain.score_unit();
             println!(

@@ -4,6 +4,7 @@
 
 mod experiment;
 mod inspect;
+mod merge;
 mod replay;
 mod reproduce;
 mod schema;
@@ -35,6 +36,8 @@ enum Command {
     Experiment(Box<experiment::ExperimentArgs>),
     /// Reproduce figures of the thesis (all of them by default).
     Reproduce(reproduce::ReproduceArgs),
+    /// Combine the shards of an experiment or a reproduction (run with --shard I/N) into one result.
+    Merge(merge::MergeArgs),
     /// Overlay the curves of several experiment directories in one SVG.
     Plot(inspect::PlotArgs),
     /// Print a saved value table as CSV.
@@ -100,6 +103,7 @@ fn main() -> ExitCode {
         Some(Command::Convert(args)) => inspect::convert(&args),
         Some(Command::Experiment(args)) => experiment::run(&args),
         Some(Command::Reproduce(args)) => reproduce::run(&args),
+        Some(Command::Merge(args)) => merge::run(&args),
         Some(Command::Plot(args)) => inspect::plot(&args),
         Some(Command::Values(args)) => inspect::values(&args),
         Some(Command::Replay(args)) => replay::run(&args),

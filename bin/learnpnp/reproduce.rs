@@ -14,9 +14,11 @@ use learnpnp::experiment::presets::{self, Figure, FigureKind};
 use learnpnp::experiment::progress::{Rates, clock};
 use learnpnp::experiment::ranges;
 use learnpnp::experiment::report::summary_markdown;
+use learnpnp::experiment::shard::Shard;
 use learnpnp::experiment::spec::ExperimentSpec;
 use learnpnp::result_dir::ResultDir;
 use learnpnp_cli::interrupt::Interrupt;
+use serde::{Deserialize, Serialize};
 
 use super::experiment::{Finished, default_threads, run_into};
 
@@ -37,6 +39,25 @@ pub struct ReproduceArgs {
     /// a partial curve continues where it stopped.
     #[arg(long)]
     resume: bool,
+    /// Play only shard I of N of every curve (0-based; see `learnpnp
+    /// experiment --shard`); `learnpnp merge OUT DIR...` combines the shards
+    /// and draws the figures.
+    #[arg(long)]
+    shard: Option<Shard>,
+}
+
+/// The file of a reproduction's shard naming what it reproduced, for `learnpnp merge`.
+pub const REPRODUCE_SHARD_FILE: &str = "reproduce-shard.json";
+
+/// What [`REPRODUCE_SHARD_FILE`] says.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ReproduceShard {
+    /// The shard.
+    pub shard: Shard,
+    /// The figures reproduced (all when empty).
+    pub figures: Vec<String>,
+    /// The runs override, if any.
+    pub runs: Option<usize>,
 }
 
 impl Default for ReproduceArgs {
@@ -47,6 +68,21 @@ impl Default for ReproduceArgs {
             threads: None,
             runs: None,
             resume: false,
+            shard: None,
+        }
+    }
+}
+
+impl ReproduceArgs {
+    /// Draws the figures (and writes the summary) of merged shards in `out`:
+    /// a resumed reproduction in which every curve is already complete.
+    pub fn of_merged(record: &ReproduceShard, out: PathBuf) -> Self {
+        ReproduceArgs {
+            figures: record.figures.clone(),
+            out,
+            runs: record.runs,
+            resume: true,
+            ..ReproduceArgs::default()
         }
     }
 }
@@ -166,8 +202,12 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
                 clock(started.elapsed()),
                 spec.label
             );
-            let finished = run_into(spec, curve_dir, args.resume, threads, &interrupt)
+            let finished = run_into(spec, curve_dir, args.resume, threads, &interrupt, args.shard)
                 .with_context(|| format!("figure {}: {}", figure.id, spec.label))?;
+            if args.shard.is_some() {
+                // A shard's curve is a share of the runs: merged, then drawn.
+                continue;
+            }
             let (summary, curve, note) = match finished {
                 Finished::Complete { summary, output } => {
                     rates.record(spec, summary.wall_seconds);
@@ -191,6 +231,9 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
             );
             all.push(curve);
             summaries.push(summary);
+        }
+        if args.shard.is_some() {
+            continue;
         }
         let title = format!("Figure {}: {}", figure.id, figure.title);
         let path = dir.join("figure.svg");
@@ -222,6 +265,20 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
         done.push((figure, summaries));
     }
     std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    if let Some(shard) = args.shard {
+        let record = ReproduceShard {
+            shard,
+            figures: args.figures.clone(),
+            runs: args.runs,
+        };
+        let path = args.out.join(REPRODUCE_SHARD_FILE);
+        write_atomic(&path, &serde_json::to_vec_pretty(&record)?)?;
+        println!(
+            "shard {shard} of every curve in {}; combine the shards with learnpnp merge OUT DIR...",
+            args.out.display()
+        );
+        return Ok(());
+    }
     let path = args.out.join("summary.md");
     let listed: Vec<(&Figure, &[SummaryFile])> = done.iter().map(|(f, s)| (f, s.as_slice())).collect();
     write_atomic(&path, summary_markdown(&listed).as_bytes())?;

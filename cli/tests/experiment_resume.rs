@@ -25,6 +25,7 @@ fn run(spec: &ExperimentSpec, threads: usize, stop: Option<&AtomicBool>, complet
         threads,
         progress: false,
         stop,
+        only: None,
     };
     run_experiment(spec, options, completed).expect("the experiment runs")
 }

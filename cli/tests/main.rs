@@ -27,3 +27,4 @@ mod replay_browser;
 mod reproduce_summary;
 mod result_dirs;
 mod schema_cli;
+mod shards;

@@ -98,6 +98,19 @@ pub fn resume_point(dir: &ResultDir, spec: &ExperimentSpec) -> Result<ResumePoin
             Err(different())
         };
     }
+    let (text, completed) = read_completed(dir)?;
+    if text != spec_text(spec)? {
+        return Err(different());
+    }
+    Ok(ResumePoint::Partial(completed))
+}
+
+/// The completed runs a partial result in `dir` keeps, with its spec (the
+/// JSON text it was written with): what `--resume` continues and
+/// `learnpnp merge` combines. A missing, corrupt or foreign-format file is
+/// an error naming the directory.
+pub fn read_completed(dir: &ResultDir) -> Result<(String, Completed), ExperimentError> {
+    let invalid = |why: String| ExperimentError::Invalid(format!("{}: {why}", dir.path().display()));
     let bytes = dir.read(CHECKPOINT)?;
     let corrupt = |why: String| invalid(format!("{CHECKPOINT} is corrupt: {why}"));
     let Some((header, payload)) = bytes.split_first_chunk::<HEADER_LEN>() else {
@@ -121,11 +134,11 @@ pub fn resume_point(dir: &ResultDir, spec: &ExperimentSpec) -> Result<ResumePoin
     if used != payload.len() {
         return Err(corrupt(format!("{} byte(s) after the data", payload.len() - used)));
     }
-    if checkpoint.spec != spec_text(spec)? {
-        return Err(different());
-    }
-    Ok(ResumePoint::Partial(Completed {
-        runs: checkpoint.runs,
-        wall_seconds: checkpoint.wall_seconds,
-    }))
+    Ok((
+        checkpoint.spec,
+        Completed {
+            runs: checkpoint.runs,
+            wall_seconds: checkpoint.wall_seconds,
+        },
+    ))
 }

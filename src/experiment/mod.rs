@@ -11,5 +11,6 @@ pub mod progress;
 pub mod ranges;
 pub mod report;
 pub mod runner;
+pub mod shard;
 pub mod spec;
 pub mod stats;

@@ -10,6 +10,7 @@ use serde::Serialize;
 use super::checkpoint;
 use super::plot::{self, CurvePoint, Series};
 use super::runner::ExperimentOutput;
+use super::shard;
 use super::spec::{ExperimentError, ExperimentSpec};
 use super::stats::{Summary, summarize};
 use crate::learning::persist;
@@ -177,12 +178,27 @@ pub fn series(output: &ExperimentOutput) -> Series {
 /// result: its figures are over the completed runs, `summary.json` says
 /// `"complete": false`, and [`checkpoint::CHECKPOINT`] keeps the runs for `--resume`.
 pub fn write_results(output: &ExperimentOutput, dir: &mut ResultDir) -> Result<SummaryFile, ExperimentError> {
+    write_shard_results(output, None, dir)
+}
+
+/// [`write_results`] for the runs of `shard` (when given): the runs are kept
+/// ([`checkpoint::CHECKPOINT`]) even when the shard is the whole experiment,
+/// and [`shard::SHARD_FILE`] names the shard, for `learnpnp merge`.
+pub fn write_shard_results(
+    output: &ExperimentOutput,
+    shard: Option<&shard::ShardRecord>,
+    dir: &mut ResultDir,
+) -> Result<SummaryFile, ExperimentError> {
     let mut files = dir.writer()?;
     let summary = stage_results(output, &mut files)?;
     let json = serde_json::to_string_pretty(&summary).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
     files.add_text("summary.json", &json)?;
-    if !output.is_complete() {
+    if !output.is_complete() || shard.is_some() {
         files.add_bytes(checkpoint::CHECKPOINT, &checkpoint::encode(output)?)?;
+    }
+    if let Some(record) = shard {
+        let json = serde_json::to_string_pretty(record).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+        files.add_text(shard::SHARD_FILE, &json)?;
     }
     files.commit(Progress {
         completed: output.runs.len() as u64,

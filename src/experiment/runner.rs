@@ -208,6 +208,8 @@ pub struct RunOptions<'a> {
     /// Once set (by a signal handler, say), no run starts and the runs in
     /// progress are abandoned: the experiment returns the runs completed so far.
     pub stop: Option<&'a AtomicBool>,
+    /// Play only these runs (a shard's, [`super::shard::Shard::runs`]); all when `None`.
+    pub only: Option<&'a [usize]>,
 }
 
 /// Runs completed in an earlier session of the same experiment (read back
@@ -246,7 +248,9 @@ pub fn run_experiment(
             }
         }
     }
-    let todo: Vec<usize> = (0..planned).filter(|&i| results[i].is_none()).collect();
+    let todo: Vec<usize> = (0..planned)
+        .filter(|&i| results[i].is_none() && options.only.is_none_or(|only| only.contains(&i)))
+        .collect();
     let next = AtomicUsize::new(0);
     let abort = AtomicBool::new(false);
     let stopped = || abort.load(Ordering::Relaxed) || options.stop.is_some_and(|s| s.load(Ordering::Relaxed));
