@@ -155,3 +155,54 @@ def test_the_readme_world_serves_frozenlake_and_its_plan_is_learned(supervisor, 
     episodes = (sandbox / "episodes.jsonl").read_text().splitlines()
     assert len(episodes) >= 410
     assert learnpnp.Plan.load(str(sandbox / "lake.pnml")).actions == list(grid.LAKE_ACTIONS)
+
+
+LAKE_WORLD = """
+import sys
+import gymnasium as gym
+from learnpnp.world import RecordEpisodes, serve
+agents = int(sys.argv[1])
+envs = [RecordEpisodes(gym.make("FrozenLake-v1", is_slippery=False), f"agent{a}.jsonl") for a in range(agents)]
+serve(envs if agents > 1 else envs[0], atoms=lambda o: {f"at_{int(o)}"},
+      atom_names=[f"at_{c}" for c in range(16)], actions=["left", "down", "right", "up"])
+"""
+
+
+def lake_run(supervisor, sandbox, name, agents, *args):
+    import grid
+
+    (sandbox / "lake_world.py").write_text(LAKE_WORLD)
+    grid.build("lake", 16, grid.LAKE_ACTIONS, {15}).save(str(sandbox / "lake.pnml"))
+    out, ipc = sandbox / name, sandbox / "ipc"
+    command = [supervisor, "--world-cmd", f"{sys.executable} lake_world.py {agents}", "--plan",
+               str(sandbox / "lake.pnml"), "--agents", str(agents), "--algo", "q-learning", "--out", str(out),
+               "--floor-round-trips", "1000", *args]
+    done = subprocess.run(command, cwd=sandbox, env={**os.environ, "LEARNPNP_IPC_DIR": str(ipc)},
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["complete"], summary
+    left = [f for f in os.listdir("/dev/shm") if any(f.startswith(p) for p in summary["ipc_prefixes"])]
+    assert left == [] and list(ipc.iterdir()) == []
+    return summary, out
+
+
+def test_two_agents_each_in_its_own_environment_of_one_python_world(supervisor, sandbox):
+    summary, out = lake_run(supervisor, sandbox, "two", 2, "--episodes", "400", "--eval-every", "400",
+                            "--eval-episodes", "0", "--greedy-episodes", "10")
+    assert summary["experiment"]["final_greedy_mean"] == 1.0
+    for a in range(2):
+        episodes = [json.loads(line) for line in (sandbox / f"agent{a}.jsonl").read_text().splitlines()]
+        ended = [e for e in episodes if e["ended"]]
+        assert len(ended) == 410, f"agent {a + 1}'s environment served every episode"
+        assert all(e["return"] == 1.0 for e in ended[-10:]), f"agent {a + 1}'s greedy episodes reach the goal"
+    assert (out / "runs" / "run-0" / "values-agent2.bin").exists()
+
+
+def test_a_python_world_in_real_time_keeps_its_clock(supervisor, sandbox):
+    summary, _ = lake_run(supervisor, sandbox, "realtime", 1, "--mode", "realtime", "--episodes", "2",
+                          "--eval-every", "2", "--eval-episodes", "0", "--greedy-episodes", "0")
+    print(f"FrozenLake in real time: {summary['cycles']} cycles, round trip p50 {summary['latency_us']['p50']:.0f} us, "
+          f"floor p50 {summary['floor_us']['p50']:.0f} us, {summary['missed_deadlines']} missed deadlines")
+    assert summary["cycles"] >= 2
+    assert summary["cycles_per_second"] < 15, "one cycle every 100 ms"
