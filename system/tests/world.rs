@@ -304,3 +304,31 @@ fn in_real_time_the_world_keeps_its_clock_and_counts_the_commands_that_miss_it()
     );
     sandbox.assert_clean(&prefixes(&s));
 }
+
+#[test]
+fn a_world_run_by_a_shell_dies_with_a_killed_supervisor_and_the_next_launch_cleans_up() {
+    let sandbox = Sandbox::new("world-orphan");
+    let mut args = corridor_run(100_000);
+    // Run by `sh -c` (the `&&`): the world is the shell's child, not the supervisor's.
+    args[1] = format!("{CORRIDOR} && true");
+    let mut child = spawn(&sandbox, "first", &args);
+    let out = sandbox.out("first");
+    let (stale, _) = identity(&out);
+    wait_for_episodes(&out, 100);
+    assert!(world_pid(&stale).is_some());
+    kill(child.id() as i32, libc::SIGKILL);
+    let _ = child.wait();
+    assert!(
+        wait_until(Duration::from_secs(5), || world_pid(&stale).is_none()),
+        "the world outlived its supervisor"
+    );
+    let output = run(&sandbox, "second", &corridor_run(50));
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    assert!(
+        text(&output.stderr).contains(&format!("iceoryx2 namespace {stale}")),
+        "the next launch removes what the killed run left"
+    );
+    let mut used = prefixes(&summary(&sandbox.out("second")));
+    used.push(stale);
+    sandbox.assert_clean(&used);
+}
