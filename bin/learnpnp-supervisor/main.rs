@@ -95,6 +95,10 @@ struct RunArgs {
     /// with its own copy of the plan, learner and checkpoints (1 to 16).
     #[arg(long, default_value_t = 1, requires = "world_cmd", value_parser = clap::value_parser!(u8).range(1..=16))]
     agents: u8,
+    /// With --world-cmd in real time: the cycle the world is told to keep, in
+    /// milliseconds (LEARNPNP_PERIOD_MS; a robot at 10 Hz: 100).
+    #[arg(long, default_value_t = 100, requires = "world_cmd", value_parser = clap::value_parser!(u64).range(1..=60_000))]
+    world_period_ms: u64,
     /// With --world-cmd: the next agent's plan (repeat it, one per agent,
     /// instead of --plan and --agents).
     #[arg(long = "agent-plan", requires = "world_cmd", conflicts_with = "agents")]
@@ -244,6 +248,7 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
         max_restarts: args.max_restarts,
         restart_simulator: false,
         binaries: Binaries::beside_current_exe()?,
+        world_period: Duration::from_millis(args.world_period_ms),
     };
     let p = config.spec.protocol;
     eprintln!(

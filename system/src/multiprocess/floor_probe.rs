@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use iceoryx2::node::Node;
 
 use super::sim_process::{FLOOR, histogram_file};
-use super::supervisor::{SupervisorError, WORLD_PERIOD};
+use super::supervisor::SupervisorError;
 use crate::ipc::services::{FloorPorts, Ipc, receive};
 use crate::ipc::wait::WaitStrategy;
 use crate::ipc::world::floor_ping;
@@ -31,12 +31,20 @@ pub struct FloorProbe {
     work_dir: PathBuf,
     sequence: u64,
     last_ping: Option<Instant>,
+    /// Real time: the world's cycle (one ping each).
+    period: Duration,
 }
 
 impl FloorProbe {
     /// Opens the measurement's ports on `node` for a run whose agents wait
     /// with `wait`; the histogram goes to `work_dir`.
-    pub fn open(node: &Node<Ipc>, wait: WaitStrategy, run_id: u64, work_dir: &Path) -> Result<Self, SupervisorError> {
+    pub fn open(
+        node: &Node<Ipc>,
+        wait: WaitStrategy,
+        run_id: u64,
+        work_dir: &Path,
+        period: Duration,
+    ) -> Result<Self, SupervisorError> {
         Ok(FloorProbe {
             ports: FloorPorts::open(node, wait)?,
             run_id,
@@ -44,6 +52,7 @@ impl FloorProbe {
             work_dir: work_dir.to_path_buf(),
             sequence: 0,
             last_ping: None,
+            period,
         })
     }
 
@@ -106,12 +115,12 @@ impl FloorProbe {
     /// echo comes or a tenth of a cycle has passed; the supervisor's loop
     /// does nothing else meanwhile.
     pub fn sample(&mut self) -> Result<(), SupervisorError> {
-        if self.last_ping.is_some_and(|t| t.elapsed() < WORLD_PERIOD) {
+        if self.last_ping.is_some_and(|t| t.elapsed() < self.period) {
             return Ok(());
         }
         self.last_ping = Some(Instant::now());
         let (sequence, sent) = self.ping()?;
-        while sent.elapsed() < WORLD_PERIOD / 10 {
+        while sent.elapsed() < self.period / 10 {
             if self.echoed(sequence)? {
                 self.histogram.record(sent.elapsed());
                 return Ok(());

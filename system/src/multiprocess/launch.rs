@@ -213,7 +213,8 @@ pub fn spawn(binary: &Path, role: Role, args: &[OsString], log: &Path) -> Result
     spawn_command(command, role, &binary.display().to_string(), log)
 }
 
-/// Starts the world of `spec` (a [`DomainSpec::World`]) for `context`'s run
+/// Starts the world of `spec` (a [`DomainSpec::World`]) for `context`'s run,
+/// telling it the real-time `period`
 /// (directly, or with `sh -c` if a shell must read its command), in the
 /// supervisor's working directory, with the run in its
 /// environment (`shm_layouts/README.md`: the world process's environment).
@@ -222,6 +223,7 @@ pub fn spawn_world(
     context: &RunContext,
     namespace: &Namespace,
     log: &Path,
+    period: std::time::Duration,
 ) -> Result<Process, LaunchError> {
     let DomainSpec::World { command: line, plans } = &spec.domain else {
         return Err(LaunchError::Spawn {
@@ -229,7 +231,7 @@ pub fn spawn_world(
             source: io::Error::other(format!("the experiment is {}, not a world", spec.domain.name())),
         });
     };
-    use super::supervisor::{WORLD_PERIOD, world_env};
+    use super::supervisor::world_env;
     let seed = derive_seed(derive_seed(spec.seed, context.run as u64), WORLD_SEED_STREAM);
     let mut command = world_command(line);
     command
@@ -238,7 +240,7 @@ pub fn spawn_world(
         .env(world_env::RUN_ID, context.run_id.to_string())
         .env(world_env::AGENTS, plans.len().to_string())
         .env(world_env::CLOCK, context.clock.name())
-        .env(world_env::PERIOD_MS, WORLD_PERIOD.as_millis().to_string())
+        .env(world_env::PERIOD_MS, period.as_millis().to_string())
         .env(world_env::WAIT, context.wait.name())
         .env(world_env::SEED, seed.to_string());
     spawn_command(command, Role::World, line, log)

@@ -62,9 +62,6 @@ pub mod world_env {
     pub const SEED: &str = "LEARNPNP_SEED";
 }
 
-/// A world's real-time cycle: 100 ms, as the soccer server's (a robot at 10 Hz).
-pub const WORLD_PERIOD: Duration = Duration::from_millis(100);
-
 /// How the supervisor runs the system.
 #[derive(Debug, Clone)]
 pub struct SupervisorConfig {
@@ -94,6 +91,8 @@ pub struct SupervisorConfig {
     pub restart_simulator: bool,
     /// The simulator's and agents' binaries.
     pub binaries: Binaries,
+    /// A world run in real time: the cycle the world is told to keep.
+    pub world_period: Duration,
 }
 
 impl SupervisorConfig {
@@ -469,7 +468,14 @@ impl Watch<'_> {
                 &self.config.binaries.agent
             }
             Role::World => {
-                let process = spawn_world(&self.config.spec, &self.context, self.namespace, &self.log(role))?;
+                let log = self.log(role);
+                let process = spawn_world(
+                    &self.config.spec,
+                    &self.context,
+                    self.namespace,
+                    &log,
+                    self.config.world_period,
+                )?;
                 return self.started(role, process);
             }
         };
@@ -985,7 +991,7 @@ impl<'a> Watch<'a> {
         for a in 0..watch.roster.agents() {
             watch.start(Role::Agent(a), false)?;
         }
-        let mut floor = FloorProbe::open(node, config.wait, watch.context.run_id, work_dir)?;
+        let mut floor = FloorProbe::open(node, config.wait, watch.context.run_id, work_dir, config.world_period)?;
         match config.clock {
             Clock::Lockstep => floor.measure(config.floor_round_trips)?,
             Clock::Realtime => watch.floor = Some(floor),
