@@ -25,8 +25,9 @@ use learnpnp_system::multiprocess::bench_latency::{bench_latency, configurations
 use learnpnp_system::multiprocess::bench_world::bench_world;
 use learnpnp_system::multiprocess::chaos::{Chaos, GARBAGE_COMMAND, SoakLength, publish_garbage};
 use learnpnp_system::multiprocess::launch::Binaries;
+use learnpnp_system::multiprocess::remote_host::{RemoteConfig, join};
 use learnpnp_system::multiprocess::soak::{Soak, SoakLimits};
-use learnpnp_system::multiprocess::supervisor::{Progress, RunObserver, SupervisorConfig, supervise};
+use learnpnp_system::multiprocess::supervisor::{Cluster, Progress, RunObserver, SupervisorConfig, supervise};
 
 /// The Keepaway experiments the system runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -57,6 +58,10 @@ enum Command {
     Soak(SoakArgs),
     /// Measure floor, round trip and compute time per wait strategy, idle and under load.
     BenchLatency(BenchArgs),
+    /// Join a run across hosts as a host of remote agents: its bridge connects
+    /// to the run's host (started with --remote-agents), and it runs those
+    /// agents here until that host ends the run.
+    Remote(RemoteArgs),
     /// Measure how a world run's cycles/s and round trip grow with the agents
     /// (default: the corridor world beside this binary, lock-step).
     BenchWorld(BenchWorldArgs),
@@ -99,6 +104,14 @@ struct RunArgs {
     /// milliseconds (LEARNPNP_PERIOD_MS; a robot at 10 Hz: 100).
     #[arg(long, default_value_t = 100, requires = "world_cmd", value_parser = clap::value_parser!(u64).range(1..=60_000))]
     world_period_ms: u64,
+    /// Agents (1-based, e.g. 3 or 2,3) that run on other hosts, each host's
+    /// own supervisor started there with `learnpnp-supervisor remote`; this
+    /// host's bridge carries their services (needs --bridge-listen).
+    #[arg(long, value_delimiter = ',', requires = "bridge_listen", value_parser = clap::value_parser!(u8).range(1..=16))]
+    remote_agents: Vec<u8>,
+    /// Where this host's bridge listens for the other hosts' (tcp/ADDRESS:PORT).
+    #[arg(long, requires = "remote_agents")]
+    bridge_listen: Vec<String>,
     /// With --world-cmd: the next agent's plan (repeat it, one per agent,
     /// instead of --plan and --agents).
     #[arg(long = "agent-plan", requires = "world_cmd", conflicts_with = "agents")]
@@ -165,6 +178,23 @@ struct BenchArgs {
     strategies: Vec<WaitStrategy>,
     #[command(flatten)]
     run: RunArgs,
+}
+
+/// A host of remote agents.
+#[derive(Args, Debug)]
+struct RemoteArgs {
+    /// The run's host's bridge (tcp/ADDRESS:PORT).
+    #[arg(long, required = true)]
+    bridge_connect: Vec<String>,
+    /// This host's directory (logs, checkpoints, its summary.json).
+    #[arg(long, default_value = "out/remote")]
+    out: PathBuf,
+    /// Seconds without a heartbeat after which an agent is taken as hung.
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(3..=3600))]
+    heartbeat_timeout: u64,
+    /// Restarts of one agent (or the bridge) before this host gives up.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(0..=1000))]
+    max_restarts: u32,
 }
 
 /// The world benchmark.
@@ -249,6 +279,10 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
         restart_simulator: false,
         binaries: Binaries::beside_current_exe()?,
         world_period: Duration::from_millis(args.world_period_ms),
+        cluster: (!args.remote_agents.is_empty()).then(|| Cluster {
+            remote: args.remote_agents.iter().map(|&k| usize::from(k) - 1).collect(),
+            listen: args.bridge_listen.clone(),
+        }),
     };
     let p = config.spec.protocol;
     eprintln!(
@@ -435,6 +469,41 @@ fn bench_world_cmd(args: BenchWorldArgs) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+fn remote(args: RemoteArgs) -> Result<ExitCode> {
+    let interrupt = Interrupt::install().context("installing the signal handlers")?;
+    for stale in clean_stale().context("cleaning what earlier runs left in shared memory")? {
+        eprintln!(
+            "removed {} files of a dead run's iceoryx2 namespace {}",
+            stale.removed, stale.prefix
+        );
+    }
+    let config = RemoteConfig {
+        connect: args.bridge_connect,
+        binaries: Binaries::beside_current_exe()?,
+        heartbeat_timeout: Duration::from_secs(args.heartbeat_timeout),
+        max_restarts: args.max_restarts,
+    };
+    let summary = join(&config, &args.out, interrupt.flag())?;
+    println!(
+        "run {} ({}): agent(s) {:?} here, {} restart(s), files {} host A; summary in {}",
+        summary.run_id,
+        summary.run_prefix,
+        summary.agents,
+        summary.restarts,
+        if summary.shipped {
+            "shipped to"
+        } else {
+            "NOT shipped to"
+        },
+        args.out.join("summary.json").display()
+    );
+    Ok(if summary.shipped {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
 fn main() -> ExitCode {
     iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
     let cli = Cli::parse();
@@ -444,6 +513,7 @@ fn main() -> ExitCode {
         Some(Command::Soak(args)) => soak(args),
         Some(Command::BenchLatency(args)) => bench(args),
         Some(Command::BenchWorld(args)) => bench_world_cmd(args),
+        Some(Command::Remote(args)) => remote(args),
         Some(Command::PublishGarbage(args)) => Namespace::from_prefix(&args.ipc_prefix)
             .context("the run's namespace")
             .and_then(|ns| publish_garbage(&ns, args.run_id, args.world_agents).context("publishing garbage"))

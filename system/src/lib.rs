@@ -7,6 +7,7 @@
 
 #![deny(missing_docs)]
 
+pub mod bridge;
 pub mod cli;
 pub mod ipc;
 pub mod latency;

@@ -5,6 +5,7 @@
 #[path = "../../tests/util.rs"]
 mod util;
 
+mod hosts;
 mod ipc_wait;
 mod multiprocess;
 mod world;

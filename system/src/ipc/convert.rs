@@ -418,7 +418,7 @@ pub fn control_message(order: Order, target: Option<Role>, sequence: u64, run_id
 fn agents_of(me: Role) -> usize {
     match me {
         Role::Simulator | Role::Keeper(_) => NUM_KEEPERS,
-        Role::World | Role::Agent(_) => shm_layouts::MAX_AGENTS,
+        Role::World | Role::Agent(_) | Role::Bridge => shm_layouts::MAX_AGENTS,
     }
 }
 

@@ -4,7 +4,7 @@
 //! ([`Order`]). Their shared-memory layouts are the `shm_layouts` crate;
 //! [`super::convert`] converts between the two, validating what it reads.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use shm_layouts::SENDER_SIMULATOR;
 
 use super::convert::Rejections;
@@ -73,6 +73,10 @@ pub enum AgentNews {
     },
 }
 
+/// The `sender` a bridge would have: none of the run's messages carries it
+/// (the bridge forwards the other processes' messages as they are).
+pub const SENDER_BRIDGE: u32 = 300;
+
 /// Who a process of the run is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -85,6 +89,8 @@ pub enum Role {
     World,
     /// Agent a of a world.
     Agent(usize),
+    /// The host's bridge to the run's other hosts (it sends no message of its own).
+    Bridge,
 }
 
 impl Role {
@@ -93,6 +99,7 @@ impl Role {
         match self {
             Role::Simulator | Role::World => SENDER_SIMULATOR,
             Role::Keeper(k) | Role::Agent(k) => k as u32,
+            Role::Bridge => SENDER_BRIDGE,
         }
     }
 
@@ -105,7 +112,7 @@ impl Role {
     pub fn agent_index(self) -> Option<usize> {
         match self {
             Role::Keeper(k) | Role::Agent(k) => Some(k),
-            Role::Simulator | Role::World => None,
+            Role::Simulator | Role::World | Role::Bridge => None,
         }
     }
 }
@@ -117,13 +124,14 @@ impl std::fmt::Display for Role {
             Role::Keeper(k) => write!(f, "keeper {}", k + 1),
             Role::World => write!(f, "world"),
             Role::Agent(a) => write!(f, "agent {}", a + 1),
+            Role::Bridge => write!(f, "bridge"),
         }
     }
 }
 
 /// The processes a run has: Keepaway's simulator and three keepers, or a
 /// world in its own process and its agents.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Roster {
     /// The Keepaway simulator and its keepers.

@@ -158,6 +158,7 @@ pub fn wake_name(role: Role) -> String {
         Role::Keeper(k) => keeper_process(k),
         Role::World => WORLD_PROCESS.to_string(),
         Role::Agent(a) => agent_process(a),
+        Role::Bridge => "bridge".to_string(),
     }
 }
 
@@ -202,8 +203,8 @@ fn listener(node: &Node<Ipc>, process: &str) -> Result<Listener<Ipc>, IpcError> 
         .map_err(fail(format!("listener of {process}")))
 }
 
-fn notifier(node: &Node<Ipc>, process: &str) -> Result<Notifier<Ipc>, IpcError> {
-    wake_service(node, process)?
+fn notifier(node: &Node<Ipc>, process: &str, notifiers: usize) -> Result<Notifier<Ipc>, IpcError> {
+    wake_service_for(node, process, notifiers)?
         .notifier_builder()
         .create()
         .map_err(fail(format!("notifier of {process}")))
@@ -331,10 +332,22 @@ impl<T: ZeroCopySend + Debug + 'static> Outlet<T> {
         receivers: &[String],
         wait: WaitStrategy,
     ) -> Result<Self, IpcError> {
+        Self::open_with(node, name, limits, receivers, wait, WAKE_NOTIFIERS)
+    }
+
+    /// [`Outlet::open`], with room for `notifiers` on a wake-up service it creates.
+    fn open_with(
+        node: &Node<Ipc>,
+        name: &str,
+        limits: Limits,
+        receivers: &[String],
+        wait: WaitStrategy,
+        notifiers: usize,
+    ) -> Result<Self, IpcError> {
         let wakes = if wait.notifies() {
             receivers
                 .iter()
-                .map(|process| notifier(node, process))
+                .map(|process| notifier(node, process, notifiers))
                 .collect::<Result<_, _>>()?
         } else {
             Vec::new()
@@ -589,6 +602,47 @@ impl FloorPorts {
             )?,
             pong: subscriber(node, services::WORLD_FLOOR_PONG, POINT_TO_POINT)?,
         })
+    }
+}
+
+/// A bridge's ports on one service: a subscriber, to carry to the other
+/// hosts what this host's processes publish, and an outlet, to publish here
+/// (waking the receivers) what the other hosts sent.
+pub struct BridgePorts<T: ZeroCopySend + Debug + 'static> {
+    /// What this host's processes publish.
+    pub subscriber: Sub<T>,
+    /// What the other hosts sent, published here.
+    pub outlet: Outlet<T>,
+}
+
+impl<T: ZeroCopySend + Debug + 'static> BridgePorts<T> {
+    /// Opens them on service `name` of a run of `roster` (`point_to_point`:
+    /// one publisher and one subscriber each side, else a service every
+    /// process uses), with the limits the supervisor gives it (the bridge may
+    /// create it first), waking `receivers` (wake-up service names) when the
+    /// run's processes wait with `wait`.
+    pub fn open(
+        node: &Node<Ipc>,
+        name: &str,
+        point_to_point: bool,
+        receivers: &[String],
+        wait: WaitStrategy,
+        roster: Roster,
+    ) -> Result<Self, IpcError> {
+        let (shared, notifiers) = match roster {
+            Roster::Keepaway => (SHARED, WAKE_NOTIFIERS),
+            Roster::World { .. } => (WORLD_SHARED, WORLD_WAKE_NOTIFIERS),
+        };
+        let limits = if point_to_point { POINT_TO_POINT } else { shared };
+        Ok(BridgePorts {
+            subscriber: subscriber(node, name, limits)?,
+            outlet: Outlet::open_with(node, name, limits, receivers, wait, notifiers)?,
+        })
+    }
+
+    /// Whether a sample came from this bridge's own outlet (not to be carried back).
+    pub fn is_own(&self, origin: iceoryx2::identifiers::UniquePublisherId) -> bool {
+        self.outlet.publisher.id() == origin
     }
 }
 

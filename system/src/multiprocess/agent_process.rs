@@ -235,6 +235,8 @@ struct Agent {
     cycle: Option<Duration>,
     /// Real time: when the next snapshot and the next floor ping are due.
     expected: [Option<Instant>; 2],
+    /// A snapshot of an episode whose begin has not come yet.
+    early: Option<(SnapshotMeta, PlayerView)>,
 }
 
 impl Agent {
@@ -329,7 +331,18 @@ impl Agent {
     /// the reward of the skipped ones, and acts once.
     fn snapshots(&mut self) -> Result<bool, ProcessError> {
         let (k, run_id) = (self.settings.keeper, self.context.run_id);
-        let mut pending: Option<(SnapshotMeta, PlayerView, f64)> = None;
+        let mut pending: Option<(SnapshotMeta, PlayerView, f64)> = match self.early.take() {
+            Some((meta, view)) if meta.episode == self.episode => Some((meta, view, meta.reward)),
+            Some(early) if early.0.episode > self.episode => {
+                self.early = Some(early); // its episode's begin is still on its way
+                None
+            }
+            Some(_) => {
+                self.count(Rejection::Sequence);
+                None
+            }
+            None => None,
+        };
         let mut read = false;
         while let Some(reading) = receive(&self.ports.snapshot, |m| read_snapshot(m, k, run_id))? {
             read = true;
@@ -346,6 +359,14 @@ impl Agent {
                     self.act(m, v, reward)?;
                 }
                 self.episode_events()?;
+                if meta.episode > self.episode {
+                    // Over a link between hosts, an episode's first snapshot
+                    // can come before its begin: it waits for it.
+                    if self.early.replace((meta, view)).is_some() {
+                        self.count(Rejection::Sequence);
+                    }
+                    continue;
+                }
                 if meta.episode != self.episode {
                     self.count(Rejection::Sequence);
                     continue;
@@ -513,6 +534,7 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
         cycle: (context.clock == Clock::Realtime)
             .then(|| Duration::from_secs_f64(config.simulator().server.cycle_seconds)),
         expected: [None; 2],
+        early: None,
     };
     if settings.resume {
         // What the learner holds now, for the supervisor to compare with the

@@ -45,13 +45,18 @@ pub enum LaunchError {
     },
 }
 
-/// The simulator's and the agents' binaries.
+/// The bridge's binary (runs across hosts).
+pub const BRIDGE_BINARY: &str = "learnpnp-bridge";
+
+/// The simulator's, the agents' and the bridge's binaries.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Binaries {
     /// `learnpnp-sim`.
     pub sim: PathBuf,
     /// `learnpnp-agent`.
     pub agent: PathBuf,
+    /// `learnpnp-bridge`.
+    pub bridge: PathBuf,
 }
 
 impl Binaries {
@@ -60,8 +65,9 @@ impl Binaries {
         let binaries = Binaries {
             sim: dir.join(SIM_BINARY),
             agent: dir.join(AGENT_BINARY),
+            bridge: dir.join(BRIDGE_BINARY),
         };
-        for path in [&binaries.sim, &binaries.agent] {
+        for path in [&binaries.sim, &binaries.agent, &binaries.bridge] {
             if !path.is_file() {
                 return Err(LaunchError::Missing(path.clone()));
             }
@@ -93,7 +99,15 @@ impl Binaries {
 fn build_with_cargo(dir: &Path) -> Result<(), LaunchError> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let mut command = Command::new(cargo);
-    command.args(["build", "--bin", SIM_BINARY, "--bin", AGENT_BINARY]);
+    command.args([
+        "build",
+        "--bin",
+        SIM_BINARY,
+        "--bin",
+        AGENT_BINARY,
+        "--bin",
+        BRIDGE_BINARY,
+    ]);
     if dir.file_name().is_some_and(|n| n == "release") {
         command.arg("--release");
     }

@@ -26,6 +26,7 @@ pub mod garbage;
 pub mod journal;
 pub mod launch;
 pub mod load;
+pub mod remote_host;
 pub mod report;
 pub mod sim_process;
 pub mod soak;

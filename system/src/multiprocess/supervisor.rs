@@ -25,7 +25,7 @@ use super::world_agent::{EXIT_PLAN_DOES_NOT_FIT, agent_compute_histogram, agent_
 use super::{Clock, ProcessError, RunContext};
 use crate::ipc::convert::{Rejections, control_message, read_heartbeat};
 use crate::ipc::namespace::{Namespace, NamespaceError, NamespaceOwner};
-use crate::ipc::protocol::{Order, Pulse, Role, Roster};
+use crate::ipc::protocol::{Order, ProcessState, Pulse, Role, Roster};
 use crate::ipc::services::{Ipc, IpcError, RunServices, SupervisorPorts, node, receive};
 use crate::ipc::wait::WaitStrategy;
 use crate::latency::plot::PlotFailure;
@@ -93,7 +93,24 @@ pub struct SupervisorConfig {
     pub binaries: Binaries,
     /// A world run in real time: the cycle the world is told to keep.
     pub world_period: Duration,
+    /// A run across hosts: the agents on other hosts and this host's bridge.
+    pub cluster: Option<Cluster>,
 }
+
+/// A run across hosts, seen from host A (the simulator's or world's).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Cluster {
+    /// The agents (0-based) that run on other hosts, under their own supervisors.
+    pub remote: Vec<usize>,
+    /// Where this host's bridge listens (`tcp/ADDRESS:PORT`).
+    pub listen: Vec<String>,
+}
+
+/// The file of a run's work directory describing it to the other hosts.
+pub const RUN_INFO_FILE: &str = "run-info.json";
+
+/// How long host A waits, once the run is over, for the remote agents' files.
+pub const REMOTE_FILES_TIMEOUT: Duration = Duration::from_secs(30);
 
 impl SupervisorConfig {
     /// The run's processes: Keepaway's, or a world's and its agents.
@@ -157,6 +174,9 @@ pub enum SupervisorError {
     /// The soak's sample log cannot be written or read back.
     #[error(transparent)]
     SampleLog(#[from] super::soak::SampleLogError),
+    /// A run across hosts cannot be set up.
+    #[error("the link to the other hosts: {0}")]
+    Bridge(String),
 }
 
 /// How a run ends when a process fails in a way it cannot survive (what the
@@ -438,6 +458,7 @@ impl Watch<'_> {
             Role::Keeper(k) => format!("keeper{}.log", k + 1),
             Role::World => "world.log".to_string(),
             Role::Agent(a) => format!("agent{}.log", a + 1),
+            Role::Bridge => "bridge.log".to_string(),
         };
         self.context.work_dir.join(name)
     }
@@ -467,6 +488,13 @@ impl Watch<'_> {
                 args.push(self.config.checkpoint_every.to_string().into());
                 &self.config.binaries.agent
             }
+            Role::Bridge => {
+                let args = self.bridge_args();
+                let process = spawn(&self.config.binaries.bridge, role, &args, &self.log(role))?;
+                // The bridge sends no heartbeat: its exit is what is watched.
+                self.fleet.processes.insert(role, process);
+                return Ok(());
+            }
             Role::World => {
                 let log = self.log(role);
                 let process = spawn_world(
@@ -481,6 +509,95 @@ impl Watch<'_> {
         };
         let process = spawn(binary, role, &args, &self.log(role))?;
         self.started(role, process)
+    }
+
+    /// The bridge's command line: this host's namespace, the link, the run's description.
+    fn bridge_args(&self) -> Vec<std::ffi::OsString> {
+        let mut args: Vec<std::ffi::OsString> = vec![
+            "--ipc-prefix".into(),
+            self.context.ipc_prefix.clone().into(),
+            "--side".into(),
+            "host".into(),
+            "--run-info".into(),
+            self.context.work_dir.join(RUN_INFO_FILE).into(),
+            "--work-dir".into(),
+            self.context.work_dir.clone().into(),
+        ];
+        for endpoint in self.config.cluster.iter().flat_map(|c| &c.listen) {
+            args.push("--listen".into());
+            args.push(endpoint.into());
+        }
+        args
+    }
+
+    /// Writes the run's description the bridge gives the other hosts.
+    fn describe_for_other_hosts(&self, cluster: &Cluster) -> Result<(), SupervisorError> {
+        let info = crate::bridge::remote::RunInfo {
+            prefix: self.context.ipc_prefix.clone(),
+            run_id: self.context.run_id,
+            run: self.context.run,
+            roster: self.roster,
+            remote: cluster.remote.clone(),
+            clock: self.config.clock,
+            wait: self.config.wait,
+            checkpoint_every: self.config.checkpoint_every,
+            spec: serde_json::to_value(&self.config.spec).map_err(json_error("the experiment spec"))?,
+        };
+        let path = self.context.work_dir.join(RUN_INFO_FILE);
+        info.write(&path).map_err(|e| SupervisorError::Bridge(e.to_string()))
+    }
+
+    /// Whether agent `k` runs on another host.
+    fn is_remote(&self, k: usize) -> bool {
+        self.config.cluster.as_ref().is_some_and(|c| c.remote.contains(&k))
+    }
+
+    /// Host A, once the run is over: waits for the remote agents' files
+    /// (their last checkpoints and histograms, shipped by their host's
+    /// bridge), then stops the bridge.
+    fn await_remote_files(&mut self) -> Result<(), SupervisorError> {
+        let Some(cluster) = &self.config.cluster else {
+            return Ok(());
+        };
+        let learning = self.learning_agents()?;
+        let mut expected: Vec<PathBuf> = cluster
+            .remote
+            .iter()
+            .filter(|&&k| k < learning)
+            .map(|&k| self.context.work_dir.join(checkpoint_name(k)))
+            .collect();
+        if self.roster != Roster::Keepaway && cluster.remote.contains(&0) {
+            // A world run's report is agent 1's result.
+            expected.push(self.context.work_dir.join(agent_result_file(0)));
+        }
+        let deadline = Instant::now() + REMOTE_FILES_TIMEOUT;
+        let arrived = |expected: &[PathBuf]| expected.iter().all(|p| p.is_file());
+        while !arrived(&expected) && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        if !arrived(&expected) {
+            self.fault(
+                format!(
+                    "the remote agents' checkpoints did not arrive within {} s",
+                    REMOTE_FILES_TIMEOUT.as_secs()
+                ),
+                "the report lacks their values".into(),
+            );
+        }
+        // The histograms come in the same shipment, just after the checkpoints.
+        std::thread::sleep(Duration::from_millis(500));
+        if let Some(mut bridge) = self.fleet.processes.remove(&Role::Bridge) {
+            let _ = bridge.kill();
+        }
+        Ok(())
+    }
+
+    /// How many of the run's agents learn (the first ones).
+    fn learning_agents(&self) -> Result<usize, SupervisorError> {
+        Ok(match self.roster {
+            Roster::Keepaway => super::sim_process::keepaway_config(&self.config.spec)?.learning_keepers(),
+            Roster::World { agents } => agents,
+        })
     }
 
     /// Takes a started process into the fleet.
@@ -547,6 +664,17 @@ impl Watch<'_> {
                     .map(Process::pid);
                 if current.is_some() {
                     self.last_heard.insert(pulse.role, Instant::now());
+                }
+                if let Role::Agent(a) = pulse.role
+                    && self.is_remote(a)
+                    && pulse.state == ProcessState::Stopping
+                    && !self.done.contains(&a)
+                {
+                    // A remote world agent has completed its protocol.
+                    self.done.push(a);
+                    if self.agents_done() {
+                        self.order(Order::Stop, Some(Role::World))?;
+                    }
                 }
                 self.pulses.insert((pulse.role, current.unwrap_or(pulse.pid)), pulse);
             }
@@ -724,6 +852,19 @@ impl Watch<'_> {
                     self.restart_host(format!("the world exited: {}", describe(status)))?;
                 }
                 Role::Simulator | Role::World => return Ok(Some(status)),
+                Role::Bridge => {
+                    let what = format!("the bridge exited: {}", describe(status));
+                    let restarts = self.count_restart(Role::Bridge);
+                    if restarts > self.config.max_restarts {
+                        self.fault(
+                            what.clone(),
+                            format!("not restarted: {} restarts already", self.config.max_restarts),
+                        );
+                        return Err(RunFailure::SimulatorGivenUp { what }.into());
+                    }
+                    self.start(Role::Bridge, true)?;
+                    self.fault(what, "restarted; the link is joined again".into());
+                }
                 Role::Agent(a) if status.success() => {
                     // Its protocol is complete; once every agent's is, the world stops.
                     self.done.push(a);
@@ -782,6 +923,7 @@ impl Watch<'_> {
                         return Err(RunFailure::SimulatorHung { what }.into());
                     }
                     Role::Keeper(k) | Role::Agent(k) => self.restart(k, what)?,
+                    Role::Bridge => {}
                 }
             }
         }
@@ -793,9 +935,10 @@ impl Watch<'_> {
     fn stop_agents(&mut self, grace: Duration) -> Result<(), SupervisorError> {
         self.order(Order::Stop, None)?;
         let deadline = Instant::now() + grace;
-        while !self.fleet.processes.is_empty() {
+        // The bridge carries the stop to the other hosts: it stays.
+        while self.fleet.processes.keys().any(|r| *r != Role::Bridge) {
             let mut done = Vec::new();
-            for (role, process) in &mut self.fleet.processes {
+            for (role, process) in self.fleet.processes.iter_mut().filter(|(r, _)| **r != Role::Bridge) {
                 if let Some(status) = process.exited().map_err(io_error(Path::new("waitpid")))? {
                     done.push((*role, status));
                 }
@@ -929,6 +1072,7 @@ fn run_in(
     let mut watch = Watch::launch(config, namespace, &node, run, work_dir, spec_path)?;
     let watched = watch.watch(stop, observer);
     watch.stop_agents(Duration::from_secs(10))?;
+    watch.await_remote_files()?;
     watch.collect(watched)
 }
 
@@ -978,9 +1122,14 @@ impl<'a> Watch<'a> {
             control_sequence: 0,
             fifo_refused: None,
         };
+        if let Some(cluster) = &config.cluster {
+            watch.describe_for_other_hosts(cluster)?;
+            watch.start(Role::Bridge, false)?;
+        }
+        let local: Vec<usize> = (0..watch.roster.agents()).filter(|&k| !watch.is_remote(k)).collect();
         if watch.roster == Roster::Keepaway {
             watch.start(Role::Simulator, false)?;
-            for k in 0..shm_layouts::NUM_KEEPERS {
+            for &k in &local {
                 watch.start(Role::Keeper(k), false)?;
             }
             return Ok(watch);
@@ -988,7 +1137,7 @@ impl<'a> Watch<'a> {
         // A world run: the agents first; agent 0 answers the floor
         // measurement (lock-step: before the world starts; real time: a
         // ping every cycle, side by side with the run), then the world.
-        for a in 0..watch.roster.agents() {
+        for &a in &local {
             watch.start(Role::Agent(a), false)?;
         }
         let mut floor = FloorProbe::open(node, config.wait, watch.context.run_id, work_dir, config.world_period)?;

@@ -623,8 +623,6 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
     agent.pacemaker.beat(&agent.ports.heartbeat)?;
     let mut output = RunOutput::default();
     let played = run_protocol(&spec, &mut agent, context.run, true, &mut output, |_| {}, || false);
-    agent.pacemaker.pulse.state = ProcessState::Stopping;
-    agent.pacemaker.beat(&agent.ports.heartbeat)?;
     agent.save();
     if let Err(e) = &played
         && agent.stop
@@ -640,8 +638,17 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
     let json = serde_json::to_vec_pretty(&result)?;
     let path = context.work_dir.join(agent_result_file(a));
     learnpnp::atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })?;
+    // The last heartbeat says the agent is done (a supervisor on another
+    // host learns it so); a sample its publisher outlives is lost, so the
+    // ports stay a moment for it to be read.
+    agent.pacemaker.pulse.state = ProcessState::Stopping;
+    agent.pacemaker.beat(&agent.ports.heartbeat)?;
+    std::thread::sleep(STOPPING_LINGER);
     Ok(())
 }
+
+/// How long an agent keeps its ports after its last heartbeat.
+const STOPPING_LINGER: Duration = Duration::from_millis(100);
 
 #[cfg(test)]
 mod tests {

@@ -1,0 +1,278 @@
+//! A run across two hosts: host A runs the simulator or world, its
+//! supervisor, its agents and its bridge; host B runs a remote agent under
+//! `learnpnp-supervisor remote`, whose bridge joins host A's over Zenoh.
+//! The hosts are two network namespaces this test creates, joined by a veth
+//! pair with addresses from 198.18.0.0/15 and nothing else (removed after
+//! the test, also when it fails); where namespaces cannot be made (not
+//! root), the test says so and runs both hosts on loopback endpoints.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::time::Duration;
+
+use crate::multiprocess::{Sandbox, kill, pids_with_all, prefixes, summary, wait_until};
+use crate::util::{shipped_arg, text};
+use serde_json::Value;
+
+/// Two hosts: network namespaces joined by a veth pair, or loopback.
+struct Hosts {
+    /// The namespaces (A, B), if they could be made.
+    namespaces: Option<(String, String)>,
+    /// The veth ends (A's, B's).
+    links: (String, String),
+    /// Host A's address.
+    a: String,
+    /// The port host A's bridge listens on.
+    port: u16,
+}
+
+static HOSTS: AtomicU32 = AtomicU32::new(0);
+
+fn ip(args: &[&str]) -> bool {
+    Command::new("ip")
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+impl Hosts {
+    /// Two namespaces joined by a veth pair 198.18.N.1 <-> 198.18.N.2, or
+    /// loopback if they cannot be made.
+    fn new() -> Self {
+        let n = HOSTS.fetch_add(1, Ordering::Relaxed);
+        let tag = format!("{}{n}", std::process::id() % 100_000);
+        let (na, nb) = (format!("lpa{tag}"), format!("lpb{tag}"));
+        let (la, lb) = (format!("lva{tag}"), format!("lvb{tag}"));
+        let subnet = 1 + (std::process::id() + n) % 250;
+        let (a, b) = (format!("198.18.{subnet}.1"), format!("198.18.{subnet}.2"));
+        let port = 17000 + (std::process::id() % 1000) as u16 * 10 + n as u16;
+        let made = ip(&["netns", "add", &na])
+            && ip(&["netns", "add", &nb])
+            && ip(&["link", "add", &la, "type", "veth", "peer", "name", &lb])
+            && ip(&["link", "set", &la, "netns", &na])
+            && ip(&["link", "set", &lb, "netns", &nb])
+            && ip(&["-n", &na, "addr", "add", &format!("{a}/30"), "dev", &la])
+            && ip(&["-n", &nb, "addr", "add", &format!("{b}/30"), "dev", &lb])
+            && ip(&["-n", &na, "link", "set", &la, "up"])
+            && ip(&["-n", &nb, "link", "set", &lb, "up"])
+            && ip(&["-n", &na, "link", "set", "lo", "up"])
+            && ip(&["-n", &nb, "link", "set", "lo", "up"]);
+        if made {
+            return Hosts {
+                namespaces: Some((na, nb)),
+                links: (la, lb),
+                a,
+                port,
+            };
+        }
+        let _ = (ip(&["netns", "del", &na]), ip(&["netns", "del", &nb]));
+        eprintln!("note: network namespaces cannot be made here (not root?): both hosts run on loopback endpoints");
+        Hosts {
+            namespaces: None,
+            links: (la, lb),
+            a: "127.0.0.1".into(),
+            port,
+        }
+    }
+
+    /// Host A's bridge's endpoint.
+    fn endpoint(&self) -> String {
+        format!("tcp/{}:{}", self.a, self.port)
+    }
+
+    /// `command` run on host A (`true`) or host B.
+    fn on(&self, host_a: bool, command: Command) -> Command {
+        let Some((na, nb)) = &self.namespaces else {
+            return command;
+        };
+        let mut wrapped = Command::new("ip");
+        wrapped
+            .args(["netns", "exec", if host_a { na } else { nb }])
+            .arg(command.get_program())
+            .args(command.get_args());
+        for (key, value) in command.get_envs() {
+            if let Some(value) = value {
+                wrapped.env(key, value);
+            }
+        }
+        wrapped
+    }
+
+    /// Cuts the link (host A's end down) for `outage`, then restores it.
+    fn cut_link(&self, outage: Duration) -> bool {
+        let Some((na, _)) = &self.namespaces else {
+            return false;
+        };
+        let down = ip(&["-n", na, "link", "set", &self.links.0, "down"]);
+        std::thread::sleep(outage);
+        down && ip(&["-n", na, "link", "set", &self.links.0, "up"])
+    }
+}
+
+impl Drop for Hosts {
+    fn drop(&mut self) {
+        if let Some((na, nb)) = &self.namespaces {
+            // Deleting a namespace deletes the veth end in it, and its pair.
+            let _ = (ip(&["netns", "del", na]), ip(&["netns", "del", nb]));
+        }
+    }
+}
+
+/// Host B's supervisor, joining host A's run at `endpoint`, its files in `out`.
+fn remote(sandbox: &Sandbox, out: &Path, endpoint: &str) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_learnpnp-supervisor"));
+    command
+        .args(["remote", "--bridge-connect", endpoint, "--out"])
+        .arg(out)
+        .env("LEARNPNP_IPC_DIR", sandbox.ipc())
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    command
+}
+
+fn finished(child: Child) -> Output {
+    let output = child.wait_with_output().unwrap();
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    output
+}
+
+/// Host B's summary (the host's own prefix, faults and shipping).
+fn remote_summary(out: &Path) -> Value {
+    serde_json::from_str(&fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
+}
+
+const SHORT: [&str; 12] = [
+    "--episodes",
+    "150",
+    "--eval-every",
+    "50",
+    "--eval-episodes",
+    "3",
+    "--greedy-episodes",
+    "3",
+    "--seed",
+    "5",
+    "--algo",
+    "soft-sosmc",
+];
+
+#[test]
+fn a_keeper_on_another_host_plays_exactly_the_one_host_episodes() {
+    let sandbox = Sandbox::new("hosts-lockstep");
+    let hosts = Hosts::new();
+    let one = sandbox.supervisor("one", &SHORT).output().unwrap();
+    assert!(one.status.success(), "{}", text(&one.stderr));
+    let endpoint = hosts.endpoint();
+    let mut a_args = SHORT.to_vec();
+    a_args.extend(["--remote-agents", "3", "--bridge-listen", &endpoint]);
+    let host_a = hosts
+        .on(true, sandbox.supervisor("two", &a_args))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let b_out: PathBuf = sandbox.out("host-b");
+    let host_b = hosts.on(false, remote(&sandbox, &b_out, &endpoint)).spawn().unwrap();
+    finished(host_b);
+    finished(host_a);
+    let episodes = |out: &str| fs::read(sandbox.out(out).join("episodes.csv")).unwrap();
+    assert_eq!(episodes("one"), episodes("two"), "the episodes of the one-host run");
+    for file in ["values.bin", "values-agent2.bin", "values-agent3.bin"] {
+        assert_eq!(
+            fs::read(sandbox.out("one").join(file)).unwrap(),
+            fs::read(sandbox.out("two").join(file)).unwrap(),
+            "{file}: keeper 3's values came back from host B"
+        );
+    }
+    let (a, b) = (summary(&sandbox.out("two")), remote_summary(&b_out));
+    assert_eq!(b["shipped"], true, "{b}");
+    assert_eq!(b["run_prefix"].as_str(), prefixes(&a).first().map(String::as_str));
+    assert!(
+        fs::read_dir(sandbox.out("two").join("runs/run-0"))
+            .unwrap()
+            .flatten()
+            .any(|e| e.file_name().to_string_lossy().starts_with("compute-keeper3.")),
+        "host B's histograms are in host A's report"
+    );
+    let mut used = prefixes(&summary(&sandbox.out("one")));
+    used.extend(prefixes(&a));
+    used.push(b["ipc_prefix"].as_str().unwrap().to_string());
+    sandbox.assert_clean(&used);
+}
+
+/// The corridor world, agent 1 on host B, in real time at 20 ms a cycle.
+fn realtime_world(episodes: &str) -> Vec<String> {
+    [
+        "--world-cmd",
+        env!("CARGO_BIN_EXE_learnpnp-corridor"),
+        "--plan",
+        &shipped_arg("corridor.pnml"),
+        "--algo",
+        "q-learning",
+        "--episodes",
+        episodes,
+        "--eval-every",
+        episodes,
+        "--eval-episodes",
+        "0",
+        "--greedy-episodes",
+        "2",
+        "--mode",
+        "realtime",
+        "--world-period-ms",
+        "20",
+        "--remote-agents",
+        "1",
+    ]
+    .map(str::to_string)
+    .to_vec()
+}
+
+#[test]
+fn in_real_time_a_cut_link_and_a_killed_bridge_cost_deadlines_not_the_run() {
+    let sandbox = Sandbox::new("hosts-realtime");
+    let hosts = Hosts::new();
+    let endpoint = hosts.endpoint();
+    let mut a_args = realtime_world("150");
+    a_args.extend(["--bridge-listen".to_string(), endpoint.clone()]);
+    let a_args: Vec<&str> = a_args.iter().map(String::as_str).collect();
+    let host_a = hosts
+        .on(true, sandbox.supervisor("a", &a_args))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let b_out = sandbox.out("host-b");
+    let host_b = hosts.on(false, remote(&sandbox, &b_out, &endpoint)).spawn().unwrap();
+    // Once the agent acts, cut the link for two seconds, then kill host A's bridge.
+    let journal = b_out.join("agent1.journal");
+    assert!(wait_until(Duration::from_secs(60), || fs::read_to_string(&journal)
+        .is_ok_and(|t| t.lines().count() >= 2)));
+    let cut = hosts.cut_link(Duration::from_secs(2));
+    std::thread::sleep(Duration::from_millis(500));
+    let root = sandbox.out("a").parent().unwrap().display().to_string();
+    let bridges = pids_with_all(&["learnpnp-bridge", "--side host", &root]);
+    assert_eq!(bridges.len(), 1, "{bridges:?}");
+    kill(bridges[0], libc::SIGKILL);
+    finished(host_b);
+    finished(host_a);
+    let a = summary(&sandbox.out("a"));
+    assert_eq!(a["complete"], true, "{a}");
+    let missed = a["missed_deadlines"].as_u64().unwrap();
+    assert!(missed >= 5, "the outages cost deadlines: {missed}");
+    let faults = a["faults"].to_string();
+    assert!(faults.contains("the bridge exited"), "{faults}");
+    if cut {
+        eprintln!("the link was cut for 2 s and the bridge killed: {missed} missed deadlines, the run went on");
+    }
+    let b = remote_summary(&b_out);
+    assert_eq!(b["shipped"], true, "{b}");
+    let mut used = prefixes(&a);
+    used.push(b["ipc_prefix"].as_str().unwrap().to_string());
+    sandbox.assert_clean(&used);
+}
