@@ -2,7 +2,9 @@
 
 import os
 import pathlib
+import shutil
 import sys
+import tempfile
 
 import pytest
 
@@ -30,3 +32,21 @@ def learnpnp_cli():
     if os.environ.get("LEARNPNP_REQUIRE_CLI"):
         pytest.fail("LEARNPNP_REQUIRE_CLI is set and no learnpnp command was found (set LEARNPNP_CLI)")
     pytest.skip("no learnpnp command built (cargo build --bin learnpnp)")
+
+
+@pytest.fixture
+def supervisor(learnpnp_cli):
+    """The `learnpnp-supervisor` built beside the `learnpnp` command."""
+    path = pathlib.Path(learnpnp_cli).parent / "learnpnp-supervisor"
+    if not path.is_file():
+        pytest.skip(f"{path} is not built")
+    return str(path)
+
+
+@pytest.fixture
+def sandbox():
+    """A directory for a test's runs under /tmp (short: iceoryx2's unix
+    socket paths are), removed after the test."""
+    root = pathlib.Path(tempfile.mkdtemp(prefix="lpw", dir="/tmp"))
+    yield root
+    shutil.rmtree(root, ignore_errors=True)

@@ -16,10 +16,8 @@ the optimum instead (as tests/test_taxi.py does in-process).
 import json
 import os
 import pathlib
-import shutil
 import subprocess
 import sys
-import tempfile
 
 import gymnasium as gym
 import numpy as np
@@ -30,24 +28,6 @@ EXAMPLES = ROOT / "python" / "examples"
 GREEDY = 100
 
 pytest.importorskip("iceoryx2")
-
-
-@pytest.fixture
-def supervisor(learnpnp_cli):
-    """The `learnpnp-supervisor` built beside the `learnpnp` command."""
-    path = pathlib.Path(learnpnp_cli).parent / "learnpnp-supervisor"
-    if not path.is_file():
-        pytest.skip(f"{path} is not built")
-    return str(path)
-
-
-@pytest.fixture
-def sandbox():
-    """A results directory and a short iceoryx2 namespace directory (unix
-    socket paths are short); checks that the runs left nothing behind."""
-    root = pathlib.Path(tempfile.mkdtemp(prefix="lpw", dir="/tmp"))
-    yield root
-    shutil.rmtree(root, ignore_errors=True)
 
 
 def run_world(supervisor, sandbox, name, example, plan, *args):

@@ -1,7 +1,9 @@
-//! The Zenoh session joining a run's hosts: peer mode, TCP endpoints given
-//! explicitly (listen on host A, connect from host B), multicast and gossip
-//! scouting off, so that a bridge talks to the endpoints it is given and to
-//! nothing else; a lost connection is retried for as long as the run lasts.
+//! The Zenoh session joining a run's hosts: TCP endpoints given explicitly
+//! (host A's bridge listens as a Zenoh router, so that what one host sends
+//! reaches every other connected to it, a monitor included; the others
+//! connect as clients), multicast and gossip scouting off, so that a bridge
+//! talks to the endpoints it is given and to nothing else; a lost
+//! connection is retried for as long as the run lasts.
 
 use zenoh::{Config, Session, Wait};
 
@@ -38,7 +40,12 @@ pub fn open(endpoints: &Endpoints) -> Result<Session, BridgeError> {
     tcp_only(&endpoints.connect)?;
     let list = |v: &[String]| serde_json::to_string(v).unwrap_or_else(|_| "[]".into());
     let mut config = Config::default();
-    set(&mut config, "mode", "\"peer\"")?;
+    let mode = if endpoints.listen.is_empty() {
+        "\"client\""
+    } else {
+        "\"router\""
+    };
+    set(&mut config, "mode", mode)?;
     set(&mut config, "scouting/multicast/enabled", "false")?;
     set(&mut config, "scouting/gossip/enabled", "false")?;
     set(&mut config, "listen/endpoints", &list(&endpoints.listen))?;
