@@ -45,6 +45,9 @@ use learnpnp::stepwise::{ActionOutcome, StepError, StepwiseAgent, action_names, 
 /// vocabulary: it is not restarted, and the run stops.
 pub const EXIT_PLAN_DOES_NOT_FIT: i32 = 4;
 
+/// How often a busy agent looks at the supervisor's commands and sends its heartbeat.
+const HOUSEKEEPING_EVERY: Duration = Duration::from_millis(1);
+
 /// How long an agent waits for the world's vocabulary before it gives up.
 pub const VOCABULARY_TIMEOUT: Duration = Duration::from_secs(60);
 
@@ -417,19 +420,29 @@ impl WorldAgent {
     fn play(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, ProcessError> {
         self.stepwise.set_mode(mode);
         let mut idle = Idle::new(self.context.wait);
+        let mut kept: Option<Instant> = None;
         loop {
-            self.housekeeping()?;
-            if self.stop {
-                return Err(ProcessError::Stopped);
-            }
-            match self.next_view()? {
+            // The supervisor's commands and the heartbeat between snapshots,
+            // not before each: a busy agent looks at them every HOUSEKEEPING_EVERY.
+            let busy = match self.next_view()? {
                 Some(view) => {
                     idle = Idle::new(self.context.wait);
                     if let Some(outcome) = self.take(view, Instant::now())? {
                         return Ok(outcome);
                     }
+                    true
                 }
-                None => idle.pause(&self.ports.wake, MAX_BLOCK)?,
+                None => false,
+            };
+            if !busy || kept.is_none_or(|t| t.elapsed() >= HOUSEKEEPING_EVERY) {
+                self.housekeeping()?;
+                kept = Some(Instant::now());
+                if self.stop {
+                    return Err(ProcessError::Stopped);
+                }
+            }
+            if !busy {
+                idle.pause(&self.ports.wake, MAX_BLOCK)?;
             }
         }
     }

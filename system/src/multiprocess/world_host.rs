@@ -79,6 +79,9 @@ pub enum WorldHostError {
     Namespace(#[from] crate::ipc::namespace::NamespaceError),
 }
 
+/// How often a world awaiting commands looks at the supervisor's orders.
+const HOUSEKEEPING_EVERY: Duration = Duration::from_millis(1);
+
 /// The run as the world process's environment gives it.
 #[derive(Debug, Clone)]
 pub struct WorldRun {
@@ -181,11 +184,13 @@ impl<W: ServedWorld> Host<'_, W> {
     /// Heartbeat, the supervisor's orders, the agents' reports.
     fn housekeeping(&mut self) -> Result<(), WorldHostError> {
         self.pacemaker.pulse.cycles = self.cycle;
+        let beats = self.pacemaker.pulse.sequence;
         self.pacemaker.tick(&self.ports.heartbeat)?;
         // SAFETY: getppid has no effects.
-        if unsafe { libc::getppid() } != self.parent {
+        if self.pacemaker.pulse.sequence != beats && unsafe { libc::getppid() } != self.parent {
             // The process that started the world (the supervisor, or the
-            // shell it ran the command with) is gone: so is the run.
+            // shell it ran the command with) is gone: so is the run (looked
+            // at with each heartbeat).
             self.stop = true;
         }
         let run_id = self.run.run_id;
@@ -290,6 +295,7 @@ impl<W: ServedWorld> Host<'_, W> {
         let agents = self.run.agents;
         let mut commands: Vec<Option<Option<usize>>> = vec![None; agents];
         let mut idle = Idle::new(self.run.wait);
+        let mut kept = Instant::now();
         loop {
             for (a, slot) in commands.iter_mut().enumerate() {
                 while slot.is_none() {
@@ -321,7 +327,12 @@ impl<W: ServedWorld> Host<'_, W> {
                 self.pacemaker.pulse.missed_deadlines += commands.iter().filter(|c| c.is_none()).count() as u64;
                 return Ok(Ok(commands));
             }
-            self.housekeeping()?;
+            // The supervisor and the agents' reports every HOUSEKEEPING_EVERY
+            // while the commands are awaited, not at each poll.
+            if kept.elapsed() >= HOUSEKEEPING_EVERY {
+                self.housekeeping()?;
+                kept = Instant::now();
+            }
             if self.stop {
                 return Ok(Err(Interruption::Stop));
             }
