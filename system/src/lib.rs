@@ -1,9 +1,11 @@
-//! learnpnp's multi-process system: the Keepaway simulator in one process and
-//! each agent (its plan, executor and learner) in a process of its own,
-//! exchanging knowledge-base snapshots, commands and rewards through iceoryx2
-//! shared memory (the layouts are the `shm_layouts` crate), under a supervisor
-//! that launches, watches and restarts them; latency histograms, soaks and
-//! fault injection. The plans, executor and learners are the `learnpnp` crate.
+//! learnpnp's multi-process system: the Keepaway simulator, or any world in
+//! a process of its own, and each agent (its plan, executor and learner) in a
+//! process of its own, exchanging knowledge-base snapshots, commands and
+//! rewards through iceoryx2 shared memory (the layouts are the `shm_layouts`
+//! crate), under a supervisor that launches, watches and restarts them;
+//! latency histograms, soaks and fault injection; a bridge carrying a run's
+//! services to agents on other hosts over Zenoh ([`bridge`]). The plans,
+//! executor and learners are the `learnpnp` crate.
 
 #![deny(missing_docs)]
 

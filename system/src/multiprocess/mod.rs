@@ -11,9 +11,13 @@
 //! - [`agent_process`]: one keeper's process: its plan, learner and executor
 //!   (or a fixed policy), checkpointing its values;
 //! - [`supervisor`]: launching, watching, restarting, stopping, cleaning up;
+//! - [`world_agent`], [`world_host`]: a world in its own process: an agent
+//!   on the stepwise executor, and a world written in Rust (the corridor);
+//!   [`floor_probe`]: the floor of a world run;
+//! - [`remote_host`]: a host of remote agents joining a run across hosts;
 //! - [`report`]: what a run writes (summary, episodes, latency files and plot);
-//! - [`soak`], [`chaos`] (with [`garbage`] and [`load`]), [`bench_latency`]:
-//!   long runs, fault injection and the latency benchmark.
+//! - [`soak`], [`chaos`] (with [`garbage`] and [`load`]), [`bench_latency`],
+//!   [`bench_world`]: long runs, fault injection and the benchmarks.
 //!
 //! See docs/ARCHITECTURE.md for one snapshot's way through the processes.
 
