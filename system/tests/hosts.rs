@@ -276,3 +276,50 @@ fn in_real_time_a_cut_link_and_a_killed_bridge_cost_deadlines_not_the_run() {
     used.push(b["ipc_prefix"].as_str().unwrap().to_string());
     sandbox.assert_clean(&used);
 }
+
+#[test]
+fn a_keeper_killed_on_host_b_is_restarted_there_and_host_a_plays_on() {
+    let sandbox = Sandbox::new("hosts-restart");
+    let hosts = Hosts::new();
+    let endpoint = hosts.endpoint();
+    let mut a_args = SHORT.to_vec();
+    a_args[1] = "400";
+    a_args.extend([
+        "--remote-agents",
+        "3",
+        "--bridge-listen",
+        &endpoint,
+        "--checkpoint-every",
+        "10",
+    ]);
+    let host_a = hosts
+        .on(true, sandbox.supervisor("a", &a_args))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let b_out = sandbox.out("host-b");
+    let host_b = hosts.on(false, remote(&sandbox, &b_out, &endpoint)).spawn().unwrap();
+    // Once keeper 3 has checkpointed twice on host B, kill it there.
+    let prev = b_out.join("values-agent3.bin.prev");
+    assert!(
+        wait_until(Duration::from_secs(120), || prev.exists()),
+        "no progress on host B"
+    );
+    let keeper = pids_with_all(&["--keeper 3", &b_out.display().to_string()]);
+    assert_eq!(keeper.len(), 1, "{keeper:?}");
+    kill(keeper[0], libc::SIGKILL);
+    finished(host_b);
+    finished(host_a);
+    let (a, b) = (summary(&sandbox.out("a")), remote_summary(&b_out));
+    assert_eq!(a["complete"], true, "{a}");
+    assert!(
+        a["aborted_episodes"].as_u64().unwrap() >= 1,
+        "host A dropped the episode in flight: {a}"
+    );
+    assert_eq!(b["restarts"], 1, "{b}");
+    assert_eq!(b["shipped"], true, "{b}");
+    let mut used = prefixes(&a);
+    used.push(b["ipc_prefix"].as_str().unwrap().to_string());
+    sandbox.assert_clean(&used);
+}
