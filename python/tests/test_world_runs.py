@@ -22,6 +22,7 @@ import sys
 import gymnasium as gym
 import numpy as np
 import pytest
+from test_taxi import optimal_returns
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "python" / "examples"
@@ -50,28 +51,12 @@ def run_world(supervisor, sandbox, name, example, plan, *args):
     return summary, [e for e in episodes if e["ended"]], out
 
 
-def optimal_returns():
-    """The optimal return from every Taxi state (value iteration, undiscounted)."""
-    table = gym.make("Taxi-v4").unwrapped.P
-    value = np.zeros(len(table))
-    while True:
-        q = np.array(
-            [
-                [sum(p * (r + (0.0 if done else value[s2])) for p, s2, r, done in table[s][a]) for a in table[s]]
-                for s in range(len(value))
-            ]
-        )
-        if np.abs(q.max(1) - value).max() < 1e-9:
-            return q.max(1)
-        value = q.max(1)
-
-
 TAXI = ("--algo", "q-learning", "--alpha", "0.1", "--epsilon", "0.1", "--episodes", "2000")
 TAXI += ("--eval-every", "2000", "--eval-episodes", "0", "--wait", "hybrid")
 
 
 def test_taxi_from_a_python_world_is_learned_to_the_optimum_and_a_seed_repeats(supervisor, sandbox):
-    optimum = optimal_returns()
+    optimum = optimal_returns(gym.make("Taxi-v4"))
     for seed in ("1", "2", "3"):
         summary, episodes, out = run_world(supervisor, sandbox, f"taxi{seed}", "taxi_world.py", "taxi.pnml", *TAXI,
                                            "--seed", seed)

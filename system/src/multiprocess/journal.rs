@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::sim_process::SimTotals;
-use learnpnp::domains::EpisodeOutcome;
+use learnpnp::domains::{EpisodeOutcome, TaskError};
 use learnpnp::learning::EpisodeMode;
 use learnpnp::rng::SimRng;
 
@@ -59,6 +59,18 @@ pub enum JournalError {
         /// Why.
         detail: String,
     },
+}
+
+/// Checks that a replayed journal entry of mode `journaled` is the episode
+/// the protocol has due (of mode `due`).
+pub fn follows_protocol(journaled: EpisodeMode, due: EpisodeMode) -> Result<(), TaskError> {
+    if journaled == due {
+        Ok(())
+    } else {
+        Err(TaskError::Invalid(format!(
+            "the journal does not follow the protocol: a {journaled:?} episode where a {due:?} one is due"
+        )))
+    }
 }
 
 /// Reads every whole entry of the journal at `path` (none if there is no journal).

@@ -572,12 +572,7 @@ impl JournaledTask {
 impl Task for JournaledTask {
     fn episode(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
         if let Some(entry) = self.replay.pop_front() {
-            if entry.mode != mode {
-                return Err(TaskError::Invalid(format!(
-                    "the journal does not follow the protocol: a {:?} episode where a {mode:?} one is due",
-                    entry.mode
-                )));
-            }
+            journal::follows_protocol(entry.mode, mode)?;
             if self.replay.is_empty() {
                 // The last whole episode: play on from its state.
                 self.task.set_simulator_rng(entry.rng);

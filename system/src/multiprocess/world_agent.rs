@@ -477,12 +477,7 @@ impl WorldAgent {
 impl Task for WorldAgent {
     fn episode(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
         if let Some(entry) = self.replay.pop_front() {
-            if entry.mode != mode {
-                return Err(TaskError::Invalid(format!(
-                    "the journal does not follow the protocol: a {:?} episode where a {mode:?} one is due",
-                    entry.mode
-                )));
-            }
+            journal::follows_protocol(entry.mode, mode)?;
             self.totals = entry.totals;
             if entry.mode == EpisodeMode::Learn {
                 self.learning_episodes += 1;
