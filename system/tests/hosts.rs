@@ -135,6 +135,16 @@ fn remote(sandbox: &Sandbox, out: &Path, endpoint: &str) -> Command {
     command
 }
 
+/// Host A's supervisor with `args`, its results in `out`.
+fn host_a(hosts: &Hosts, sandbox: &Sandbox, out: &str, args: &[&str]) -> Child {
+    hosts
+        .on(true, sandbox.supervisor(out, args))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
 fn finished(child: Child) -> Output {
     let output = child.wait_with_output().unwrap();
     assert!(output.status.success(), "{}", text(&output.stderr));
@@ -170,12 +180,7 @@ fn a_keeper_on_another_host_plays_exactly_the_one_host_episodes() {
     let endpoint = hosts.endpoint();
     let mut a_args = SHORT.to_vec();
     a_args.extend(["--remote-agents", "3", "--bridge-listen", &endpoint]);
-    let host_a = hosts
-        .on(true, sandbox.supervisor("two", &a_args))
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let host_a = host_a(&hosts, &sandbox, "two", &a_args);
     let b_out: PathBuf = sandbox.out("host-b");
     let host_b = hosts.on(false, remote(&sandbox, &b_out, &endpoint)).spawn().unwrap();
     finished(host_b);
@@ -241,12 +246,7 @@ fn in_real_time_a_cut_link_and_a_killed_bridge_cost_deadlines_not_the_run() {
     let mut a_args = realtime_world("150");
     a_args.extend(["--bridge-listen".to_string(), endpoint.clone()]);
     let a_args: Vec<&str> = a_args.iter().map(String::as_str).collect();
-    let host_a = hosts
-        .on(true, sandbox.supervisor("a", &a_args))
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let host_a = host_a(&hosts, &sandbox, "a", &a_args);
     let b_out = sandbox.out("host-b");
     let host_b = hosts.on(false, remote(&sandbox, &b_out, &endpoint)).spawn().unwrap();
     // Once the agent acts, cut the link for two seconds, then kill host A's bridge.
@@ -292,12 +292,7 @@ fn a_keeper_killed_on_host_b_is_restarted_there_and_host_a_plays_on() {
         "--checkpoint-every",
         "10",
     ]);
-    let host_a = hosts
-        .on(true, sandbox.supervisor("a", &a_args))
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let host_a = host_a(&hosts, &sandbox, "a", &a_args);
     let b_out = sandbox.out("host-b");
     let host_b = hosts.on(false, remote(&sandbox, &b_out, &endpoint)).spawn().unwrap();
     // Once keeper 3 has checkpointed twice on host B, kill it there.
