@@ -6,7 +6,7 @@ use super::episode::EpisodeOutcome;
 use super::geometry::Vec2;
 use super::params::KeepawayConfig;
 use super::perception::PlayerView;
-use super::skills::fastest::{fastest_teammate, pass_origin};
+use super::skills::fastest::{BallEstimates, fastest_teammate_with, pass_origin_with};
 use super::skills::pass::PassState;
 use super::skills::{InterceptMemory, get_open_from, go_to_support_point, hold_ball, intercept};
 use super::world_model::believed;
@@ -85,9 +85,9 @@ pub struct KeeperMemory {
 ///   otherwise ask `policy` and hold the ball (one cycle, ratio 0.7) or start a pass
 ///   to the k-th closest teammate;
 /// - otherwise, if this keeper is the teammate fastest to the ball
-///   ([`fastest_teammate`]), intercept;
+///   ([`fastest_teammate`](super::skills::fastest::fastest_teammate)), intercept;
 /// - otherwise support as `policy` says (get open for a pass from where the fastest
-///   teammate will get the ball, [`pass_origin`], by default).
+///   teammate will get the ball, [`pass_origin`](super::skills::fastest::pass_origin), by default).
 ///
 /// The framework first searches for the ball when its world model has lost it;
 /// views here always show it. The neck, turned to the ball or the region's centre
@@ -116,12 +116,13 @@ pub fn keeper_command(
         return cmd;
     }
     memory.pass = None;
-    let fastest = fastest_teammate(view, cfg);
+    let mut estimates = BallEstimates::default();
+    let fastest = fastest_teammate_with(view, cfg, &mut estimates);
     if fastest == Some(view.me.index()) {
         return intercept(view, cfg, &mut memory.intercept);
     }
     match policy.support(view, cfg) {
-        SupportAction::GetOpen => get_open_from(view, cfg, pass_origin(view, fastest, cfg)),
+        SupportAction::GetOpen => get_open_from(view, cfg, pass_origin_with(view, fastest, cfg, &mut estimates)),
         SupportAction::GoTo(p) => go_to_support_point(view, cfg, p),
     }
 }

@@ -5,7 +5,6 @@ use crate::executor::{Action, Registry};
 use crate::keepaway_sim::geometry::Vec2;
 use crate::keepaway_sim::keeper::KeeperAction;
 use crate::keepaway_sim::positions::PositioningPoint;
-use crate::keepaway_sim::skills::fastest::pass_origin;
 use crate::keepaway_sim::skills::pass::PassState;
 use crate::keepaway_sim::skills::{get_open_from, go_to_support_point, hold_ball, intercept};
 
@@ -141,7 +140,7 @@ impl Action<KeeperWorld> for Supporting {
         let Some(view) = w.view().copied() else { return };
         let command = match self.how {
             Support::GetOpen => {
-                let from = pass_origin(&view, w.fastest_keeper(), &w.config);
+                let Some(from) = w.pass_origin() else { return };
                 get_open_from(&view, &w.config, from)
             }
             Support::Point(p) => go_to_support_point(&view, &w.config, p),

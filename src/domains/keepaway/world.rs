@@ -5,10 +5,11 @@ use crate::condition::{AtomId, AtomTable, KnowledgeBase};
 use crate::executor::World;
 use crate::keepaway_sim::command::Command;
 use crate::keepaway_sim::features::{FeatureThresholds, PassLineDistances};
+use crate::keepaway_sim::geometry::Vec2;
 use crate::keepaway_sim::params::KeepawayConfig;
 use crate::keepaway_sim::perception::PlayerView;
 use crate::keepaway_sim::skills::InterceptMemory;
-use crate::keepaway_sim::skills::fastest::fastest_teammate;
+use crate::keepaway_sim::skills::fastest::{BallEstimates, fastest_teammate_with, pass_origin_with};
 use crate::keepaway_sim::world_model::believed;
 
 /// The atoms of a keeper's knowledge base, in id order.
@@ -23,7 +24,7 @@ pub fn atoms() -> AtomTable {
 ///
 /// - `HasBall`: the ball is within kickable distance;
 /// - `Fastest`: of the keepers, this one reaches the ball first (the framework's
-///   fastest teammate, [`fastest_teammate`]);
+///   fastest teammate, [`fastest_teammate`](crate::keepaway_sim::skills::fastest::fastest_teammate));
 /// - `Lane1Open`, `Lane2Open`: the takers are farther than the pass-line
 ///   threshold from the line to the closest / second-closest teammate;
 /// - `TakerFar`: the closest taker is farther than its threshold.
@@ -38,6 +39,7 @@ pub struct KeeperWorld {
     view: Option<PlayerView>,
     facts: [bool; ATOMS.len()],
     fastest: Option<usize>,
+    estimates: BallEstimates,
     intercept: InterceptMemory,
     distances: Option<PassLineDistances>,
     command: Option<Command>,
@@ -53,6 +55,7 @@ impl KeeperWorld {
             view: None,
             facts: [false; ATOMS.len()],
             fastest: None,
+            estimates: BallEstimates::default(),
             intercept: InterceptMemory::default(),
             distances: None,
             command: None,
@@ -65,7 +68,8 @@ impl KeeperWorld {
     pub fn perceive(&mut self, view: PlayerView, elapsed_seconds: f64) {
         let cfg = &self.config;
         let view = believed(&view, cfg);
-        self.fastest = fastest_teammate(&view, cfg);
+        self.estimates.clear();
+        self.fastest = fastest_teammate_with(&view, cfg, &mut self.estimates);
         self.distances = PassLineDistances::from_view(&view);
         let observation = self.distances.map(|d| d.observe(&self.thresholds));
         self.facts = [
@@ -95,10 +99,11 @@ impl KeeperWorld {
         self.facts[1]
     }
 
-    /// The keeper fastest to the ball this cycle (global index), as this keeper
-    /// predicts it.
-    pub(crate) fn fastest_keeper(&self) -> Option<usize> {
-        self.fastest
+    /// Where a supporting keeper expects the next pass from (`pass_origin`), with
+    /// this cycle's estimates; none before the first cycle.
+    pub(crate) fn pass_origin(&mut self) -> Option<Vec2> {
+        let view = self.view?;
+        Some(pass_origin_with(&view, self.fastest, &self.config, &mut self.estimates))
     }
 
     /// The interception skill's memory (the last interception point).

@@ -5,6 +5,7 @@ use super::predict::{Estimate, Kinematics, ball_pos_after, cycles_to_point};
 use crate::keepaway_sim::geometry::Vec2;
 use crate::keepaway_sim::params::KeepawayConfig;
 use crate::keepaway_sim::perception::PlayerView;
+use crate::keepaway_sim::world::NUM_PLAYERS;
 
 /// The framework's "unknown" cycle count (`predictNrCyclesToObject` gives 101 for a
 /// player more than 40 m from the ball, or for no player at all).
@@ -21,6 +22,53 @@ pub(crate) fn cycles_of(view: &PlayerView, j: usize, target: Vec2, cfg: &Keepawa
     cycles_to_point(&Kinematics::from(&view.players[j]), target, whose, cfg)
 }
 
+/// The ball's predicted positions' cycle estimates kept for one view: how many
+/// cycles player `j` needs to reach where the ball will be after `i` cycles, for
+/// the first [`BallEstimates::CYCLES`] values of `i`. The fastest teammate and
+/// the pass origin ask for many of the same estimates; each is computed once.
+///
+/// Valid for one view only: make a new one (or [`BallEstimates::clear`] it) when
+/// the view changes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BallEstimates {
+    cycles: [[u32; BallEstimates::CYCLES]; NUM_PLAYERS],
+}
+
+impl Default for BallEstimates {
+    fn default() -> Self {
+        BallEstimates {
+            cycles: [[Self::UNSET; Self::CYCLES]; NUM_PLAYERS],
+        }
+    }
+}
+
+impl BallEstimates {
+    /// Ball cycles kept (the interception horizon, 30, and a little more).
+    pub const CYCLES: usize = 40;
+    const UNSET: u32 = u32::MAX;
+
+    /// Forgets every estimate (a new view).
+    pub fn clear(&mut self) {
+        *self = Self::default();
+    }
+
+    /// [`cycles_of`] player `j` to the ball's predicted position after `i` cycles.
+    fn cycles_to_ball_after(&mut self, view: &PlayerView, j: usize, i: u32, cfg: &KeepawayConfig) -> u32 {
+        let slot = usize::try_from(i)
+            .ok()
+            .filter(|&i| i < Self::CYCLES)
+            .and_then(|i| self.cycles.get_mut(j).map(|row| &mut row[i]));
+        match slot {
+            Some(c) if *c != Self::UNSET => *c,
+            Some(c) => {
+                *c = cycles_of(view, j, ball_pos_after(&view.ball, i, &cfg.server), cfg);
+                *c
+            }
+            None => cycles_of(view, j, ball_pos_after(&view.ball, i, &cfg.server), cfg),
+        }
+    }
+}
+
 /// Whether player `j` could possibly reach `target` within `cycles` (the
 /// framework's cut-off: distance over top speed below `cycles + 1`).
 fn may_reach(view: &PlayerView, j: usize, target: Vec2, cycles: f64, cfg: &KeepawayConfig) -> bool {
@@ -32,17 +80,18 @@ fn may_reach(view: &PlayerView, j: usize, target: Vec2, cycles: f64, cfg: &Keepa
 /// whose distance over top speed is not below the best count so far are skipped;
 /// ties go to the earlier candidate. `None` (the framework's illegal object) if
 /// every candidate was skipped.
-pub(crate) fn fastest_to_point(
+fn fastest_to_point(
     view: &PlayerView,
     candidates: impl IntoIterator<Item = usize>,
     target: Vec2,
     cfg: &KeepawayConfig,
+    mut estimate: impl FnMut(usize) -> u32,
 ) -> Option<(usize, u32)> {
     let mut best: Option<(usize, u32)> = None;
     let mut min = 100u32;
     for j in candidates {
         if j < view.players.len() && view.players[j].pos.dist(target) / cfg.server.player_speed_max < f64::from(min) {
-            let c = cycles_of(view, j, target, cfg);
+            let c = estimate(j);
             if c < min {
                 min = c;
                 best = Some((j, c));
@@ -64,6 +113,11 @@ pub(crate) fn fastest_to_point(
 /// opponent will have stopped the ball (`fastest_to_point`). At the horizon the
 /// teammate of the last estimate made stands; `None` if there never was one.
 pub fn fastest_teammate(view: &PlayerView, cfg: &KeepawayConfig) -> Option<usize> {
+    fastest_teammate_with(view, cfg, &mut BallEstimates::default())
+}
+
+/// [`fastest_teammate`], keeping its estimates in `memo` (made for this view).
+pub fn fastest_teammate_with(view: &PlayerView, cfg: &KeepawayConfig, memo: &mut BallEstimates) -> Option<usize> {
     let horizon = cfg.skills.intercept_horizon.min(1000);
     let mates = view.side().indices();
     let opponents = view.side().opponent().indices();
@@ -74,7 +128,7 @@ pub fn fastest_teammate(view: &PlayerView, cfg: &KeepawayConfig) -> Option<usize
         let cycles = f64::from(i);
         for j in mates.clone() {
             if may_reach(view, j, target, cycles, cfg) {
-                let c = cycles_of(view, j, target, cfg);
+                let c = memo.cycles_to_ball_after(view, j, i, cfg);
                 if c < min_mate {
                     min_mate = c;
                     fastest_mate = Some(j);
@@ -86,11 +140,12 @@ pub fn fastest_teammate(view: &PlayerView, cfg: &KeepawayConfig) -> Option<usize
         }
         for j in opponents.clone() {
             if may_reach(view, j, target, cycles, cfg) {
-                min_opp = min_opp.min(cycles_of(view, j, target, cfg));
+                min_opp = min_opp.min(memo.cycles_to_ball_after(view, j, i, cfg));
             }
         }
         if min_opp <= i {
-            return fastest_to_point(view, mates, target, cfg).map(|(j, _)| j);
+            return fastest_to_point(view, mates, target, cfg, |j| memo.cycles_to_ball_after(view, j, i, cfg))
+                .map(|(j, _)| j);
         }
     }
     fastest_mate
@@ -103,7 +158,7 @@ pub fn fastest_teammate(view: &PlayerView, cfg: &KeepawayConfig) -> Option<usize
 /// whenever the player may reach it, the last estimate once the ball's cycles
 /// exceed it. The viewer's own count comes from its interception features in the
 /// framework, which keeper support (the only caller) never asks for.
-pub(crate) fn cycles_to_ball(view: &PlayerView, j: usize, cfg: &KeepawayConfig) -> u32 {
+fn cycles_to_ball(view: &PlayerView, j: usize, cfg: &KeepawayConfig, memo: &mut BallEstimates) -> u32 {
     let Some(p) = view.players.get(j) else {
         return UNKNOWN_CYCLES;
     };
@@ -124,7 +179,7 @@ pub(crate) fn cycles_to_ball(view: &PlayerView, j: usize, cfg: &KeepawayConfig) 
         prev = at;
         at = ball_pos_after(ball, i, &cfg.server);
         if may_reach(view, j, at, f64::from(i), cfg) {
-            to_obj = cycles_of(view, j, at, cfg);
+            to_obj = memo.cycles_to_ball_after(view, j, i, cfg);
         }
     }
     to_obj
@@ -134,6 +189,50 @@ pub(crate) fn cycles_to_ball(view: &PlayerView, j: usize, cfg: &KeepawayConfig) 
 /// `keeperSupport`): the ball's predicted position when the fastest teammate
 /// `fastest` gets it (`cycles_to_ball`).
 pub fn pass_origin(view: &PlayerView, fastest: Option<usize>, cfg: &KeepawayConfig) -> Vec2 {
-    let cycles = fastest.map_or(UNKNOWN_CYCLES, |j| cycles_to_ball(view, j, cfg));
+    pass_origin_with(view, fastest, cfg, &mut BallEstimates::default())
+}
+
+/// [`pass_origin`], with the estimates kept in `memo` (made for this view).
+pub fn pass_origin_with(
+    view: &PlayerView,
+    fastest: Option<usize>,
+    cfg: &KeepawayConfig,
+    memo: &mut BallEstimates,
+) -> Vec2 {
+    let cycles = fastest.map_or(UNKNOWN_CYCLES, |j| cycles_to_ball(view, j, cfg, memo));
     ball_pos_after(&view.ball, cycles, &cfg.server)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::keepaway_sim::episode::Keepaway;
+    use crate::keepaway_sim::perception::{PlayerId, perceive};
+    use crate::keepaway_sim::policies::BaselinePolicy;
+
+    /// One memo shared by the fastest teammate and the pass origin gives what
+    /// each computes afresh, in every keeper's view of 20 episodes.
+    #[test]
+    fn shared_estimates_change_nothing() {
+        let cfg = KeepawayConfig::default();
+        let mut views = 0;
+        for seed in 0..20 {
+            let mut game = Keepaway::new(cfg, seed).expect("valid config");
+            let mut policy = BaselinePolicy::random(seed);
+            while game.step(&mut policy).is_none() {
+                for id in PlayerId::KEEPERS {
+                    let view = perceive(game.simulator().world(), id, &cfg);
+                    let mut memo = BallEstimates::default();
+                    let fastest = fastest_teammate_with(&view, &cfg, &mut memo);
+                    assert_eq!(fastest, fastest_teammate(&view, &cfg));
+                    for j in [fastest, Some(0), Some(1), Some(2)] {
+                        let shared = pass_origin_with(&view, j, &cfg, &mut memo);
+                        assert_eq!(shared, pass_origin(&view, j, &cfg));
+                    }
+                    views += 1;
+                }
+            }
+        }
+        assert!(views > 1000, "{views} views");
+    }
 }

@@ -6,28 +6,25 @@ use crate::keepaway_sim::command::Command;
 use crate::keepaway_sim::geometry::Vec2;
 use crate::keepaway_sim::params::KeepawayConfig;
 use crate::keepaway_sim::perception::PlayerView;
+use crate::keepaway_sim::world::NUM_PLAYERS;
 
 /// Congestion at `p`: the sum of `1 / distance` to every other player (oneself
-/// excluded; players exactly at `p` are skipped).
+/// excluded; players exactly at `p` are skipped), summed in player order.
 pub fn congestion(view: &PlayerView, p: Vec2) -> f64 {
-    congestion_up_to(view, p, f64::INFINITY)
+    // Skipped players add +0.0, which leaves a sum of non-negative terms unchanged.
+    inverse_distances(view, p).iter().fold(0.0, |c, x| c + x)
 }
 
-/// [`congestion`], abandoned (returning a value `>= bound`) as soon as the partial
-/// sum reaches `bound`.
-fn congestion_up_to(view: &PlayerView, p: Vec2, bound: f64) -> f64 {
+/// `1 / distance` from `p` to each player, 0 for oneself and for players exactly
+/// at `p` (computed for all players at once, which the compiler vectorises).
+fn inverse_distances(view: &PlayerView, p: Vec2) -> [f64; NUM_PLAYERS] {
     let me = view.me.index();
-    let mut c = 0.0;
-    for (i, q) in view.players.iter().enumerate() {
+    let mut inv = [0.0; NUM_PLAYERS];
+    for (k, (x, q)) in inv.iter_mut().zip(view.players.iter()).enumerate() {
         let d = q.pos.dist(p);
-        if i != me && d > 0.0 {
-            c += 1.0 / d;
-            if c >= bound {
-                break;
-            }
-        }
+        *x = if k != me && d > 0.0 { 1.0 / d } else { 0.0 };
     }
-    c
+    inv
 }
 
 /// Whether `obj` lies in the pass cone from `start` to `end` (the framework's
@@ -68,7 +65,7 @@ pub fn least_congested_point(view: &PlayerView, cfg: &KeepawayConfig, pass_from:
     let mut best = None;
     let mut best_c = f64::INFINITY;
     for p in grid_points(cfg) {
-        let c = congestion_up_to(view, p, best_c);
+        let c = congestion(view, p);
         if c < best_c && !view.opponents().any(|(_, o)| in_cone(o.pos, pass_from, p, width)) {
             best_c = c;
             best = Some(p);

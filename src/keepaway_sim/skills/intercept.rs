@@ -7,7 +7,7 @@ use super::predict::{
 };
 use crate::keepaway_sim::command::Command;
 use crate::keepaway_sim::geometry::{Vec2, normalize_deg};
-use crate::keepaway_sim::params::KeepawayConfig;
+use crate::keepaway_sim::params::{KeepawayConfig, ServerParams};
 use crate::keepaway_sim::perception::PlayerView;
 use crate::keepaway_sim::world::Side;
 use serde::{Deserialize, Serialize};
@@ -265,6 +265,15 @@ fn search_interception(
             i += 1;
             continue;
         }
+        // Once the first reachable point is known and no point close to the old
+        // one has been taken, only a later such point could change the choice; if
+        // none can come (no old point, or the ball already too slow, and it only
+        // slows down), the choice is the first reachable point: stop.
+        let ball_slows = (0.0..=1.0).contains(&sp.ball_decay);
+        let old_impossible = old_point.is_none() || (ball_slows && ball_vel.norm() <= 0.6);
+        if prune && min_cycles != 100 && old_cycles == NONE && old_impossible {
+            break;
+        }
         let near_old = old_point.map(|o| at.dist(o));
         let old_possible = near_old.is_some_and(|o| o < min_old_dist.min(1.0)) && ball_vel.norm() > 0.6;
         let safer_possible = intercept_dist > 0.5 * reach
@@ -277,11 +286,10 @@ fn search_interception(
             i += 1;
             continue;
         }
-        let mut m = mover;
-        for step in 0..n {
-            m = m.after(m.move_command(at, n - step, back, sp), sp);
-        }
-        let d = m.pos().dist(at);
+        let Some(d) = run_to(mover, at, n, back, prune, sp) else {
+            i += 1;
+            continue;
+        };
         if d < reach {
             if min_cycles == 100 {
                 first = i;
@@ -316,6 +324,25 @@ fn search_interception(
     } else {
         Some(move_command(&me, point, n, back, sp))
     }
+}
+
+/// The distance from `at` at which the viewer ends after `n` commands of
+/// [`Mover::move_command`] towards it (the `i`-th remaining cycles counting down).
+/// With `prune`, `None` as soon as the point is out of reach: farther than the
+/// remaining cycles at top speed (no cycle moves a player farther) plus the
+/// kickable distance, so the run could only end out of reach.
+fn run_to(mover: Mover, at: Vec2, n: u32, back: f64, prune: bool, sp: &ServerParams) -> Option<f64> {
+    let out_of_reach = sp.kickable_distance() + 1e-9;
+    let mut m = mover;
+    for step in 0..n {
+        // Squared: no square root on the run's critical path.
+        let bound = f64::from(n - step) * sp.player_speed_max + out_of_reach;
+        if prune && m.pos().dist_sq(at) > bound * bound {
+            return None;
+        }
+        m = m.after(m.move_command(at, n - step, back, sp), sp);
+    }
+    Some(m.pos().dist(at))
 }
 
 /// Intercept the ball (`intercept`, not as a goalie): the command of

@@ -146,10 +146,8 @@ impl Mover {
     /// Position after `n` cycles of dashing with `power`.
     #[inline]
     fn pos_after(&self, n: u32, power: f64, sp: &ServerParams) -> Vec2 {
-        let max = sp.player_speed_max;
-        if power == 0.0 && self.vel.norm_sq() <= max * max {
-            // Rolling within the speed cap: the geometric series in closed form.
-            return self.pos + self.vel * geom_sum(sp.player_decay, n);
+        if power == 0.0 {
+            return roll(self.pos, self.vel, n, sp);
         }
         let mut m = *self;
         for _ in 0..n {
@@ -157,6 +155,28 @@ impl Mover {
         }
         m.pos
     }
+}
+
+/// Where a player at `pos` moving at `vel` will be after `n` cycles without
+/// dashing: within the speed cap the geometric series in closed form, otherwise
+/// cycle by cycle (the cap applies as in a dash of power 0, which needs no body
+/// direction).
+#[inline]
+fn roll(pos: Vec2, vel: Vec2, n: u32, sp: &ServerParams) -> Vec2 {
+    let max = sp.player_speed_max;
+    if vel.norm_sq() <= max * max {
+        return pos + vel * geom_sum(sp.player_decay, n);
+    }
+    let mut m = Mover {
+        pos,
+        vel,
+        body: 0.0,
+        u: Vec2::ZERO,
+    };
+    for _ in 0..n {
+        m = m.dash(0.0, sp);
+    }
+    m.pos
 }
 
 /// State after one cycle with a dash of `power` (`predictStateAfterDash`): the
@@ -182,6 +202,10 @@ pub(crate) fn after_command(k: &Kinematics, cmd: Command, sp: &ServerParams) -> 
 /// Where a player will be after `n` cycles dashing with `power` every cycle
 /// (`predictPosAfterNrCycles` for a player; power 0 is rolling out).
 pub(crate) fn pos_after(k: &Kinematics, n: u32, power: f64, sp: &ServerParams) -> Vec2 {
+    if power == 0.0 {
+        // Rolling needs no body direction: spare its sine and cosine.
+        return roll(k.pos, k.vel, n, sp);
+    }
     Mover::new(k).pos_after(n, power, sp)
 }
 
@@ -303,22 +327,17 @@ impl Mover {
             return None;
         }
         let dir_to = to.dir();
-        let mut cur = *self;
-        let mut first = None;
-        let mut turns = 0;
-        while needs_turn(cur.u) && turns < 5 {
-            let moment = angle_for_turn(normalize_deg(dir_to - cur.body), cur.vel.norm(), sp);
-            first.get_or_insert(moment);
-            cur = cur.turn(moment, sp);
-            turns += 1;
-        }
-        if turns > 1 && cycles < 4 && to.norm_sq() < dist_back * dist_back {
+        let first = angle_for_turn(normalize_deg(dir_to - self.body), self.vel.norm(), sp);
+        // The framework simulates up to five turns, but only the first is sent,
+        // and the others only tell whether more than one is needed, which matters
+        // only close to the target with fewer than four cycles left.
+        if cycles < 4 && to.norm_sq() < dist_back * dist_back && needs_turn(self.turn(first, sp).u) {
             let moment = angle_for_turn(normalize_deg(dir_to + 180.0 - self.body), self.vel.norm(), sp);
             if off(self.turn(moment, sp).u) < 0.9 * reach {
                 return Some(moment);
             }
         }
-        first
+        Some(first)
     }
 
     /// [`move_command`].
@@ -459,6 +478,64 @@ mod tests {
         assert!((t.abs() - 180.0).abs() < 1e-9);
         // Just behind, within the dash-back distance: no turn (dash backwards).
         assert_eq!(turn_towards(&k, Vec2::new(-2.0, 0.0), 1, 2.5, &sp), None);
+    }
+
+    /// `predictCommandTurnTowards` as the framework writes it: up to five turns
+    /// simulated, their count deciding the turn of the back to a close target.
+    fn five_turn_loop(m: &Mover, target: Vec2, cycles: u32, dist_back: f64, sp: &ServerParams) -> Option<f64> {
+        let reach = sp.kickable_distance();
+        let pos_pred = m.pos_after(cycles.min(4), 0.0, sp);
+        let d2 = m.pos.dist_sq(target);
+        let ratio = if d2 > 400.0 {
+            3.0
+        } else if d2 > 100.0 {
+            2.0
+        } else {
+            0.9
+        };
+        let to = target - pos_pred;
+        let far = to.norm_sq() > dist_back * dist_back;
+        let off = |u: Vec2| to.cross(u).abs();
+        let needs_turn = |u: Vec2| off(u) > ratio * reach || (far && to.dot(u) < 0.0);
+        if (to.cross(m.u) == 0.0 && to.dot(m.u) > 0.0) || !needs_turn(m.u) {
+            return None;
+        }
+        let dir_to = to.dir();
+        let (mut cur, mut first, mut turns) = (*m, None, 0);
+        while needs_turn(cur.u) && turns < 5 {
+            let moment = angle_for_turn(normalize_deg(dir_to - cur.body), cur.vel.norm(), sp);
+            first.get_or_insert(moment);
+            cur = cur.turn(moment, sp);
+            turns += 1;
+        }
+        if turns > 1 && cycles < 4 && to.norm_sq() < dist_back * dist_back {
+            let moment = angle_for_turn(normalize_deg(dir_to + 180.0 - m.body), m.vel.norm(), sp);
+            if off(m.turn(moment, sp).u) < 0.9 * reach {
+                return Some(moment);
+            }
+        }
+        first
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(4000))]
+        /// Simulating only the turns whose count can matter gives exactly the
+        /// framework's command (targets near and far, fast and slow players).
+        #[test]
+        fn turn_towards_is_the_framework_loop(
+            x in -12.0..12.0f64, y in -12.0..12.0f64, body in -180.0..180.0f64,
+            speed in 0.0..1.2f64, heading in -180.0..180.0f64,
+            dx in -6.0..6.0f64, dy in -6.0..6.0f64, far in 0u8..4, cycles in 0u32..8, back in 0.0..5.0f64,
+        ) {
+            let sp = ServerParams::default();
+            let k = Kinematics { pos: Vec2::new(x, y), vel: Vec2::polar(speed, heading), body };
+            let m = Mover::new(&k);
+            let scale = [0.5, 1.0, 2.0, 4.0][usize::from(far)];
+            let target = k.pos + Vec2::new(dx, dy) * scale;
+            let got = m.turn_towards(target, cycles, back, &sp);
+            let want = five_turn_loop(&m, target, cycles, back, &sp);
+            proptest::prop_assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits));
+        }
     }
 
     #[test]
