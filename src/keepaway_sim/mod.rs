@@ -9,7 +9,8 @@
 //! - [`world`], [`referee`], [`simulator`]: state, physics step, episode end and
 //!   reset, all randomness from one seeded generator;
 //! - [`perception`]: what each agent sees ([`perception::PlayerView`], full state or
-//!   quantised); [`world_model`]: what the framework's player then believes;
+//!   quantised); [`see`]: what the server's see messages and body senses carry;
+//!   [`world_model`]: what the framework's player then believes;
 //! - [`skills`], [`taker`], [`keeper`]: the framework's behaviours; the keeper with the
 //!   ball asks a pluggable [`keeper::KeeperPolicy`];
 //! - [`policies`]: random, always-hold, hand-coded and the thesis's threshold policy;
@@ -30,6 +31,7 @@ pub mod positions;
 pub mod rcg;
 pub mod referee;
 pub mod replay;
+pub mod see;
 pub mod simulator;
 pub mod skills;
 pub mod state_vars;

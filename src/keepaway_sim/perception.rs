@@ -5,6 +5,7 @@
 
 use super::geometry::{Vec2, normalize_deg, quantize};
 use super::params::{KeepawayConfig, VisionMode};
+use super::see::{change, quantised_distance, relative_direction};
 use super::world::{FieldState, NUM_KEEPERS, NUM_PLAYERS, Side};
 use serde::{Deserialize, Serialize};
 
@@ -228,26 +229,14 @@ impl Quantiser {
     /// Seen position and velocity of an object at `pos` moving at `vel`, given the
     /// viewer's own perceived velocity.
     fn object(&self, pos: Vec2, vel: Vec2, own_vel: Vec2) -> (Vec2, Vec2) {
-        const EPS: f64 = 1e-10;
         let rel = pos - self.pos;
-        let d = rel.norm();
-        let dq = quantize(quantize((d + EPS).ln(), self.qstep).exp(), 0.1);
-        let dir_rel = normalize_deg(rel.dir() - self.body).round_ties_even();
-        let seen_dir = self.body + dir_rel;
+        let dq = quantised_distance(rel.norm(), self.qstep);
+        let seen_dir = self.body + relative_direction(rel, self.body);
         let seen_pos = self.pos + Vec2::polar(dq, seen_dir);
-        if d <= 0.0 {
+        if rel.norm() <= 0.0 {
             return (seen_pos, own_vel);
         }
-        let e = rel / d;
-        let vrel = vel - self.vel;
-        let radial = vrel.dot(e);
-        let tangential_deg = (e.x * vrel.y - e.y * vrel.x) / d * 180.0 / std::f64::consts::PI;
-        let dir_chg = if tangential_deg == 0.0 {
-            0.0
-        } else {
-            quantize(tangential_deg, 0.1)
-        };
-        let dist_chg = dq * quantize(radial / d, 0.02);
+        let (dist_chg, dir_chg) = change(rel, vel - self.vel, dq);
         let u = Vec2::polar(1.0, seen_dir);
         let perp = Vec2::new(-u.y, u.x);
         let seen_vel = own_vel + u * dist_chg + perp * (dir_chg.to_radians() * dq);
