@@ -79,6 +79,12 @@ impl SeePhase {
         SeePhase::ALL.get(usize::from(i)).copied()
     }
 
+    /// A phase drawn uniformly: the players connect at times unrelated to the
+    /// server's 37.5 ms visual calls.
+    pub(crate) fn draw(rng: &mut SimRng) -> SeePhase {
+        SeePhase(rng.random_range(0..4u8))
+    }
+
     /// Offsets (ms from the start of the timer's period) of this phase's sees.
     fn see_times(self) -> impl Iterator<Item = u32> {
         (0..CALLS_PER_WINDOW)
@@ -244,7 +250,9 @@ fn observe(viewer: &Player, pos: Vec2, vel: Vec2, qstep: f64, with_change: bool)
 /// Player `me`'s see message of `world`. Beyond 20 m (quantised) the server
 /// leaves out, with probability `(d - 20) / 20`, the ball's velocity or a
 /// player's number, velocity and body direction; `rng` draws these (without
-/// it they are left out only where certain, beyond 40 m).
+/// it they are left out only where certain, beyond 40 m). Beyond 40 m it
+/// leaves out a player's team too, which is not modelled: the region's
+/// diagonal is 28 m.
 pub fn see(world: &FieldState, me: PlayerId, cfg: &KeepawayConfig, mut rng: Option<&mut SimRng>) -> SeeMessage {
     let viewer = &world.players[me.index()];
     let qstep = cfg.server.quantize_step;
