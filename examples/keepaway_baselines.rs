@@ -1,6 +1,7 @@
 //! Mean episode durations of the fixed keeper policies (random, always hold, the
 //! framework's hand-coded policy, the thesis's threshold policy), played by all
-//! three keepers, in full-state and quantised vision.
+//! three keepers, in each vision mode: the framework players' perception (the
+//! default), full state and quantised.
 //!
 //! ```sh
 //! cargo run --release --example keepaway_baselines -- [EPISODES]
@@ -16,8 +17,9 @@ use learnpnp::keepaway_sim::policies::BaselinePolicy;
 use learnpnp::keepaway_sim::{EndReason, KeepawayConfig, VisionMode, run_episode};
 
 /// Plays `n` episodes with a policy made by `make` (from the episode index) and
-/// prints the mean duration, its standard deviation and standard error, the
-/// longest episode, and how many episodes ended with the ball out of the region.
+/// prints the mean duration with its 95% confidence interval (normal
+/// approximation), its standard deviation, the longest episode, and how many
+/// episodes ended with the ball out of the region.
 fn report(name: &str, cfg: &KeepawayConfig, n: u64, make: &dyn Fn(u64) -> BaselinePolicy) -> Result<()> {
     let (mut sum, mut sum_sq, mut out, mut longest) = (0.0, 0.0, 0u64, 0.0f64);
     for i in 0..n {
@@ -31,9 +33,11 @@ fn report(name: &str, cfg: &KeepawayConfig, n: u64, make: &dyn Fn(u64) -> Baseli
     let count = n as f64;
     let mean = sum / count;
     let sd = (sum_sq / count - mean * mean).max(0.0).sqrt();
+    let half = 1.96 * sd / count.sqrt();
     println!(
-        "{name:>28}: {mean:6.2} s  (sd {sd:5.2}, se {:4.2}, longest {longest:6.1} s, {out}/{n} out)",
-        sd / count.sqrt()
+        "{name:>28}: {mean:6.2} s  [{:6.2}, {:6.2}]  (sd {sd:5.2}, longest {longest:6.1} s, {out}/{n} out)",
+        mean - half,
+        mean + half
     );
     Ok(())
 }
@@ -51,12 +55,14 @@ fn run() -> Result<()> {
     if let Some(extra) = args.next() {
         bail!("unexpected argument `{extra}` (usage: keepaway_baselines [EPISODES])");
     }
-    let full = KeepawayConfig::default();
-    let quantised = KeepawayConfig {
-        vision: VisionMode::Quantised,
-        ..full
-    };
-    for (vision, cfg) in [("full state", &full), ("quantised", &quantised)] {
+    let framework = KeepawayConfig::default();
+    let with = |vision| KeepawayConfig { vision, ..framework };
+    let (full, quantised) = (with(VisionMode::FullState), with(VisionMode::Quantised));
+    for (vision, cfg) in [
+        ("framework", &framework),
+        ("full state", &full),
+        ("quantised", &quantised),
+    ] {
         println!("{vision}, {n} episodes per policy:");
         report("random", cfg, n, &BaselinePolicy::random)?;
         report("always hold", cfg, n, &|_| BaselinePolicy::AlwaysHold)?;

@@ -12,7 +12,7 @@ use learnpnp::keepaway_sim::skills::intercept::{InterceptMemory, intercept, inte
 use learnpnp::keepaway_sim::taker::{TakerMemory, taker_command};
 use learnpnp::keepaway_sim::world::{Ball, NUM_PLAYERS};
 use learnpnp::keepaway_sim::{
-    Command, EndReason, FieldState, KeepawayConfig, PlayerView, Simulator, Vec2, perceive, run_episode,
+    Command, EndReason, FieldState, KeepawayConfig, PlayerView, Simulator, Vec2, VisionMode, perceive, run_episode,
 };
 
 /// Player `me` at the origin facing `body`, the ball at `ball` moving at `vel`,
@@ -226,21 +226,29 @@ fn takers_close_in_and_win_the_ball_from_a_holding_keeper() {
 }
 
 /// Over whole episodes from the referee's resets, always-holding keepers lose the
-/// ball quickly: over 1000 episodes the longest lasted 6.5 s, 65 cycles
-/// (`cargo run --release --example keepaway_baselines`). Every one of 50 must end
-/// within 150 cycles (without the framework's world-model rule, takers turn back
-/// and forth for ever against a holder shuffling the ball).
+/// ball quickly: over 1000 episodes in full-state vision the longest lasted 6.5
+/// s, 65 cycles (`cargo run --release --example keepaway_baselines`). Every one of
+/// 50 must end within 150 cycles (without the framework's world-model rule,
+/// takers turn back and forth for ever against a holder shuffling the ball), in
+/// full-state vision (where the rule is applied to exact views) mostly taken; in
+/// the framework players' perception too, where the ball, mispredicted between
+/// sees in the struggle, leaves the region more often than it is taken.
 #[test]
 fn always_hold_episodes_are_short() {
-    let cfg = KeepawayConfig {
-        max_episode_cycles: Some(150),
-        ..KeepawayConfig::default()
-    };
-    let mut taken = 0;
-    for seed in 0..50 {
-        let o = run_episode(&cfg, seed, &mut BaselinePolicy::AlwaysHold).expect("valid config");
-        assert_ne!(o.end, EndReason::CycleLimit, "seed {seed}");
-        taken += usize::from(o.end == EndReason::Taken);
+    for vision in [VisionMode::FullState, VisionMode::Framework] {
+        let cfg = KeepawayConfig {
+            max_episode_cycles: Some(150),
+            vision,
+            ..KeepawayConfig::default()
+        };
+        let mut taken = 0;
+        for seed in 0..50 {
+            let o = run_episode(&cfg, seed, &mut BaselinePolicy::AlwaysHold).expect("valid config");
+            assert_ne!(o.end, EndReason::CycleLimit, "{vision:?}, seed {seed}");
+            taken += usize::from(o.end == EndReason::Taken);
+        }
+        if vision == VisionMode::FullState {
+            assert!(taken >= 25, "taken {taken} of 50");
+        }
     }
-    assert!(taken >= 25, "taken {taken} of 50");
 }

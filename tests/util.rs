@@ -9,7 +9,7 @@ use learnpnp::executor::{Action, World};
 use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
 use learnpnp::experiment::spec::ExperimentSpec;
 use learnpnp::keepaway_sim::world::Player;
-use learnpnp::keepaway_sim::{KeepawayConfig, Vec2};
+use learnpnp::keepaway_sim::{KeepawayConfig, Vec2, VisionMode};
 use learnpnp::net::{PetriNet, PlaceNode, TransitionNode};
 
 /// The workspace's root directory (where `plans/` and `tests/fixtures/` are).
@@ -74,10 +74,13 @@ pub const SHIPPED_SCHEMAS: [&str; 8] = [
     "keepaway_position",
 ];
 
-/// Keepaway's configuration without the server's movement noise.
+/// Keepaway's configuration for scripted situations: without the server's
+/// movement noise, and with exact views (full state), so that skills can be
+/// checked against exact numbers.
 pub fn noiseless() -> KeepawayConfig {
     KeepawayConfig {
         motion_noise: false,
+        vision: VisionMode::FullState,
         ..KeepawayConfig::default()
     }
 }

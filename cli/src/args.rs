@@ -90,7 +90,7 @@ pub struct ExperimentFlags {
     #[arg(long, value_parser = named::<FixedPolicy>(), default_value = "handcoded")]
     policy: FixedPolicy,
     /// Keepaway: what the agents perceive.
-    #[arg(long, value_parser = named::<VisionMode>(), default_value = "full-state")]
+    #[arg(long, value_parser = named::<VisionMode>(), default_value = "framework")]
     vision: VisionMode,
     /// Keepaway: distance (m) at which the threshold policy passes (0 to 200).
     #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::DISTANCE.parse(s))]

@@ -3,7 +3,7 @@
 use super::command::Command;
 use super::keeper::{KeeperMemory, KeeperPolicy, keeper_command};
 use super::params::{ConfigError, KeepawayConfig};
-use super::perception::{PlayerId, perceive};
+use super::perception::{Perception, PlayerId};
 use super::referee::EndReason;
 use super::simulator::Simulator;
 use super::taker::{TakerMemory, taker_command};
@@ -21,12 +21,14 @@ pub struct EpisodeOutcome {
     pub end: EndReason,
 }
 
-/// A keepaway match: the simulator plus the agents' memories. Keepers follow the
-/// fixed procedure around a [`KeeperPolicy`]; takers follow the framework's policy.
-/// Memories are cleared at every reset.
+/// A keepaway match: the simulator, the players' perception and the agents'
+/// memories. Keepers follow the fixed procedure around a [`KeeperPolicy`]; takers
+/// follow the framework's policy. Memories and world models are cleared at every
+/// reset.
 #[derive(Clone, Debug)]
 pub struct Keepaway {
     sim: Simulator,
+    perception: Perception,
     memories: [KeeperMemory; NUM_KEEPERS],
     takers: [TakerMemory; NUM_TAKERS],
 }
@@ -34,8 +36,12 @@ pub struct Keepaway {
 impl Keepaway {
     /// A match with a validated configuration, reset for its first episode.
     pub fn new(cfg: KeepawayConfig, seed: u64) -> Result<Self, ConfigError> {
+        let sim = Simulator::new(cfg, seed)?;
+        let mut perception = Perception::new(&cfg, seed);
+        perception.reset(sim.rng());
         Ok(Keepaway {
-            sim: Simulator::new(cfg, seed)?,
+            sim,
+            perception,
             memories: [KeeperMemory::default(); NUM_KEEPERS],
             takers: [TakerMemory::default(); NUM_TAKERS],
         })
@@ -44,6 +50,7 @@ impl Keepaway {
     /// Starts a new episode.
     pub fn reset(&mut self) {
         self.sim.reset();
+        self.perception.reset(self.sim.rng());
         self.memories = [KeeperMemory::default(); NUM_KEEPERS];
         self.takers = [TakerMemory::default(); NUM_TAKERS];
     }
@@ -55,25 +62,26 @@ impl Keepaway {
 
     /// Every player's command for the current state, each computed from its own view.
     /// This updates the players' memories (a pass in progress, the last interception
-    /// point), so it is meant to be called once per cycle, as [`Keepaway::step`] does.
+    /// point) and world models, so it is meant to be called once per cycle, as
+    /// [`Keepaway::step`] does.
     pub fn commands(&mut self, policy: &mut dyn KeeperPolicy) -> [Command; NUM_PLAYERS] {
         let cfg = *self.sim.config();
-        let world = *self.sim.world();
+        let views = self.perception.views(self.sim.world());
         let mut commands = [Command::None; NUM_PLAYERS];
-        for (i, cmd) in commands.iter_mut().enumerate() {
+        for (i, (cmd, view)) in commands.iter_mut().zip(views.iter()).enumerate() {
             let Some(id) = PlayerId::new(i) else { continue };
-            let view = perceive(&world, id, &cfg);
             *cmd = match id.side() {
                 Side::Keepers => match self.memories.get_mut(id.index_in_team()) {
-                    Some(memory) => keeper_command(&view, &cfg, memory, policy),
+                    Some(memory) => keeper_command(view, &cfg, memory, policy),
                     None => Command::None,
                 },
                 Side::Takers => match self.takers.get_mut(id.index_in_team()) {
-                    Some(memory) => taker_command(&view, &cfg, memory),
+                    Some(memory) => taker_command(view, &cfg, memory),
                     None => Command::None,
                 },
             };
         }
+        self.perception.sent(&commands);
         commands
     }
 

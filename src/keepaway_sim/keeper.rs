@@ -89,8 +89,9 @@ pub struct KeeperMemory {
 /// - otherwise support as `policy` says (get open for a pass from where the fastest
 ///   teammate will get the ball, [`pass_origin`](super::skills::fastest::pass_origin), by default).
 ///
-/// The framework first searches for the ball when its world model has lost it;
-/// views here always show it. The neck, turned to the ball or the region's centre
+/// The framework first searches for the ball when its world model has lost it
+/// (confidence below 0.90); with 360-degree vision it never is (see
+/// [`super::world_model`]). The neck, turned to the ball or the region's centre
 /// in the framework, does not matter with 360-degree vision.
 pub fn keeper_command(
     view: &PlayerView,

@@ -8,8 +8,10 @@
 //!   the primitive commands;
 //! - [`world`], [`referee`], [`simulator`]: state, physics step, episode end and
 //!   reset, all randomness from one seeded generator;
-//! - [`perception`]: what each agent sees ([`perception::PlayerView`], full state or
-//!   quantised); [`world_model`]: what the framework's player then believes;
+//! - [`perception`]: what each agent perceives ([`perception::PlayerView`]):
+//!   the framework players' perception (by default: [`see`], what the server
+//!   tells them, and [`world_model`], what their world model makes of it), full
+//!   state, or quantised;
 //! - [`skills`], [`taker`], [`keeper`]: the framework's behaviours; the keeper with the
 //!   ball asks a pluggable [`keeper::KeeperPolicy`];
 //! - [`policies`]: random, always-hold, hand-coded and the thesis's threshold policy;
@@ -30,6 +32,7 @@ pub mod positions;
 pub mod rcg;
 pub mod referee;
 pub mod replay;
+pub mod see;
 pub mod simulator;
 pub mod skills;
 pub mod state_vars;
@@ -42,7 +45,7 @@ pub use episode::{EpisodeOutcome, Keepaway, run_episode};
 pub use geometry::Vec2;
 pub use keeper::{KeeperAction, KeeperPolicy, SupportAction};
 pub use params::{ConfigError, KeepawayConfig, ServerParams, SkillParams, VisionMode};
-pub use perception::{PlayerId, PlayerView, perceive};
+pub use perception::{Perception, PlayerId, PlayerView, perceive};
 pub use policies::BaselinePolicy;
 pub use referee::EndReason;
 pub use simulator::Simulator;

@@ -235,19 +235,27 @@ impl Region {
 /// How agents perceive the world.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum VisionMode {
-    /// Exact positions and velocities of everything (the server's noise-free full state).
+    /// What the keepaway framework's players knew, as the thesis's system ran
+    /// them: the server's see messages (360 degrees, quantised, every 150 ms, so
+    /// in two cycles of three) and body senses, the framework's world model
+    /// between sees, and the ball heard from teammates
+    /// ([`super::perception::Perception`], [`super::see`], [`super::world_model`]).
     #[default]
+    Framework,
+    /// Exact positions and velocities of everything, every cycle (the server's
+    /// noise-free full state).
     FullState,
-    /// The era's quantised vision (360 degrees, as the framework configures it).
+    /// The era's quantised vision every cycle (360 degrees), without memory.
     Quantised,
 }
 
 impl crate::named::Named for VisionMode {
     const KIND: &'static str = "vision";
-    const ALL: &'static [Self] = &[VisionMode::FullState, VisionMode::Quantised];
+    const ALL: &'static [Self] = &[VisionMode::Framework, VisionMode::FullState, VisionMode::Quantised];
 
     fn name(self) -> &'static str {
         match self {
+            VisionMode::Framework => "framework",
             VisionMode::FullState => "full-state",
             VisionMode::Quantised => "quantised",
         }
@@ -370,7 +378,7 @@ impl Default for KeepawayConfig {
         KeepawayConfig {
             server: ServerParams::default(),
             region: Region::default(),
-            vision: VisionMode::FullState,
+            vision: VisionMode::Framework,
             motion_noise: true,
             skills: SkillParams::default(),
             max_episode_cycles: Some(100_000),

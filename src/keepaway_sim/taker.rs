@@ -23,8 +23,9 @@ pub struct TakerMemory {
 ///    of the last interception point).
 ///
 /// The framework's marking rule for a third taker does not arise in 3 vs 2: both
-/// takers go for the ball. Its search for a lost ball does not arise either
-/// (views always show the ball). Ties in distance go to the first in the framework's
+/// takers go for the ball. Its search for a lost ball does not arise either (with
+/// 360-degree vision the ball is never lost, see [`super::world_model`]). Ties in
+/// distance go to the first in the framework's
 /// iteration order: the viewer's teammates (itself included) by index, then the
 /// opponents.
 pub fn taker_command(view: &PlayerView, cfg: &KeepawayConfig, memory: &mut TakerMemory) -> Command {

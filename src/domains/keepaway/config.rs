@@ -63,7 +63,8 @@ pub enum KeepawayMode {
 pub struct KeepawayDomainConfig {
     /// Who learns.
     pub mode: KeepawayMode,
-    /// Full state (default) or the server's quantised vision.
+    /// What the agents perceive: the framework players' perception (default),
+    /// full state, or quantised vision without memory.
     pub vision: VisionMode,
     /// The thresholds of the three binary features.
     pub thresholds: FeatureThresholds,
@@ -75,7 +76,7 @@ impl Default for KeepawayDomainConfig {
     fn default() -> Self {
         KeepawayDomainConfig {
             mode: KeepawayMode::Pass,
-            vision: VisionMode::FullState,
+            vision: VisionMode::Framework,
             thresholds: FeatureThresholds::default(),
             hold_threshold: DEFAULT_HOLD_THRESHOLD,
         }

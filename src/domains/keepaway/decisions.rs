@@ -17,12 +17,12 @@
 use crate::keepaway_sim::command::Command;
 use crate::keepaway_sim::keeper::{KeeperAction, KeeperMemory, KeeperPolicy, keeper_command};
 use crate::keepaway_sim::params::{ConfigError, KeepawayConfig};
-use crate::keepaway_sim::perception::{PlayerId, PlayerView, perceive};
+use crate::keepaway_sim::perception::{Perception, PlayerView};
 use crate::keepaway_sim::policies::BaselinePolicy;
 use crate::keepaway_sim::simulator::Simulator;
 use crate::keepaway_sim::state_vars::StateVars;
 use crate::keepaway_sim::taker::{TakerMemory, taker_command};
-use crate::keepaway_sim::world::{FieldState, NUM_KEEPERS, NUM_PLAYERS, NUM_TAKERS};
+use crate::keepaway_sim::world::{NUM_KEEPERS, NUM_PLAYERS, NUM_TAKERS};
 
 use super::task::RunSeeds;
 use crate::rng::SimRng;
@@ -63,11 +63,10 @@ pub struct Start {
     pub skipped: Vec<f64>,
 }
 
-/// A cycle in progress: the keepers' views and the commands decided so far.
+/// A cycle in progress: the players' views and the commands decided so far.
 #[derive(Clone, Copy)]
 struct Cycle {
-    world: FieldState,
-    views: [PlayerView; NUM_KEEPERS],
+    views: [PlayerView; NUM_PLAYERS],
     commands: [Command; NUM_PLAYERS],
     next_keeper: usize,
 }
@@ -101,6 +100,7 @@ impl KeeperPolicy for Asked {
 /// Keepaway 3 vs 2 paused at the deciding keepers' decisions.
 pub struct PassDecisions {
     sim: Simulator,
+    perception: Perception,
     deciders: usize,
     others: BaselinePolicy,
     keepers: [KeeperMemory; NUM_KEEPERS],
@@ -122,6 +122,7 @@ impl PassDecisions {
         let seeds = RunSeeds::draw(&mut rng);
         Ok(PassDecisions {
             sim: Simulator::new(config, seeds.simulator)?,
+            perception: Perception::new(&config, seeds.simulator),
             deciders: deciders.min(NUM_KEEPERS),
             others: others(seeds.fixed_policy),
             keepers: [KeeperMemory::default(); NUM_KEEPERS],
@@ -142,6 +143,7 @@ impl PassDecisions {
         let mut skipped = Vec::new();
         loop {
             self.sim.reset();
+            self.perception.reset(self.sim.rng());
             self.keepers = [KeeperMemory::default(); NUM_KEEPERS];
             self.takers = [TakerMemory::default(); NUM_TAKERS];
             self.cycle = None;
@@ -186,14 +188,10 @@ impl PassDecisions {
     fn play(&mut self, mut answer: Option<KeeperAction>) -> Stop {
         let cfg = *self.sim.config();
         loop {
-            let mut cycle = self.cycle.take().unwrap_or_else(|| {
-                let world = *self.sim.world();
-                Cycle {
-                    world,
-                    views: PlayerId::KEEPERS.map(|id| perceive(&world, id, &cfg)),
-                    commands: [Command::None; NUM_PLAYERS],
-                    next_keeper: 0,
-                }
+            let mut cycle = self.cycle.take().unwrap_or_else(|| Cycle {
+                views: self.perception.views(self.sim.world()),
+                commands: [Command::None; NUM_PLAYERS],
+                next_keeper: 0,
             });
             while cycle.next_keeper < NUM_KEEPERS {
                 let k = cycle.next_keeper;
@@ -218,10 +216,9 @@ impl PassDecisions {
                 cycle.next_keeper += 1;
             }
             for (t, memory) in self.takers.iter_mut().enumerate() {
-                if let Some(id) = PlayerId::new(NUM_KEEPERS + t) {
-                    cycle.commands[NUM_KEEPERS + t] = taker_command(&perceive(&cycle.world, id, &cfg), &cfg, memory);
-                }
+                cycle.commands[NUM_KEEPERS + t] = taker_command(&cycle.views[NUM_KEEPERS + t], &cfg, memory);
             }
+            self.perception.sent(&cycle.commands);
             self.cycles_since_stop += 1;
             if self.sim.step(&cycle.commands).is_some() {
                 return Stop::Ended {

@@ -9,7 +9,7 @@ use super::config::KeepawayDomainConfig;
 use super::team::{KeeperTeam, LocalTeam, TeamStep};
 use crate::domains::{EpisodeOutcome, Task, TaskError};
 use crate::keepaway_sim::command::Command;
-use crate::keepaway_sim::perception::{PlayerId, perceive};
+use crate::keepaway_sim::perception::{Perception, PlayerId};
 use crate::keepaway_sim::rcg::GameLogWriter;
 use crate::keepaway_sim::simulator::Simulator;
 use crate::keepaway_sim::taker::{TakerMemory, taker_command};
@@ -43,6 +43,7 @@ impl RunSeeds {
 pub struct KeepawayTask {
     config: KeepawayDomainConfig,
     sim: Simulator,
+    perception: Perception,
     team: Box<dyn KeeperTeam>,
     takers: [TakerMemory; NUM_TAKERS],
 }
@@ -69,9 +70,11 @@ impl KeepawayTask {
         seeds: RunSeeds,
     ) -> Result<Self, TaskError> {
         let sim = Simulator::new(config.simulator(), seeds.simulator).map_err(|e| TaskError::Invalid(e.to_string()))?;
+        let perception = Perception::new(sim.config(), seeds.simulator);
         Ok(KeepawayTask {
             config,
             sim,
+            perception,
             team,
             takers: [TakerMemory::default(); NUM_TAKERS],
         })
@@ -111,25 +114,27 @@ impl KeepawayTask {
         mut log: Option<&mut GameLogWriter>,
     ) -> Result<Option<EpisodeOutcome>, TaskError> {
         self.sim.reset();
+        self.perception.reset(self.sim.rng());
         self.takers = [TakerMemory::default(); NUM_TAKERS];
         self.team.begin_episode(start)?;
         let cfg = *self.sim.config();
         let seconds_per_cycle = cfg.server.cycle_seconds;
         loop {
             let world = *self.sim.world();
-            let keeper_views = PlayerId::KEEPERS.map(|id| perceive(&world, id, &cfg));
+            let views = self.perception.views(&world);
+            let keeper_views = PlayerId::KEEPERS.map(|id| views[id.index()]);
             let mut commands = [Command::None; NUM_PLAYERS];
             let (keepers, takers) = commands.split_at_mut(NUM_KEEPERS);
             let memories = &mut self.takers;
             // One taker's decision per step: a remote team polls between them.
             let mut next = 0;
             let mut decide_taker = || {
-                if let (Some(command), Some(memory), Some(id)) = (
+                if let (Some(command), Some(memory), Some(view)) = (
                     takers.get_mut(next),
                     memories.get_mut(next),
-                    PlayerId::new(NUM_KEEPERS + next),
+                    views.get(NUM_KEEPERS + next),
                 ) {
-                    *command = taker_command(&perceive(&world, id, &cfg), &cfg, memory);
+                    *command = taker_command(view, &cfg, memory);
                     next += 1;
                 }
                 next < NUM_TAKERS
@@ -139,6 +144,7 @@ impl KeepawayTask {
                 return Ok(None);
             };
             keepers.copy_from_slice(&keeper_commands);
+            self.perception.sent(&commands);
             if let Some(log) = log.as_deref_mut() {
                 log.show(&world, &self.team.notes());
                 log.commands(&world, &commands);

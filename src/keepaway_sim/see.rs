@@ -1,0 +1,400 @@
+//! What the soccer server tells each player, as the keepaway framework's players
+//! received it: when a see message arrives in a cycle, what it carries, and the
+//! body sense of every cycle. This is the server's side of
+//! [`super::params::VisionMode::Framework`]; [`super::world_model`] is the
+//! player's side.
+//!
+//! Sources (rcssserver 11.1, the line the framework's `keepaway.sh` ran; 12 to
+//! 15 behave the same in everything used here):
+//! - timing: `StandardTimer::run` (`stdtimer.cc`) calls `sendVisuals` every
+//!   `send_step / 4` ms on its 10 ms clock (`TIMEDELTA`), restarting every
+//!   `lcm_step` (300 ms); `VisualSenderPlayerV1::sendVisual` (`visual.cc`) sends a
+//!   player's see on every `visSend()`-th call, 4 for the default normal width
+//!   and high quality (`Player::changeView`, `player.cc`). The framework's players
+//!   never send `change_view` (no `CMD_CHANGEVIEW` is issued in its `player/`
+//!   code), and `keepaway.sh` sets `visible_angle=360` and leaves `send_step`
+//!   (150 ms) alone: every player sees the whole field every 150 ms;
+//! - content: `VisualSenderPlayerV1::sendHighBall`, `sendHighPlayer` and
+//!   `calcVel`, `VisualSenderPlayerV8::serializePlayer` (`visual.cc`),
+//!   `calcQuantDist`, `calcBodyDir` and the rounding `rad2Deg` of protocol 7 and
+//!   later (`visual.h`; the framework speaks protocol 12, `main.cc`);
+//! - body sense: `BodySenderPlayerV6::sendVelocity` (`bodysender.cc`), sent
+//!   every `sense_body_step` (100 ms, `stdtimer.cc`).
+
+use super::geometry::{Vec2, normalize_deg, quantize};
+use super::params::KeepawayConfig;
+use super::perception::PlayerId;
+use super::world::{FieldState, NUM_PLAYERS, Player};
+use crate::rng::SimRng;
+use rand::RngExt;
+
+/// The server's simulation step, ms (`simulator_step`, `SIMULATOR_STEP_INTERVAL_MSEC`).
+const SIM_STEP_MS: u32 = 100;
+/// The server's `send_step`, ms (`UDP_SEND_STEP_INTERVAL_MSEC`): one see per
+/// `send_step` for the normal width and high quality.
+const SEND_STEP_MS: f64 = 150.0;
+/// The server timer's resolution, ms (`TIMEDELTA`): events fall on its ticks.
+const TIMER_MS: f64 = 10.0;
+/// `sendVisuals` calls per `send_step` (`StandardTimer::run`: every `send_step * 0.25`).
+const VISUAL_CALLS_PER_SEND_STEP: u32 = 4;
+/// Calls between two sees of a player with the normal width and high quality
+/// (`Player::changeView`: `M_vis_send = 4`).
+const CALLS_PER_SEE: u32 = 4;
+/// The server timer's period, ms (`lcm_step`, the least common multiple of its steps).
+const WINDOW_MS: u32 = 300;
+/// Cycles in the timer's period.
+pub(crate) const WINDOW_CYCLES: u32 = WINDOW_MS / SIM_STEP_MS;
+/// `sendVisuals` calls in the timer's period.
+const CALLS_PER_WINDOW: u32 = 8;
+/// The framework's wait before acting in the cycle after the one without a see,
+/// as a fraction of the step (`PlayerSettings`: `dFractionWaitSeeBegin`).
+const WAIT_SEE_BEGIN: f64 = 0.70;
+/// The framework's wait in the next cycle (`dFractionWaitSeeEnd`).
+const WAIT_SEE_END: f64 = 0.85;
+/// Beyond this quantised distance a player's number (and the ball's or a
+/// player's velocity) may be left out (`UNUM_FAR_LENGTH`, m).
+const UNUM_FAR_LENGTH: f64 = 20.0;
+/// Beyond this quantised distance they are always left out (`UNUM_TOOFAR_LENGTH`, m).
+const UNUM_TOOFAR_LENGTH: f64 = 40.0;
+/// Quantisation of the relative distance change ratio (`calcVel`).
+const DIST_CHANGE_STEP: f64 = 0.02;
+/// Quantisation of the direction change, degrees (`quantize_step_dir`, `DIR_QSTEP`).
+const DIR_CHANGE_STEP: f64 = 0.1;
+/// Outer quantisation of distances (`calcQuantDist`).
+const DIST_STEP: f64 = 0.1;
+/// Quantisation of the body sense's speed (`sendVelocity`).
+const SPEED_STEP: f64 = 0.01;
+
+/// Which of the server's four visual calls of every `send_step` carry a
+/// player's see: fixed by when the player connected, so fixed for a run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct SeePhase(u8);
+
+impl SeePhase {
+    /// The four phases.
+    pub const ALL: [SeePhase; 4] = [SeePhase(0), SeePhase(1), SeePhase(2), SeePhase(3)];
+
+    /// Phase `i` (`0..4`), if in range.
+    pub fn new(i: u8) -> Option<SeePhase> {
+        SeePhase::ALL.get(usize::from(i)).copied()
+    }
+
+    /// A phase drawn uniformly: the players connect at times unrelated to the
+    /// server's 37.5 ms visual calls.
+    pub(crate) fn draw(rng: &mut SimRng) -> SeePhase {
+        SeePhase(rng.random_range(0..4u8))
+    }
+
+    /// Offsets (ms from the start of the timer's period) of this phase's sees.
+    fn see_times(self) -> impl Iterator<Item = u32> {
+        (0..CALLS_PER_WINDOW)
+            .filter(move |k| k % CALLS_PER_SEE == u32::from(self.0))
+            .map(visual_call_time)
+    }
+}
+
+/// When the server's `k`-th visual call of its period happens, ms: the first
+/// tick of its 10 ms clock at or after `k x send_step / 4`.
+fn visual_call_time(k: u32) -> u32 {
+    let due = f64::from(k) * SEND_STEP_MS / f64::from(VISUAL_CALLS_PER_SEND_STEP);
+    // At most 8 calls of at most 300 ms: the product fits easily.
+    ((due / TIMER_MS).ceil() * TIMER_MS) as u32
+}
+
+/// Whether a see message arrives in a cycle, and whether before the player acts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SeeArrival {
+    /// No see in this cycle: the player acts on its world model's prediction.
+    None,
+    /// A see of this cycle's state arrives before the player sends its command.
+    BeforeDecision,
+    /// A see arrives after the command is sent (it informs the next cycle).
+    AfterDecision,
+}
+
+impl SeeArrival {
+    /// Whether a see message arrives in the cycle at all.
+    pub fn sees(self) -> bool {
+        self != SeeArrival::None
+    }
+}
+
+/// The see of a player with `phase` in the cycle at position `cycle` (taken
+/// modulo 3) of the server's 300 ms period.
+///
+/// Two of every three cycles carry a see. The framework's player
+/// (`SenseHandler::setTimeSignal`, re-synchronised in `analyzeSeeMessage`)
+/// expects the pattern: in the cycle after the one without a see it sends its
+/// command at 70% of the step, in the next at 85%; a see that arrives later
+/// than that is processed after the command. Relative to the step, the phases
+/// see at 0 and 50 ms (both in time), 40 and 90 ms (the second too late), 80
+/// ms and, a cycle later, 30 ms, or 20 and 70 ms.
+pub fn see_arrival(phase: SeePhase, cycle: u32) -> SeeArrival {
+    let w = cycle % WINDOW_CYCLES;
+    let mut offset = None;
+    let mut seen = [false; WINDOW_CYCLES as usize];
+    for t in phase.see_times() {
+        let c = t / SIM_STEP_MS;
+        if let Some(s) = seen.get_mut(c as usize) {
+            *s = true;
+        }
+        if c == w {
+            offset = Some(t % SIM_STEP_MS);
+        }
+    }
+    let Some(offset) = offset else {
+        return SeeArrival::None;
+    };
+    // The cycle without a see; the framework waits `WAIT_SEE_BEGIN` in the next one.
+    let blind = (0..WINDOW_CYCLES).find(|&c| !seen[c as usize]).unwrap_or(0);
+    let wait = if (blind + 1) % WINDOW_CYCLES == w {
+        WAIT_SEE_BEGIN
+    } else {
+        WAIT_SEE_END
+    };
+    if f64::from(offset) < wait * f64::from(SIM_STEP_MS) {
+        SeeArrival::BeforeDecision
+    } else {
+        SeeArrival::AfterDecision
+    }
+}
+
+/// One object in a see message, relative to the viewer's neck (taken as
+/// aligned with its body).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Seen {
+    /// Quantised distance, m.
+    pub dist: f64,
+    /// Direction, whole degrees.
+    pub dir: f64,
+    /// Distance change (m/cycle) and direction change (degrees/cycle), when sent.
+    pub change: Option<(f64, f64)>,
+    /// Body direction relative to the viewer's, whole degrees (players with
+    /// their number only).
+    pub body: Option<f64>,
+}
+
+/// A player in a see message.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SeenMate {
+    /// What was seen.
+    pub seen: Seen,
+    /// Whether the player's number was given (otherwise only its team).
+    pub numbered: bool,
+}
+
+/// A see message: the ball and every other player (360-degree vision shows
+/// all of them every time).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SeeMessage {
+    /// The ball.
+    pub ball: Seen,
+    /// Players by global index; `None` at the viewer's own index.
+    pub players: [Option<SeenMate>; NUM_PLAYERS],
+}
+
+/// The server's quantised distance: `Q(exp(Q(ln(d + EPS), qstep)), 0.1)`.
+pub(crate) fn quantised_distance(d: f64, qstep: f64) -> f64 {
+    const EPS: f64 = 1e-10;
+    quantize(quantize((d + EPS).ln(), qstep).exp(), DIST_STEP)
+}
+
+/// Direction of `rel` relative to `neck`, rounded to whole degrees.
+pub(crate) fn relative_direction(rel: Vec2, neck: f64) -> f64 {
+    normalize_deg(rel.dir() - neck).round_ties_even()
+}
+
+/// The server's distance and direction changes of an object at `rel` (from the
+/// viewer) moving at `vrel` relative to the viewer, seen at quantised distance
+/// `dq` (`calcVel`; `(0, 0)` for an object at the viewer's position).
+pub(crate) fn change(rel: Vec2, vrel: Vec2, dq: f64) -> (f64, f64) {
+    let d = rel.norm();
+    if d <= 0.0 {
+        return (0.0, 0.0);
+    }
+    let e = rel / d;
+    let radial = vrel.dot(e);
+    let tangential_deg = (e.x * vrel.y - e.y * vrel.x) / d * 180.0 / std::f64::consts::PI;
+    let dir_chg = if tangential_deg == 0.0 {
+        0.0
+    } else {
+        quantize(tangential_deg, DIR_CHANGE_STEP)
+    };
+    (dq * quantize(radial / d, DIST_CHANGE_STEP), dir_chg)
+}
+
+/// The server's `decide(prob)`: true for `prob >= 1`, false for `prob <= 0`,
+/// otherwise a draw. Without a generator only the certain cases are true.
+fn decide(prob: f64, rng: Option<&mut SimRng>) -> bool {
+    if prob >= 1.0 {
+        true
+    } else if prob <= 0.0 || prob.is_nan() {
+        false
+    } else {
+        rng.is_some_and(|r| r.random::<f64>() < prob)
+    }
+}
+
+/// What `viewer` sees of an object at `pos` moving at `vel`.
+fn observe(viewer: &Player, pos: Vec2, vel: Vec2, qstep: f64, with_change: bool) -> Seen {
+    let rel = pos - viewer.pos;
+    let dist = quantised_distance(rel.norm(), qstep);
+    Seen {
+        dist,
+        dir: relative_direction(rel, viewer.body),
+        change: with_change.then(|| change(rel, vel - viewer.vel, dist)),
+        body: None,
+    }
+}
+
+/// Player `me`'s see message of `world`. Beyond 20 m (quantised) the server
+/// leaves out, with probability `(d - 20) / 20`, the ball's velocity or a
+/// player's number, velocity and body direction; `rng` draws these (without
+/// it they are left out only where certain, beyond 40 m). Beyond 40 m it
+/// leaves out a player's team too, which is not modelled: the region's
+/// diagonal is 28 m.
+pub fn see(world: &FieldState, me: PlayerId, cfg: &KeepawayConfig, mut rng: Option<&mut SimRng>) -> SeeMessage {
+    let viewer = &world.players[me.index()];
+    let qstep = cfg.server.quantize_step;
+    let far =
+        |d: f64, rng: Option<&mut SimRng>| decide((d - UNUM_FAR_LENGTH) / (UNUM_TOOFAR_LENGTH - UNUM_FAR_LENGTH), rng);
+    let mut ball = observe(viewer, world.ball.pos, world.ball.vel, qstep, true);
+    if far(ball.dist, rng.as_deref_mut()) {
+        ball.change = None;
+    }
+    let mut players = [None; NUM_PLAYERS];
+    for (i, (slot, p)) in players.iter_mut().zip(world.players.iter()).enumerate() {
+        if i == me.index() {
+            continue;
+        }
+        let mut seen = observe(viewer, p.pos, p.vel, qstep, true);
+        let numbered = !far(seen.dist, rng.as_deref_mut());
+        if numbered {
+            seen.body = Some(normalize_deg(p.body - viewer.body).round_ties_even());
+        } else {
+            seen.change = None;
+        }
+        *slot = Some(SeenMate { seen, numbered });
+    }
+    SeeMessage { ball, players }
+}
+
+/// The body sense's velocity: speed to 0.01 and direction relative to the neck
+/// (taken as aligned with the body) in whole degrees, truncated towards zero
+/// (`Rad2IDeg`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SenseBody {
+    /// Speed, m/cycle.
+    pub speed: f64,
+    /// Direction relative to the neck, degrees.
+    pub dir: f64,
+}
+
+impl SenseBody {
+    /// The velocity relative to the neck as a vector.
+    pub fn velocity(&self) -> Vec2 {
+        Vec2::polar(self.speed, self.dir)
+    }
+}
+
+/// Player `me`'s body sense of `world`.
+pub fn sense_body(world: &FieldState, me: PlayerId) -> SenseBody {
+    let p = &world.players[me.index()];
+    SenseBody {
+        speed: quantize(p.vel.norm(), SPEED_STEP),
+        dir: normalize_deg(p.vel.dir() - p.body).trunc(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::seeded;
+
+    #[test]
+    fn visual_calls_fall_on_the_timer_ticks() {
+        let times: Vec<u32> = (0..CALLS_PER_WINDOW).map(visual_call_time).collect();
+        assert_eq!(times, [0, 40, 80, 120, 150, 190, 230, 270]);
+    }
+
+    #[test]
+    fn two_sees_in_three_cycles_and_one_late_phase() {
+        use SeeArrival::{AfterDecision as A, BeforeDecision as B, None as N};
+        let table: Vec<[SeeArrival; 3]> = SeePhase::ALL
+            .iter()
+            .map(|&p| [0, 1, 2].map(|c| see_arrival(p, c)))
+            .collect();
+        assert_eq!(table, [[B, B, N], [B, A, N], [B, N, B], [N, B, B]]);
+        for p in SeePhase::ALL {
+            for c in 0..9 {
+                assert_eq!(see_arrival(p, c), see_arrival(p, c % 3));
+            }
+        }
+    }
+
+    fn world() -> FieldState {
+        let mut w = FieldState::default();
+        w.players[0].pos = Vec2::new(-5.0, 0.0);
+        w.players[0].body = 30.0;
+        w.players[1].pos = Vec2::new(5.0, 3.0);
+        w.players[1].vel = Vec2::new(0.2, -0.1);
+        w.players[1].body = -45.0;
+        w.players[2].pos = Vec2::new(20.0, 0.0);
+        w.players[3].pos = Vec2::new(-5.0, 2.0);
+        w.players[4].pos = Vec2::new(40.0, 0.0);
+        w.ball.pos = Vec2::new(0.0, 1.0);
+        w.ball.vel = Vec2::new(1.0, 0.5);
+        w
+    }
+
+    #[test]
+    fn see_quantises_as_the_server() {
+        let w = world();
+        let me = PlayerId::keeper(0).expect("keeper 0");
+        let m = see(&w, me, &KeepawayConfig::default(), None);
+        assert!(m.players[0].is_none());
+        let ball = m.ball;
+        let d = (26.0f64).sqrt();
+        assert!((ball.dist - quantised_distance(d, 0.1)).abs() < 1e-12);
+        assert!((ball.dist * 10.0 - (ball.dist * 10.0).round()).abs() < 1e-9);
+        assert_eq!(ball.dir, (Vec2::new(5.0, 1.0).dir() - 30.0).round());
+        let (dist_chg, dir_chg) = ball.change.expect("change info");
+        assert!((dist_chg / ball.dist * 50.0 - (dist_chg / ball.dist * 50.0).round()).abs() < 1e-9);
+        assert!((dir_chg * 10.0 - (dir_chg * 10.0).round()).abs() < 1e-9);
+        let mate = m.players[1].expect("keeper 1");
+        assert!(mate.numbered);
+        assert_eq!(mate.seen.body, Some(-75.0));
+        // 25 m: the number is left out with probability 0.25; without draws never.
+        assert!(m.players[2].is_some_and(|p| p.numbered));
+        // 45 m: always left out, with the velocity and the body direction.
+        let far = m.players[4].expect("taker 1");
+        assert!(!far.numbered && far.seen.change.is_none() && far.seen.body.is_none());
+    }
+
+    #[test]
+    fn far_numbers_are_left_out_at_the_servers_rate() {
+        let w = world();
+        let me = PlayerId::keeper(0).expect("keeper 0");
+        let cfg = KeepawayConfig::default();
+        let mut rng = seeded(3);
+        let n = 4000;
+        let left_out = (0..n)
+            .filter(|_| see(&w, me, &cfg, Some(&mut rng)).players[2].is_some_and(|p| !p.numbered))
+            .count();
+        let q = quantised_distance(25.0, 0.1);
+        let p = (q - 20.0) / 20.0;
+        let rate = left_out as f64 / f64::from(n);
+        assert!((rate - p).abs() < 0.03, "rate {rate}, expected {p}");
+    }
+
+    #[test]
+    fn body_sense_truncates_the_direction() {
+        let mut w = world();
+        w.players[0].vel = Vec2::polar(0.456, 30.0 + 12.7);
+        let s = sense_body(&w, PlayerId::keeper(0).expect("keeper 0"));
+        assert!((s.speed - 0.46).abs() < 1e-12);
+        assert_eq!(s.dir, 12.0);
+        w.players[0].vel = Vec2::polar(0.3, 30.0 - 12.7);
+        assert_eq!(sense_body(&w, PlayerId::keeper(0).expect("keeper 0")).dir, -12.0);
+    }
+}
