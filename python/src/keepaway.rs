@@ -87,7 +87,7 @@ pub struct KeepawayGame {
 #[pymethods]
 impl KeepawayGame {
     #[new]
-    #[pyo3(signature = (deciders = 1, seed = 0, vision = "full-state", others = "handcoded", field_length = 20.0, field_width = 20.0))]
+    #[pyo3(signature = (deciders = 1, seed = 0, vision = "framework", others = "handcoded", field_length = 20.0, field_width = 20.0))]
     fn new(
         deciders: usize,
         seed: u64,
@@ -170,7 +170,7 @@ impl KeepawayBatch {
 #[pymethods]
 impl KeepawayBatch {
     #[new]
-    #[pyo3(signature = (n, seed = 0, vision = "full-state", others = "handcoded", field_length = 20.0, field_width = 20.0))]
+    #[pyo3(signature = (n, seed = 0, vision = "framework", others = "handcoded", field_length = 20.0, field_width = 20.0))]
     fn new(n: usize, seed: u64, vision: &str, others: &str, field_length: f64, field_width: f64) -> PyResult<Self> {
         if n == 0 {
             return Err(value_error("a batch needs at least one game"));

@@ -23,7 +23,7 @@ class KeepawayAECEnv(AECEnv):
 
     metadata = {"name": "keepaway_v0", "render_modes": [], "is_parallelizable": False}
 
-    def __init__(self, vision="full-state", field_length=20.0, field_width=20.0, render_mode=None):
+    def __init__(self, vision="framework", field_length=20.0, field_width=20.0, render_mode=None):
         super().__init__()
         if render_mode is not None:
             raise ValueError("KeepawayAECEnv has no render mode")

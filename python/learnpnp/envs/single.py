@@ -10,7 +10,8 @@ from .spaces import action_space, observation_space
 class KeepawayPassEnv(gym.Env):
     """The pass decision of keeper 0; the other two keepers play ``others``.
 
-    Options: ``vision`` (``full-state`` or ``quantised``), ``others`` (the
+    Options: ``vision`` (``framework``, the framework players' perception, by
+    default; ``full-state`` or ``quantised``), ``others`` (the
     other keepers' fixed policy: ``handcoded``, the framework's, by default;
     ``threshold``, ``always-hold``, ``random``), ``field_length`` and
     ``field_width`` (metres, 20 x 20 by default). ``info`` carries
@@ -23,7 +24,7 @@ class KeepawayPassEnv(gym.Env):
 
     metadata = {"render_modes": []}
 
-    def __init__(self, vision="full-state", others="handcoded", field_length=20.0, field_width=20.0, render_mode=None):
+    def __init__(self, vision="framework", others="handcoded", field_length=20.0, field_width=20.0, render_mode=None):
         if render_mode is not None:
             raise ValueError("KeepawayPassEnv has no render mode (record games with `learnpnp experiment --record`)")
         self.observation_space = observation_space(field_length, field_width)

@@ -21,7 +21,7 @@ class KeepawayVectorEnv(VectorEnv):
 
     metadata = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
 
-    def __init__(self, num_envs, vision="full-state", others="handcoded", field_length=20.0, field_width=20.0):
+    def __init__(self, num_envs, vision="framework", others="handcoded", field_length=20.0, field_width=20.0):
         self.num_envs = int(num_envs)
         self.single_observation_space = observation_space(field_length, field_width)
         self.single_action_space = action_space()
