@@ -1,5 +1,7 @@
 //! Keepaway with every keeper executing a plan and learning (the positioning
-//! experiment: three plan keepers, two takers), in one process on one thread.
+//! experiment: three plan keepers, two takers; the pass experiment: one), in
+//! one process on one thread, with the framework players' perception (the
+//! default) and, for the positioning experiment, in full state.
 //! Reported per 10,000 simulated cycles: cycles per second = 10,000 / time.
 //!
 //! `cargo bench --bench keepaway_plans`
@@ -11,6 +13,7 @@ use learnpnp::domains::Task;
 use learnpnp::domains::keepaway::{KeepawayDomainConfig, KeepawayMode, KeepawayTask};
 use learnpnp::experiment::defaults::default_learner;
 use learnpnp::experiment::spec::{Algorithm, DomainSpec};
+use learnpnp::keepaway_sim::VisionMode;
 use learnpnp::learning::EpisodeMode;
 use learnpnp::rng::{derive_seed, seeded};
 use std::sync::Arc;
@@ -19,11 +22,27 @@ const CYCLES: u64 = 10_000;
 
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("keepaway_plans");
-    for (name, mode) in [
-        ("three_plan_keepers_learning_positions", KeepawayMode::Position),
-        ("one_plan_keeper_learning_passes", KeepawayMode::Pass),
+    for (name, mode, vision) in [
+        (
+            "three_plan_keepers_learning_positions",
+            KeepawayMode::Position,
+            VisionMode::Framework,
+        ),
+        (
+            "one_plan_keeper_learning_passes",
+            KeepawayMode::Pass,
+            VisionMode::Framework,
+        ),
+        (
+            "three_plan_keepers_learning_positions_full_state",
+            KeepawayMode::Position,
+            VisionMode::FullState,
+        ),
     ] {
-        let config = KeepawayDomainConfig::for_mode(mode);
+        let config = KeepawayDomainConfig {
+            vision,
+            ..KeepawayDomainConfig::for_mode(mode)
+        };
         let domain = DomainSpec::Keepaway { config, plan: None };
         let spec = default_learner(Algorithm::SoftSosmc, &domain);
         let plan = Arc::new(config.default_plan().expect("plan").expect("learning mode"));

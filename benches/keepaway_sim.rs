@@ -1,10 +1,11 @@
 //! Simulated keepaway cycles per second with the fixed procedure: hand-coded
-//! keepers, framework takers, full-state vision, motion noise on; and, for
-//! comparison, the physics and referee alone.
+//! keepers, framework takers, motion noise on, with the framework players'
+//! perception (the default) and in full state; and, for comparison, the
+//! physics and referee alone.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use learnpnp::keepaway_sim::world::NUM_PLAYERS;
-use learnpnp::keepaway_sim::{BaselinePolicy, Command, Keepaway, KeepawayConfig, Simulator};
+use learnpnp::keepaway_sim::{BaselinePolicy, Command, Keepaway, KeepawayConfig, Simulator, VisionMode};
 use std::hint::black_box;
 
 /// Cycles simulated per benchmark iteration.
@@ -24,15 +25,23 @@ fn run_cycles(game: &mut Keepaway, policy: &mut BaselinePolicy, n: u64) -> u64 {
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("keepaway");
     group.throughput(Throughput::Elements(CYCLES));
-    group.bench_function("cycles_hand_coded_full_state", |b| {
-        let cfg = KeepawayConfig::default();
-        let mut game = match Keepaway::new(cfg, 42) {
-            Ok(g) => g,
-            Err(e) => panic!("default configuration rejected: {e}"),
-        };
-        let mut policy = BaselinePolicy::HandCoded;
-        b.iter(|| black_box(run_cycles(&mut game, &mut policy, CYCLES)));
-    });
+    for (name, vision) in [
+        ("cycles_hand_coded_framework", VisionMode::Framework),
+        ("cycles_hand_coded_full_state", VisionMode::FullState),
+    ] {
+        group.bench_function(name, |b| {
+            let cfg = KeepawayConfig {
+                vision,
+                ..KeepawayConfig::default()
+            };
+            let mut game = match Keepaway::new(cfg, 42) {
+                Ok(g) => g,
+                Err(e) => panic!("configuration rejected: {e}"),
+            };
+            let mut policy = BaselinePolicy::HandCoded;
+            b.iter(|| black_box(run_cycles(&mut game, &mut policy, CYCLES)));
+        });
+    }
     group.bench_function("cycles_physics_and_referee_only", |b| {
         // The same load without the agents: every player dashes, the ball rolls.
         let cfg = KeepawayConfig::default();

@@ -49,7 +49,7 @@ use super::geometry::{Vec2, normalize_deg};
 use super::params::{KeepawayConfig, ServerParams, VisionMode};
 use super::perception::{PlayerId, PlayerView, SeenBall, SeenPlayer};
 use super::see::{SeeMessage, SenseBody};
-use super::skills::fastest::cycles_of;
+use super::skills::fastest::BallEstimates;
 use super::skills::predict::{Kinematics, after_command, ball_pos_after};
 use super::world::{NUM_PLAYERS, Side};
 
@@ -715,12 +715,13 @@ fn own_roll(me: &Kinematics, sp: &ServerParams) -> Vec2 {
 fn fastest_opponent(view: &PlayerView, known: impl Fn(usize) -> bool, cfg: &KeepawayConfig) -> Option<usize> {
     let horizon = cfg.skills.intercept_horizon.min(1000);
     let mut fastest = None;
+    let mut estimates = BallEstimates::default();
     for i in 0..=horizon {
         let target = ball_pos_after(&view.ball, i, &cfg.server);
         let mut min = 100u32;
         for j in view.side().opponent().indices().filter(|&j| known(j)) {
             if view.players[j].pos.dist(target) / cfg.server.player_speed_max < f64::from(i) + 1.0 {
-                let c = cycles_of(view, j, target, cfg);
+                let c = estimates.cycles_to(view, j, target, cfg);
                 if c < min {
                     min = c;
                     fastest = Some(j);

@@ -1,7 +1,7 @@
 //! Who gets to the ball first, as the framework's world model decides it
 //! (`createInterceptFeatures`, `getFastestInSetTo` and `predictNrCyclesToObject`).
 
-use super::predict::{Estimate, Kinematics, ball_pos_after, cycles_to_point};
+use super::predict::{Estimate, Kinematics, Mover, ball_pos_after, cycles_to_point, cycles_to_point_from};
 use crate::keepaway_sim::geometry::Vec2;
 use crate::keepaway_sim::params::KeepawayConfig;
 use crate::keepaway_sim::perception::PlayerView;
@@ -14,12 +14,7 @@ pub(crate) const UNKNOWN_CYCLES: u32 = 101;
 /// Cycles for player `j` of `view` to reach `target`: the viewer's own estimate is
 /// simulated to the end, every other player's extrapolated ([`Estimate`]).
 pub(crate) fn cycles_of(view: &PlayerView, j: usize, target: Vec2, cfg: &KeepawayConfig) -> u32 {
-    let whose = if j == view.me.index() {
-        Estimate::Own
-    } else {
-        Estimate::Other
-    };
-    cycles_to_point(&Kinematics::from(&view.players[j]), target, whose, cfg)
+    cycles_to_point(&Kinematics::from(&view.players[j]), target, whose(view, j), cfg)
 }
 
 /// The ball's predicted positions' cycle estimates kept for one view: how many
@@ -29,15 +24,18 @@ pub(crate) fn cycles_of(view: &PlayerView, j: usize, target: Vec2, cfg: &Keepawa
 ///
 /// Valid for one view only: make a new one (or [`BallEstimates::clear`] it) when
 /// the view changes.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct BallEstimates {
     cycles: [[u32; BallEstimates::CYCLES]; NUM_PLAYERS],
+    /// Each player as a [`Mover`], made at its first estimate.
+    movers: [Option<Mover>; NUM_PLAYERS],
 }
 
 impl Default for BallEstimates {
     fn default() -> Self {
         BallEstimates {
             cycles: [[Self::UNSET; Self::CYCLES]; NUM_PLAYERS],
+            movers: [None; NUM_PLAYERS],
         }
     }
 }
@@ -54,18 +52,36 @@ impl BallEstimates {
 
     /// [`cycles_of`] player `j` to the ball's predicted position after `i` cycles.
     fn cycles_to_ball_after(&mut self, view: &PlayerView, j: usize, i: u32, cfg: &KeepawayConfig) -> u32 {
-        let slot = usize::try_from(i)
-            .ok()
-            .filter(|&i| i < Self::CYCLES)
-            .and_then(|i| self.cycles.get_mut(j).map(|row| &mut row[i]));
-        match slot {
-            Some(c) if *c != Self::UNSET => *c,
-            Some(c) => {
-                *c = cycles_of(view, j, ball_pos_after(&view.ball, i, &cfg.server), cfg);
-                *c
-            }
-            None => cycles_of(view, j, ball_pos_after(&view.ball, i, &cfg.server), cfg),
+        let at = usize::try_from(i).ok().filter(|&i| i < Self::CYCLES);
+        if let Some(c) = at.and_then(|i| self.cycles.get(j).map(|row| row[i]))
+            && c != Self::UNSET
+        {
+            return c;
         }
+        let c = self.cycles_to(view, j, ball_pos_after(&view.ball, i, &cfg.server), cfg);
+        if let Some(slot) = at.and_then(|i| self.cycles.get_mut(j).map(|row| &mut row[i])) {
+            *slot = c;
+        }
+        c
+    }
+
+    /// [`cycles_of`] player `j` to `target`, with `j`'s [`Mover`] made once.
+    pub(crate) fn cycles_to(&mut self, view: &PlayerView, j: usize, target: Vec2, cfg: &KeepawayConfig) -> u32 {
+        let (Some(player), Some(slot)) = (view.players.get(j), self.movers.get_mut(j)) else {
+            return cycles_of(view, j, target, cfg);
+        };
+        let mover = *slot.get_or_insert_with(|| Mover::new(&Kinematics::from(player)));
+        cycles_to_point_from(mover, target, whose(view, j), cfg)
+    }
+}
+
+/// Whose estimate player `j`'s is in `view`: the viewer's own is simulated to
+/// the end, every other player's extrapolated ([`Estimate`]).
+fn whose(view: &PlayerView, j: usize) -> Estimate {
+    if j == view.me.index() {
+        Estimate::Own
+    } else {
+        Estimate::Other
     }
 }
 
@@ -167,7 +183,7 @@ fn cycles_to_ball(view: &PlayerView, j: usize, cfg: &KeepawayConfig, memo: &mut 
         return UNKNOWN_CYCLES;
     }
     if ball.vel.norm() < 0.01 {
-        return cycles_of(view, j, ball.pos, cfg);
+        return memo.cycles_to(view, j, ball.pos, cfg);
     }
     let horizon = cfg.skills.intercept_horizon.min(1000);
     let mut i = 0u32;

@@ -391,14 +391,20 @@ pub(crate) fn cycles_for_distance(dist: f64, speed: f64, sp: &ServerParams) -> u
 /// another player's run ([`Estimate::Other`]) is extrapolated with
 /// `cycles_for_distance`. Both loops are bounded (see `MAX_SIMULATED_CYCLES`).
 pub fn cycles_to_point(k: &Kinematics, target: Vec2, whose: Estimate, cfg: &KeepawayConfig) -> u32 {
+    cycles_to_point_from(Mover::new(k), target, whose, cfg)
+}
+
+/// [`cycles_to_point`] from a player already made a [`Mover`] (whose body
+/// direction's sine and cosine are then not computed again for every target).
+pub(crate) fn cycles_to_point_from(start: Mover, target: Vec2, whose: Estimate, cfg: &KeepawayConfig) -> u32 {
     let sp = &cfg.server;
     let back = cfg.skills.intercept_dist_back;
     let reach = sp.kickable_distance();
-    if target.dist(k.pos) < reach {
+    if target.dist(start.pos) < reach {
         return 0;
     }
-    let dir_des = (target - k.pos).dir();
-    let mut cur = Mover::new(k);
+    let dir_des = (target - start.pos).dir();
+    let mut cur = start;
     let mut cycles = 0u32;
     loop {
         let cmd = cur.move_command(target, 1, back, sp);
