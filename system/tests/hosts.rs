@@ -277,10 +277,10 @@ fn in_real_time_a_cut_link_and_a_killed_bridge_cost_deadlines_not_the_run() {
     sandbox.assert_clean(&used);
 }
 
-#[test]
-fn a_keeper_killed_on_host_b_is_restarted_there_and_host_a_plays_on() {
-    let sandbox = Sandbox::new("hosts-restart");
-    let hosts = Hosts::new();
+/// A 400-episode lock-step Keepaway run with keeper 3 on host B (host A's
+/// results in `a`, host B's in `host-b`; `more` arguments for host A),
+/// returned once keeper 3 has checkpointed twice on host B.
+fn keeper_3_on_host_b(sandbox: &Sandbox, hosts: &Hosts, more: &[&str]) -> (Child, Child, PathBuf) {
     let endpoint = hosts.endpoint();
     let mut a_args = SHORT.to_vec();
     a_args[1] = "400";
@@ -292,15 +292,24 @@ fn a_keeper_killed_on_host_b_is_restarted_there_and_host_a_plays_on() {
         "--checkpoint-every",
         "10",
     ]);
-    let host_a = host_a(&hosts, &sandbox, "a", &a_args);
+    a_args.extend(more);
+    let host_a = host_a(hosts, sandbox, "a", &a_args);
     let b_out = sandbox.out("host-b");
-    let host_b = hosts.on(false, remote(&sandbox, &b_out, &endpoint)).spawn().unwrap();
-    // Once keeper 3 has checkpointed twice on host B, kill it there.
+    let host_b = hosts.on(false, remote(sandbox, &b_out, &endpoint)).spawn().unwrap();
     let prev = b_out.join("values-agent3.bin.prev");
     assert!(
         wait_until(Duration::from_secs(120), || prev.exists()),
         "no progress on host B"
     );
+    (host_a, host_b, b_out)
+}
+
+#[test]
+fn a_keeper_killed_on_host_b_is_restarted_there_and_host_a_plays_on() {
+    let sandbox = Sandbox::new("hosts-restart");
+    let hosts = Hosts::new();
+    // Once keeper 3 has checkpointed twice on host B, kill it there.
+    let (host_a, host_b, b_out) = keeper_3_on_host_b(&sandbox, &hosts, &[]);
     let keeper = pids_with_all(&["--keeper 3", &b_out.display().to_string()]);
     assert_eq!(keeper.len(), 1, "{keeper:?}");
     kill(keeper[0], libc::SIGKILL);
@@ -316,5 +325,48 @@ fn a_keeper_killed_on_host_b_is_restarted_there_and_host_a_plays_on() {
     assert_eq!(b["shipped"], true, "{b}");
     let mut used = prefixes(&a);
     used.push(b["ipc_prefix"].as_str().unwrap().to_string());
+    sandbox.assert_clean(&used);
+}
+
+#[test]
+fn in_lock_step_a_killed_bridge_costs_no_value_and_a_stall_stops_the_run_cleanly() {
+    let sandbox = Sandbox::new("hosts-stall");
+    let hosts = Hosts::new();
+    // Heartbeat timeout 3 s: a lock-step run that stops moving is stopped
+    // after 3 x 3 s. Once keeper 3 has checkpointed twice on host B, kill host
+    // A's bridge in the middle of the lock-step exchange: a message in flight
+    // is lost.
+    let (host_a, host_b, b_out) = keeper_3_on_host_b(&sandbox, &hosts, &["--heartbeat-timeout", "3"]);
+    let root = sandbox.out("a").parent().unwrap().display().to_string();
+    let bridges = pids_with_all(&["learnpnp-bridge", "--side host", &root]);
+    assert_eq!(bridges.len(), 1, "{bridges:?}");
+    kill(bridges[0], libc::SIGKILL);
+    let a_output = host_a.wait_with_output().unwrap();
+    let _ = host_b.wait_with_output().unwrap();
+    let a = summary(&sandbox.out("a"));
+    let faults = a["faults"].to_string();
+    assert!(faults.contains("the bridge exited"), "{faults}");
+    if a["complete"] == true {
+        // No message was in flight: the restarted bridge carried on.
+        assert!(a_output.status.success(), "{}", text(&a_output.stderr));
+        eprintln!("the bridge was killed with no message in flight: the run went on");
+    } else {
+        let failure = a["failure"].as_str().unwrap_or_default();
+        assert!(
+            failure.contains("lock-step stalled: no cycle for 9 s"),
+            "{a}\n{}",
+            text(&a_output.stderr)
+        );
+        eprintln!("a message was lost with the bridge: the stalled run was stopped after 9 s");
+    }
+    // No learned value lost: every keeper's last checkpoint, host B's
+    // included (shipped back), is in the run's files and loads.
+    for file in ["values.bin", "values-agent2.bin", "values-agent3.bin"] {
+        let values = learnpnp::persist::load(&sandbox.out("a").join("runs/run-0").join(file));
+        assert!(values.is_ok(), "{file}: {values:?}");
+    }
+    let b = remote_summary(&b_out);
+    let mut used = prefixes(&a);
+    used.extend(b["ipc_prefix"].as_str().map(str::to_string));
     sandbox.assert_clean(&used);
 }

@@ -223,6 +223,11 @@ pub enum RunFailure {
     },
 }
 
+/// Heartbeat timeouts without a lock-step cycle after which a run whose
+/// processes all beat is stopped as stalled (three: long enough for a host to
+/// notice a hung agent, kill it and start another, here or on another host).
+pub const STALL_TIMEOUTS: u32 = 3;
+
 /// A JSON error about `what`.
 pub(crate) fn json_error(what: impl std::fmt::Display) -> impl FnOnce(serde_json::Error) -> SupervisorError {
     move |source| SupervisorError::Json {
@@ -445,6 +450,12 @@ struct Watch<'a> {
     floor: Option<FloorProbe>,
     /// The run was asked to stop (a signal, or an observer).
     stop_requested: bool,
+    /// Lock-step: the host's cycle count and when it last moved.
+    progress: Option<(u64, Instant)>,
+    /// When a process was last restarted.
+    last_restart: Option<Instant>,
+    /// Why the run was stopped as stalled, if it was.
+    stalled: Option<String>,
     resumes: Vec<PendingResume>,
     control_sequence: u64,
     /// Why the real-time priority could not be given (the first refusal).
@@ -684,6 +695,7 @@ impl Watch<'_> {
 
     /// Counts one more restart of `role`; returns how many so far.
     fn count_restart(&mut self, role: Role) -> u32 {
+        self.last_restart = Some(Instant::now());
         let restarts = self.restarts.entry(role).or_default();
         *restarts += 1;
         *restarts
@@ -805,8 +817,57 @@ impl Watch<'_> {
                 return Ok(status);
             }
             self.kill_hung()?;
+            self.stop_if_stalled()?;
             std::thread::sleep(Duration::from_millis(10));
         }
+    }
+
+    /// Lock-step: stops the run (cleanly: every agent checkpoints) when the
+    /// host runs but its cycle count has not moved for [`STALL_TIMEOUTS`]
+    /// heartbeat timeouts with no process restarted meanwhile. Every process
+    /// beats, yet no cycle is played: a message was lost (between hosts, a
+    /// bridge that died with it in flight), and lock-step would wait forever.
+    fn stop_if_stalled(&mut self) -> Result<(), SupervisorError> {
+        if self.config.clock != Clock::Lockstep || self.stop_requested {
+            return Ok(());
+        }
+        let host = self.roster.host();
+        let Some(pulse) = self
+            .fleet
+            .processes
+            .get(&host)
+            .and_then(|p| self.pulses.get(&(host, p.pid())))
+            .copied()
+        else {
+            return Ok(());
+        };
+        let now = Instant::now();
+        match self.progress {
+            Some((cycles, _)) if cycles == pulse.cycles && pulse.state == ProcessState::Running => {}
+            _ => {
+                self.progress = Some((pulse.cycles, now));
+                return Ok(());
+            }
+        }
+        let limit = self.config.heartbeat_timeout * STALL_TIMEOUTS;
+        let quiet_since = self
+            .progress
+            .map(|(_, t)| t)
+            .into_iter()
+            .chain(self.last_restart)
+            .max()
+            .unwrap_or(now);
+        if now.duration_since(quiet_since) <= limit {
+            return Ok(());
+        }
+        let what = format!(
+            "lock-step stalled: no cycle for {} s while the {host} runs (a message lost between hosts?)",
+            limit.as_secs()
+        );
+        self.fault(what.clone(), "run stopped; every agent checkpoints".into());
+        self.stalled = Some(what);
+        self.stop_requested = true;
+        self.order(Order::Stop, Some(host))
     }
 
     /// Carries out the observer's requests, and stops the run once on a
@@ -1118,6 +1179,9 @@ impl<'a> Watch<'a> {
             done: Vec::new(),
             floor: None,
             stop_requested: false,
+            progress: None,
+            last_restart: None,
+            stalled: None,
             resumes: Vec::new(),
             control_sequence: 0,
             fifo_refused: None,
@@ -1161,7 +1225,7 @@ impl Watch<'_> {
             Roster::Keepaway => "the simulator",
             Roster::World { .. } => "agent 1",
         };
-        let failure = failure.or_else(|| {
+        let failure = failure.or_else(|| self.stalled.clone()).or_else(|| {
             let stopped = self.stop_requested;
             sim.error
                 .clone()
