@@ -196,6 +196,10 @@ fn a_keeper_on_another_host_plays_exactly_the_one_host_episodes() {
     }
     let (a, b) = (summary(&sandbox.out("two")), remote_summary(&b_out));
     assert_eq!(b["shipped"], true, "{b}");
+    // The report shows the round trip across the link: keeper 3's own,
+    // through both bridges, slower than local keeper 1's.
+    let p50 = |k: &str| a["keeper_latency_us"][k]["p50"].as_f64().unwrap();
+    assert!(p50("keeper 3") > p50("keeper 1"), "{}", a["keeper_latency_us"]);
     assert_eq!(b["run_prefix"].as_str(), prefixes(&a).first().map(String::as_str));
     assert!(
         fs::read_dir(sandbox.out("two").join("runs/run-0"))

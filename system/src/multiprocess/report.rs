@@ -12,7 +12,7 @@ use serde::Serialize;
 
 use super::Clock;
 use super::agent_process::compute_histogram;
-use super::sim_process::{AbortedEpisode, FLOOR, ROUND_TRIP};
+use super::sim_process::{AbortedEpisode, FLOOR, ROUND_TRIP, keeper_round_trip_histogram};
 use super::supervisor::{Fault, ResumeCheck, RunRecord, SupervisorConfig, SupervisorError, json_error};
 use crate::ipc::convert::Rejections;
 use crate::ipc::wait::WaitStrategy;
@@ -69,6 +69,9 @@ pub struct SystemSummary {
     pub mean_episode_seconds: f64,
     /// Snapshot-to-command round trip (every keeper, every cycle), microseconds.
     pub latency_us: Percentiles,
+    /// Keepaway: each keeper's own round trip (`keeper 1`, ...; a keeper on
+    /// another host's is the round trip across the link), microseconds.
+    pub keeper_latency_us: BTreeMap<String, Percentiles>,
     /// The bare iceoryx2 round trip of the snapshot payload, measured in the same run.
     pub floor_us: Percentiles,
     /// The agents' compute time per cycle (executor and learner), microseconds.
@@ -177,6 +180,13 @@ pub fn summarize(
             0.0
         },
         latency_us: latency,
+        keeper_latency_us: (0..learnpnp::keepaway_sim::world::NUM_KEEPERS)
+            .filter_map(|k| {
+                find(histograms, &keeper_round_trip_histogram(k))
+                    .filter(|h| h.count() > 0)
+                    .map(|h| (format!("keeper {}", k + 1), h.percentiles()))
+            })
+            .collect(),
         floor_us: floor,
         compute_us: percentiles(ALL_COMPUTE),
         round_trip_over_floor_p50: if floor.p50 > 0.0 { latency.p50 / floor.p50 } else { 0.0 },
@@ -196,15 +206,19 @@ fn latency_table(histograms: &[Latency], summary: &SystemSummary) -> String {
         "{:<22}{:>10}{:>10}{:>10}{:>10}{:>10}{:>12}\n",
         "latency (µs)", "p50", "p90", "p99", "p99.9", "max", "count"
     );
-    let rows = [
-        (ROUND_TRIP.to_string(), "round trip".to_string()),
-        (FLOOR.to_string(), "iceoryx2 floor".to_string()),
-        (ALL_COMPUTE.to_string(), "agent compute".to_string()),
-    ]
-    .into_iter()
-    .chain(
-        (0..learnpnp::keepaway_sim::world::NUM_KEEPERS).map(|k| (compute_histogram(k), format!("  keeper {}", k + 1))),
-    );
+    let keepers = 0..learnpnp::keepaway_sim::world::NUM_KEEPERS;
+    let rows = [(ROUND_TRIP.to_string(), "round trip".to_string())]
+        .into_iter()
+        .chain(
+            keepers
+                .clone()
+                .map(|k| (keeper_round_trip_histogram(k), format!("  keeper {}", k + 1))),
+        )
+        .chain([
+            (FLOOR.to_string(), "iceoryx2 floor".to_string()),
+            (ALL_COMPUTE.to_string(), "agent compute".to_string()),
+        ])
+        .chain(keepers.map(|k| (compute_histogram(k), format!("  keeper {}", k + 1))));
     for (name, label) in rows {
         if let Some(h) = find(histograms, &name).filter(|h| h.count() > 0) {
             let p = h.percentiles();

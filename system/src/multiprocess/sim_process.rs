@@ -40,6 +40,12 @@ pub const RESULT_FILE: &str = "simulator.json";
 /// Histogram of snapshot-to-command round trips (every keeper, every cycle).
 pub const ROUND_TRIP: &str = "roundtrip";
 
+/// The name of keeper `k`'s own round-trip histogram (a remote keeper's is
+/// the round trip across the link between hosts).
+pub fn keeper_round_trip_histogram(k: usize) -> String {
+    format!("{ROUND_TRIP}-keeper{}", k + 1)
+}
+
 /// Histogram of the bare iceoryx2 round trip of the same payload.
 pub const FLOOR: &str = "floor";
 
@@ -115,6 +121,8 @@ struct Link {
     ready: [Option<u32>; NUM_KEEPERS],
     stop: bool,
     round_trip: Latency,
+    /// Each keeper's round trips (also in `round_trip`).
+    keeper_round_trips: [Latency; NUM_KEEPERS],
     floor: Latency,
     /// Real time: the floor pings sent so far (their sequence numbers).
     floor_pings: u64,
@@ -315,7 +323,9 @@ impl KeeperTeam for RemoteTeam {
                     };
                     match reading {
                         Ok(c) if c.episode == episode && c.cycle_seq == cycle_seq => {
-                            link.round_trip.record(published[k].elapsed());
+                            let took = published[k].elapsed();
+                            link.round_trip.record(took);
+                            link.keeper_round_trips[k].record(took);
                             if deadline.is_some_and(|d| Instant::now() > d) {
                                 // Read after its cycle's deadline (whoever was
                                 // late, the keeper or the simulator itself):
@@ -639,6 +649,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
         ready: [None; NUM_KEEPERS],
         stop: false,
         round_trip: Latency::new(ROUND_TRIP),
+        keeper_round_trips: std::array::from_fn(|k| Latency::new(keeper_round_trip_histogram(k))),
         floor: Latency::new(FLOOR),
         floor_pings: 0,
         totals,
@@ -724,7 +735,10 @@ pub fn histogram_file(dir: &Path, name: &str) -> PathBuf {
 }
 
 fn save_histograms(dir: &Path, link: &Link) -> Result<(), ProcessError> {
-    for histogram in [&link.round_trip, &link.floor] {
+    for histogram in [&link.round_trip, &link.floor]
+        .into_iter()
+        .chain(&link.keeper_round_trips)
+    {
         let bytes = histogram.to_bytes()?;
         let path = histogram_file(dir, histogram.name());
         learnpnp::atomic_file::write_atomic(&path, &bytes).map_err(|source| ProcessError::Io { path, source })?;

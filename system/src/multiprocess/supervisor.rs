@@ -20,7 +20,7 @@ use serde::Serialize;
 use super::agent_process::{checkpoint_name, compute_histogram, resumed_file};
 use super::floor_probe::FloorProbe;
 use super::launch::{Binaries, LaunchError, Process, set_fifo_priority, spawn, spawn_world};
-use super::sim_process::{FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult};
+use super::sim_process::{FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult, keeper_round_trip_histogram};
 use super::world_agent::{EXIT_PLAN_DOES_NOT_FIT, agent_compute_histogram, agent_result_file};
 use super::{Clock, ProcessError, RunContext};
 use crate::ipc::convert::{Rejections, control_message, read_heartbeat};
@@ -1070,9 +1070,14 @@ fn read_histograms(dir: &Path, roster: Roster) -> Result<Vec<Latency>, Superviso
         Roster::Keepaway => compute_histogram(k),
         Roster::World { .. } => agent_compute_histogram(k),
     };
+    let keeper_round_trips = match roster {
+        Roster::Keepaway => (0..roster.agents()).map(keeper_round_trip_histogram).collect(),
+        Roster::World { .. } => Vec::new(),
+    };
     let names = [ROUND_TRIP.to_string(), FLOOR.to_string()]
         .into_iter()
-        .chain((0..roster.agents()).map(compute));
+        .chain((0..roster.agents()).map(compute))
+        .chain(keeper_round_trips);
     let mut histograms = Vec::new();
     for name in names {
         let mut merged = Latency::new(name.clone());
