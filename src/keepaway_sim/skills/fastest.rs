@@ -17,10 +17,12 @@ pub(crate) fn cycles_of(view: &PlayerView, j: usize, target: Vec2, cfg: &Keepawa
     cycles_to_point(&Kinematics::from(&view.players[j]), target, whose(view, j), cfg)
 }
 
-/// The ball's predicted positions' cycle estimates kept for one view: how many
-/// cycles player `j` needs to reach where the ball will be after `i` cycles, for
-/// the first [`BallEstimates::CYCLES`] values of `i`. The fastest teammate and
-/// the pass origin ask for many of the same estimates; each is computed once.
+/// Cycle estimates kept for one view: how many cycles player `j` needs to reach
+/// where the ball will be after `i` cycles, for the first
+/// [`BallEstimates::CYCLES`] values of `i`, and each player's starting state.
+/// The fastest teammate and the pass origin ask for many of the same
+/// estimates, and the world model's fastest opponent for many of one player's;
+/// each is computed once.
 ///
 /// Valid for one view only: make a new one (or [`BallEstimates::clear`] it) when
 /// the view changes.
@@ -95,7 +97,7 @@ fn may_reach(view: &PlayerView, j: usize, target: Vec2, cycles: f64, cfg: &Keepa
 /// with its cycles (`getFastestInSetTo` for a position, velocity 0): candidates
 /// whose distance over top speed is not below the best count so far are skipped;
 /// ties go to the earlier candidate. `None` (the framework's illegal object) if
-/// every candidate was skipped.
+/// every candidate was skipped. `estimate(j)` is player `j`'s cycles to `target`.
 fn fastest_to_point(
     view: &PlayerView,
     candidates: impl IntoIterator<Item = usize>,

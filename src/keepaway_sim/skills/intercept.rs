@@ -327,10 +327,10 @@ fn search_interception(
 }
 
 /// The distance from `at` at which the viewer ends after `n` commands of
-/// [`Mover::move_command`] towards it (the `i`-th remaining cycles counting down).
-/// With `prune`, `None` as soon as the point is out of reach: farther than the
-/// remaining cycles at top speed (no cycle moves a player farther) plus the
-/// kickable distance, so the run could only end out of reach.
+/// [`Mover::move_command`] towards it, each aiming to arrive in the cycles
+/// left. With `prune`, `None` as soon as the point is out of reach: farther
+/// than the cycles left at top speed (no cycle moves a player farther) plus
+/// the kickable distance, so the run could only end out of reach.
 fn run_to(mover: Mover, at: Vec2, n: u32, back: f64, prune: bool, sp: &ServerParams) -> Option<f64> {
     let out_of_reach = sp.kickable_distance() + 1e-9;
     let mut m = mover;
