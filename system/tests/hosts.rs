@@ -312,8 +312,12 @@ fn keeper_3_on_host_b(sandbox: &Sandbox, hosts: &Hosts, more: &[&str]) -> (Child
 fn a_keeper_killed_on_host_b_is_restarted_there_and_host_a_plays_on() {
     let sandbox = Sandbox::new("hosts-restart");
     let hosts = Hosts::new();
-    // Once keeper 3 has checkpointed twice on host B, kill it there.
+    // Once keeper 3 has checkpointed twice on host B, kill it there. Its
+    // checkpoint is written between two episodes: the kill waits a while, so
+    // that it lands in an episode (which host A then drops) rather than in
+    // the gap between two.
     let (host_a, host_b, b_out) = keeper_3_on_host_b(&sandbox, &hosts, &[]);
+    std::thread::sleep(Duration::from_millis(150));
     let keeper = pids_with_all(&["--keeper 3", &b_out.display().to_string()]);
     assert_eq!(keeper.len(), 1, "{keeper:?}");
     kill(keeper[0], libc::SIGKILL);
