@@ -1,6 +1,6 @@
 //! `learnpnp-agent`: one keeper's process in a Keepaway run, or one agent's
-//! in the run of a world in its own process (started by
-//! `learnpnp-supervisor`, which passes every argument).
+//! in the run of a world in its own process, or a remote host's floor echo
+//! (started by `learnpnp-supervisor`, which passes every argument).
 
 use std::io::Write as _;
 use std::process::ExitCode;
@@ -8,6 +8,7 @@ use std::process::ExitCode;
 use clap::Parser;
 use learnpnp_system::cli::RunContextArgs;
 use learnpnp_system::multiprocess::agent_process::{self, AgentSettings};
+use learnpnp_system::multiprocess::floor_probe;
 use learnpnp_system::multiprocess::supervisor::EXIT_CANNOT_RESUME;
 use learnpnp_system::multiprocess::world_agent::{self, EXIT_PLAN_DOES_NOT_FIT, WorldAgentSettings};
 use learnpnp_system::multiprocess::{ProcessError, RunContext};
@@ -15,7 +16,7 @@ use learnpnp_system::multiprocess::{ProcessError, RunContext};
 /// One keeper or one world's agent: its plan, learner and executor, behind iceoryx2 services.
 #[derive(Parser)]
 #[command(name = "learnpnp-agent", version)]
-#[command(group = clap::ArgGroup::new("who").required(true).args(["keeper", "world_agent"]))]
+#[command(group = clap::ArgGroup::new("who").required(true).args(["keeper", "world_agent", "floor_echo"]))]
 struct Args {
     #[command(flatten)]
     context: RunContextArgs,
@@ -25,6 +26,9 @@ struct Args {
     /// The agent (1 to 16) of a world in its own process.
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=16))]
     world_agent: Option<u8>,
+    /// Echo a remote host's floor pings (its own iceoryx2 floor), then exit.
+    #[arg(long)]
+    floor_echo: bool,
     /// Checkpoint the values every this many learning episodes (0: only on request and at the end).
     #[arg(long, default_value_t = 100)]
     checkpoint_every: u64,
@@ -42,6 +46,7 @@ fn main() -> ExitCode {
     let args = Args::parse();
     let context = RunContext::from(args.context);
     let (who, outcome) = match (args.keeper, args.world_agent) {
+        _ if args.floor_echo => ("floor echo".to_string(), floor_probe::run_echo(&context)),
         (Some(keeper), _) => {
             let settings = AgentSettings {
                 keeper: usize::from(keeper) - 1,

@@ -507,6 +507,14 @@ pub mod services {
     /// Floor measurement of a world run, agent 0 to supervisor: [`super::WorldCommand`].
     pub const WORLD_FLOOR_PONG: &str = "learnpnp/world/floor/pong";
 
+    /// A remote host's own floor, its supervisor to its echo process: the
+    /// run's snapshot payload ([`super::KeeperSnapshot`] or
+    /// [`super::WorldSnapshot`]). Never carried between hosts.
+    pub const HOST_FLOOR_PING: &str = "learnpnp/host/floor/ping";
+    /// A remote host's own floor, the echo process to its supervisor: the
+    /// run's command payload ([`super::KeeperCommand`] or [`super::WorldCommand`]).
+    pub const HOST_FLOOR_PONG: &str = "learnpnp/host/floor/pong";
+
     /// A world to agent `a`: [`super::WorldSnapshot`].
     pub fn world_snapshot(a: usize) -> String {
         format!("learnpnp/world/agent/{a}/snapshot")

@@ -200,6 +200,10 @@ fn a_keeper_on_another_host_plays_exactly_the_one_host_episodes() {
     // through both bridges, slower than local keeper 1's.
     let p50 = |k: &str| a["keeper_latency_us"][k]["p50"].as_f64().unwrap();
     assert!(p50("keeper 3") > p50("keeper 1"), "{}", a["keeper_latency_us"]);
+    // And each host's floor: host B's measured there, before keeper 3 started.
+    for floor in ["floor_us", "remote_host_floor_us"] {
+        assert!(a[floor]["p50"].as_f64().is_some_and(|p| p > 0.0), "{floor}: {a}");
+    }
     assert_eq!(b["run_prefix"].as_str(), prefixes(&a).first().map(String::as_str));
     assert!(
         fs::read_dir(sandbox.out("two").join("runs/run-0"))
@@ -313,7 +317,7 @@ fn a_keeper_killed_on_host_b_is_restarted_there_and_host_a_plays_on() {
     let sandbox = Sandbox::new("hosts-restart");
     let hosts = Hosts::new();
     // Once keeper 3 has checkpointed twice on host B, kill it there. Its
-    // checkpoint is written between two episodes: the kill waits a while, so
+    // checkpoints are taken between two episodes: the kill waits a while, so
     // that it lands in an episode (which host A then drops) rather than in
     // the gap between two.
     let (host_a, host_b, b_out) = keeper_3_on_host_b(&sandbox, &hosts, &[]);

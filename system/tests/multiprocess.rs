@@ -165,6 +165,25 @@ pub(crate) fn kill(pid: i32, signal: i32) {
     assert_eq!(unsafe { libc::kill(pid, signal) }, 0, "kill {pid}");
 }
 
+/// Stops process `pid` (SIGSTOP) and waits until every thread of it has
+/// stopped: a thread running on another core at the signal may still make a
+/// call (its checkpoint writer, a rename) before the stop reaches it.
+fn stop(pid: i32) {
+    kill(pid, libc::SIGSTOP);
+    let stopped = || {
+        fs::read_dir(format!("/proc/{pid}/task")).is_ok_and(|tasks| {
+            tasks.flatten().all(|task| {
+                fs::read_to_string(task.path().join("stat")).is_ok_and(|stat| {
+                    // The state follows the command name, which is in parentheses.
+                    stat.rsplit_once(')')
+                        .is_some_and(|(_, rest)| matches!(rest.trim_start().chars().next(), Some('T' | 't')))
+                })
+            })
+        })
+    };
+    assert!(wait_until(Duration::from_secs(10), stopped), "{pid} did not stop");
+}
+
 /// Waits until run 0 of `out` has written its second checkpoint of keeper 1
 /// (the run is under way), or panics.
 fn wait_for_progress(out: &Path) {
@@ -554,7 +573,7 @@ fn corrupt_checkpoint_at_restart_resumes_from_the_previous_one() {
     let checkpoint = work.join("values.bin");
     let agent = pids_with_all(&["learnpnp-agent", &work.to_string_lossy(), "--keeper 1"]);
     assert_eq!(agent.len(), 1);
-    kill(agent[0], libc::SIGSTOP);
+    stop(agent[0]);
     fs::write(&checkpoint, b"LPNPVALS garbage").unwrap();
     kill(agent[0], libc::SIGKILL);
     let output = finish(child);
@@ -587,9 +606,10 @@ fn missing_checkpoint_at_restart_is_a_clear_error() {
     let checkpoint = work.join("values-agent3.bin");
     let agent = pids_with_all(&["learnpnp-agent", &work.to_string_lossy(), "--keeper 3"]);
     assert_eq!(agent.len(), 1);
-    kill(agent[0], libc::SIGSTOP);
+    stop(agent[0]);
     fs::remove_file(&checkpoint).unwrap();
-    fs::remove_file(work.join("values-agent3.bin.prev")).unwrap();
+    // Keeper 3 may not have written a second checkpoint yet.
+    let _ = fs::remove_file(work.join("values-agent3.bin.prev"));
     kill(agent[0], libc::SIGKILL);
     let output = finish(child);
     assert_eq!(output.status.code(), Some(1), "{}", text(&output.stderr));

@@ -43,6 +43,8 @@ pub struct RunInfo {
     pub wait: WaitStrategy,
     /// Agents checkpoint every this many learning episodes.
     pub checkpoint_every: u64,
+    /// Round trips of each host's floor measurement.
+    pub floor_round_trips: usize,
     /// The experiment, as `summary.json` holds it.
     pub spec: serde_json::Value,
 }

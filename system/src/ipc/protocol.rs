@@ -144,6 +144,14 @@ pub enum Roster {
 }
 
 impl Roster {
+    /// The processes of a run of `domain`: a world's and its agents, or Keepaway's.
+    pub fn of(domain: &learnpnp::experiment::spec::DomainSpec) -> Self {
+        match domain {
+            learnpnp::experiment::spec::DomainSpec::World { plans, .. } => Roster::World { agents: plans.len() },
+            _ => Roster::Keepaway,
+        }
+    }
+
     /// How many agent processes.
     pub fn agents(self) -> usize {
         match self {

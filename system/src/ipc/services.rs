@@ -581,17 +581,22 @@ impl SupervisorPorts {
     }
 }
 
-/// The supervisor's side of a world run's floor measurement with agent 0.
-pub struct FloorPorts {
-    /// Pings to agent 0 (waking it).
-    pub ping: Outlet<WorldSnapshot>,
-    /// Its pongs.
-    pub pong: Sub<WorldCommand>,
+/// The wake-up service name of a remote host's floor echo process.
+pub const FLOOR_ECHO_PROCESS: &str = "floor-echo";
+
+/// The pinging side of a floor measurement: pings of the snapshot payload
+/// `P` (waking the process that echoes them) and its echoes, of the command
+/// payload `C`.
+pub struct FloorPorts<P: ZeroCopySend + Debug + 'static, C: ZeroCopySend + Debug + 'static> {
+    /// Pings to the echoing process (waking it).
+    pub ping: Outlet<P>,
+    /// Its echoes.
+    pub pong: Sub<C>,
 }
 
-impl FloorPorts {
-    /// Opens them on `node`, for an agent that waits with `wait`.
-    pub fn open(node: &Node<Ipc>, wait: WaitStrategy) -> Result<Self, IpcError> {
+impl FloorPorts<WorldSnapshot, WorldCommand> {
+    /// A world run's, echoed by agent 0, which waits with `wait`.
+    pub fn world(node: &Node<Ipc>, wait: WaitStrategy) -> Result<Self, IpcError> {
         Ok(FloorPorts {
             ping: Outlet::open(
                 node,
@@ -601,6 +606,43 @@ impl FloorPorts {
                 wait,
             )?,
             pong: subscriber(node, services::WORLD_FLOOR_PONG, POINT_TO_POINT)?,
+        })
+    }
+}
+
+impl<P: ZeroCopySend + Debug + 'static, C: ZeroCopySend + Debug + 'static> FloorPorts<P, C> {
+    /// A remote host's own, echoed by its floor echo process, which waits with `wait`.
+    pub fn host(node: &Node<Ipc>, wait: WaitStrategy) -> Result<Self, IpcError> {
+        Ok(FloorPorts {
+            ping: Outlet::open(
+                node,
+                services::HOST_FLOOR_PING,
+                POINT_TO_POINT,
+                &[FLOOR_ECHO_PROCESS.to_string()],
+                wait,
+            )?,
+            pong: subscriber(node, services::HOST_FLOOR_PONG, POINT_TO_POINT)?,
+        })
+    }
+}
+
+/// The echoing side of a remote host's own floor measurement.
+pub struct FloorEchoPorts<P: ZeroCopySend + Debug + 'static, C: ZeroCopySend + Debug + 'static> {
+    /// The supervisor's pings.
+    pub ping: Sub<P>,
+    /// The echoes (the supervisor polls for them).
+    pub pong: Pub<C>,
+    /// Wakes the echo process when it blocks.
+    pub wake: Listener<Ipc>,
+}
+
+impl<P: ZeroCopySend + Debug + 'static, C: ZeroCopySend + Debug + 'static> FloorEchoPorts<P, C> {
+    /// Opens them on `node`.
+    pub fn open(node: &Node<Ipc>) -> Result<Self, IpcError> {
+        Ok(FloorEchoPorts {
+            ping: subscriber(node, services::HOST_FLOOR_PING, POINT_TO_POINT)?,
+            pong: publisher(node, services::HOST_FLOOR_PONG, POINT_TO_POINT)?,
+            wake: listener(node, FLOOR_ECHO_PROCESS)?,
         })
     }
 }

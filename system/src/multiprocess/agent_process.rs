@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use super::background_save::{BackgroundSave, CHECKPOINT_SPACING, Checkpoint};
 use super::sim_process::{FLOOR_END, floor_pong, histogram_file, keepaway_config};
 use super::{Clock, HEARTBEAT_EVERY, Pacemaker, ProcessError, RunContext};
 use crate::ipc::convert::{Rejection, agent_report, command_message, read_control, read_episode_event, read_snapshot};
@@ -224,6 +225,7 @@ struct Agent {
     pacemaker: Pacemaker,
     compute: Latency,
     checkpoint: PathBuf,
+    saver: BackgroundSave,
     /// No episode event or ping has come since the agent started: it keeps
     /// saying it is ready (the simulator may have subscribed after the first time).
     announcing: bool,
@@ -244,27 +246,25 @@ impl Agent {
         self.pacemaker.pulse.rejected.count(why);
     }
 
-    /// Writes the checkpoint (and the compute histogram so far); a failure is
-    /// reported and counted, the previous checkpoint stays.
+    /// Hands the checkpoint (and the compute histogram so far) to the writer
+    /// thread; a failure is reported and counted there, the previous
+    /// checkpoint stays.
     fn save(&mut self) {
-        if let Some(values) = self.brain.values() {
-            match persist::save(&self.checkpoint, &values) {
-                Ok(()) => self.pacemaker.pulse.checkpoints += 1,
-                Err(e) => {
-                    self.pacemaker.pulse.checkpoint_failures += 1;
-                    report!("error: checkpoint not written, the previous one is kept: {e}");
-                }
-            }
-        }
-        let file = histogram_file(&self.context.work_dir, self.compute.name());
+        let mut files = Vec::new();
         match self.compute.to_bytes() {
-            Ok(bytes) => {
-                if let Err(e) = learnpnp::atomic_file::write_atomic(&file, &bytes) {
-                    report!("error: {}: {e}", file.display());
-                }
-            }
+            Ok(bytes) => files.push((histogram_file(&self.context.work_dir, self.compute.name()), bytes)),
             Err(e) => report!("error: {e}"),
         }
+        self.saver.submit(Checkpoint {
+            values: self.brain.values().map(|values| (self.checkpoint.clone(), values)),
+            files,
+        });
+    }
+
+    /// Checkpoints and waits until it is written.
+    fn save_now(&mut self) {
+        self.save();
+        self.saver.flush();
     }
 
     /// Handles the supervisor's commands; returns true on stop.
@@ -273,7 +273,7 @@ impl Agent {
         while let Some(order) = receive(&self.ports.control, |m| read_control(m, me, run_id))? {
             match order {
                 Ok(Some(Order::Stop)) => return Ok(true),
-                Ok(Some(Order::Checkpoint)) => self.save(),
+                Ok(Some(Order::Checkpoint)) => self.save_now(),
                 // The new simulator starts from the last episode boundary: the
                 // episode in progress is dropped (the learner is not told its end).
                 Ok(Some(Order::SimulatorRestarted)) => {
@@ -471,6 +471,8 @@ impl Agent {
         let mut idle = Idle::new(self.context.wait);
         let mut announced = Instant::now();
         loop {
+            self.pacemaker.pulse.checkpoints = self.saver.written();
+            self.pacemaker.pulse.checkpoint_failures = self.saver.failed();
             self.pacemaker.tick(&self.ports.heartbeat)?;
             if self.announcing && announced.elapsed() >= HEARTBEAT_EVERY {
                 self.announce()?;
@@ -499,7 +501,7 @@ impl Agent {
         }
         self.pacemaker.pulse.state = ProcessState::Stopping;
         self.pacemaker.beat(&self.ports.heartbeat)?;
-        self.save();
+        self.save_now();
         Ok(())
     }
 }
@@ -527,6 +529,7 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
         pacemaker: Pacemaker::new(Role::Keeper(k), context.run_id),
         compute: Latency::new(compute_histogram(k)),
         checkpoint,
+        saver: BackgroundSave::start(CHECKPOINT_SPACING).map_err(ProcessError::Writer)?,
         announcing: true,
         episode: 0,
         start: EpisodeStart::LEARN,
@@ -544,7 +547,7 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
             persist::save(&path, &values)?;
         }
     } else {
-        agent.save();
+        agent.save_now();
     }
     agent.announce()?;
     agent.pacemaker.pulse.state = ProcessState::Ready;

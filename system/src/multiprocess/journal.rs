@@ -7,13 +7,18 @@
 //! protocol itself, journals its episodes the same way
 //! (`super::world_agent`).
 //!
-//! Lines are appended and flushed (no `fsync`: they outlive the process,
-//! which is what a restart needs). A kill in the middle of a line leaves a
-//! torn last line, which reading ignores.
+//! Lines are appended and handed to the operating system (no `fsync`: they
+//! outlive the process, which is what a restart needs), each at once (the
+//! simulator's) or gathered for a few milliseconds (a world agent's, whose
+//! episodes may last a few cycles: a write each would cost as much as the
+//! episode). A kill loses what was not handed over yet: the restarted process
+//! plays those episodes again. A kill in the middle of a line leaves a torn
+//! last line, which reading ignores.
 
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
 
@@ -108,42 +113,84 @@ pub fn read<E: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<E>, Journ
 pub struct Journal {
     path: PathBuf,
     file: File,
+    /// Lines appended, not yet handed to the operating system.
+    pending: Vec<u8>,
+    /// How long lines may wait in `pending`.
+    gather_for: Duration,
+    last_write: Instant,
 }
 
 impl Journal {
     /// Opens the journal at `path`: a fresh one (truncated) or, to resume, the
     /// one there is with `keep` whole entries (a torn last line is cut off).
-    pub fn open<E: Serialize>(path: &Path, keep: &[E]) -> Result<Self, JournalError> {
+    /// Appended lines are written when `gather_for` has passed since the last
+    /// write (`Duration::ZERO`: each at once), and on [`Journal::flush`].
+    pub fn open<E: Serialize>(path: &Path, keep: &[E], gather_for: Duration) -> Result<Self, JournalError> {
         let io = |source| JournalError::Io {
             path: path.to_path_buf(),
             source,
         };
         let mut file = File::create(path).map_err(io)?;
+        let mut lines = Vec::new();
         for entry in keep {
-            write_line(&mut file, entry).map_err(io)?;
+            push_line(&mut lines, entry).map_err(io)?;
         }
-        file.flush().map_err(io)?;
+        file.write_all(&lines).map_err(io)?;
         Ok(Journal {
             path: path.to_path_buf(),
             file,
+            pending: Vec::new(),
+            gather_for,
+            last_write: Instant::now(),
         })
     }
 
-    /// Appends `entry` and flushes it to the operating system.
+    /// Appends `entry`, written now if the journal's gathering time has passed.
     pub fn append<E: Serialize>(&mut self, entry: &E) -> Result<(), JournalError> {
-        write_line(&mut self.file, entry)
-            .and_then(|()| self.file.flush())
-            .map_err(|source| JournalError::Io {
-                path: self.path.clone(),
-                source,
-            })
+        push_line(&mut self.pending, entry).map_err(|source| JournalError::Io {
+            path: self.path.clone(),
+            source,
+        })?;
+        self.flush_if_due()
+    }
+
+    /// Writes the lines waiting if the gathering time has passed.
+    pub fn flush_if_due(&mut self) -> Result<(), JournalError> {
+        if self.last_write.elapsed() >= self.gather_for {
+            self.flush()
+        } else {
+            Ok(())
+        }
+    }
+
+    /// Writes the lines waiting now. Lines that cannot be written (a full
+    /// disk) are dropped with the error: a restart plays their episodes again.
+    pub fn flush(&mut self) -> Result<(), JournalError> {
+        self.last_write = Instant::now();
+        if self.pending.is_empty() {
+            return Ok(());
+        }
+        let written = self.file.write_all(&self.pending);
+        self.pending.clear();
+        written.map_err(|source| JournalError::Io {
+            path: self.path.clone(),
+            source,
+        })
     }
 }
 
-fn write_line<E: Serialize>(file: &mut File, entry: &E) -> io::Result<()> {
-    let mut line = serde_json::to_vec(entry).map_err(io::Error::other)?;
-    line.push(b'\n');
-    file.write_all(&line)
+impl Drop for Journal {
+    fn drop(&mut self) {
+        // Best effort: an error here was already counted or cannot be.
+        let _ = self.flush();
+    }
+}
+
+/// Appends `entry` to `lines` as one JSON line.
+fn push_line<E: Serialize>(lines: &mut Vec<u8>, entry: &E) -> io::Result<()> {
+    serde_json::to_writer(&mut *lines, entry).map_err(io::Error::other)?;
+    lines.push(b'\n');
+    Ok(())
 }
 
 #[cfg(test)]
@@ -174,7 +221,7 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("learnpnp-journal-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join(JOURNAL_FILE);
-        let mut journal = Journal::open::<JournalEntry>(&path, &[]).unwrap();
+        let mut journal = Journal::open::<JournalEntry>(&path, &[], Duration::ZERO).unwrap();
         for i in 1..=3 {
             journal.append(&entry(i)).unwrap();
         }
@@ -185,7 +232,7 @@ mod tests {
         std::fs::write(&path, &text).unwrap();
         let read_back = read::<JournalEntry>(&path).unwrap();
         assert_eq!(read_back.len(), 3, "the torn line is ignored");
-        let mut journal = Journal::open(&path, &read_back).unwrap();
+        let mut journal = Journal::open(&path, &read_back, Duration::ZERO).unwrap();
         journal.append(&entry(4)).unwrap();
         assert_eq!(
             read::<JournalEntry>(&path).unwrap().len(),

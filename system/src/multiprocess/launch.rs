@@ -286,9 +286,16 @@ const WORLD_SEED_STREAM: u64 = 2;
 
 /// Starts `command` as `role` (described as `what`), its output appended to
 /// `log`; it gets its own process group and is killed when the supervisor dies.
-fn spawn_command(mut command: Command, role: Role, what: &str, log: &Path) -> Result<Process, LaunchError> {
+fn spawn_command(command: Command, role: Role, what: &str, log: &Path) -> Result<Process, LaunchError> {
+    let child = spawn_child(command, &format!("{role} ({what})"), log)?;
+    Ok(Process { role, child })
+}
+
+/// Starts `command` (described as `what` in errors) with its output
+/// appended to `log`, in its own process group, killed when the supervisor dies.
+fn spawn_child(mut command: Command, what: &str, log: &Path) -> Result<Child, LaunchError> {
     let fail = |source| LaunchError::Spawn {
-        what: format!("{role} ({what})"),
+        what: what.to_string(),
         source,
     };
     let out = File::options().create(true).append(true).open(log).map_err(fail)?;
@@ -308,6 +315,50 @@ fn spawn_command(mut command: Command, role: Role, what: &str, log: &Path) -> Re
             Ok(())
         });
     }
-    let child = command.spawn().map_err(fail)?;
-    Ok(Process { role, child })
+    command.spawn().map_err(fail)
+}
+
+/// A supervisor's own short-lived helper process (a remote host's floor
+/// echo), started as the run's processes are; killed with its group when
+/// dropped, if it has not exited.
+#[derive(Debug)]
+pub struct Helper {
+    child: Child,
+}
+
+impl Helper {
+    /// Starts `binary` (described as `what`) with `args`, its output appended to `log`.
+    pub fn spawn(binary: &Path, what: &str, args: &[OsString], log: &Path) -> Result<Self, LaunchError> {
+        let mut command = Command::new(binary);
+        command.args(args);
+        Ok(Helper {
+            child: spawn_child(command, what, log)?,
+        })
+    }
+
+    /// Waits up to `timeout` for it to exit; its status, if it did.
+    pub fn wait_for(&mut self, timeout: std::time::Duration) -> io::Result<Option<ExitStatus>> {
+        let deadline = std::time::Instant::now() + timeout;
+        loop {
+            if let Some(status) = self.child.try_wait()? {
+                return Ok(Some(status));
+            }
+            if std::time::Instant::now() >= deadline {
+                return Ok(None);
+            }
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+    }
+}
+
+impl Drop for Helper {
+    fn drop(&mut self) {
+        if let Ok(None) = self.child.try_wait() {
+            if let Ok(group) = libc::pid_t::try_from(self.child.id()) {
+                // SAFETY: killpg has no memory effects; the group is the child's own.
+                unsafe { libc::killpg(group, libc::SIGKILL) };
+            }
+            let _ = self.child.wait();
+        }
+    }
 }

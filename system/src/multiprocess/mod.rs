@@ -22,6 +22,7 @@
 //! See docs/ARCHITECTURE.md for one snapshot's way through the processes.
 
 pub mod agent_process;
+pub mod background_save;
 pub mod bench_latency;
 pub mod bench_world;
 pub mod chaos;
@@ -124,6 +125,9 @@ pub enum ProcessError {
     /// The namespace is unusable.
     #[error(transparent)]
     Namespace(#[from] NamespaceError),
+    /// The checkpoint writer thread cannot be started.
+    #[error("cannot start the checkpoint writer: {0}")]
+    Writer(std::io::Error),
     /// A file cannot be read or written.
     #[error("{path}: {source}")]
     Io {

@@ -21,14 +21,16 @@ use serde::Serialize;
 
 use super::RunContext;
 use super::agent_process::checkpoint_name;
-use super::launch::{Binaries, Process, spawn};
+use super::floor_probe::{FloorPayload, FloorProbe, KeepawayFloor, WorldFloor};
+use super::launch::{Binaries, Helper, Process, spawn};
 use super::supervisor::{EXIT_CANNOT_RESUME, Fault, SupervisorError, json_error};
 use crate::bridge::JOIN_TIMEOUT;
 use crate::bridge::remote::{OUTBOX, RunInfo};
 use crate::ipc::convert::{control_message, read_heartbeat};
 use crate::ipc::namespace::Namespace;
-use crate::ipc::protocol::{Order, Role};
-use crate::ipc::services::{RunServices, SupervisorPorts, node, receive};
+use crate::ipc::protocol::{Order, Role, Roster};
+use crate::ipc::services::{Ipc, RunServices, SupervisorPorts, node, receive};
+use iceoryx2::node::Node;
 use learnpnp::experiment::spec::ExperimentSpec;
 
 /// How a remote host runs.
@@ -169,6 +171,28 @@ impl Host<'_> {
         self.processes.insert(role, process);
         self.last_heard.insert(role, Instant::now());
         Ok(())
+    }
+
+    /// This host's own iceoryx2 floor, before its agents start: its
+    /// supervisor pings a floor echo process (`learnpnp-agent --floor-echo`)
+    /// with the run's payloads, back to back; the histogram
+    /// ([`super::floor_probe::REMOTE_HOST_FLOOR`]) is shipped to host A with the agents' files.
+    fn measure_floor(&mut self, node: &Node<Ipc>, info: &RunInfo) -> Result<(), SupervisorError> {
+        let Some(context) = &self.context else {
+            return Ok(());
+        };
+        let mut args = context.to_args();
+        args.push("--floor-echo".into());
+        let log = self.work_dir.join("floor-echo.log");
+        let mut echo = Helper::spawn(&self.config.binaries.agent, "the floor echo", &args, &log)?;
+        let rounds = info.floor_round_trips;
+        let measured = match info.roster {
+            Roster::Keepaway => measure::<KeepawayFloor>(node, context, rounds),
+            Roster::World { .. } => measure::<WorldFloor>(node, context, rounds),
+        };
+        // The echo exits at the end marker; dropping it kills it otherwise.
+        echo.wait_for(Duration::from_secs(2)).map_err(io_error(&log))?;
+        measured
     }
 
     /// Waits for the bridge to fetch the run's description; `None` on stop.
@@ -415,6 +439,13 @@ pub fn join(config: &RemoteConfig, work_dir: &Path, stop: &AtomicBool) -> Result
     Ok(summary)
 }
 
+/// `round_trips` of a host's floor with payloads `F`, then the end marker.
+fn measure<F: FloorPayload>(node: &Node<Ipc>, context: &RunContext, round_trips: usize) -> Result<(), SupervisorError> {
+    let mut probe = FloorProbe::<F>::host(node, context.wait, context.run_id, &context.work_dir)?;
+    probe.measure(round_trips)?;
+    probe.end()
+}
+
 /// The remote host's run: the bridge, the run's services, the agents, until
 /// they end; false if it was stopped before the run was found.
 fn run_here(host: &mut Host<'_>, stop: &AtomicBool) -> Result<bool, SupervisorError> {
@@ -440,6 +471,7 @@ fn run_here(host: &mut Host<'_>, stop: &AtomicBool) -> Result<bool, SupervisorEr
         work_dir: host.work_dir.clone(),
     });
     host.info = Some(info.clone());
+    host.measure_floor(&node, &info)?;
     for &k in &info.remote {
         host.start_agent(info.roster.agent(k), false)?;
     }

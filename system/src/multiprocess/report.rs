@@ -12,6 +12,7 @@ use serde::Serialize;
 
 use super::Clock;
 use super::agent_process::compute_histogram;
+use super::floor_probe::REMOTE_HOST_FLOOR;
 use super::sim_process::{AbortedEpisode, FLOOR, ROUND_TRIP, keeper_round_trip_histogram};
 use super::supervisor::{Fault, ResumeCheck, RunRecord, SupervisorConfig, SupervisorError, json_error};
 use crate::ipc::convert::Rejections;
@@ -74,6 +75,10 @@ pub struct SystemSummary {
     pub keeper_latency_us: BTreeMap<String, Percentiles>,
     /// The bare iceoryx2 round trip of the snapshot payload, measured in the same run.
     pub floor_us: Percentiles,
+    /// The same on the host of the remote agents, measured there before they
+    /// started (runs across hosts only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub remote_host_floor_us: Option<Percentiles>,
     /// The agents' compute time per cycle (executor and learner), microseconds.
     pub compute_us: Percentiles,
     /// Median round trip as a multiple of the median floor.
@@ -188,6 +193,9 @@ pub fn summarize(
             })
             .collect(),
         floor_us: floor,
+        remote_host_floor_us: find(histograms, REMOTE_HOST_FLOOR)
+            .filter(|h| h.count() > 0)
+            .map(Latency::percentiles),
         compute_us: percentiles(ALL_COMPUTE),
         round_trip_over_floor_p50: if floor.p50 > 0.0 { latency.p50 / floor.p50 } else { 0.0 },
         rejected_messages: rejected,
@@ -216,6 +224,7 @@ fn latency_table(histograms: &[Latency], summary: &SystemSummary) -> String {
         )
         .chain([
             (FLOOR.to_string(), "iceoryx2 floor".to_string()),
+            (REMOTE_HOST_FLOOR.to_string(), "  on the remote host".to_string()),
             (ALL_COMPUTE.to_string(), "agent compute".to_string()),
         ])
         .chain(keepers.map(|k| (compute_histogram(k), format!("  keeper {}", k + 1))));

@@ -634,7 +634,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
     } else {
         Vec::new()
     };
-    let journal = Journal::open(&journal_path, &replay)?;
+    let journal = Journal::open(&journal_path, &replay, Duration::ZERO)?;
     let totals = replay.last().map(|e| e.totals.clone()).unwrap_or_default();
     let namespace = context.namespace()?;
     let node = node(&namespace, "simulator")?;

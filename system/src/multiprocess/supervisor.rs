@@ -18,7 +18,7 @@ use rand::RngExt;
 use serde::Serialize;
 
 use super::agent_process::{checkpoint_name, compute_histogram, resumed_file};
-use super::floor_probe::FloorProbe;
+use super::floor_probe::{FloorProbe, REMOTE_HOST_FLOOR, WorldFloor};
 use super::launch::{Binaries, LaunchError, Process, set_fifo_priority, spawn, spawn_world};
 use super::sim_process::{FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult, keeper_round_trip_histogram};
 use super::world_agent::{EXIT_PLAN_DOES_NOT_FIT, agent_compute_histogram, agent_result_file};
@@ -115,10 +115,7 @@ pub const REMOTE_FILES_TIMEOUT: Duration = Duration::from_secs(30);
 impl SupervisorConfig {
     /// The run's processes: Keepaway's, or a world's and its agents.
     pub fn roster(&self) -> Roster {
-        match self.spec.domain {
-            learnpnp::experiment::spec::DomainSpec::World { ref plans, .. } => Roster::World { agents: plans.len() },
-            _ => Roster::Keepaway,
-        }
+        Roster::of(&self.spec.domain)
     }
 }
 
@@ -447,7 +444,7 @@ struct Watch<'a> {
     /// World runs: agents that completed their protocol and exited.
     done: Vec<usize>,
     /// World runs: the floor measurement's ports (pings to agent 0).
-    floor: Option<FloorProbe>,
+    floor: Option<FloorProbe<WorldFloor>>,
     /// The run was asked to stop (a signal, or an observer).
     stop_requested: bool,
     /// Lock-step: the host's cycle count and when it last moved.
@@ -552,6 +549,7 @@ impl Watch<'_> {
             clock: self.config.clock,
             wait: self.config.wait,
             checkpoint_every: self.config.checkpoint_every,
+            floor_round_trips: self.config.floor_round_trips,
             spec: serde_json::to_value(&self.config.spec).map_err(json_error("the experiment spec"))?,
         };
         let path = self.context.work_dir.join(RUN_INFO_FILE);
@@ -1074,7 +1072,7 @@ fn read_histograms(dir: &Path, roster: Roster) -> Result<Vec<Latency>, Superviso
         Roster::Keepaway => (0..roster.agents()).map(keeper_round_trip_histogram).collect(),
         Roster::World { .. } => Vec::new(),
     };
-    let names = [ROUND_TRIP.to_string(), FLOOR.to_string()]
+    let names = [ROUND_TRIP.to_string(), FLOOR.to_string(), REMOTE_HOST_FLOOR.to_string()]
         .into_iter()
         .chain((0..roster.agents()).map(compute))
         .chain(keeper_round_trips);
@@ -1209,7 +1207,7 @@ impl<'a> Watch<'a> {
         for &a in &local {
             watch.start(Role::Agent(a), false)?;
         }
-        let mut floor = FloorProbe::open(node, config.wait, watch.context.run_id, work_dir, config.world_period)?;
+        let mut floor = FloorProbe::world(node, config.wait, watch.context.run_id, work_dir, config.world_period)?;
         match config.clock {
             Clock::Lockstep => floor.measure(config.floor_round_trips)?,
             Clock::Realtime => watch.floor = Some(floor),

@@ -20,6 +20,7 @@ use serde::{Deserialize, Serialize};
 use shm_layouts::MAX_ARGS;
 
 use super::agent_process::{checkpoint_name, load_checkpoint, resumed_file};
+use super::background_save::{BackgroundSave, CHECKPOINT_SPACING, Checkpoint};
 use super::journal::{self, Journal};
 use super::sim_process::{ROUND_TRIP, SimTotals, SimulatorResult, histogram_file};
 use super::{HEARTBEAT_EVERY, Pacemaker, ProcessError, RunContext};
@@ -44,6 +45,9 @@ use learnpnp::stepwise::{ActionOutcome, StepError, StepwiseAgent, action_names, 
 /// The exit code of an agent whose plan does not fit the world's
 /// vocabulary: it is not restarted, and the run stops.
 pub const EXIT_PLAN_DOES_NOT_FIT: i32 = 4;
+
+/// How long the agent's journal gathers entries before it writes them.
+const JOURNAL_GATHERING: Duration = Duration::from_millis(10);
 
 /// How often a busy agent looks at the supervisor's commands and sends its heartbeat.
 const HOUSEKEEPING_EVERY: Duration = Duration::from_millis(1);
@@ -174,6 +178,9 @@ struct WorldAgent {
     compute: Latency,
     round_trip: Latency,
     checkpoint: PathBuf,
+    saver: BackgroundSave,
+    /// Journal entries that could not be written.
+    journal_failures: u64,
     journal: Journal,
     replay: VecDeque<AgentJournalEntry>,
     totals: SimTotals,
@@ -212,38 +219,53 @@ impl WorldAgent {
         )
     }
 
-    /// Writes the checkpoint and the histograms; a failure is reported and
-    /// counted, the previous checkpoint stays.
+    /// Hands the checkpoint and the histograms to the writer thread; a
+    /// failure is reported and counted there, the previous checkpoint stays.
+    /// The journal is written first: it never lags the checkpoint.
     fn save(&mut self) {
-        match persist::save(&self.checkpoint, &self.values()) {
-            Ok(()) => self.pacemaker.pulse.checkpoints += 1,
-            Err(e) => {
-                self.pacemaker.pulse.checkpoint_failures += 1;
-                report(&format!("error: checkpoint not written, the previous one is kept: {e}"));
-            }
-        }
+        let written = self.journal.flush();
+        self.count_journal_failure(written);
+        let mut files = Vec::new();
         for histogram in [&self.compute, &self.round_trip] {
-            let file = histogram_file(&self.context.work_dir, histogram.name());
             match histogram.to_bytes() {
-                Ok(bytes) => {
-                    if let Err(e) = learnpnp::atomic_file::write_atomic(&file, &bytes) {
-                        report(&format!("error: {}: {e}", file.display()));
-                    }
-                }
+                Ok(bytes) => files.push((histogram_file(&self.context.work_dir, histogram.name()), bytes)),
                 Err(e) => report(&format!("error: {e}")),
             }
         }
+        self.saver.submit(Checkpoint {
+            values: Some((self.checkpoint.clone(), self.values())),
+            files,
+        });
     }
 
-    /// Heartbeat, the supervisor's commands, readiness, floor pings.
+    /// Checkpoints and waits until it is written.
+    fn save_now(&mut self) {
+        self.save();
+        self.saver.flush();
+    }
+
+    /// Reports and counts a journal write that failed.
+    fn count_journal_failure(&mut self, written: Result<(), journal::JournalError>) {
+        if let Err(e) = written {
+            self.journal_failures += 1;
+            report(&format!("error: {e}: episodes not journaled"));
+        }
+    }
+
+    /// Heartbeat, the supervisor's commands, readiness, floor pings, the
+    /// journal's gathered entries.
     fn housekeeping(&mut self) -> Result<(), ProcessError> {
+        let written = self.journal.flush_if_due();
+        self.count_journal_failure(written);
         self.pacemaker.pulse.cycles = self.totals.cycles;
+        self.pacemaker.pulse.checkpoints = self.saver.written();
+        self.pacemaker.pulse.checkpoint_failures = self.saver.failed() + self.journal_failures;
         self.pacemaker.tick(&self.ports.heartbeat)?;
         let (me, run_id) = (Role::Agent(self.settings.agent), self.context.run_id);
         while let Some(order) = receive(&self.ports.control, |m| read_control(m, me, run_id))? {
             match order {
                 Ok(Some(Order::Stop)) => self.stop = true,
-                Ok(Some(Order::Checkpoint)) => self.save(),
+                Ok(Some(Order::Checkpoint)) => self.save_now(),
                 Ok(Some(Order::SimulatorRestarted)) => {
                     // A new world numbers its cycles afresh; the episode in
                     // flight is dropped (the learner is not told its end).
@@ -422,8 +444,9 @@ impl WorldAgent {
         let mut idle = Idle::new(self.context.wait);
         let mut kept: Option<Instant> = None;
         loop {
-            // The supervisor's commands and the heartbeat between snapshots,
-            // not before each: a busy agent looks at them every HOUSEKEEPING_EVERY.
+            // The supervisor's commands, the heartbeat and the journal every
+            // HOUSEKEEPING_EVERY, busy or idle (a poll is quicker without
+            // them); floor pings at every idle poll.
             let busy = match self.next_view()? {
                 Some(view) => {
                     idle = Idle::new(self.context.wait);
@@ -434,12 +457,14 @@ impl WorldAgent {
                 }
                 None => false,
             };
-            if !busy || kept.is_none_or(|t| t.elapsed() >= HOUSEKEEPING_EVERY) {
+            if kept.is_none_or(|t| t.elapsed() >= HOUSEKEEPING_EVERY) {
                 self.housekeeping()?;
                 kept = Some(Instant::now());
                 if self.stop {
                     return Err(ProcessError::Stopped);
                 }
+            } else if !busy {
+                answer_floor(&self.ports, self.context.run_id)?;
             }
             if !busy {
                 idle.pause(&self.ports.wake, MAX_BLOCK)?;
@@ -447,7 +472,8 @@ impl WorldAgent {
         }
     }
 
-    /// Journals a whole episode and checkpoints if one is due. A journal
+    /// Journals a whole episode and checkpoints if one is due (after the
+    /// entry, so that the journal never lags the checkpoint). A journal
     /// entry that cannot be written (a full disk) is reported and counted
     /// with the checkpoint failures: the agent goes on, and a restart would
     /// replay the episodes journaled before it.
@@ -455,10 +481,6 @@ impl WorldAgent {
         if mode == EpisodeMode::Learn {
             self.totals.learning_episodes += 1;
             self.learning_episodes += 1;
-            let every = self.settings.checkpoint_every;
-            if every > 0 && self.learning_episodes.is_multiple_of(every) {
-                self.save();
-            }
         }
         self.totals.seconds += self.started.elapsed().as_secs_f64();
         self.started = Instant::now();
@@ -467,9 +489,11 @@ impl WorldAgent {
             outcome,
             totals: self.totals.clone(),
         };
-        if let Err(e) = self.journal.append(&entry) {
-            self.pacemaker.pulse.checkpoint_failures += 1;
-            report(&format!("error: {e}: the episode is not journaled"));
+        let written = self.journal.append(&entry);
+        self.count_journal_failure(written);
+        let every = self.settings.checkpoint_every;
+        if mode == EpisodeMode::Learn && every > 0 && self.learning_episodes.is_multiple_of(every) {
+            self.save();
         }
     }
 }
@@ -594,7 +618,7 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
     } else {
         Vec::new()
     };
-    let journal = Journal::open(&journal_path, &replay)?;
+    let journal = Journal::open(&journal_path, &replay, JOURNAL_GATHERING)?;
     let mut agent = WorldAgent {
         context: context.clone(),
         settings: settings.clone(),
@@ -608,6 +632,8 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
         compute: Latency::new(agent_compute_histogram(a)),
         round_trip: Latency::new(ROUND_TRIP),
         checkpoint,
+        saver: BackgroundSave::start(CHECKPOINT_SPACING).map_err(ProcessError::Writer)?,
+        journal_failures: 0,
         journal,
         replay: replay.into(),
         totals: SimTotals::default(),
@@ -625,13 +651,13 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
         let path = resumed_file(&context.work_dir, a, std::process::id());
         persist::save(&path, &agent.values())?;
     } else {
-        agent.save();
+        agent.save_now();
     }
     agent.pacemaker.pulse.state = ProcessState::Ready;
     agent.pacemaker.beat(&agent.ports.heartbeat)?;
     let mut output = RunOutput::default();
     let played = run_protocol(&spec, &mut agent, context.run, true, &mut output, |_| {}, || false);
-    agent.save();
+    agent.save_now();
     if let Err(e) = &played
         && agent.stop
     {
