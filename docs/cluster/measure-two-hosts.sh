@@ -19,11 +19,11 @@ echo "== lock-step, one host"; LEARNPNP_IPC_DIR=$R/i1 $S $LOCK --out $R/lock-one
 echo "== lock-step, keeper 3 on host B"
 (LEARNPNP_IPC_DIR=$R/ia ip netns exec lpma $S $LOCK --remote-agents 3 --bridge-listen tcp/198.18.7.1:7447 --out $R/lock-two > $R/lock-two.log 2>&1 &)
 sleep 0.5; LEARNPNP_IPC_DIR=$R/ib ip netns exec lpmb $S remote --bridge-connect tcp/198.18.7.1:7447 --out $R/lock-b > /dev/null 2>&1
-sleep 2; grep -E "round trip|floor|cycles/s|^  keeper" $R/lock-two.log
+sleep 2; grep -E "round trip|floor|remote host|cycles/s|^  keeper" $R/lock-two.log
 cmp $R/lock-one/episodes.csv $R/lock-two/episodes.csv && echo "episodes.csv identical"
 RT="soak --duration 60 --mode realtime --seed 2011"
 echo "== real time, one host"; LEARNPNP_IPC_DIR=$R/i2 $S $RT --out $R/rt-one 2>&1 | grep -E "round trip|floor|cycles/s|missed|^  keeper"
 echo "== real time, keeper 3 on host B"
 (LEARNPNP_IPC_DIR=$R/ia ip netns exec lpma $S $RT --remote-agents 3 --bridge-listen tcp/198.18.7.1:7448 --out $R/rt-two > $R/rt-two.log 2>&1 &)
 sleep 0.5; LEARNPNP_IPC_DIR=$R/ib ip netns exec lpmb $S remote --bridge-connect tcp/198.18.7.1:7448 --out $R/rt-b > /dev/null 2>&1
-sleep 2; grep -E "round trip|floor|cycles/s|missed|^  keeper" $R/rt-two.log
+sleep 2; grep -E "round trip|floor|remote host|cycles/s|missed|^  keeper" $R/rt-two.log

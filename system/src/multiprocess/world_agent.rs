@@ -171,6 +171,9 @@ struct WorldAgent {
     ports: WorldAgentPorts,
     stepwise: StepwiseAgent,
     binding: Binding,
+    /// The plan's atoms that hold in the snapshot being taken (kept to save
+    /// an allocation a cycle).
+    holds: Vec<learnpnp::AtomId>,
     atoms: usize,
     fluents: usize,
     algorithm: &'static str,
@@ -385,15 +388,16 @@ impl WorldAgent {
             self.stepwise.end_episode();
             (None, true)
         } else {
-            let holds: Vec<learnpnp::AtomId> = self
-                .binding
-                .atoms
-                .iter()
-                .enumerate()
-                .filter(|&(_, &w)| view.holds(w))
-                .map(|(i, _)| learnpnp::AtomId(i as u32))
-                .collect();
-            self.stepwise.set_atoms(&holds);
+            self.holds.clear();
+            self.holds.extend(
+                self.binding
+                    .atoms
+                    .iter()
+                    .enumerate()
+                    .filter(|&(_, &w)| view.holds(w))
+                    .map(|(i, _)| learnpnp::AtomId(i as u32)),
+            );
+            self.stepwise.set_atoms(&self.holds);
             let outcome = match view.action_status {
                 ActionStatus::Running => ActionOutcome::Running,
                 ActionStatus::Failed => ActionOutcome::Failed,
@@ -625,6 +629,7 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
         ports,
         stepwise,
         binding,
+        holds: Vec::new(),
         atoms: vocabulary.atoms.len(),
         fluents: vocabulary.fluents.len(),
         algorithm: spec.algorithm.name(),
