@@ -62,6 +62,8 @@ pub struct Percentiles {
     pub p999: f64,
     /// The largest value.
     pub max: f64,
+    /// The mean (what a rate of back-to-back round trips is the inverse of).
+    pub mean: f64,
 }
 
 /// A named latency histogram.
@@ -113,7 +115,7 @@ impl Latency {
         self.histogram.value_at_quantile(quantile) as f64 / 1000.0
     }
 
-    /// p50, p90, p99, p99.9 and max in microseconds (zeros when empty).
+    /// p50, p90, p99, p99.9, max and mean in microseconds (zeros when empty).
     pub fn percentiles(&self) -> Percentiles {
         if self.histogram.is_empty() {
             return Percentiles::default();
@@ -124,6 +126,7 @@ impl Latency {
             p99: self.quantile_us(0.99),
             p999: self.quantile_us(0.999),
             max: self.histogram.max() as f64 / 1000.0,
+            mean: self.histogram.mean() / 1000.0,
         }
     }
 
