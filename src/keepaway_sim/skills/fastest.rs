@@ -53,7 +53,7 @@ impl BallEstimates {
     }
 
     /// [`cycles_of`] player `j` to the ball's predicted position after `i` cycles.
-    fn cycles_to_ball_after(&mut self, view: &PlayerView, j: usize, i: u32, cfg: &KeepawayConfig) -> u32 {
+    pub(crate) fn cycles_to_ball_after(&mut self, view: &PlayerView, j: usize, i: u32, cfg: &KeepawayConfig) -> u32 {
         let at = usize::try_from(i).ok().filter(|&i| i < Self::CYCLES);
         if let Some(c) = at.and_then(|i| self.cycles.get(j).map(|row| row[i]))
             && c != Self::UNSET
