@@ -49,7 +49,7 @@ use super::geometry::{Vec2, normalize_deg};
 use super::params::{KeepawayConfig, ServerParams, VisionMode};
 use super::perception::{PlayerId, PlayerView, SeenBall, SeenPlayer};
 use super::see::{SeeMessage, SenseBody};
-use super::skills::fastest::BallEstimates;
+use super::skills::fastest::{BallEstimates, fastest_among};
 use super::skills::predict::{Kinematics, RunBound, after_command, ball_pos_after};
 use super::world::{NUM_PLAYERS, Side};
 
@@ -758,24 +758,6 @@ fn fastest_opponent(view: &PlayerView, known: impl Fn(usize) -> bool, cfg: &Keep
         })
         .map(|(j, _)| j)
     })
-}
-
-/// The candidate with the fewest `cycles`, under 100 (ties to the first), and
-/// its cycles; `None` if there is none.
-fn fastest_among(
-    candidates: impl Iterator<Item = usize>,
-    mut cycles: impl FnMut(usize) -> u32,
-) -> Option<(usize, u32)> {
-    let mut fastest = None;
-    let mut min = 100u32;
-    for j in candidates {
-        let c = cycles(j);
-        if c < min {
-            min = c;
-            fastest = Some((j, c));
-        }
-    }
-    fastest
 }
 
 /// The view as the framework's world model holds it after a see message, for

@@ -388,16 +388,16 @@ pub(crate) fn cycles_for_distance(dist: f64, speed: f64, sp: &ServerParams) -> u
 /// dash acceleration (either direction), capped at the top speed; the bounds are
 /// kept non-decreasing, so that a constant step extrapolated from one of them
 /// is covered too. [`cycles_to_point`] can then only give `n` cycles or fewer
-/// for a target within [`RunBound::covered`] after `n` cycles plus the
-/// kickable distance: each simulated command moves the player at most one
-/// bound, and `cycles_for_distance` takes off at most one per cycle (its
-/// speed follows the same recursion from no more than the player's speed) and
-/// extrapolates with its last.
+/// (`n` below its cap on simulated cycles) for a target within the bound after
+/// `n` cycles plus the kickable distance: each simulated command moves the
+/// player at most one bound, and `cycles_for_distance` takes off at most one
+/// per cycle (its speed follows the same recursion from no more than the
+/// player's speed) and extrapolates with its last.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct RunBound {
     covered: f64,
     step: f64,
-    first: bool,
+    cycles: u32,
 }
 
 impl RunBound {
@@ -412,20 +412,20 @@ impl RunBound {
         speed.is_finite().then_some(RunBound {
             covered: 0.0,
             step: speed,
-            first: true,
+            cycles: 0,
         })
     }
 
     /// One more cycle.
     pub(crate) fn advance(&mut self, sp: &ServerParams) {
         let acc = sp.max_power.abs().max(sp.min_power.abs()) * sp.dash_power_rate * sp.effort;
-        self.step = if self.first {
+        self.step = if self.cycles == 0 {
             (self.step + acc).min(sp.player_speed_max)
         } else {
             self.step
                 .max((self.step * sp.player_decay + acc).min(sp.player_speed_max))
         };
-        self.first = false;
+        self.cycles = self.cycles.saturating_add(1);
         self.covered += self.step;
     }
 
@@ -433,7 +433,7 @@ impl RunBound {
     /// kickable distance `reach`) in the cycles run so far: if not,
     /// [`cycles_to_point`] estimates more cycles for it.
     pub(crate) fn may_arrive(&self, dist: f64, reach: f64) -> bool {
-        !(dist.is_finite() && dist > self.covered + reach + Self::ROUNDING)
+        self.cycles >= MAX_SIMULATED_CYCLES || !(dist.is_finite() && dist > self.covered + reach + Self::ROUNDING)
     }
 }
 
