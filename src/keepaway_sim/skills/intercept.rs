@@ -329,14 +329,15 @@ fn search_interception(
 /// The distance from `at` at which the viewer ends after `n` commands of
 /// [`Mover::move_command`] towards it, each aiming to arrive in the cycles
 /// left. With `prune`, `None` as soon as the point is out of reach: farther
-/// than the cycles left at top speed (no cycle moves a player farther) plus
-/// the kickable distance, so the run could only end out of reach.
+/// than the cycles left at the player's [`Mover::step_limit`] (no cycle moves
+/// it farther) plus the kickable distance, so the run could only end out of
+/// reach.
 fn run_to(mover: Mover, at: Vec2, n: u32, back: f64, prune: bool, sp: &ServerParams) -> Option<f64> {
     let out_of_reach = sp.kickable_distance() + 1e-9;
     let mut m = mover;
     for step in 0..n {
-        // Squared: no square root on the run's critical path.
-        let bound = f64::from(n - step) * sp.player_speed_max + out_of_reach;
+        // Squared: no square root of the distance on the run's critical path.
+        let bound = f64::from(n - step) * m.step_limit(sp) + out_of_reach;
         if prune && m.pos().dist_sq(at) > bound * bound {
             return None;
         }

@@ -95,6 +95,19 @@ impl Mover {
         self.pos
     }
 
+    /// The most it can move in any one of the coming cycles, whatever it is
+    /// commanded: the next cycle's [`RunBound`] step, or the speed at which
+    /// those steps settle if larger (they never pass the larger of the two).
+    pub(crate) fn step_limit(&self, sp: &ServerParams) -> f64 {
+        let acc = dash_acceleration_limit(sp);
+        let settled = if sp.player_decay < 1.0 {
+            (acc / (1.0 - sp.player_decay)).min(sp.player_speed_max)
+        } else {
+            sp.player_speed_max
+        };
+        (self.vel.norm() + acc).min(sp.player_speed_max).max(settled)
+    }
+
     fn kinematics(&self) -> Kinematics {
         Kinematics {
             pos: self.pos,
@@ -382,6 +395,11 @@ pub(crate) fn cycles_for_distance(dist: f64, speed: f64, sp: &ServerParams) -> u
     cycles
 }
 
+/// The largest change of velocity one dash can make (either direction).
+fn dash_acceleration_limit(sp: &ServerParams) -> f64 {
+    sp.max_power.abs().max(sp.min_power.abs()) * sp.dash_power_rate * sp.effort
+}
+
 /// How far a player can at most get from where it stands in each of the next
 /// cycles, whatever it is commanded: a cycle's displacement is the velocity
 /// after its command, at most the last cycle's bound decayed plus the largest
@@ -418,7 +436,7 @@ impl RunBound {
 
     /// One more cycle.
     pub(crate) fn advance(&mut self, sp: &ServerParams) {
-        let acc = sp.max_power.abs().max(sp.min_power.abs()) * sp.dash_power_rate * sp.effort;
+        let acc = dash_acceleration_limit(sp);
         self.step = if self.cycles == 0 {
             (self.step + acc).min(sp.player_speed_max)
         } else {
