@@ -49,8 +49,8 @@ use super::geometry::{Vec2, normalize_deg};
 use super::params::{KeepawayConfig, ServerParams, VisionMode};
 use super::perception::{PlayerId, PlayerView, SeenBall, SeenPlayer};
 use super::see::{SeeMessage, SenseBody};
-use super::skills::fastest::BallEstimates;
-use super::skills::predict::{Kinematics, after_command, ball_pos_after};
+use super::skills::fastest::{BallEstimates, fastest_among};
+use super::skills::predict::{Kinematics, RunBound, after_command, ball_pos_after};
 use super::world::{NUM_PLAYERS, Side};
 
 /// Confidence lost per cycle since an object was last seen
@@ -712,27 +712,52 @@ fn own_roll(me: &Kinematics, sp: &ServerParams) -> Vec2 {
 /// cycles and, among the known opponents who may reach it in `i` cycles, the one
 /// with the fewest estimated cycles (ties to the first); the first `i` at which
 /// that estimate is at most `i` decides, else the last one found at the horizon.
+///
+/// Only the estimates that can decide are made: at each `i`, those of the
+/// opponents who could possibly arrive within `i` cycles ([`RunBound`]; any other
+/// estimates more than `i`, so can neither end the search nor be the fewest
+/// where it ends); and if none ends it, those of the last `i` at which any
+/// opponent was estimated, found from the horizon down. A test compares this
+/// with the framework's search, every estimate made.
 fn fastest_opponent(view: &PlayerView, known: impl Fn(usize) -> bool, cfg: &KeepawayConfig) -> Option<usize> {
+    let sp = &cfg.server;
     let horizon = cfg.skills.intercept_horizon.min(1000);
-    let mut fastest = None;
+    let reach = sp.kickable_distance();
+    let opponents = view.side().opponent().indices();
+    let mut known_opponent = [false; NUM_PLAYERS];
+    let mut bounds = [None; NUM_PLAYERS];
+    for j in opponents.clone().filter(|&j| known(j)) {
+        known_opponent[j] = true;
+        bounds[j] = RunBound::new(view.players[j].vel);
+    }
+    let may_reach = |j: usize, target: Vec2, i: u32| {
+        known_opponent[j] && view.players[j].pos.dist(target) / sp.player_speed_max < f64::from(i) + 1.0
+    };
     let mut estimates = BallEstimates::default();
     for i in 0..=horizon {
-        let target = ball_pos_after(&view.ball, i, &cfg.server);
-        let mut min = 100u32;
-        for j in view.side().opponent().indices().filter(|&j| known(j)) {
-            if view.players[j].pos.dist(target) / cfg.server.player_speed_max < f64::from(i) + 1.0 {
-                let c = estimates.cycles_to(view, j, target, cfg);
-                if c < min {
-                    min = c;
-                    fastest = Some(j);
-                }
-            }
+        let target = ball_pos_after(&view.ball, i, sp);
+        let may_arrive = |j: usize| {
+            may_reach(j, target, i) && bounds[j].is_none_or(|b| b.may_arrive(view.players[j].pos.dist(target), reach))
+        };
+        let fastest = fastest_among(opponents.clone().filter(|&j| may_arrive(j)), |j| {
+            estimates.cycles_to_ball_after(view, j, i, cfg)
+        });
+        if let Some((j, c)) = fastest
+            && c <= i
+        {
+            return Some(j);
         }
-        if min <= i {
-            break;
+        for b in bounds.iter_mut().flatten() {
+            b.advance(sp);
         }
     }
-    fastest
+    (0..=horizon).rev().find_map(|i| {
+        let target = ball_pos_after(&view.ball, i, sp);
+        fastest_among(opponents.clone().filter(|&j| may_reach(j, target, i)), |j| {
+            estimates.cycles_to_ball_after(view, j, i, cfg)
+        })
+        .map(|(j, _)| j)
+    })
 }
 
 /// The view as the framework's world model holds it after a see message, for
@@ -806,6 +831,119 @@ mod tests {
         let fw = KeepawayConfig::default();
         assert_eq!(fw.vision, VisionMode::Framework);
         assert_eq!(believed(&v, &fw), v);
+    }
+
+    /// The framework's search for the fastest opponent, every estimate made
+    /// (what [`fastest_opponent`] prunes).
+    fn fastest_opponent_exhaustive(
+        view: &PlayerView,
+        known: impl Fn(usize) -> bool,
+        cfg: &KeepawayConfig,
+    ) -> Option<usize> {
+        let horizon = cfg.skills.intercept_horizon.min(1000);
+        let mut fastest = None;
+        for i in 0..=horizon {
+            let target = ball_pos_after(&view.ball, i, &cfg.server);
+            let mut min = 100u32;
+            for j in view.side().opponent().indices().filter(|&j| known(j)) {
+                if view.players[j].pos.dist(target) / cfg.server.player_speed_max < f64::from(i) + 1.0 {
+                    let c = crate::keepaway_sim::skills::fastest::cycles_of(view, j, target, cfg);
+                    if c < min {
+                        min = c;
+                        fastest = Some(j);
+                    }
+                }
+            }
+            if min <= i {
+                break;
+            }
+        }
+        fastest
+    }
+
+    /// Pruning the fastest-opponent search changes no answer: in every
+    /// player's view of every cycle of 40 episodes, with the ball's velocity
+    /// (a pass, a deflection) and the players' velocities (up to beyond the top
+    /// speed) perturbed at random, and a random set of opponents known.
+    #[test]
+    fn pruning_changes_no_fastest_opponent() {
+        use crate::keepaway_sim::episode::Keepaway;
+        use crate::keepaway_sim::perception::perceive;
+        use crate::keepaway_sim::policies::BaselinePolicy;
+        use rand::RngExt;
+
+        let cfg = KeepawayConfig::default();
+        let mut rng = crate::rng::seeded(11);
+        let (mut checked, mut found) = (0, 0);
+        for seed in 0..40 {
+            let mut game = Keepaway::new(cfg, seed).expect("valid config");
+            let mut policy = BaselinePolicy::random(seed);
+            while game.step(&mut policy).is_none() {
+                let world = *game.simulator().world();
+                for id in (0..NUM_PLAYERS).filter_map(PlayerId::new) {
+                    let mut view = perceive(&world, id, &cfg);
+                    if rng.random::<f64>() < 0.5 {
+                        view.ball.vel = Vec2::polar(rng.random_range(0.0..2.7), rng.random_range(-180.0..180.0));
+                    }
+                    for p in &mut view.players {
+                        if rng.random::<f64>() < 0.3 {
+                            p.vel = Vec2::polar(rng.random_range(0.0..1.5), rng.random_range(-180.0..180.0));
+                        }
+                    }
+                    let known: [bool; NUM_PLAYERS] = std::array::from_fn(|_| rng.random::<f64>() < 0.9);
+                    let pruned = fastest_opponent(&view, |j| known[j], &cfg);
+                    assert_eq!(
+                        pruned,
+                        fastest_opponent_exhaustive(&view, |j| known[j], &cfg),
+                        "seed {seed}, cycle {}, player {id:?}",
+                        view.cycle
+                    );
+                    checked += 1;
+                    found += usize::from(pruned.is_some());
+                }
+            }
+        }
+        assert!(checked > 8000 && found > checked / 2, "{checked} views, {found} found");
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2000))]
+        /// The same over arbitrary views: players and ball anywhere in 60 m x
+        /// 60 m, any velocities up to twice the top speeds, any bodies, any
+        /// horizon up to 40.
+        #[test]
+        fn pruning_changes_no_fastest_opponent_anywhere(
+            me in 0usize..NUM_PLAYERS,
+            xs in proptest::array::uniform6(-30.0..30.0f64),
+            ys in proptest::array::uniform6(-30.0..30.0f64),
+            speeds in proptest::array::uniform6(0.0..2.0f64),
+            headings in proptest::array::uniform6(-180.0..180.0f64),
+            bodies in proptest::array::uniform5(-180.0..180.0f64),
+            ball_speed in 0.0..5.4f64,
+            known in proptest::array::uniform5(proptest::bool::weighted(0.9)),
+            horizon in 0u32..40,
+        ) {
+            let mut cfg = KeepawayConfig::default();
+            cfg.skills.intercept_horizon = horizon;
+            let players: [SeenPlayer; NUM_PLAYERS] = std::array::from_fn(|i| SeenPlayer {
+                pos: Vec2::new(xs[i], ys[i]),
+                vel: Vec2::polar(speeds[i], headings[i]),
+                body: bodies[i],
+            });
+            let view = PlayerView {
+                cycle: 0,
+                me: PlayerId::new(me).expect("valid id"),
+                ball: SeenBall {
+                    pos: Vec2::new(xs[NUM_PLAYERS], ys[NUM_PLAYERS]),
+                    vel: Vec2::polar(ball_speed, headings[NUM_PLAYERS]),
+                },
+                players,
+            };
+            proptest::prop_assert_eq!(
+                fastest_opponent(&view, |j| known[j], &cfg),
+                fastest_opponent_exhaustive(&view, |j| known[j], &cfg)
+            );
+        }
     }
 
     #[test]

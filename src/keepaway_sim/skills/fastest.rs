@@ -1,7 +1,7 @@
 //! Who gets to the ball first, as the framework's world model decides it
 //! (`createInterceptFeatures`, `getFastestInSetTo` and `predictNrCyclesToObject`).
 
-use super::predict::{Estimate, Kinematics, Mover, ball_pos_after, cycles_to_point, cycles_to_point_from};
+use super::predict::{Estimate, Kinematics, Mover, RunBound, ball_pos_after, cycles_to_point, cycles_to_point_from};
 use crate::keepaway_sim::geometry::Vec2;
 use crate::keepaway_sim::params::KeepawayConfig;
 use crate::keepaway_sim::perception::PlayerView;
@@ -53,7 +53,7 @@ impl BallEstimates {
     }
 
     /// [`cycles_of`] player `j` to the ball's predicted position after `i` cycles.
-    fn cycles_to_ball_after(&mut self, view: &PlayerView, j: usize, i: u32, cfg: &KeepawayConfig) -> u32 {
+    pub(crate) fn cycles_to_ball_after(&mut self, view: &PlayerView, j: usize, i: u32, cfg: &KeepawayConfig) -> u32 {
         let at = usize::try_from(i).ok().filter(|&i| i < Self::CYCLES);
         if let Some(c) = at.and_then(|i| self.cycles.get(j).map(|row| row[i]))
             && c != Self::UNSET
@@ -135,38 +135,71 @@ pub fn fastest_teammate(view: &PlayerView, cfg: &KeepawayConfig) -> Option<usize
 }
 
 /// [`fastest_teammate`], keeping its estimates in `memo` (made for this view).
+///
+/// Only the estimates that can decide are made: at each `i` before the
+/// horizon, those of the players who could possibly arrive within `i` cycles
+/// ([`RunBound`]; any other estimates more than `i`, so can neither end the
+/// search nor be the fewest where it ends); at the horizon, the teammates' of
+/// the last `i` at which any was estimated, found from the horizon down. A test
+/// compares this with the framework's search, every estimate made.
 pub fn fastest_teammate_with(view: &PlayerView, cfg: &KeepawayConfig, memo: &mut BallEstimates) -> Option<usize> {
+    let sp = &cfg.server;
     let horizon = cfg.skills.intercept_horizon.min(1000);
+    let reach = sp.kickable_distance();
     let mates = view.side().indices();
     let opponents = view.side().opponent().indices();
-    let mut fastest_mate = None;
-    for i in 0..=horizon {
-        let target = ball_pos_after(&view.ball, i, &cfg.server);
-        let (mut min_mate, mut min_opp) = (100u32, 100u32);
+    let mut bounds = view.players.map(|p| RunBound::new(p.vel));
+    for i in 0..horizon {
+        let target = ball_pos_after(&view.ball, i, sp);
         let cycles = f64::from(i);
-        for j in mates.clone() {
-            if may_reach(view, j, target, cycles, cfg) {
-                let c = memo.cycles_to_ball_after(view, j, i, cfg);
-                if c < min_mate {
-                    min_mate = c;
-                    fastest_mate = Some(j);
-                }
-            }
+        let may_arrive = |j: usize| {
+            may_reach(view, j, target, cycles, cfg)
+                && bounds[j].is_none_or(|b| b.may_arrive(view.players[j].pos.dist(target), reach))
+        };
+        if let Some((j, c)) = fastest_among(mates.clone().filter(|&j| may_arrive(j)), |j| {
+            memo.cycles_to_ball_after(view, j, i, cfg)
+        }) && c <= i
+        {
+            return Some(j);
         }
-        if i == horizon || min_mate <= i {
-            return fastest_mate;
-        }
-        for j in opponents.clone() {
-            if may_reach(view, j, target, cycles, cfg) {
-                min_opp = min_opp.min(memo.cycles_to_ball_after(view, j, i, cfg));
-            }
-        }
-        if min_opp <= i {
+        if opponents
+            .clone()
+            .filter(|&j| may_arrive(j))
+            .any(|j| memo.cycles_to_ball_after(view, j, i, cfg) <= i)
+        {
             return fastest_to_point(view, mates, target, cfg, |j| memo.cycles_to_ball_after(view, j, i, cfg))
                 .map(|(j, _)| j);
         }
+        for b in bounds.iter_mut().flatten() {
+            b.advance(sp);
+        }
     }
-    fastest_mate
+    (0..=horizon).rev().find_map(|i| {
+        let target = ball_pos_after(&view.ball, i, sp);
+        fastest_among(
+            mates.clone().filter(|&j| may_reach(view, j, target, f64::from(i), cfg)),
+            |j| memo.cycles_to_ball_after(view, j, i, cfg),
+        )
+        .map(|(j, _)| j)
+    })
+}
+
+/// The candidate with the fewest `cycles`, under 100 (ties to the first), and
+/// its cycles; `None` if there is none.
+pub(crate) fn fastest_among(
+    candidates: impl Iterator<Item = usize>,
+    mut cycles: impl FnMut(usize) -> u32,
+) -> Option<(usize, u32)> {
+    let mut fastest = None;
+    let mut min = 100u32;
+    for j in candidates {
+        let c = cycles(j);
+        if c < min {
+            min = c;
+            fastest = Some((j, c));
+        }
+    }
+    fastest
 }
 
 /// Cycles for player `j` (not the viewer) to reach the ball, as the framework's
@@ -176,6 +209,10 @@ pub fn fastest_teammate_with(view: &PlayerView, cfg: &KeepawayConfig, memo: &mut
 /// whenever the player may reach it, the last estimate once the ball's cycles
 /// exceed it. The viewer's own count comes from its interception features in the
 /// framework, which keeper support (the only caller) never asks for.
+///
+/// An estimate the player cannot meet within its `i` cycles ([`RunBound`]) is
+/// not made while it only keeps the search going: it is made if the search
+/// ends on it, or goes on past the cycle after it without a new estimate.
 fn cycles_to_ball(view: &PlayerView, j: usize, cfg: &KeepawayConfig, memo: &mut BallEstimates) -> u32 {
     let Some(p) = view.players.get(j) else {
         return UNKNOWN_CYCLES;
@@ -187,20 +224,40 @@ fn cycles_to_ball(view: &PlayerView, j: usize, cfg: &KeepawayConfig, memo: &mut 
     if ball.vel.norm() < 0.01 {
         return memo.cycles_to(view, j, ball.pos, cfg);
     }
+    let sp = &cfg.server;
+    let reach = sp.kickable_distance();
     let horizon = cfg.skills.intercept_horizon.min(1000);
+    let mut bound = RunBound::new(p.vel);
     let mut i = 0u32;
     let mut to_obj = 100u32;
+    // The `i` of the last estimate, if it was not made (it is more than `i`).
+    let mut skipped: Option<u32> = None;
     let mut prev = Vec2::new(-1000.0, -1000.0);
     let mut at = Vec2::ZERO;
-    while i <= to_obj && i < horizon && at.dist(prev) > 1e-4 {
+    loop {
+        if let Some(s) = skipped.filter(|&s| i > s + 1) {
+            to_obj = memo.cycles_to_ball_after(view, j, s, cfg);
+            skipped = None;
+        }
+        if !((skipped.is_some() || i <= to_obj) && i < horizon && at.dist(prev) > 1e-4) {
+            break;
+        }
         i += 1;
         prev = at;
-        at = ball_pos_after(ball, i, &cfg.server);
+        at = ball_pos_after(ball, i, sp);
+        if let Some(b) = &mut bound {
+            b.advance(sp);
+        }
         if may_reach(view, j, at, f64::from(i), cfg) {
-            to_obj = memo.cycles_to_ball_after(view, j, i, cfg);
+            if bound.is_none_or(|b| b.may_arrive(p.pos.dist(at), reach)) {
+                to_obj = memo.cycles_to_ball_after(view, j, i, cfg);
+                skipped = None;
+            } else {
+                skipped = Some(i);
+            }
         }
     }
-    to_obj
+    skipped.map_or(to_obj, |s| memo.cycles_to_ball_after(view, j, s, cfg))
 }
 
 /// Where a supporting keeper expects the next pass to come from (the framework's
@@ -227,6 +284,160 @@ mod tests {
     use crate::keepaway_sim::episode::Keepaway;
     use crate::keepaway_sim::perception::{PlayerId, perceive};
     use crate::keepaway_sim::policies::BaselinePolicy;
+
+    /// The framework's search for the fastest teammate, every estimate made
+    /// (what [`fastest_teammate_with`] prunes).
+    fn fastest_teammate_exhaustive(view: &PlayerView, cfg: &KeepawayConfig) -> Option<usize> {
+        let horizon = cfg.skills.intercept_horizon.min(1000);
+        let mates = view.side().indices();
+        let mut fastest_mate = None;
+        for i in 0..=horizon {
+            let target = ball_pos_after(&view.ball, i, &cfg.server);
+            let (mut min_mate, mut min_opp) = (100u32, 100u32);
+            let cycles = f64::from(i);
+            for j in mates.clone() {
+                if may_reach(view, j, target, cycles, cfg) {
+                    let c = cycles_of(view, j, target, cfg);
+                    if c < min_mate {
+                        min_mate = c;
+                        fastest_mate = Some(j);
+                    }
+                }
+            }
+            if i == horizon || min_mate <= i {
+                return fastest_mate;
+            }
+            for j in view.side().opponent().indices() {
+                if may_reach(view, j, target, cycles, cfg) {
+                    min_opp = min_opp.min(cycles_of(view, j, target, cfg));
+                }
+            }
+            if min_opp <= i {
+                return fastest_to_point(view, mates, target, cfg, |j| cycles_of(view, j, target, cfg)).map(|(j, _)| j);
+            }
+        }
+        fastest_mate
+    }
+
+    /// The framework's `predictNrCyclesToObject`, every estimate made (what
+    /// `cycles_to_ball` prunes).
+    fn cycles_to_ball_exhaustive(view: &PlayerView, j: usize, cfg: &KeepawayConfig) -> u32 {
+        let ball = &view.ball;
+        if view.players[j].pos.dist(ball.pos) > 40.0 {
+            return UNKNOWN_CYCLES;
+        }
+        if ball.vel.norm() < 0.01 {
+            return cycles_of(view, j, ball.pos, cfg);
+        }
+        let horizon = cfg.skills.intercept_horizon.min(1000);
+        let mut i = 0u32;
+        let mut to_obj = 100u32;
+        let mut prev = Vec2::new(-1000.0, -1000.0);
+        let mut at = Vec2::ZERO;
+        while i <= to_obj && i < horizon && at.dist(prev) > 1e-4 {
+            i += 1;
+            prev = at;
+            at = ball_pos_after(ball, i, &cfg.server);
+            if may_reach(view, j, at, f64::from(i), cfg) {
+                to_obj = cycles_of(view, j, at, cfg);
+            }
+        }
+        to_obj
+    }
+
+    /// [`fastest_teammate_exhaustive`] and [`cycles_to_ball_exhaustive`] for
+    /// every player agree with the pruned searches in `view`.
+    fn assert_pruning_changes_nothing(view: &PlayerView, cfg: &KeepawayConfig) -> Result<(), String> {
+        let fastest = fastest_teammate(view, cfg);
+        let want = fastest_teammate_exhaustive(view, cfg);
+        if fastest != want {
+            return Err(format!("fastest teammate {fastest:?}, exhaustively {want:?}"));
+        }
+        let mut memo = BallEstimates::default();
+        let _ = fastest_teammate_with(view, cfg, &mut memo);
+        for j in 0..view.players.len() {
+            let got = cycles_to_ball(view, j, cfg, &mut memo);
+            let want = cycles_to_ball_exhaustive(view, j, cfg);
+            if got != want {
+                return Err(format!("player {j}: {got} cycles to the ball, exhaustively {want}"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Pruning the fastest-teammate search and the cycles to the ball changes
+    /// no answer: in every
+    /// keeper's and taker's view of every cycle of 40 episodes, with the ball's
+    /// velocity (a pass, a deflection) and the players' velocities (up to
+    /// beyond the top speed) perturbed at random.
+    #[test]
+    fn pruning_changes_no_fastest_teammate() {
+        use crate::keepaway_sim::world::NUM_PLAYERS;
+        use rand::RngExt;
+
+        let cfg = KeepawayConfig::default();
+        let mut rng = crate::rng::seeded(13);
+        let mut checked = 0;
+        for seed in 0..40 {
+            let mut game = Keepaway::new(cfg, seed).expect("valid config");
+            let mut policy = BaselinePolicy::random(seed);
+            while game.step(&mut policy).is_none() {
+                let world = *game.simulator().world();
+                for id in (0..NUM_PLAYERS).filter_map(PlayerId::new) {
+                    let mut view = perceive(&world, id, &cfg);
+                    if rng.random::<f64>() < 0.5 {
+                        view.ball.vel = Vec2::polar(rng.random_range(0.0..2.7), rng.random_range(-180.0..180.0));
+                    }
+                    for p in &mut view.players {
+                        if rng.random::<f64>() < 0.3 {
+                            p.vel = Vec2::polar(rng.random_range(0.0..1.5), rng.random_range(-180.0..180.0));
+                        }
+                    }
+                    if let Err(e) = assert_pruning_changes_nothing(&view, &cfg) {
+                        panic!("seed {seed}, cycle {}, player {id:?}: {e}", view.cycle);
+                    }
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 8000, "{checked} views");
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2000))]
+        /// The same over arbitrary views: players and ball anywhere in 60 m x
+        /// 60 m, any velocities up to twice the top speeds, any bodies, any
+        /// horizon up to 40.
+        #[test]
+        fn pruning_changes_no_fastest_teammate_anywhere(
+            me in 0usize..5,
+            xs in proptest::array::uniform6(-30.0..30.0f64),
+            ys in proptest::array::uniform6(-30.0..30.0f64),
+            speeds in proptest::array::uniform6(0.0..2.0f64),
+            headings in proptest::array::uniform6(-180.0..180.0f64),
+            bodies in proptest::array::uniform5(-180.0..180.0f64),
+            ball_speed in 0.0..5.4f64,
+            horizon in 0u32..40,
+        ) {
+            use crate::keepaway_sim::perception::{SeenBall, SeenPlayer};
+            let mut cfg = KeepawayConfig::default();
+            cfg.skills.intercept_horizon = horizon;
+            let view = PlayerView {
+                cycle: 0,
+                me: PlayerId::new(me).expect("valid id"),
+                ball: SeenBall {
+                    pos: Vec2::new(xs[5], ys[5]),
+                    vel: Vec2::polar(ball_speed, headings[5]),
+                },
+                players: std::array::from_fn(|i| SeenPlayer {
+                    pos: Vec2::new(xs[i], ys[i]),
+                    vel: Vec2::polar(speeds[i], headings[i]),
+                    body: bodies[i],
+                }),
+            };
+            proptest::prop_assert_eq!(assert_pruning_changes_nothing(&view, &cfg), Ok(()));
+        }
+    }
 
     /// One memo shared by the fastest teammate and the pass origin gives what
     /// each computes afresh, in every keeper's view of 20 episodes.

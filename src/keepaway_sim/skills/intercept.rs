@@ -182,7 +182,8 @@ pub fn intercept_close(view: &PlayerView, cfg: &KeepawayConfig) -> Option<Comman
 
 /// `predictCommandToInterceptBall` for the viewer: the command towards its chosen
 /// interception point, `None` for "already there" (the framework's illegal
-/// command), with `close` the result of [`intercept_close`].
+/// command), with `close` giving the result of [`intercept_close`] (asked for
+/// only when it can be the command).
 ///
 /// For `i = 0, 1, ...` while `i` is within the interception horizon (30), at most
 /// 20 past the first reachable cycle, and the ball on the pitch, the ball's
@@ -200,7 +201,7 @@ pub fn intercept_close(view: &PlayerView, cfg: &KeepawayConfig) -> Option<Comman
 pub(crate) fn interception_command(
     view: &PlayerView,
     cfg: &KeepawayConfig,
-    close: Option<Command>,
+    close: impl FnOnce() -> Option<Command>,
     memory: &mut InterceptMemory,
 ) -> Option<Command> {
     search_interception(view, cfg, close, memory, true)
@@ -211,7 +212,7 @@ pub(crate) fn interception_command(
 fn search_interception(
     view: &PlayerView,
     cfg: &KeepawayConfig,
-    close: Option<Command>,
+    close: impl FnOnce() -> Option<Command>,
     memory: &mut InterceptMemory,
     prune: bool,
 ) -> Option<Command> {
@@ -317,7 +318,8 @@ fn search_interception(
     let n = u32::try_from(chosen).unwrap_or(0);
     let point = ball_pos_after(ball, n, sp);
     memory.point = Some(point);
-    if chosen < 3 && close.is_some() {
+    let close = if chosen < 3 { close() } else { None };
+    if close.is_some() {
         close
     } else if pos_after(&me, n.min(4), 0.0, sp).dist(point) < 0.5 {
         None
@@ -329,14 +331,15 @@ fn search_interception(
 /// The distance from `at` at which the viewer ends after `n` commands of
 /// [`Mover::move_command`] towards it, each aiming to arrive in the cycles
 /// left. With `prune`, `None` as soon as the point is out of reach: farther
-/// than the cycles left at top speed (no cycle moves a player farther) plus
-/// the kickable distance, so the run could only end out of reach.
+/// than the cycles left at the player's [`Mover::step_limit`] (no cycle moves
+/// it farther) plus the kickable distance, so the run could only end out of
+/// reach.
 fn run_to(mover: Mover, at: Vec2, n: u32, back: f64, prune: bool, sp: &ServerParams) -> Option<f64> {
     let out_of_reach = sp.kickable_distance() + 1e-9;
     let mut m = mover;
     for step in 0..n {
-        // Squared: no square root on the run's critical path.
-        let bound = f64::from(n - step) * sp.player_speed_max + out_of_reach;
+        // Squared: no square root of the distance on the run's critical path.
+        let bound = f64::from(n - step) * m.step_limit(sp) + out_of_reach;
         if prune && m.pos().dist_sq(at) > bound * bound {
             return None;
         }
@@ -349,8 +352,7 @@ fn run_to(mover: Mover, at: Vec2, n: u32, back: f64, prune: bool, sp: &ServerPar
 /// `interception_command` given [`intercept_close`]; when there is none (already
 /// where the ball will be), turn to the own-frame direction 0.
 pub fn intercept(view: &PlayerView, cfg: &KeepawayConfig, memory: &mut InterceptMemory) -> Command {
-    let close = intercept_close(view, cfg);
-    interception_command(view, cfg, close, memory).unwrap_or_else(|| {
+    interception_command(view, cfg, || intercept_close(view, cfg), memory).unwrap_or_else(|| {
         let me = Kinematics::from(view.own());
         turn_to_point(&me, me.pos + Vec2::polar(1.0, view.side().frame_dir()), 1, &cfg.server)
     })
@@ -419,8 +421,8 @@ mod tests {
                     };
                     let close = intercept_close(&view, &cfg);
                     let (mut pruned, mut exhaustive) = (memory, memory);
-                    let a = search_interception(&view, &cfg, close, &mut pruned, true);
-                    let b = search_interception(&view, &cfg, close, &mut exhaustive, false);
+                    let a = search_interception(&view, &cfg, || close, &mut pruned, true);
+                    let b = search_interception(&view, &cfg, || close, &mut exhaustive, false);
                     assert_eq!(a, b, "seed {seed}, cycle {}, player {id:?}", view.cycle);
                     assert_eq!(pruned, exhaustive);
                     checked += 1;

@@ -95,6 +95,19 @@ impl Mover {
         self.pos
     }
 
+    /// The most it can move in any one of the coming cycles, whatever it is
+    /// commanded: the next cycle's [`RunBound`] step, or the speed at which
+    /// those steps settle if larger (they never pass the larger of the two).
+    pub(crate) fn step_limit(&self, sp: &ServerParams) -> f64 {
+        let acc = dash_acceleration_limit(sp);
+        let settled = if sp.player_decay < 1.0 {
+            (acc / (1.0 - sp.player_decay)).min(sp.player_speed_max)
+        } else {
+            sp.player_speed_max
+        };
+        (self.vel.norm() + acc).min(sp.player_speed_max).max(settled)
+    }
+
     fn kinematics(&self) -> Kinematics {
         Kinematics {
             pos: self.pos,
@@ -380,6 +393,66 @@ pub(crate) fn cycles_for_distance(dist: f64, speed: f64, sp: &ServerParams) -> u
         });
     }
     cycles
+}
+
+/// The largest change of velocity one dash can make (either direction).
+fn dash_acceleration_limit(sp: &ServerParams) -> f64 {
+    sp.max_power.abs().max(sp.min_power.abs()) * sp.dash_power_rate * sp.effort
+}
+
+/// How far a player can at most get from where it stands in each of the next
+/// cycles, whatever it is commanded: a cycle's displacement is the velocity
+/// after its command, at most the last cycle's bound decayed plus the largest
+/// dash acceleration (either direction), capped at the top speed; the bounds are
+/// kept non-decreasing, so that a constant step extrapolated from one of them
+/// is covered too. [`cycles_to_point`] can then only give `n` cycles or fewer
+/// (`n` below its cap on simulated cycles) for a target within the bound after
+/// `n` cycles plus the kickable distance: each simulated command moves the
+/// player at most one bound, and `cycles_for_distance` takes off at most one
+/// per cycle (its speed follows the same recursion from no more than the
+/// player's speed) and extrapolates with its last.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RunBound {
+    covered: f64,
+    step: f64,
+    cycles: u32,
+}
+
+impl RunBound {
+    /// Slack for rounding in the simulated runs (m): far more than their
+    /// accumulated error, far less than anything a decision depends on.
+    const ROUNDING: f64 = 1e-6;
+
+    /// The bound for a player moving at `vel` now (no cycle run yet); `None`
+    /// for a velocity that is not finite (then the estimates bound nothing).
+    pub(crate) fn new(vel: Vec2) -> Option<Self> {
+        let speed = vel.norm();
+        speed.is_finite().then_some(RunBound {
+            covered: 0.0,
+            step: speed,
+            cycles: 0,
+        })
+    }
+
+    /// One more cycle.
+    pub(crate) fn advance(&mut self, sp: &ServerParams) {
+        let acc = dash_acceleration_limit(sp);
+        self.step = if self.cycles == 0 {
+            (self.step + acc).min(sp.player_speed_max)
+        } else {
+            self.step
+                .max((self.step * sp.player_decay + acc).min(sp.player_speed_max))
+        };
+        self.cycles = self.cycles.saturating_add(1);
+        self.covered += self.step;
+    }
+
+    /// Whether a target `dist` from the player could be reached (within the
+    /// kickable distance `reach`) in the cycles run so far: if not,
+    /// [`cycles_to_point`] estimates more cycles for it.
+    pub(crate) fn may_arrive(&self, dist: f64, reach: f64) -> bool {
+        self.cycles >= MAX_SIMULATED_CYCLES || !(dist.is_finite() && dist > self.covered + reach + Self::ROUNDING)
+    }
 }
 
 /// Estimated cycles for a player at `k` to get within kickable distance of `target`
