@@ -27,6 +27,8 @@ pub mod geometry;
 pub mod keeper;
 pub mod params;
 pub mod perception;
+#[cfg(test)]
+mod played_views;
 pub mod policies;
 pub mod positions;
 pub mod rcg;

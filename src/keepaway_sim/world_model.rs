@@ -867,42 +867,26 @@ mod tests {
     /// speed) perturbed at random, and a random set of opponents known.
     #[test]
     fn pruning_changes_no_fastest_opponent() {
-        use crate::keepaway_sim::episode::Keepaway;
-        use crate::keepaway_sim::perception::perceive;
-        use crate::keepaway_sim::policies::BaselinePolicy;
+        use crate::keepaway_sim::played_views::{every_player, for_each_view, perturb_velocities};
         use rand::RngExt;
 
         let cfg = KeepawayConfig::default();
         let mut rng = crate::rng::seeded(11);
         let (mut checked, mut found) = (0, 0);
-        for seed in 0..40 {
-            let mut game = Keepaway::new(cfg, seed).expect("valid config");
-            let mut policy = BaselinePolicy::random(seed);
-            while game.step(&mut policy).is_none() {
-                let world = *game.simulator().world();
-                for id in (0..NUM_PLAYERS).filter_map(PlayerId::new) {
-                    let mut view = perceive(&world, id, &cfg);
-                    if rng.random::<f64>() < 0.5 {
-                        view.ball.vel = Vec2::polar(rng.random_range(0.0..2.7), rng.random_range(-180.0..180.0));
-                    }
-                    for p in &mut view.players {
-                        if rng.random::<f64>() < 0.3 {
-                            p.vel = Vec2::polar(rng.random_range(0.0..1.5), rng.random_range(-180.0..180.0));
-                        }
-                    }
-                    let known: [bool; NUM_PLAYERS] = std::array::from_fn(|_| rng.random::<f64>() < 0.9);
-                    let pruned = fastest_opponent(&view, |j| known[j], &cfg);
-                    assert_eq!(
-                        pruned,
-                        fastest_opponent_exhaustive(&view, |j| known[j], &cfg),
-                        "seed {seed}, cycle {}, player {id:?}",
-                        view.cycle
-                    );
-                    checked += 1;
-                    found += usize::from(pruned.is_some());
-                }
-            }
-        }
+        for_each_view(cfg, 0..40, &every_player(), |seed, mut view| {
+            perturb_velocities(&mut view, &mut rng);
+            let known: [bool; NUM_PLAYERS] = std::array::from_fn(|_| rng.random::<f64>() < 0.9);
+            let pruned = fastest_opponent(&view, |j| known[j], &cfg);
+            assert_eq!(
+                pruned,
+                fastest_opponent_exhaustive(&view, |j| known[j], &cfg),
+                "seed {seed}, cycle {}, player {:?}",
+                view.cycle,
+                view.me
+            );
+            checked += 1;
+            found += usize::from(pruned.is_some());
+        });
         assert!(checked > 8000 && found > checked / 2, "{checked} views, {found} found");
     }
 

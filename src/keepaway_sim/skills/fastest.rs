@@ -281,9 +281,7 @@ pub fn pass_origin_with(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::keepaway_sim::episode::Keepaway;
-    use crate::keepaway_sim::perception::{PlayerId, perceive};
-    use crate::keepaway_sim::policies::BaselinePolicy;
+    use crate::keepaway_sim::perception::PlayerId;
 
     /// The framework's search for the fastest teammate, every estimate made
     /// (what [`fastest_teammate_with`] prunes).
@@ -372,34 +370,18 @@ mod tests {
     /// beyond the top speed) perturbed at random.
     #[test]
     fn pruning_changes_no_fastest_teammate() {
-        use crate::keepaway_sim::world::NUM_PLAYERS;
-        use rand::RngExt;
+        use crate::keepaway_sim::played_views::{every_player, for_each_view, perturb_velocities};
 
         let cfg = KeepawayConfig::default();
         let mut rng = crate::rng::seeded(13);
         let mut checked = 0;
-        for seed in 0..40 {
-            let mut game = Keepaway::new(cfg, seed).expect("valid config");
-            let mut policy = BaselinePolicy::random(seed);
-            while game.step(&mut policy).is_none() {
-                let world = *game.simulator().world();
-                for id in (0..NUM_PLAYERS).filter_map(PlayerId::new) {
-                    let mut view = perceive(&world, id, &cfg);
-                    if rng.random::<f64>() < 0.5 {
-                        view.ball.vel = Vec2::polar(rng.random_range(0.0..2.7), rng.random_range(-180.0..180.0));
-                    }
-                    for p in &mut view.players {
-                        if rng.random::<f64>() < 0.3 {
-                            p.vel = Vec2::polar(rng.random_range(0.0..1.5), rng.random_range(-180.0..180.0));
-                        }
-                    }
-                    if let Err(e) = assert_pruning_changes_nothing(&view, &cfg) {
-                        panic!("seed {seed}, cycle {}, player {id:?}: {e}", view.cycle);
-                    }
-                    checked += 1;
-                }
+        for_each_view(cfg, 0..40, &every_player(), |seed, mut view| {
+            perturb_velocities(&mut view, &mut rng);
+            if let Err(e) = assert_pruning_changes_nothing(&view, &cfg) {
+                panic!("seed {seed}, cycle {}, player {:?}: {e}", view.cycle, view.me);
             }
-        }
+            checked += 1;
+        });
         assert!(checked > 8000, "{checked} views");
     }
 
@@ -443,25 +425,20 @@ mod tests {
     /// each computes afresh, in every keeper's view of 20 episodes.
     #[test]
     fn shared_estimates_change_nothing() {
+        use crate::keepaway_sim::played_views::for_each_view;
+
         let cfg = KeepawayConfig::default();
         let mut views = 0;
-        for seed in 0..20 {
-            let mut game = Keepaway::new(cfg, seed).expect("valid config");
-            let mut policy = BaselinePolicy::random(seed);
-            while game.step(&mut policy).is_none() {
-                for id in PlayerId::KEEPERS {
-                    let view = perceive(game.simulator().world(), id, &cfg);
-                    let mut memo = BallEstimates::default();
-                    let fastest = fastest_teammate_with(&view, &cfg, &mut memo);
-                    assert_eq!(fastest, fastest_teammate(&view, &cfg));
-                    for j in [fastest, Some(0), Some(1), Some(2)] {
-                        let shared = pass_origin_with(&view, j, &cfg, &mut memo);
-                        assert_eq!(shared, pass_origin(&view, j, &cfg));
-                    }
-                    views += 1;
-                }
+        for_each_view(cfg, 0..20, &PlayerId::KEEPERS, |_, view| {
+            let mut memo = BallEstimates::default();
+            let fastest = fastest_teammate_with(&view, &cfg, &mut memo);
+            assert_eq!(fastest, fastest_teammate(&view, &cfg));
+            for j in [fastest, Some(0), Some(1), Some(2)] {
+                let shared = pass_origin_with(&view, j, &cfg, &mut memo);
+                assert_eq!(shared, pass_origin(&view, j, &cfg));
             }
-        }
+            views += 1;
+        });
         assert!(views > 1000, "{views} views");
     }
 }

@@ -387,49 +387,36 @@ mod tests {
     /// exhaustive search give the same command and leave the same memory.
     #[test]
     fn pruning_changes_no_interception_decision() {
-        use crate::keepaway_sim::episode::Keepaway;
-        use crate::keepaway_sim::perception::{PlayerId, perceive};
-        use crate::keepaway_sim::policies::BaselinePolicy;
-        use crate::keepaway_sim::world::NUM_PLAYERS;
-        use crate::rng::seeded;
+        use crate::keepaway_sim::played_views::{every_player, for_each_view};
         use rand::RngExt;
 
         let cfg = KeepawayConfig::default();
-        let mut rng = seeded(7);
+        let mut rng = crate::rng::seeded(7);
         let (mut checked, mut commanded) = (0, 0);
-        for seed in 0..60 {
-            let mut game = Keepaway::new(cfg, seed).expect("valid config");
-            let mut policy = BaselinePolicy::random(seed);
-            while game.step(&mut policy).is_none() {
-                let world = *game.simulator().world();
-                for id in (0..NUM_PLAYERS).filter_map(PlayerId::new) {
-                    let mut view = perceive(&world, id, &cfg);
-                    let kick = Vec2::polar(rng.random_range(0.0..2.7), rng.random_range(-180.0..180.0));
-                    if rng.random::<f64>() < 0.5 {
-                        view.ball.vel = kick;
-                    }
-                    let memory = if rng.random::<f64>() < 0.5 {
-                        InterceptMemory {
-                            point: Some(
-                                view.ball.pos
-                                    + Vec2::polar(rng.random_range(0.0..3.0), rng.random_range(-180.0..180.0)),
-                            ),
-                            cycle: view.cycle.checked_sub(rng.random_range(0..4)),
-                        }
-                    } else {
-                        InterceptMemory::default()
-                    };
-                    let close = intercept_close(&view, &cfg);
-                    let (mut pruned, mut exhaustive) = (memory, memory);
-                    let a = search_interception(&view, &cfg, || close, &mut pruned, true);
-                    let b = search_interception(&view, &cfg, || close, &mut exhaustive, false);
-                    assert_eq!(a, b, "seed {seed}, cycle {}, player {id:?}", view.cycle);
-                    assert_eq!(pruned, exhaustive);
-                    checked += 1;
-                    commanded += usize::from(a.is_some());
-                }
+        for_each_view(cfg, 0..60, &every_player(), |seed, mut view| {
+            let kick = Vec2::polar(rng.random_range(0.0..2.7), rng.random_range(-180.0..180.0));
+            if rng.random::<f64>() < 0.5 {
+                view.ball.vel = kick;
             }
-        }
+            let memory = if rng.random::<f64>() < 0.5 {
+                InterceptMemory {
+                    point: Some(
+                        view.ball.pos + Vec2::polar(rng.random_range(0.0..3.0), rng.random_range(-180.0..180.0)),
+                    ),
+                    cycle: view.cycle.checked_sub(rng.random_range(0..4)),
+                }
+            } else {
+                InterceptMemory::default()
+            };
+            let close = intercept_close(&view, &cfg);
+            let (mut pruned, mut exhaustive) = (memory, memory);
+            let a = search_interception(&view, &cfg, || close, &mut pruned, true);
+            let b = search_interception(&view, &cfg, || close, &mut exhaustive, false);
+            assert_eq!(a, b, "seed {seed}, cycle {}, player {:?}", view.cycle, view.me);
+            assert_eq!(pruned, exhaustive);
+            checked += 1;
+            commanded += usize::from(a.is_some());
+        });
         assert!(
             checked > 12_000 && commanded > checked / 2,
             "{checked} views, {commanded} commands"
