@@ -49,7 +49,7 @@ pub const EXIT_PLAN_DOES_NOT_FIT: i32 = 4;
 /// How long the agent's journal gathers entries before it writes them.
 const JOURNAL_GATHERING: Duration = Duration::from_millis(10);
 
-/// How often a busy agent looks at the supervisor's commands and sends its heartbeat.
+/// How often an agent, busy or idle, looks at the supervisor's commands and sends its heartbeat.
 const HOUSEKEEPING_EVERY: Duration = Duration::from_millis(1);
 
 /// How long an agent waits for the world's vocabulary before it gives up.
