@@ -1,5 +1,6 @@
-//! Test support: the players' views of played episodes, the situations in
-//! which the simulator's pruned searches are compared with exhaustive ones.
+//! Test support: the players' views of played episodes, and arbitrary
+//! views, the situations in which the simulator's pruned searches are
+//! compared with exhaustive ones.
 
 use std::ops::Range;
 
@@ -8,7 +9,7 @@ use rand::RngExt;
 use super::episode::Keepaway;
 use super::geometry::Vec2;
 use super::params::KeepawayConfig;
-use super::perception::{PlayerId, PlayerView, perceive};
+use super::perception::{PlayerId, PlayerView, SeenBall, SeenPlayer, perceive};
 use super::policies::BaselinePolicy;
 use super::world::NUM_PLAYERS;
 use crate::rng::SimRng;
@@ -48,4 +49,33 @@ pub(crate) fn perturb_velocities(view: &mut PlayerView, rng: &mut SimRng) {
             p.vel = Vec2::polar(rng.random_range(0.0..1.5), rng.random_range(-180.0..180.0));
         }
     }
+}
+
+/// Arbitrary views: the players and the ball anywhere in 60 m x 60 m, any
+/// velocities up to twice the top speeds, any bodies, any viewer.
+pub(crate) fn arbitrary_view() -> impl proptest::strategy::Strategy<Value = PlayerView> {
+    use proptest::array::{uniform5, uniform6};
+    use proptest::strategy::Strategy;
+    (
+        0..NUM_PLAYERS,
+        uniform6(-30.0..30.0f64),
+        uniform6(-30.0..30.0f64),
+        uniform6(0.0..2.0f64),
+        uniform6(-180.0..180.0f64),
+        uniform5(-180.0..180.0f64),
+        0.0..5.4f64,
+    )
+        .prop_map(|(me, xs, ys, speeds, headings, bodies, ball_speed)| PlayerView {
+            cycle: 0,
+            me: PlayerId::new(me).expect("valid id"),
+            ball: SeenBall {
+                pos: Vec2::new(xs[NUM_PLAYERS], ys[NUM_PLAYERS]),
+                vel: Vec2::polar(ball_speed, headings[NUM_PLAYERS]),
+            },
+            players: std::array::from_fn(|i| SeenPlayer {
+                pos: Vec2::new(xs[i], ys[i]),
+                vel: Vec2::polar(speeds[i], headings[i]),
+                body: bodies[i],
+            }),
+        })
 }

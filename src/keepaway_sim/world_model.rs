@@ -897,32 +897,12 @@ mod tests {
         /// horizon up to 40.
         #[test]
         fn pruning_changes_no_fastest_opponent_anywhere(
-            me in 0usize..NUM_PLAYERS,
-            xs in proptest::array::uniform6(-30.0..30.0f64),
-            ys in proptest::array::uniform6(-30.0..30.0f64),
-            speeds in proptest::array::uniform6(0.0..2.0f64),
-            headings in proptest::array::uniform6(-180.0..180.0f64),
-            bodies in proptest::array::uniform5(-180.0..180.0f64),
-            ball_speed in 0.0..5.4f64,
+            view in crate::keepaway_sim::played_views::arbitrary_view(),
             known in proptest::array::uniform5(proptest::bool::weighted(0.9)),
             horizon in 0u32..40,
         ) {
             let mut cfg = KeepawayConfig::default();
             cfg.skills.intercept_horizon = horizon;
-            let players: [SeenPlayer; NUM_PLAYERS] = std::array::from_fn(|i| SeenPlayer {
-                pos: Vec2::new(xs[i], ys[i]),
-                vel: Vec2::polar(speeds[i], headings[i]),
-                body: bodies[i],
-            });
-            let view = PlayerView {
-                cycle: 0,
-                me: PlayerId::new(me).expect("valid id"),
-                ball: SeenBall {
-                    pos: Vec2::new(xs[NUM_PLAYERS], ys[NUM_PLAYERS]),
-                    vel: Vec2::polar(ball_speed, headings[NUM_PLAYERS]),
-                },
-                players,
-            };
             proptest::prop_assert_eq!(
                 fastest_opponent(&view, |j| known[j], &cfg),
                 fastest_opponent_exhaustive(&view, |j| known[j], &cfg)

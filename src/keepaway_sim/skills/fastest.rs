@@ -392,31 +392,11 @@ mod tests {
         /// horizon up to 40.
         #[test]
         fn pruning_changes_no_fastest_teammate_anywhere(
-            me in 0usize..5,
-            xs in proptest::array::uniform6(-30.0..30.0f64),
-            ys in proptest::array::uniform6(-30.0..30.0f64),
-            speeds in proptest::array::uniform6(0.0..2.0f64),
-            headings in proptest::array::uniform6(-180.0..180.0f64),
-            bodies in proptest::array::uniform5(-180.0..180.0f64),
-            ball_speed in 0.0..5.4f64,
+            view in crate::keepaway_sim::played_views::arbitrary_view(),
             horizon in 0u32..40,
         ) {
-            use crate::keepaway_sim::perception::{SeenBall, SeenPlayer};
             let mut cfg = KeepawayConfig::default();
             cfg.skills.intercept_horizon = horizon;
-            let view = PlayerView {
-                cycle: 0,
-                me: PlayerId::new(me).expect("valid id"),
-                ball: SeenBall {
-                    pos: Vec2::new(xs[5], ys[5]),
-                    vel: Vec2::polar(ball_speed, headings[5]),
-                },
-                players: std::array::from_fn(|i| SeenPlayer {
-                    pos: Vec2::new(xs[i], ys[i]),
-                    vel: Vec2::polar(speeds[i], headings[i]),
-                    body: bodies[i],
-                }),
-            };
             proptest::prop_assert_eq!(assert_pruning_changes_nothing(&view, &cfg), Ok(()));
         }
     }

@@ -39,6 +39,28 @@ pub struct WorldFigures {
     pub cycle_over_floor: f64,
 }
 
+/// A column of the table and the CSV: its header, its CSV name, its width
+/// and decimals in the table, its decimals in the CSV, and its value.
+type Column = (
+    &'static str,
+    &'static str,
+    usize,
+    usize,
+    usize,
+    fn(&WorldFigures) -> f64,
+);
+
+/// The benchmark's columns.
+const COLUMNS: [Column; 7] = [
+    ("agents", "agents", 7, 0, 0, |f| f.agents as f64),
+    ("cycles/s", "cycles_per_second", 14, 0, 1, |f| f.cycles_per_second),
+    ("round trip p50", "round_trip_p50_us", 16, 1, 2, |f| f.round_trip_p50),
+    ("round trip p99", "round_trip_p99_us", 16, 1, 2, |f| f.round_trip_p99),
+    ("floor p50", "floor_p50_us", 12, 1, 2, |f| f.floor_p50),
+    ("floor mean", "floor_mean_us", 12, 2, 3, |f| f.floor_mean),
+    ("cycle / floor", "cycle_over_floor", 16, 2, 3, |f| f.cycle_over_floor),
+];
+
 /// Runs `base` (a world run whose command is the corridor) with each of
 /// `agents`, writing each run's report under `out/agents-N`, then the table.
 pub fn bench_world(
@@ -76,37 +98,22 @@ pub fn bench_world(
             },
         });
     }
-    let mut table = format!(
-        "{:>7}{:>14}{:>16}{:>16}{:>12}{:>12}{:>16}\n",
-        "agents", "cycles/s", "round trip p50", "round trip p99", "floor p50", "floor mean", "cycle / floor"
-    );
-    let mut csv = String::from(
-        "agents,cycles_per_second,round_trip_p50_us,round_trip_p99_us,floor_p50_us,floor_mean_us,cycle_over_floor\n",
-    );
-    for f in &figures {
-        let _ = writeln!(
-            table,
-            "{:>7}{:>14.0}{:>16.1}{:>16.1}{:>12.1}{:>12.2}{:>16.2}",
-            f.agents,
-            f.cycles_per_second,
-            f.round_trip_p50,
-            f.round_trip_p99,
-            f.floor_p50,
-            f.floor_mean,
-            f.cycle_over_floor
-        );
-        let _ = writeln!(
-            csv,
-            "{},{:.1},{:.2},{:.2},{:.2},{:.3},{:.3}",
-            f.agents,
-            f.cycles_per_second,
-            f.round_trip_p50,
-            f.round_trip_p99,
-            f.floor_p50,
-            f.floor_mean,
-            f.cycle_over_floor
-        );
+    let mut table = String::new();
+    let mut csv = String::new();
+    for (header, name, width, ..) in COLUMNS {
+        let _ = write!(table, "{header:>width$}");
+        let _ = write!(csv, "{}{name}", if csv.is_empty() { "" } else { "," });
     }
+    for f in &figures {
+        table.push('\n');
+        csv.push('\n');
+        for (i, (_, _, width, decimals, csv_decimals, value)) in COLUMNS.into_iter().enumerate() {
+            let _ = write!(table, "{:>width$.decimals$}", value(f));
+            let _ = write!(csv, "{}{:.csv_decimals$}", if i == 0 { "" } else { "," }, value(f));
+        }
+    }
+    table.push('\n');
+    csv.push('\n');
     let write = |name: &str, bytes: &[u8]| {
         let path = out.join(name);
         learnpnp::atomic_file::write_atomic(&path, bytes).map_err(|source| SupervisorError::Io { path, source })
