@@ -307,7 +307,7 @@ impl Agent {
                     if self.start.learning() {
                         self.learning_episodes += 1;
                         let every = self.settings.checkpoint_every;
-                        if every > 0 && self.learning_episodes.is_multiple_of(every) {
+                        if every > 0 && self.learning_episodes.is_multiple_of(every) && self.saver.due() {
                             self.save();
                         }
                     }

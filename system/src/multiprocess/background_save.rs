@@ -42,6 +42,7 @@ pub struct Checkpoint {
 #[derive(Debug)]
 pub struct BackgroundSave {
     shared: Arc<Shared>,
+    spacing: Duration,
     thread: Option<JoinHandle<()>>,
 }
 
@@ -61,6 +62,8 @@ struct State {
     writing: bool,
     /// A flush waits: what waits is written now, whatever the spacing.
     urgent: bool,
+    /// When the last checkpoint was written.
+    last_written: Option<Instant>,
     closed: bool,
 }
 
@@ -88,6 +91,7 @@ impl BackgroundSave {
             .spawn(move || write_loop(&writer, spacing))?;
         Ok(BackgroundSave {
             shared,
+            spacing,
             thread: Some(thread),
         })
     }
@@ -96,6 +100,17 @@ impl BackgroundSave {
     pub fn submit(&self, checkpoint: Checkpoint) {
         self.shared.lock().waiting = Some(checkpoint);
         self.shared.changed.notify_all();
+    }
+
+    /// Whether a periodic checkpoint handed over now would be written at
+    /// once: none waits or is being written, and the spacing has passed
+    /// since the last one was written. An agent takes a periodic checkpoint
+    /// only then: one taken earlier would only be replaced by a newer one
+    /// before it is written, and taking one (the values copied, the
+    /// histograms serialised) costs its decision loop.
+    pub fn due(&self) -> bool {
+        let state = self.shared.lock();
+        state.waiting.is_none() && !state.writing && state.last_written.is_none_or(|t| t.elapsed() >= self.spacing)
     }
 
     /// Writes what waits now and returns when every checkpoint handed over
@@ -134,12 +149,11 @@ impl Drop for BackgroundSave {
 /// The writer thread: writes what is handed over (periodic checkpoints at
 /// least `spacing` apart) until closed with nothing waiting.
 fn write_loop(shared: &Shared, spacing: Duration) {
-    let mut last_written: Option<Instant> = None;
     loop {
         let checkpoint = {
             let mut state = shared.lock();
             loop {
-                let due = last_written.map(|t| t + spacing);
+                let due = state.last_written.map(|t| t + spacing);
                 let early = due.and_then(|due| due.checked_duration_since(Instant::now()));
                 match (&state.waiting, early) {
                     (Some(_), Some(wait)) if !state.urgent && !state.closed && !wait.is_zero() => {
@@ -161,8 +175,10 @@ fn write_loop(shared: &Shared, spacing: Duration) {
         if let Some(checkpoint) = checkpoint {
             write(shared, &checkpoint);
         }
-        last_written = Some(Instant::now());
-        shared.lock().writing = false;
+        let mut state = shared.lock();
+        state.last_written = Some(Instant::now());
+        state.writing = false;
+        drop(state);
         shared.changed.notify_all();
     }
 }
@@ -238,6 +254,27 @@ mod tests {
         drop(saver);
         assert_eq!(std::fs::read(&file).unwrap(), vec![3u8; 64]);
         assert!(!dir.join("replaced").exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_periodic_checkpoint_is_due_only_when_it_would_be_written_at_once() {
+        let dir = scratch("due");
+        let file = dir.join("histogram");
+        let spaced = BackgroundSave::start(Duration::from_secs(3600)).unwrap();
+        assert!(spaced.due(), "nothing written yet");
+        spaced.submit(histogram(&file, 1));
+        spaced.flush();
+        assert!(!spaced.due(), "written less than the spacing ago");
+        spaced.submit(histogram(&file, 2));
+        assert!(!spaced.due(), "one waits");
+        drop(spaced);
+        let unspaced = BackgroundSave::start(Duration::ZERO).unwrap();
+        unspaced.submit(histogram(&file, 3));
+        unspaced.flush();
+        assert!(unspaced.due());
+        drop(unspaced);
+        assert_eq!(std::fs::read(&file).unwrap(), vec![3u8; 64]);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -3,7 +3,8 @@
 //! ... agents, each run measuring its cycles per second, the round trip from
 //! a snapshot's publication to the world's reading of its command, and the
 //! bare iceoryx2 round trip of the same payload (the floor) on the same
-//! machine just before. Writes `bench-world.csv`, `bench-world.svg` and the
+//! machine just before, with what a cycle spends above it (the agents'
+//! compute, the world's turnaround). Writes `bench-world.csv`, `bench-world.svg` and the
 //! runs' own reports (`agents-N/`), and returns the table.
 
 use std::fmt::Write as _;
@@ -37,6 +38,11 @@ pub struct WorldFigures {
     /// A cycle's mean duration (1 / cycles per second) over the floor's mean:
     /// lock-step cycles per second against bare round trips per second.
     pub cycle_over_floor: f64,
+    /// The agents' compute time per cycle (executor and learner), median.
+    pub compute_p50: f64,
+    /// The world's turnaround (reading a command to publishing the next
+    /// snapshot), median.
+    pub world_p50: f64,
 }
 
 /// A column of the table and the CSV: its header, its CSV name, its width
@@ -51,7 +57,7 @@ type Column = (
 );
 
 /// The benchmark's columns.
-const COLUMNS: [Column; 7] = [
+const COLUMNS: [Column; 9] = [
     ("agents", "agents", 7, 0, 0, |f| f.agents as f64),
     ("cycles/s", "cycles_per_second", 14, 0, 1, |f| f.cycles_per_second),
     ("round trip p50", "round_trip_p50_us", 16, 1, 2, |f| f.round_trip_p50),
@@ -59,6 +65,8 @@ const COLUMNS: [Column; 7] = [
     ("floor p50", "floor_p50_us", 12, 1, 2, |f| f.floor_p50),
     ("floor mean", "floor_mean_us", 12, 2, 3, |f| f.floor_mean),
     ("cycle / floor", "cycle_over_floor", 16, 2, 3, |f| f.cycle_over_floor),
+    ("compute p50", "compute_p50_us", 14, 2, 3, |f| f.compute_p50),
+    ("world p50", "world_turnaround_p50_us", 12, 2, 3, |f| f.world_p50),
 ];
 
 /// Runs `base` (a world run whose command is the corridor) with each of
@@ -96,6 +104,8 @@ pub fn bench_world(
             } else {
                 0.0
             },
+            compute_p50: s.compute_us.p50,
+            world_p50: s.world_turnaround_us.map_or(0.0, |p| p.p50),
         });
     }
     let mut table = String::new();

@@ -15,6 +15,7 @@ use super::agent_process::compute_histogram;
 use super::floor_probe::REMOTE_HOST_FLOOR;
 use super::sim_process::{AbortedEpisode, FLOOR, ROUND_TRIP, keeper_round_trip_histogram};
 use super::supervisor::{Fault, ResumeCheck, RunRecord, SupervisorConfig, SupervisorError, json_error};
+use super::world_agent::WORLD_TURNAROUND;
 use crate::ipc::convert::Rejections;
 use crate::ipc::wait::WaitStrategy;
 use crate::latency::plot::{ReferenceLine, percentile_plot};
@@ -81,6 +82,10 @@ pub struct SystemSummary {
     pub remote_host_floor_us: Option<Percentiles>,
     /// The agents' compute time per cycle (executor and learner), microseconds.
     pub compute_us: Percentiles,
+    /// A world run: the world's turnaround per cycle as its agents saw it,
+    /// microseconds (see [`WORLD_TURNAROUND`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub world_turnaround_us: Option<Percentiles>,
     /// Median round trip as a multiple of the median floor.
     pub round_trip_over_floor_p50: f64,
     /// Messages from shared memory refused, by process and reason.
@@ -197,6 +202,9 @@ pub fn summarize(
             .filter(|h| h.count() > 0)
             .map(Latency::percentiles),
         compute_us: percentiles(ALL_COMPUTE),
+        world_turnaround_us: find(histograms, WORLD_TURNAROUND)
+            .filter(|h| h.count() > 0)
+            .map(Latency::percentiles),
         round_trip_over_floor_p50: if floor.p50 > 0.0 { latency.p50 / floor.p50 } else { 0.0 },
         rejected_messages: rejected,
         checkpoint_failures: records.iter().map(|r| r.checkpoint_failures).sum(),
@@ -227,7 +235,8 @@ fn latency_table(histograms: &[Latency], summary: &SystemSummary) -> String {
             (REMOTE_HOST_FLOOR.to_string(), "  on the remote host".to_string()),
             (ALL_COMPUTE.to_string(), "agent compute".to_string()),
         ])
-        .chain(keepers.map(|k| (compute_histogram(k), format!("  keeper {}", k + 1))));
+        .chain(keepers.map(|k| (compute_histogram(k), format!("  keeper {}", k + 1))))
+        .chain([(WORLD_TURNAROUND.to_string(), "world turnaround".to_string())]);
     for (name, label) in rows {
         if let Some(h) = find(histograms, &name).filter(|h| h.count() > 0) {
             let p = h.percentiles();

@@ -21,7 +21,7 @@ use super::agent_process::{checkpoint_name, compute_histogram, resumed_file};
 use super::floor_probe::{FloorProbe, REMOTE_HOST_FLOOR, WorldFloor};
 use super::launch::{Binaries, LaunchError, Process, set_fifo_priority, spawn, spawn_world};
 use super::sim_process::{FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult, keeper_round_trip_histogram};
-use super::world_agent::{EXIT_PLAN_DOES_NOT_FIT, agent_compute_histogram, agent_result_file};
+use super::world_agent::{EXIT_PLAN_DOES_NOT_FIT, WORLD_TURNAROUND, agent_compute_histogram, agent_result_file};
 use super::{Clock, ProcessError, RunContext};
 use crate::ipc::convert::{Rejections, control_message, read_heartbeat};
 use crate::ipc::namespace::{Namespace, NamespaceError, NamespaceOwner};
@@ -1068,14 +1068,14 @@ fn read_histograms(dir: &Path, roster: Roster) -> Result<Vec<Latency>, Superviso
         Roster::Keepaway => compute_histogram(k),
         Roster::World { .. } => agent_compute_histogram(k),
     };
-    let keeper_round_trips = match roster {
+    let per_roster: Vec<String> = match roster {
         Roster::Keepaway => (0..roster.agents()).map(keeper_round_trip_histogram).collect(),
-        Roster::World { .. } => Vec::new(),
+        Roster::World { .. } => vec![WORLD_TURNAROUND.to_string()],
     };
     let names = [ROUND_TRIP.to_string(), FLOOR.to_string(), REMOTE_HOST_FLOOR.to_string()]
         .into_iter()
         .chain((0..roster.agents()).map(compute))
-        .chain(keeper_round_trips);
+        .chain(per_roster);
     let mut histograms = Vec::new();
     for name in names {
         let mut merged = Latency::new(name.clone());

@@ -23,7 +23,7 @@ use super::agent_process::{checkpoint_name, load_checkpoint, resumed_file};
 use super::background_save::{BackgroundSave, CHECKPOINT_SPACING, Checkpoint};
 use super::journal::{self, Journal};
 use super::sim_process::{ROUND_TRIP, SimTotals, SimulatorResult, histogram_file};
-use super::{HEARTBEAT_EVERY, Pacemaker, ProcessError, RunContext};
+use super::{Clock, HEARTBEAT_EVERY, Pacemaker, ProcessError, RunContext};
 use crate::ipc::convert::{Rejection, agent_report, read_control};
 use crate::ipc::protocol::{AgentNews, Order, ProcessState, Role};
 use crate::ipc::services::{WorldAgentPorts, node, receive, send};
@@ -54,6 +54,12 @@ const HOUSEKEEPING_EVERY: Duration = Duration::from_millis(1);
 
 /// How long an agent waits for the world's vocabulary before it gives up.
 pub const VOCABULARY_TIMEOUT: Duration = Duration::from_secs(60);
+
+/// The histogram of the world's turnaround as the agents see it: from the
+/// world's reading of an agent's command to its publishing that agent's
+/// next snapshot (both on the world's clock). With one agent it is the
+/// world's own time per cycle; with more, it includes waiting for the others.
+pub const WORLD_TURNAROUND: &str = "world-turnaround";
 
 /// The name of agent `a`'s compute-time histogram.
 pub fn agent_compute_histogram(a: usize) -> String {
@@ -180,6 +186,7 @@ struct WorldAgent {
     pacemaker: Pacemaker,
     compute: Latency,
     round_trip: Latency,
+    world_turnaround: Latency,
     checkpoint: PathBuf,
     saver: BackgroundSave,
     /// Journal entries that could not be written.
@@ -229,7 +236,7 @@ impl WorldAgent {
         let written = self.journal.flush();
         self.count_journal_failure(written);
         let mut files = Vec::new();
-        for histogram in [&self.compute, &self.round_trip] {
+        for histogram in [&self.compute, &self.round_trip, &self.world_turnaround] {
             match histogram.to_bytes() {
                 Ok(bytes) => files.push((histogram_file(&self.context.work_dir, histogram.name()), bytes)),
                 Err(e) => report(&format!("error: {e}")),
@@ -350,18 +357,32 @@ impl WorldAgent {
         Ok(None)
     }
 
+    /// Records a command's round trip and the world's turnaround after it.
+    fn record_timing(&mut self, timed: Option<(Duration, Duration)>) {
+        if let Some((round_trip, turnaround)) = timed {
+            self.round_trip.record(round_trip);
+            self.world_turnaround.record(turnaround);
+        }
+    }
+
     /// Takes one snapshot; returns the episode's outcome when it ended.
     fn take(&mut self, view: WorldView, started: Instant) -> Result<Option<EpisodeOutcome>, ProcessError> {
         self.announcing = false;
         self.pacemaker.pulse.state = ProcessState::Running;
-        if let (Some((cycle, received)), Some((sent_cycle, sent_ns))) = (view.answered, self.answered)
-            && cycle == sent_cycle
-        {
-            self.round_trip
-                .record(Duration::from_nanos(received.saturating_sub(sent_ns)));
-            self.answered = None;
-        }
+        // The round trip of the last command and the world's turnaround,
+        // recorded once the next command is sent (off the cycle's path).
+        let timed = match (view.answered, self.answered.take()) {
+            (Some((cycle, received)), Some((sent_cycle, sent_ns))) if cycle == sent_cycle => Some((
+                Duration::from_nanos(received.saturating_sub(sent_ns)),
+                Duration::from_nanos(view.sent_ns.saturating_sub(received)),
+            )),
+            (_, unanswered) => {
+                self.answered = unanswered;
+                None
+            }
+        };
         if view.episode_status == EpisodeStatus::Aborted {
+            self.record_timing(timed);
             self.discard_episode();
             return Ok(None);
         }
@@ -427,6 +448,7 @@ impl WorldAgent {
             .command
             .send(world_command(&order, self.settings.agent, self.context.run_id))?;
         self.compute.record(compute);
+        self.record_timing(timed);
         self.answered = Some((view.cycle, view.sent_ns));
         if !ended {
             self.episode = Some(episode);
@@ -450,7 +472,7 @@ impl WorldAgent {
         loop {
             // The supervisor's commands, the heartbeat and the journal every
             // HOUSEKEEPING_EVERY, busy or idle (a poll is quicker without
-            // them); floor pings at every idle poll.
+            // them); in real time, floor pings at every idle poll.
             let busy = match self.next_view()? {
                 Some(view) => {
                     idle = Idle::new(self.context.wait);
@@ -467,7 +489,9 @@ impl WorldAgent {
                 if self.stop {
                     return Err(ProcessError::Stopped);
                 }
-            } else if !busy {
+            } else if !busy && self.context.clock == Clock::Realtime {
+                // Real time samples the floor side by side with the run;
+                // lock-step measured it before the world started.
                 answer_floor(&self.ports, self.context.run_id)?;
             }
             if !busy {
@@ -496,7 +520,7 @@ impl WorldAgent {
         let written = self.journal.append(&entry);
         self.count_journal_failure(written);
         let every = self.settings.checkpoint_every;
-        if mode == EpisodeMode::Learn && every > 0 && self.learning_episodes.is_multiple_of(every) {
+        if mode == EpisodeMode::Learn && every > 0 && self.learning_episodes.is_multiple_of(every) && self.saver.due() {
             self.save();
         }
     }
@@ -636,6 +660,7 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
         pacemaker,
         compute: Latency::new(agent_compute_histogram(a)),
         round_trip: Latency::new(ROUND_TRIP),
+        world_turnaround: Latency::new(WORLD_TURNAROUND),
         checkpoint,
         saver: BackgroundSave::start(CHECKPOINT_SPACING).map_err(ProcessError::Writer)?,
         journal_failures: 0,
