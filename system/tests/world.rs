@@ -65,6 +65,12 @@ fn the_corridor_is_learned_over_shared_memory_and_a_seed_repeats_its_episodes() 
         assert_eq!(greedy(&s), -4.0, "seed {seed}: the greedy walk goes straight forward");
         assert!(s["latency_us"]["p50"].as_f64().unwrap() > 0.0);
         assert!(s["floor_us"]["p50"].as_f64().unwrap() > 0.0);
+        // The corridor's step is a small part of a cycle's round trip.
+        let turnaround = s["world_turnaround_us"]["p50"].as_f64().unwrap();
+        assert!(
+            turnaround > 0.0 && turnaround < s["latency_us"]["p50"].as_f64().unwrap(),
+            "{s}"
+        );
         used.extend(prefixes(&s));
     }
     let mut args = corridor_run(150);
