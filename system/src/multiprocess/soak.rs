@@ -95,7 +95,9 @@ pub struct SoakReport {
     pub rss_growth_percent: f64,
     /// The process it was.
     pub rss_growth_process: String,
-    /// Largest growth of a process's open file descriptors after warm-up.
+    /// Largest growth of a process's open file descriptors after warm-up,
+    /// counting a descriptor when two samples in a row find it open (a file
+    /// held while it is written, as a checkpoint writer does, is no leak).
     pub fd_growth: i64,
     /// Processes restarted.
     pub restarts: u32,
@@ -381,7 +383,10 @@ fn mean(values: &[f64]) -> f64 {
     values.iter().sum::<f64>() / values.len().max(1) as f64
 }
 
-/// Growth of each process incarnation after its warm-up: (process, rss %, fds).
+/// Growth of each process incarnation after its warm-up: (process, rss %,
+/// fds). Descriptors count when two samples in a row find them open: each
+/// sample's count is the lesser of it and the next one's, the last sample
+/// having no next is left out.
 fn growth(samples: &[Sample], faults: &[(f64, f64)]) -> Vec<(String, f64, i64)> {
     let quiet = |t: f64| {
         !faults
@@ -405,13 +410,21 @@ fn growth(samples: &[Sample], faults: &[(f64, f64)]) -> Vec<(String, f64, i64)> 
                 return None;
             }
             let base = mean(&after[..ENDS].iter().map(|s| s.rss_kib as f64).collect::<Vec<_>>());
-            let steps = after.windows(2).filter(|w| quiet(w[0].seconds) && quiet(w[1].seconds));
-            let (rss, fds) = steps.fold((0.0, 0), |(rss, fds), w| {
-                (
-                    rss + w[1].rss_kib as f64 - w[0].rss_kib as f64,
-                    fds + w[1].open_fds as i64 - w[0].open_fds as i64,
-                )
-            });
+            let quiet_step = |w: &[&Sample]| quiet(w[0].seconds) && quiet(w[1].seconds);
+            let rss: f64 = after
+                .windows(2)
+                .filter(|w| quiet_step(w))
+                .map(|w| w[1].rss_kib as f64 - w[0].rss_kib as f64)
+                .sum();
+            let held: Vec<(f64, i64)> = after
+                .windows(2)
+                .map(|w| (w[0].seconds, w[0].open_fds.min(w[1].open_fds) as i64))
+                .collect();
+            let fds: i64 = held
+                .windows(2)
+                .filter(|w| quiet(w[0].0) && quiet(w[1].0))
+                .map(|w| w[1].1 - w[0].1)
+                .sum();
             Some((format!("{process} (pid {pid})"), 100.0 * rss / base.max(1.0), fds))
         })
         .collect()
@@ -662,12 +675,25 @@ mod tests {
         let mut blip = samples("keeper 2", 9, |_| 2000);
         blip[27].open_fds += 6;
         assert_eq!(growth(&blip, &[])[0].2, 0);
-        // One more descriptor every second: a leak.
+        // A file open while it is written, caught by the last sample, or by
+        // the sample before a fault's span: no leak either.
+        let mut last = samples("keeper 2", 9, |_| 2000);
+        last[29].open_fds += 1;
+        assert_eq!(growth(&last, &[])[0].2, 0);
+        let mut before_fault = samples("keeper 2", 9, |_| 2000);
+        before_fault[20].open_fds += 1;
+        assert_eq!(growth(&before_fault, &[(20.5, 22.0)])[0].2, 0);
+        // One more descriptor every second: a leak (the last second's is not
+        // yet confirmed by a second sample).
         let mut leak = samples("keeper 2", 9, |_| 2000);
         for (i, s) in leak.iter_mut().enumerate() {
             s.open_fds += i as u64;
         }
-        assert_eq!(growth(&leak, &[])[0].2, 14);
+        assert_eq!(growth(&leak, &[])[0].2, 13);
+        // One that stays open from some point on: counted.
+        let mut stays = samples("keeper 2", 9, |_| 2000);
+        stays[25..].iter_mut().for_each(|s| s.open_fds += 1);
+        assert_eq!(growth(&stays, &[])[0].2, 1);
     }
 
     #[test]
