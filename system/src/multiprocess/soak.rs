@@ -410,10 +410,9 @@ fn growth(samples: &[Sample], faults: &[(f64, f64)]) -> Vec<(String, f64, i64)> 
                 return None;
             }
             let base = mean(&after[..ENDS].iter().map(|s| s.rss_kib as f64).collect::<Vec<_>>());
-            let quiet_step = |w: &[&Sample]| quiet(w[0].seconds) && quiet(w[1].seconds);
             let rss: f64 = after
                 .windows(2)
-                .filter(|w| quiet_step(w))
+                .filter(|w| quiet(w[0].seconds) && quiet(w[1].seconds))
                 .map(|w| w[1].rss_kib as f64 - w[0].rss_kib as f64)
                 .sum();
             let held: Vec<(f64, i64)> = after

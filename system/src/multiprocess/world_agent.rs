@@ -371,15 +371,15 @@ impl WorldAgent {
         self.pacemaker.pulse.state = ProcessState::Running;
         // The round trip of the last command and the world's turnaround,
         // recorded once the next command is sent (off the cycle's path).
-        let timed = match (view.answered, self.answered.take()) {
-            (Some((cycle, received)), Some((sent_cycle, sent_ns))) if cycle == sent_cycle => Some((
-                Duration::from_nanos(received.saturating_sub(sent_ns)),
-                Duration::from_nanos(view.sent_ns.saturating_sub(received)),
-            )),
-            (_, unanswered) => {
-                self.answered = unanswered;
-                None
+        let timed = match (view.answered, self.answered) {
+            (Some((cycle, received)), Some((sent_cycle, sent_ns))) if cycle == sent_cycle => {
+                self.answered = None;
+                Some((
+                    Duration::from_nanos(received.saturating_sub(sent_ns)),
+                    Duration::from_nanos(view.sent_ns.saturating_sub(received)),
+                ))
             }
+            _ => None,
         };
         if view.episode_status == EpisodeStatus::Aborted {
             self.record_timing(timed);
