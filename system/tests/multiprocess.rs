@@ -341,6 +341,42 @@ fn killed_simulator_ends_the_run() {
     sandbox.assert_clean(&prefixes(&s));
 }
 
+/// The simulator measures the lock-step floor before the first episode; one
+/// that outlasts the heartbeat timeout is no hang, and no stall: the simulator
+/// beats while it measures. Here the blocking wait's round trips (about 80 us
+/// each on this machine) make it last; a loaded machine did it with the
+/// default wait and round trips, and the simulator was killed as silent.
+#[test]
+fn a_floor_measurement_longer_than_the_heartbeat_timeout_is_not_a_hang() {
+    const ROUND_TRIPS: u64 = 100_000;
+    let sandbox = Sandbox::new("long-floor");
+    let mut command = Command::new(env!("CARGO_BIN_EXE_learnpnp-supervisor"));
+    command
+        .arg("--out")
+        .arg(sandbox.out("system"))
+        .args([
+            "--floor-round-trips",
+            &ROUND_TRIPS.to_string(),
+            "--heartbeat-timeout",
+            "3",
+            "--wait",
+            "block",
+        ])
+        .args(SHORT)
+        .env("LEARNPNP_IPC_DIR", sandbox.ipc())
+        .stdin(Stdio::null());
+    let output = command.output().unwrap();
+    let s = summary(&sandbox.out("system"));
+    assert!(output.status.success(), "{}\n{s}", text(&output.stderr));
+    assert_eq!(s["restarts"], 0, "{s}");
+    let measuring = s["floor_us"]["mean"].as_f64().unwrap() * ROUND_TRIPS as f64 / 1e6;
+    assert!(
+        measuring > 3.0,
+        "the floor took {measuring:.1} s: too short to test the timeout"
+    );
+    sandbox.assert_clean(&prefixes(&s));
+}
+
 fn persist_loads(path: &Path) -> bool {
     learnpnp::learning::persist::load(path).is_ok()
 }

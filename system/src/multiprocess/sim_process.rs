@@ -430,6 +430,12 @@ impl KeeperTeam for RemoteTeam {
 /// The cycle sequence number that ends the floor measurement.
 pub const FLOOR_END: u64 = u64::MAX;
 
+/// Lock-step floor: how often the measurement beats and reads the supervisor's orders.
+const FLOOR_HOUSEKEEPING: Duration = Duration::from_millis(10);
+
+/// Lock-step floor: an echo not back within this ends the measurement.
+const FLOOR_ECHO_TIMEOUT: Duration = Duration::from_secs(2);
+
 /// The answer to floor ping `sequence`: the command payload, doing nothing.
 pub fn floor_pong(run_id: u64, sequence: u64) -> KeeperCommand {
     let reading = CommandReading {
@@ -491,19 +497,32 @@ fn echoed(link: &Link, sequence: u64) -> Result<bool, TaskError> {
 /// Lock-step: measures the bare iceoryx2 round trip of the snapshot payload
 /// with agent 0 (which echoes each ping at once), `round_trips` times back to
 /// back with the run's wait strategy, before the first episode: the floor our
-/// round trips, also back to back, are compared with.
+/// round trips, also back to back, are compared with. It beats and reads the
+/// supervisor's orders every [`FLOOR_HOUSEKEEPING`] of the whole measurement,
+/// between two pings or while an echo is awaited, however long it takes.
 fn measure_floor(link: &mut Link, round_trips: usize) -> Result<(), TaskError> {
+    let mut housekept = Instant::now();
+    let mut due = || {
+        let due = housekept.elapsed() > FLOOR_HOUSEKEEPING;
+        if due {
+            housekept = Instant::now();
+        }
+        due
+    };
+    // The floor stays as measured so far when the run stops or agent 0 is lost.
+    let ends = |link: &mut Link| -> Result<bool, TaskError> {
+        link.housekeeping()?;
+        Ok(link.stop || link.lost[0])
+    };
     for sequence in 1..=round_trips as u64 {
+        if due() && ends(link)? {
+            return Ok(());
+        }
         let sent = send_ping(link, sequence, false)?;
         let mut idle = Idle::new(link.context.wait);
-        let mut checked = sent;
         while !echoed(link, sequence)? {
-            if checked.elapsed() > Duration::from_millis(10) {
-                checked = Instant::now();
-                link.housekeeping()?;
-                if link.stop || link.lost[0] || sent.elapsed() > Duration::from_secs(2) {
-                    return Ok(()); // the floor stays as measured so far
-                }
+            if due() && (ends(link)? || sent.elapsed() > FLOOR_ECHO_TIMEOUT) {
+                return Ok(());
             }
             idle.pause(&link.ports.wake, MAX_BLOCK).map_err(remote)?;
         }
@@ -667,11 +686,14 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
         {
             let mut link = link.borrow_mut();
             link.wait_ready()?;
-            link.pacemaker.pulse.state = ProcessState::Running;
             if !resume && context.clock == Clock::Lockstep {
+                // Ready, not yet running: no cycle is played while the floor
+                // is measured, and the supervisor's stall watch waits.
+                link.pacemaker.pulse.state = ProcessState::Ready;
                 measure_floor(&mut link, floor_round_trips)?;
                 save_histograms(&context.work_dir, &link).map_err(|e| TaskError::Remote(e.to_string()))?;
             }
+            link.pacemaker.pulse.state = ProcessState::Running;
         }
         let seeds = RunSeeds::draw(&mut task_rng(&spec, context.run));
         let mut task = JournaledTask {
