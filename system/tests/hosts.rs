@@ -357,7 +357,11 @@ fn in_lock_step_a_killed_bridge_costs_no_value_and_a_stall_stops_the_run_cleanly
     let _ = host_b.wait_with_output().unwrap();
     let a = summary(&sandbox.out("a"));
     let faults = a["faults"].to_string();
-    assert!(faults.contains("the bridge exited"), "{faults}");
+    assert!(
+        faults.contains("the bridge exited"),
+        "{faults}\n{}",
+        text(&a_output.stderr)
+    );
     if a["complete"] == true {
         // No message was in flight: the restarted bridge carried on.
         assert!(a_output.status.success(), "{}", text(&a_output.stderr));
