@@ -120,8 +120,7 @@ struct Link {
     /// The process id of each keeper's last readiness report.
     ready: [Option<u32>; NUM_KEEPERS],
     stop: bool,
-    round_trip: Latency,
-    /// Each keeper's round trips (also in `round_trip`).
+    /// Each keeper's round trips (merged into the round trip histogram when saved).
     keeper_round_trips: [Latency; NUM_KEEPERS],
     floor: Latency,
     /// Real time: the floor pings sent so far (their sequence numbers).
@@ -324,7 +323,6 @@ impl KeeperTeam for RemoteTeam {
                     match reading {
                         Ok(c) if c.episode == episode && c.cycle_seq == cycle_seq => {
                             let took = published[k].elapsed();
-                            link.round_trip.record(took);
                             link.keeper_round_trips[k].record(took);
                             if deadline.is_some_and(|d| Instant::now() > d) {
                                 // Read after its cycle's deadline (whoever was
@@ -667,7 +665,6 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
         expected: [None; NUM_KEEPERS],
         ready: [None; NUM_KEEPERS],
         stop: false,
-        round_trip: Latency::new(ROUND_TRIP),
         keeper_round_trips: std::array::from_fn(|k| Latency::new(keeper_round_trip_histogram(k))),
         floor: Latency::new(FLOOR),
         floor_pings: 0,
@@ -757,10 +754,11 @@ pub fn histogram_file(dir: &Path, name: &str) -> PathBuf {
 }
 
 fn save_histograms(dir: &Path, link: &Link) -> Result<(), ProcessError> {
-    for histogram in [&link.round_trip, &link.floor]
-        .into_iter()
-        .chain(&link.keeper_round_trips)
-    {
+    let mut round_trip = Latency::new(ROUND_TRIP);
+    for keeper in &link.keeper_round_trips {
+        round_trip.merge(keeper)?;
+    }
+    for histogram in [&round_trip, &link.floor].into_iter().chain(&link.keeper_round_trips) {
         let bytes = histogram.to_bytes()?;
         let path = histogram_file(dir, histogram.name());
         learnpnp::atomic_file::write_atomic(&path, &bytes).map_err(|source| ProcessError::Io { path, source })?;
