@@ -8,6 +8,7 @@
 
 use serde::{Deserialize, Serialize};
 use std::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
+use std::sync::LazyLock;
 
 /// A 2-D vector (position, velocity or acceleration), in metres.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -29,7 +30,7 @@ impl Vec2 {
 
     /// A vector of length `r` pointing at `deg` degrees.
     pub fn polar(r: f64, deg: f64) -> Self {
-        let (s, c) = deg.to_radians().sin_cos();
+        let (s, c) = sin_cos_deg(deg);
         Vec2 { x: r * c, y: r * s }
     }
 
@@ -75,7 +76,13 @@ impl Vec2 {
 
     /// This vector rotated counter-clockwise by `deg` degrees.
     pub(crate) fn rotate(self, deg: f64) -> Self {
-        let (s, c) = deg.to_radians().sin_cos();
+        self.rotate_by(sin_cos_deg(deg))
+    }
+
+    /// This vector rotated counter-clockwise by the angle whose sine and cosine
+    /// are `(s, c)` (as [`sin_cos_deg`] gives them), for several vectors turned
+    /// by one angle.
+    pub(crate) fn rotate_by(self, (s, c): (f64, f64)) -> Self {
         Vec2 {
             x: self.x * c - self.y * s,
             y: self.x * s + self.y * c,
@@ -150,6 +157,29 @@ impl MulAssign<f64> for Vec2 {
     }
 }
 
+/// Sine and cosine of `deg` degrees, `deg.to_radians().sin_cos()` bit for bit:
+/// whole degrees in `[-180, 180]` (the body sense's velocity directions) are read
+/// from a table of those very values; negative zero and everything else is
+/// computed.
+pub(crate) fn sin_cos_deg(deg: f64) -> (f64, f64) {
+    // Saturating; the bit comparison keeps only exact whole degrees.
+    let whole = deg as i32;
+    if (-180..=180).contains(&whole) && f64::from(whole).to_bits() == deg.to_bits() {
+        WHOLE_DEGREE_SIN_COS[usize::try_from(whole + 180).unwrap_or(0)]
+    } else {
+        deg.to_radians().sin_cos()
+    }
+}
+
+/// `sin_cos` of every whole degree in `[-180, 180]`, indexed by degree + 180.
+static WHOLE_DEGREE_SIN_COS: LazyLock<[(f64, f64); 361]> = LazyLock::new(|| {
+    let mut table = [(0.0, 0.0); 361];
+    for (deg, entry) in (-180i32..).zip(table.iter_mut()) {
+        *entry = f64::from(deg).to_radians().sin_cos();
+    }
+    table
+});
+
 /// `deg` normalised to `(-180, 180]` (non-finite input gives NaN, never a hang).
 pub fn normalize_deg(deg: f64) -> f64 {
     if deg > -180.0 && deg <= 180.0 {
@@ -195,7 +225,23 @@ pub(crate) fn angle_at(vertex: Vec2, p1: Vec2, p2: Vec2) -> f64 {
 
 /// The server's quantisation `Q(v, q) = rint(v / q) * q` (ties to even, like C's `rint`).
 pub(crate) fn quantize(v: f64, q: f64) -> f64 {
-    (v / q).round_ties_even() * q
+    round_ties_even(v / q) * q
+}
+
+/// `x` rounded to the nearest integer, ties to even: the same value as
+/// [`f64::round_ties_even`], bit for bit, without its library call on targets
+/// with no rounding instruction (the x86-64 baseline). Below 2^52 in magnitude,
+/// adding and subtracting 2^52 leaves exactly the integer that IEEE 754's
+/// round-to-nearest-even picks; larger values, infinities and NaN are already
+/// integral or stay as they are.
+pub(crate) fn round_ties_even(x: f64) -> f64 {
+    const TWO_52: f64 = 4_503_599_627_370_496.0;
+    let a = x.abs();
+    if a < TWO_52 {
+        ((a + TWO_52) - TWO_52).copysign(x)
+    } else {
+        x
+    }
 }
 
 #[cfg(test)]
@@ -232,5 +278,53 @@ mod tests {
     fn quantisation_ties_to_even() {
         assert!((quantize(0.25, 0.1) - 0.2).abs() < 1e-12);
         assert!((quantize(1.26, 0.1) - 1.3).abs() < 1e-12);
+    }
+
+    #[test]
+    fn rounding_matches_the_library_at_the_edges() {
+        let edges = [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.5,
+            2.5,
+            -2.5,
+            0.49999999999999994,
+            4_503_599_627_370_495.5,
+            4_503_599_627_370_496.0,
+            9.1e15,
+            1e300,
+            f64::MIN_POSITIVE,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for x in edges {
+            assert_eq!(round_ties_even(x).to_bits(), x.round_ties_even().to_bits(), "{x}");
+        }
+        assert!(round_ties_even(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn table_sines_are_the_computed_ones() {
+        for deg in (-200..=200).map(f64::from).chain([-0.0, 0.5, -179.5, 1e10, f64::NAN]) {
+            let (s, c) = sin_cos_deg(deg);
+            let (ws, wc) = deg.to_radians().sin_cos();
+            assert_eq!((s.to_bits(), c.to_bits()), (ws.to_bits(), wc.to_bits()), "{deg}");
+        }
+    }
+
+    proptest::proptest! {
+        /// The rounding is the library's, bit for bit, over every magnitude and
+        /// at half-integers.
+        #[test]
+        fn rounding_is_the_librarys(bits in proptest::num::u64::ANY, half in -1e6..1e6f64) {
+            let x = f64::from_bits(bits);
+            if !x.is_nan() {
+                proptest::prop_assert_eq!(round_ties_even(x).to_bits(), x.round_ties_even().to_bits());
+            }
+            let h = half.trunc() + 0.5;
+            proptest::prop_assert_eq!(round_ties_even(h).to_bits(), h.round_ties_even().to_bits());
+        }
     }
 }

@@ -10,7 +10,7 @@
 //! its keepers are in this process or in others.
 
 use super::command::Command;
-use super::geometry::{Vec2, normalize_deg, quantize};
+use super::geometry::{Vec2, normalize_deg, quantize, round_ties_even};
 use super::params::{KeepawayConfig, VisionMode};
 use super::see::{SeeArrival, SeePhase, change, quantised_distance, relative_direction, see, see_arrival, sense_body};
 use super::world::{FieldState, NUM_KEEPERS, NUM_PLAYERS, Side};
@@ -222,7 +222,7 @@ pub fn perceive(world: &FieldState, me: PlayerId, cfg: &KeepawayConfig) -> Playe
                 continue;
             }
             let (pos, vel) = q.object(p.pos, p.vel, own);
-            let body = q.body + normalize_deg(p.body - q.body).round_ties_even();
+            let body = q.body + round_ties_even(normalize_deg(p.body - q.body));
             view.players[i] = SeenPlayer {
                 pos,
                 vel,
@@ -255,7 +255,7 @@ impl Quantiser {
     /// The body sense of one's own velocity.
     fn own_vel(&self) -> Vec2 {
         let speed = quantize(self.vel.norm(), 0.01);
-        let dir = normalize_deg(self.vel.dir() - self.body).round_ties_even();
+        let dir = round_ties_even(normalize_deg(self.vel.dir() - self.body));
         Vec2::polar(speed, self.body + dir)
     }
 

@@ -21,12 +21,13 @@
 //! - body sense: `BodySenderPlayerV6::sendVelocity` (`bodysender.cc`), sent
 //!   every `sense_body_step` (100 ms, `stdtimer.cc`).
 
-use super::geometry::{Vec2, normalize_deg, quantize};
-use super::params::KeepawayConfig;
+use super::geometry::{Vec2, normalize_deg, quantize, round_ties_even};
+use super::params::{KeepawayConfig, ServerParams};
 use super::perception::PlayerId;
 use super::world::{FieldState, NUM_PLAYERS, Player};
 use crate::rng::SimRng;
 use rand::RngExt;
+use std::sync::LazyLock;
 
 /// The server's simulation step, ms (`simulator_step`, `SIMULATOR_STEP_INTERVAL_MSEC`).
 const SIM_STEP_MS: u32 = 100;
@@ -194,14 +195,59 @@ pub struct SeeMessage {
 }
 
 /// The server's quantised distance: `Q(exp(Q(ln(d + EPS), qstep)), 0.1)`.
+///
+/// The inner quantisation leaves `k x qstep` for a whole `k`; for the server's
+/// default `qstep` the rest is read from [`DEFAULT_STEP_DISTANCES`], which holds
+/// its computed values for every `k` a distance on a pitch can give.
 pub(crate) fn quantised_distance(d: f64, qstep: f64) -> f64 {
     const EPS: f64 = 1e-10;
-    quantize(quantize((d + EPS).ln(), qstep).exp(), DIST_STEP)
+    let k = round_ties_even((d + EPS).ln() / qstep);
+    let table = &*DEFAULT_STEP_DISTANCES;
+    if qstep == table.qstep {
+        // Saturating; the bit comparison keeps only exact whole steps.
+        let whole = k as i32;
+        if f64::from(whole).to_bits() == k.to_bits()
+            && let Some(&dist) = usize::try_from(whole - MIN_LOG_STEP)
+                .ok()
+                .and_then(|i| table.dists.get(i))
+        {
+            return dist;
+        }
+    }
+    outer_quantised_distance(k, qstep)
 }
+
+/// The outer part of [`quantised_distance`] for the inner step count `k`.
+fn outer_quantised_distance(k: f64, qstep: f64) -> f64 {
+    quantize((k * qstep).exp(), DIST_STEP)
+}
+
+/// The smallest step count in [`DEFAULT_STEP_DISTANCES`]: `ln(EPS) / 0.1` is
+/// about -230, at distance 0.
+const MIN_LOG_STEP: i32 = -240;
+/// Step counts in [`DEFAULT_STEP_DISTANCES`], up to `ln(1800 m) / 0.1`, far
+/// beyond any pitch.
+const LOG_STEPS: usize = 316;
+
+/// [`outer_quantised_distance`] of every step count from [`MIN_LOG_STEP`], for one `qstep`.
+struct StepDistances {
+    qstep: f64,
+    dists: [f64; LOG_STEPS],
+}
+
+/// The step distances of the server's default `quantize_step`.
+static DEFAULT_STEP_DISTANCES: LazyLock<StepDistances> = LazyLock::new(|| {
+    let qstep = ServerParams::default().quantize_step;
+    let mut dists = [0.0; LOG_STEPS];
+    for (k, dist) in (MIN_LOG_STEP..).zip(dists.iter_mut()) {
+        *dist = outer_quantised_distance(f64::from(k), qstep);
+    }
+    StepDistances { qstep, dists }
+});
 
 /// Direction of `rel` relative to `neck`, rounded to whole degrees.
 pub(crate) fn relative_direction(rel: Vec2, neck: f64) -> f64 {
-    normalize_deg(rel.dir() - neck).round_ties_even()
+    round_ties_even(normalize_deg(rel.dir() - neck))
 }
 
 /// The server's distance and direction changes of an object at `rel` (from the
@@ -270,7 +316,7 @@ pub fn see(world: &FieldState, me: PlayerId, cfg: &KeepawayConfig, mut rng: Opti
         let mut seen = observe(viewer, p.pos, p.vel, qstep, true);
         let numbered = !far(seen.dist, rng.as_deref_mut());
         if numbered {
-            seen.body = Some(normalize_deg(p.body - viewer.body).round_ties_even());
+            seen.body = Some(round_ties_even(normalize_deg(p.body - viewer.body)));
         } else {
             seen.change = None;
         }
@@ -369,6 +415,17 @@ mod tests {
         // 45 m: always left out, with the velocity and the body direction.
         let far = m.players[4].expect("taker 1");
         assert!(!far.numbered && far.seen.change.is_none() && far.seen.body.is_none());
+    }
+
+    proptest::proptest! {
+        /// The table of the default step gives the server's formula, bit for bit.
+        #[test]
+        fn quantised_distances_are_the_formulas(d in 0.0..2000.0f64, tiny in 0.0..1e-6f64, qstep in 0.01..0.2f64) {
+            let formula = |d: f64, q: f64| quantize(quantize((d + 1e-10).ln(), q).exp(), DIST_STEP);
+            for (d, q) in [(d, 0.1), (tiny, 0.1), (d, qstep)] {
+                proptest::prop_assert_eq!(quantised_distance(d, q).to_bits(), formula(d, q).to_bits());
+            }
+        }
     }
 
     #[test]

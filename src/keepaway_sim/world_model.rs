@@ -45,7 +45,7 @@
 //! as the framework does, for its own prediction.
 
 use super::command::Command;
-use super::geometry::{Vec2, normalize_deg};
+use super::geometry::{Vec2, normalize_deg, sin_cos_deg};
 use super::params::{KeepawayConfig, ServerParams, VisionMode};
 use super::perception::{PlayerId, PlayerView, SeenBall, SeenPlayer};
 use super::see::{SeeMessage, SenseBody};
@@ -324,7 +324,9 @@ impl WorldModel {
             self.roll_ball(now, sp);
         }
         // The sensed velocity, relative to the (predicted) neck.
-        let sensed = sense.velocity().rotate(predicted.body);
+        let neck = sin_cos_deg(predicted.body);
+        let relative = sense.velocity();
+        let sensed = relative.rotate_by(neck);
         let to_ball = predicted.pos.dist(self.ball.pos);
         let opposite = |p: f64, s: f64| (p > 0.0) != (s > 0.0) || p.abs() < 0.08;
         let collided = (sensed.norm() < EPSILON && predicted.vel.norm() > 0.01 && to_ball < 0.8)
@@ -350,10 +352,7 @@ impl WorldModel {
                 body: predicted.body,
             };
         } else {
-            let mut vel = sense
-                .velocity()
-                .with_norm(sense.speed / sp.player_decay)
-                .rotate(predicted.body);
+            let mut vel = relative.with_norm(sense.speed / sp.player_decay).rotate_by(neck);
             if vel.norm() > sp.player_speed_max {
                 vel = vel.with_norm(sp.player_speed_max);
             }
@@ -504,9 +503,11 @@ impl WorldModel {
         };
         let side = self.side();
         let own_vel = self.own.vel;
-        let global = |dist: f64, dir: f64| own.pos + Vec2::polar(dist, dir + own.body);
-        let velocity = |dist: f64, dir: f64, (dist_chg, dir_chg): (f64, f64)| {
-            let u = Vec2::polar(1.0, dir + own.body);
+        // Each seen object's global direction as a unit vector, used for both
+        // its position and its velocity (`polar(d, a)` is `polar(1, a) * d`).
+        let direction = |dir: f64| Vec2::polar(1.0, dir + own.body);
+        let global = |dist: f64, u: Vec2| own.pos + u * dist;
+        let velocity = |dist: f64, u: Vec2, (dist_chg, dir_chg): (f64, f64)| {
             let perp = Vec2::new(-u.y, u.x);
             own_vel + u * dist_chg + perp * (dir_chg.to_radians() * dist)
         };
@@ -515,14 +516,15 @@ impl WorldModel {
         for (i, mate) in see.players.iter().enumerate() {
             let Some(mate) = mate else { continue };
             let s = &mate.seen;
+            let u = direction(s.dir);
             if !mate.numbered {
-                unnumbered.push((Side::of(i), global(s.dist, s.dir)));
+                unnumbered.push((Side::of(i), global(s.dist, u)));
                 continue;
             }
             let b = &mut self.players[i];
-            b.pos = global(s.dist, s.dir);
+            b.pos = global(s.dist, u);
             if let Some(chg) = s.change {
-                b.vel = velocity(s.dist, s.dir, chg);
+                b.vel = velocity(s.dist, u, chg);
                 b.changed = Some(now);
             }
             if b.vel.norm() >= (1.0 + sp.player_rand) * sp.player_speed_max {
@@ -562,11 +564,12 @@ impl WorldModel {
             }
         }
         let ball = &see.ball;
-        let pos = global(ball.dist, ball.dir);
+        let u = direction(ball.dir);
+        let pos = global(ball.dist, u);
         let predicted = self.ball.vel;
         let mut vel = predicted;
         if let Some(chg) = ball.change {
-            vel = velocity(ball.dist, ball.dir, chg);
+            vel = velocity(ball.dist, u, chg);
             let band = 2.0 * sp.ball_rand * predicted.norm();
             if (vel.x - predicted.x).abs() <= band && (vel.y - predicted.y).abs() <= band {
                 vel = (vel + predicted) / 2.0;

@@ -8,9 +8,10 @@
 //! are current every cycle, so they start from the present state.
 
 use crate::keepaway_sim::command::Command;
-use crate::keepaway_sim::geometry::{Vec2, clamp, normalize_deg};
+use crate::keepaway_sim::geometry::{Vec2, clamp, normalize_deg, round_ties_even};
 use crate::keepaway_sim::params::{KeepawayConfig, ServerParams};
 use crate::keepaway_sim::perception::{SeenBall, SeenPlayer};
+use std::sync::LazyLock;
 
 /// A player's kinematic state, as used in predictions.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -48,9 +49,59 @@ pub enum Estimate {
 /// runaway estimates from absurd views.
 const MAX_SIMULATED_CYCLES: u32 = 200;
 
-/// Sum of the first `n` terms of the geometric series `1 + r + r^2 + ...`
-/// (term by term for the few terms of most predictions).
+/// Sum of the first `n` terms of the geometric series `1 + r + r^2 + ...`: read
+/// from a table for the server's default ball and player decays, which nearly
+/// every prediction uses, otherwise [`computed_geom_sum`] (the tables hold its
+/// values, so both give the same bits).
+#[inline]
 fn geom_sum(r: f64, n: u32) -> f64 {
+    let tables = &*DEFAULT_DECAY_SUMS;
+    let i = n as usize;
+    if i < GEOM_TABLE_LEN {
+        if r == tables.ball_decay {
+            return tables.ball[i];
+        }
+        if r == tables.player_decay {
+            return tables.player[i];
+        }
+    }
+    computed_geom_sum(r, n)
+}
+
+/// Terms covered by the tables of [`geom_sum`].
+const GEOM_TABLE_LEN: usize = 64;
+
+/// [`computed_geom_sum`] of the server's default ball and player decays for
+/// `0..GEOM_TABLE_LEN` terms.
+struct DefaultDecaySums {
+    ball_decay: f64,
+    ball: [f64; GEOM_TABLE_LEN],
+    player_decay: f64,
+    player: [f64; GEOM_TABLE_LEN],
+}
+
+/// The tables of [`geom_sum`], made on first use.
+static DEFAULT_DECAY_SUMS: LazyLock<DefaultDecaySums> = LazyLock::new(|| {
+    let sp = ServerParams::default();
+    let sums = |ratio: f64| {
+        let mut sums = [0.0; GEOM_TABLE_LEN];
+        for (n, sum) in (0u32..).zip(sums.iter_mut()) {
+            *sum = computed_geom_sum(ratio, n);
+        }
+        sums
+    };
+    DefaultDecaySums {
+        ball_decay: sp.ball_decay,
+        ball: sums(sp.ball_decay),
+        player_decay: sp.player_decay,
+        player: sums(sp.player_decay),
+    }
+});
+
+/// [`geom_sum`] computed: term by term for the few terms of most predictions,
+/// in closed form beyond.
+#[inline(never)]
+fn computed_geom_sum(r: f64, n: u32) -> f64 {
     if n <= 8 {
         let (mut sum, mut term) = (0.0, 1.0);
         for _ in 0..n {
@@ -287,7 +338,7 @@ pub(crate) fn kick_speed_to_travel(dist: f64, end_speed: f64, sp: &ServerParams)
     let r = 1.0 / sp.ball_decay;
     let temp = dist * (r - 1.0) / end_speed + 1.0;
     let steps = if temp <= 0.0 { -1.0 } else { temp.ln() / r.ln() };
-    end_speed * r.powf(steps.round_ties_even())
+    end_speed * r.powf(round_ties_even(steps))
 }
 
 /// The turn, if any, that the framework makes before moving to `target` in
@@ -476,14 +527,15 @@ pub(crate) fn cycles_to_point_from(start: Mover, target: Vec2, whose: Estimate, 
     if target.dist(start.pos) < reach {
         return 0;
     }
-    let dir_des = (target - start.pos).dir();
+    // The direction to the target matters only for a backward dash: computed then.
+    let dir_des = || (target - start.pos).dir();
     let mut cur = start;
     let mut cycles = 0u32;
     loop {
         let cmd = cur.move_command(target, 1, back, sp);
         let turning = match cmd {
             Command::Turn { .. } => true,
-            Command::Dash { power } => power < 0.0 && normalize_deg(cur.body - dir_des).abs() > 20.0,
+            Command::Dash { power } => power < 0.0 && normalize_deg(cur.body - dir_des()).abs() > 20.0,
             _ => false,
         };
         if !turning || cycles >= MAX_SIMULATED_CYCLES {
@@ -513,6 +565,16 @@ pub(crate) fn cycles_to_point_from(start: Mover, target: Vec2, whose: Estimate, 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tabled_geometric_sums_are_the_computed_ones() {
+        let sp = ServerParams::default();
+        for r in [sp.ball_decay, sp.player_decay, 0.5, 1.0] {
+            for n in 0..100 {
+                assert_eq!(geom_sum(r, n).to_bits(), computed_geom_sum(r, n).to_bits(), "{r} {n}");
+            }
+        }
+    }
 
     #[test]
     fn dash_power_for_far_points_is_full() {
