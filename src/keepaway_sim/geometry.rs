@@ -30,7 +30,7 @@ impl Vec2 {
 
     /// A vector of length `r` pointing at `deg` degrees.
     pub fn polar(r: f64, deg: f64) -> Self {
-        let (s, c) = sin_cos_deg(deg);
+        let (s, c) = deg.to_radians().sin_cos();
         Vec2 { x: r * c, y: r * s }
     }
 
@@ -76,12 +76,11 @@ impl Vec2 {
 
     /// This vector rotated counter-clockwise by `deg` degrees.
     pub(crate) fn rotate(self, deg: f64) -> Self {
-        self.rotate_by(sin_cos_deg(deg))
+        self.rotate_by(deg.to_radians().sin_cos())
     }
 
     /// This vector rotated counter-clockwise by the angle whose sine and cosine
-    /// are `(s, c)` (as [`sin_cos_deg`] gives them), for several vectors turned
-    /// by one angle.
+    /// are `(s, c)`, for several vectors turned by one angle.
     pub(crate) fn rotate_by(self, (s, c): (f64, f64)) -> Self {
         Vec2 {
             x: self.x * c - self.y * s,
@@ -157,10 +156,10 @@ impl MulAssign<f64> for Vec2 {
     }
 }
 
-/// Sine and cosine of `deg` degrees, `deg.to_radians().sin_cos()` bit for bit:
-/// whole degrees in `[-180, 180]` (the body sense's velocity directions) are read
-/// from a table of those very values; negative zero and everything else is
-/// computed.
+/// Sine and cosine of `deg` degrees, `deg.to_radians().sin_cos()` bit for bit,
+/// for angles that are mostly whole degrees (the body sense's): whole degrees in
+/// `[-180, 180]` are read from a table of those very values; negative zero and
+/// everything else is computed.
 pub(crate) fn sin_cos_deg(deg: f64) -> (f64, f64) {
     // Saturating; the bit comparison keeps only exact whole degrees.
     let whole = deg as i32;

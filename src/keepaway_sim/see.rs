@@ -21,7 +21,7 @@
 //! - body sense: `BodySenderPlayerV6::sendVelocity` (`bodysender.cc`), sent
 //!   every `sense_body_step` (100 ms, `stdtimer.cc`).
 
-use super::geometry::{Vec2, normalize_deg, quantize, round_ties_even};
+use super::geometry::{Vec2, normalize_deg, quantize, round_ties_even, sin_cos_deg};
 use super::params::{KeepawayConfig, ServerParams};
 use super::perception::PlayerId;
 use super::world::{FieldState, NUM_PLAYERS, Player};
@@ -339,7 +339,9 @@ pub struct SenseBody {
 impl SenseBody {
     /// The velocity relative to the neck as a vector.
     pub fn velocity(&self) -> Vec2 {
-        Vec2::polar(self.speed, self.dir)
+        // `Vec2::polar`, with the sine and cosine of the whole degree from a table.
+        let (s, c) = sin_cos_deg(self.dir);
+        Vec2::new(self.speed * c, self.speed * s)
     }
 }
 

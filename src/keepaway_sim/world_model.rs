@@ -45,7 +45,7 @@
 //! as the framework does, for its own prediction.
 
 use super::command::Command;
-use super::geometry::{Vec2, normalize_deg, sin_cos_deg};
+use super::geometry::{Vec2, normalize_deg};
 use super::params::{KeepawayConfig, ServerParams, VisionMode};
 use super::perception::{PlayerId, PlayerView, SeenBall, SeenPlayer};
 use super::see::{SeeMessage, SenseBody};
@@ -324,7 +324,7 @@ impl WorldModel {
             self.roll_ball(now, sp);
         }
         // The sensed velocity, relative to the (predicted) neck.
-        let neck = sin_cos_deg(predicted.body);
+        let neck = predicted.body.to_radians().sin_cos();
         let relative = sense.velocity();
         let sensed = relative.rotate_by(neck);
         let to_ball = predicted.pos.dist(self.ball.pos);

@@ -49,12 +49,16 @@ pub enum Estimate {
 /// runaway estimates from absurd views.
 const MAX_SIMULATED_CYCLES: u32 = 200;
 
-/// Sum of the first `n` terms of the geometric series `1 + r + r^2 + ...`: read
-/// from a table for the server's default ball and player decays, which nearly
-/// every prediction uses, otherwise [`computed_geom_sum`] (the tables hold its
-/// values, so both give the same bits).
+/// Sum of the first `n` terms of the geometric series `1 + r + r^2 + ...`: term
+/// by term for the few terms of most predictions; beyond, read from a table for
+/// the server's default ball and player decays, which nearly every prediction
+/// uses, otherwise [`computed_geom_sum`] (the tables hold its values, so both
+/// give the same bits).
 #[inline]
 fn geom_sum(r: f64, n: u32) -> f64 {
+    if n <= GEOM_TERMS_SUMMED {
+        return computed_geom_sum(r, n);
+    }
     let tables = &*DEFAULT_DECAY_SUMS;
     let i = n as usize;
     if i < GEOM_TABLE_LEN {
@@ -98,11 +102,14 @@ static DEFAULT_DECAY_SUMS: LazyLock<DefaultDecaySums> = LazyLock::new(|| {
     }
 });
 
+/// Terms up to which [`computed_geom_sum`] adds the terms one by one.
+const GEOM_TERMS_SUMMED: u32 = 8;
+
 /// [`geom_sum`] computed: term by term for the few terms of most predictions,
 /// in closed form beyond.
-#[inline(never)]
+#[inline]
 fn computed_geom_sum(r: f64, n: u32) -> f64 {
-    if n <= 8 {
+    if n <= GEOM_TERMS_SUMMED {
         let (mut sum, mut term) = (0.0, 1.0);
         for _ in 0..n {
             sum += term;
