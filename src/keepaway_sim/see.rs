@@ -207,8 +207,9 @@ pub(crate) fn quantised_distance(d: f64, qstep: f64) -> f64 {
         // Saturating; the bit comparison keeps only exact whole steps.
         let whole = k as i32;
         if f64::from(whole).to_bits() == k.to_bits()
-            && let Some(&dist) = usize::try_from(whole - MIN_LOG_STEP)
-                .ok()
+            && let Some(&dist) = whole
+                .checked_sub(MIN_LOG_STEP)
+                .and_then(|i| usize::try_from(i).ok())
                 .and_then(|i| table.dists.get(i))
         {
             return dist;
