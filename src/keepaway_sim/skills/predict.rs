@@ -50,14 +50,19 @@ pub enum Estimate {
 const MAX_SIMULATED_CYCLES: u32 = 200;
 
 /// Sum of the first `n` terms of the geometric series `1 + r + r^2 + ...`: term
-/// by term for the few terms of most predictions; beyond, read from a table for
-/// the server's default ball and player decays, which nearly every prediction
-/// uses, otherwise [`computed_geom_sum`] (the tables hold its values, so both
-/// give the same bits).
+/// by term for the few terms of most predictions; beyond, in closed form, read
+/// from a table for the server's default ball and player decays, which nearly
+/// every prediction uses (the tables hold [`closed_form_geom_sum`]'s values, so
+/// both give the same bits).
 #[inline]
 fn geom_sum(r: f64, n: u32) -> f64 {
     if n <= GEOM_TERMS_SUMMED {
-        return computed_geom_sum(r, n);
+        let (mut sum, mut term) = (0.0, 1.0);
+        for _ in 0..n {
+            sum += term;
+            term *= r;
+        }
+        return sum;
     }
     let tables = &*DEFAULT_DECAY_SUMS;
     let i = n as usize;
@@ -69,14 +74,22 @@ fn geom_sum(r: f64, n: u32) -> f64 {
             return tables.player[i];
         }
     }
-    computed_geom_sum(r, n)
+    closed_form_geom_sum(r, n)
+}
+
+/// Terms up to which [`geom_sum`] adds the terms one by one.
+const GEOM_TERMS_SUMMED: u32 = 8;
+
+/// [`geom_sum`] beyond [`GEOM_TERMS_SUMMED`] terms: `(1 - r^n) / (1 - r)`.
+fn closed_form_geom_sum(r: f64, n: u32) -> f64 {
+    (1.0 - r.powi(i32::try_from(n).unwrap_or(i32::MAX))) / (1.0 - r)
 }
 
 /// Terms covered by the tables of [`geom_sum`].
 const GEOM_TABLE_LEN: usize = 64;
 
-/// [`computed_geom_sum`] of the server's default ball and player decays for
-/// `0..GEOM_TABLE_LEN` terms.
+/// [`closed_form_geom_sum`] of the server's default ball and player decays for
+/// `0..GEOM_TABLE_LEN` terms (only those beyond [`GEOM_TERMS_SUMMED`] are read).
 struct DefaultDecaySums {
     ball_decay: f64,
     ball: [f64; GEOM_TABLE_LEN],
@@ -90,7 +103,7 @@ static DEFAULT_DECAY_SUMS: LazyLock<DefaultDecaySums> = LazyLock::new(|| {
     let sums = |ratio: f64| {
         let mut sums = [0.0; GEOM_TABLE_LEN];
         for (n, sum) in (0u32..).zip(sums.iter_mut()) {
-            *sum = computed_geom_sum(ratio, n);
+            *sum = closed_form_geom_sum(ratio, n);
         }
         sums
     };
@@ -101,25 +114,6 @@ static DEFAULT_DECAY_SUMS: LazyLock<DefaultDecaySums> = LazyLock::new(|| {
         player: sums(sp.player_decay),
     }
 });
-
-/// Terms up to which [`computed_geom_sum`] adds the terms one by one.
-const GEOM_TERMS_SUMMED: u32 = 8;
-
-/// [`geom_sum`] computed: term by term for the few terms of most predictions,
-/// in closed form beyond.
-#[inline]
-fn computed_geom_sum(r: f64, n: u32) -> f64 {
-    if n <= GEOM_TERMS_SUMMED {
-        let (mut sum, mut term) = (0.0, 1.0);
-        for _ in 0..n {
-            sum += term;
-            term *= r;
-        }
-        sum
-    } else {
-        (1.0 - r.powi(i32::try_from(n).unwrap_or(i32::MAX))) / (1.0 - r)
-    }
-}
 
 /// Where the ball will be after `n` cycles (`predictPosAfterNrCycles` for the
 /// ball: its velocity decays geometrically).
@@ -574,11 +568,19 @@ mod tests {
     use super::*;
 
     #[test]
-    fn tabled_geometric_sums_are_the_computed_ones() {
+    fn tabled_geometric_sums_are_the_closed_form() {
         let sp = ServerParams::default();
-        for r in [sp.ball_decay, sp.player_decay, 0.5, 1.0] {
-            for n in 0..100 {
-                assert_eq!(geom_sum(r, n).to_bits(), computed_geom_sum(r, n).to_bits(), "{r} {n}");
+        for r in [sp.ball_decay, sp.player_decay, 0.5] {
+            for n in GEOM_TERMS_SUMMED + 1..100 {
+                assert_eq!(
+                    geom_sum(r, n).to_bits(),
+                    closed_form_geom_sum(r, n).to_bits(),
+                    "{r} {n}"
+                );
+            }
+            // The term-by-term sums and the closed form agree to rounding.
+            for n in 0..=GEOM_TERMS_SUMMED {
+                assert!((geom_sum(r, n) - closed_form_geom_sum(r, n)).abs() < 1e-12, "{r} {n}");
             }
         }
     }
