@@ -45,6 +45,7 @@ struct Args {
 }
 
 fn main() -> ExitCode {
+    learnpnp_system::resident_memory::return_large_blocks_when_freed();
     iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
     let args = Args::parse();
     let interrupt = match Interrupt::install() {

@@ -505,6 +505,7 @@ fn remote(args: RemoteArgs) -> Result<ExitCode> {
 }
 
 fn main() -> ExitCode {
+    learnpnp_system::resident_memory::return_large_blocks_when_freed();
     iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
     let cli = Cli::parse();
     let result = match cli.command {

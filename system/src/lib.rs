@@ -14,3 +14,4 @@ pub mod cli;
 pub mod ipc;
 pub mod latency;
 pub mod multiprocess;
+pub mod resident_memory;
