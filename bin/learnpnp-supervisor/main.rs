@@ -18,6 +18,8 @@ use learnpnp::named::Named;
 use learnpnp::result_dir::ResultDir;
 use learnpnp_cli::args::{ExperimentFlags, named};
 use learnpnp_cli::interrupt::Interrupt;
+use learnpnp_system::bridge::certs::{self, CertRequest, HostFiles};
+use learnpnp_system::bridge::link::PLAIN_TCP_WARNING;
 use learnpnp_system::ipc::namespace::{Namespace, clean_stale};
 use learnpnp_system::ipc::wait::WaitStrategy;
 use learnpnp_system::multiprocess::Clock;
@@ -62,12 +64,69 @@ enum Command {
     /// to the run's host (started with --remote-agents), and it runs those
     /// agents here until that host ends the run.
     Remote(RemoteArgs),
+    /// Make the private CA of a run's hosts and their certificates: a
+    /// directory each for host A, host B and every monitor (copy each to its
+    /// host; `ca/` holds the CA's key and stays with you).
+    LinkCerts(LinkCertsArgs),
     /// Measure how a world run's cycles/s and round trip grow with the agents
     /// (default: the corridor world beside this binary, lock-step).
     BenchWorld(BenchWorldArgs),
     /// (Chaos soaks) Publish garbage on every service of a run, as a foreign process.
     #[command(name = GARBAGE_COMMAND, hide = true)]
     PublishGarbage(GarbageArgs),
+}
+
+/// The certificates of a run's hosts.
+#[derive(Args, Debug)]
+struct LinkCertsArgs {
+    /// Where to write them (an existing CA in DIR/ca is used, not replaced).
+    #[arg(long, default_value = "link-certs")]
+    dir: PathBuf,
+    /// An address or DNS name host B connects to host A by (repeat for more):
+    /// host B's bridge checks that host A's certificate names it.
+    #[arg(long = "host-a", required = true)]
+    host_a: Vec<String>,
+    /// A read-only monitor's directory name (repeat for more): its
+    /// certificate may only subscribe to the heartbeats and episode events.
+    #[arg(long = "monitor", default_value = "monitor")]
+    monitors: Vec<String>,
+}
+
+/// How this host joins the link between hosts: its certificates, or plain TCP.
+#[derive(Args, Debug, Clone)]
+struct LinkArgs {
+    /// This host's certificates: a directory made by `learnpnp-supervisor
+    /// link-certs` (host A's `host-a`, host B's `host-b`), for TLS with
+    /// mutual authentication and, on host A, access control.
+    #[arg(long)]
+    link_certs: Option<PathBuf>,
+    /// Run the link over plain TCP (tcp/ADDRESS:PORT): no encryption, no
+    /// authentication, no access control; anyone who reaches the port can
+    /// read the run and take it over.
+    #[arg(long, conflicts_with = "link_certs")]
+    insecure_plain_tcp: bool,
+}
+
+impl LinkArgs {
+    /// The certificates' directory, checked; `None` for plain TCP. An error
+    /// if neither was chosen.
+    fn certs(&self) -> Result<Option<PathBuf>> {
+        match (&self.link_certs, self.insecure_plain_tcp) {
+            (Some(dir), _) => {
+                HostFiles::in_dir(dir)?;
+                Ok(Some(dir.clone()))
+            }
+            (None, true) => {
+                eprintln!("warning: {PLAIN_TCP_WARNING}");
+                Ok(None)
+            }
+            (None, false) => bail!(
+                "the link between hosts is TLS with mutual authentication: give --link-certs DIR \
+                 (made by `learnpnp-supervisor link-certs --host-a ADDRESS`) and quic/ADDRESS:PORT endpoints, \
+                 or --insecure-plain-tcp to give up encryption, authentication and access control"
+            ),
+        }
+    }
 }
 
 /// The run a garbage publisher joins.
@@ -109,9 +168,11 @@ struct RunArgs {
     /// host's bridge carries their services (needs --bridge-listen).
     #[arg(long, value_delimiter = ',', requires = "bridge_listen", value_parser = clap::value_parser!(u8).range(1..=16))]
     remote_agents: Vec<u8>,
-    /// Where this host's bridge listens for the other hosts' (tcp/ADDRESS:PORT).
+    /// Where this host's bridge listens for the other hosts' (quic/ADDRESS:PORT).
     #[arg(long, requires = "remote_agents")]
     bridge_listen: Vec<String>,
+    #[command(flatten)]
+    link: LinkArgs,
     /// With --world-cmd: the next agent's plan (repeat it, one per agent,
     /// instead of --plan and --agents).
     #[arg(long = "agent-plan", requires = "world_cmd", conflicts_with = "agents")]
@@ -183,9 +244,11 @@ struct BenchArgs {
 /// A host of remote agents.
 #[derive(Args, Debug)]
 struct RemoteArgs {
-    /// The run's host's bridge (tcp/ADDRESS:PORT).
+    /// The run's host's bridge (quic/ADDRESS:PORT).
     #[arg(long, required = true)]
     bridge_connect: Vec<String>,
+    #[command(flatten)]
+    link: LinkArgs,
     /// This host's directory (logs, checkpoints, its summary.json).
     #[arg(long, default_value = "out/remote")]
     out: PathBuf,
@@ -279,10 +342,14 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
         restart_simulator: false,
         binaries: Binaries::beside_current_exe()?,
         world_period: Duration::from_millis(args.world_period_ms),
-        cluster: (!args.remote_agents.is_empty()).then(|| Cluster {
-            remote: args.remote_agents.iter().map(|&k| usize::from(k) - 1).collect(),
-            listen: args.bridge_listen.clone(),
-        }),
+        cluster: match args.remote_agents.is_empty() {
+            true => None,
+            false => Some(Cluster {
+                remote: args.remote_agents.iter().map(|&k| usize::from(k) - 1).collect(),
+                listen: args.bridge_listen.clone(),
+                link_certs: args.link.certs()?,
+            }),
+        },
     };
     let p = config.spec.protocol;
     eprintln!(
@@ -478,6 +545,7 @@ fn remote(args: RemoteArgs) -> Result<ExitCode> {
         );
     }
     let config = RemoteConfig {
+        link_certs: args.link.certs()?,
         connect: args.bridge_connect,
         binaries: Binaries::beside_current_exe()?,
         heartbeat_timeout: Duration::from_secs(args.heartbeat_timeout),
@@ -504,6 +572,32 @@ fn remote(args: RemoteArgs) -> Result<ExitCode> {
     })
 }
 
+fn link_certs(args: LinkCertsArgs) -> Result<ExitCode> {
+    let request = CertRequest {
+        host_a: args.host_a,
+        monitors: args.monitors,
+    };
+    let made = certs::make(&args.dir, &request).context("making the link's certificates")?;
+    let ca = args.dir.join(certs::CA_DIR);
+    if made.new_ca {
+        println!(
+            "a new private CA in {} (keep its key there, off the hosts)",
+            ca.display()
+        );
+    } else {
+        println!("the CA in {} signed them", ca.display());
+    }
+    for dir in &made.dirs {
+        println!("  {}", dir.display());
+    }
+    println!(
+        "copy {} to host A and {} to host B (--link-certs DIR on each)",
+        args.dir.join(certs::HOST_A_DIR).display(),
+        args.dir.join(certs::HOST_B_DIR).display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
 fn main() -> ExitCode {
     learnpnp_system::resident_memory::return_large_blocks_when_freed();
     iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
@@ -515,6 +609,7 @@ fn main() -> ExitCode {
         Some(Command::BenchLatency(args)) => bench(args),
         Some(Command::BenchWorld(args)) => bench_world_cmd(args),
         Some(Command::Remote(args)) => remote(args),
+        Some(Command::LinkCerts(args)) => link_certs(args),
         Some(Command::PublishGarbage(args)) => Namespace::from_prefix(&args.ipc_prefix)
             .context("the run's namespace")
             .and_then(|ns| publish_garbage(&ns, args.run_id, args.world_agents).context("publishing garbage"))

@@ -28,3 +28,4 @@ mod reproduce_summary;
 mod result_dirs;
 mod schema_cli;
 mod shards;
+mod slurm_cluster;

@@ -1,7 +1,10 @@
 """A run across hosts, watched from Python: the `eclipse-zenoh` package as an
-independent Zenoh client of the run's link, on host B, reads the heartbeats
-the bridges carry (raw `Heartbeat` layouts tagged with their type and
-protocol version), decoded with the world kit's ctypes mirror. Host A (the
+independent Zenoh client of the run's link, on host B, with the read-only
+monitor certificate that `learnpnp-supervisor link-certs` made for the run
+(QUIC with TLS 1.3, mutual authentication by the run's CA): it reads the
+heartbeats the bridges carry (raw `Heartbeat` layouts tagged with their type
+and protocol version), decoded with the world kit's ctypes mirror, and cannot
+publish (host A's access control denies it and counts it). Host A (the
 corridor world, its supervisor and bridge) and host B (`learnpnp-supervisor
 remote` with the agent, and the Zenoh client) are two network namespaces this
 test creates, joined by a veth pair with addresses from 198.18.0.0/15 and
@@ -22,29 +25,45 @@ import pytest
 
 pytest.importorskip("zenoh")
 
-# Run by host B's Python (in host B's namespace): reads heartbeats from the
-# link at ENDPOINT until it has heard two senders, prints them as JSON.
+# Run by host B's Python (in host B's namespace), with the monitor's
+# certificate: reads heartbeats from the link at ENDPOINT until it has heard
+# two senders, then tries to publish a heartbeat and a stop order in the
+# run's keys; prints what it heard as JSON.
 CLIENT = r"""
-import json, sys, time
+import json, pathlib, sys, time
 import zenoh
 from learnpnp.world import Heartbeat
+endpoint, certs = sys.argv[1], pathlib.Path(sys.argv[2])
 config = zenoh.Config()
 config.insert_json5("mode", '"client"')
-config.insert_json5("connect/endpoints", json.dumps([sys.argv[1]]))
+config.insert_json5("connect/endpoints", json.dumps([endpoint]))
 config.insert_json5("scouting/multicast/enabled", "false")
 config.insert_json5("connect/timeout_ms", "30000")  # host A's bridge may not listen yet
+tls = "transport/link/tls"
+config.insert_json5(f"{tls}/root_ca_certificate", json.dumps(str(certs / "ca.pem")))
+config.insert_json5(f"{tls}/enable_mtls", "true")
+config.insert_json5(f"{tls}/connect_certificate", json.dumps(str(certs / "cert.pem")))
+config.insert_json5(f"{tls}/connect_private_key", json.dumps(str(certs / "key.pem")))
+config.insert_json5(f"{tls}/verify_name_on_connect", "true")
 heard = {}
 with zenoh.open(config) as session:
-    subscriber = session.declare_subscriber("learnpnp/*/learnpnp/heartbeat")
+    # A monitor does not know the run's prefix: the wildcard is what it may ask for.
+    subscriber = session.declare_subscriber("learnpnp/*/learnpnp/heartbeat/*")
     deadline = time.monotonic() + 60
+    prefix = None
     while time.monotonic() < deadline and len(heard) < 2:
         sample = subscriber.try_recv()
         if sample is None:
             time.sleep(0.01)
             continue
+        prefix = str(sample.key_expr).split("/")[1]
         tag = bytes(sample.attachment).decode()
         beat = Heartbeat.from_buffer_copy(bytes(sample.payload))
         heard[beat.header.sender] = {"tag": tag, "run_id": beat.header.run_id, "pid": beat.pid}
+    # Read-only: these are denied by host A's access control.
+    for key in (f"learnpnp/{prefix}/learnpnp/heartbeat/0", f"learnpnp/{prefix}/learnpnp/control/host-a"):
+        session.put(key, b"monitor")
+    time.sleep(0.5)
 print(json.dumps(heard))
 """
 
@@ -86,25 +105,30 @@ def free_port():
         return s.getsockname()[1]
 
 
-def test_a_zenoh_client_on_host_b_reads_the_heartbeats_of_a_run_across_hosts(supervisor, sandbox, plans):
+def test_a_monitor_on_host_b_reads_the_heartbeats_of_a_run_across_hosts_and_cannot_publish(supervisor, sandbox, plans):
     corridor = os.path.join(os.path.dirname(supervisor), "learnpnp-corridor")
     with two_hosts() as (on_a, on_b, address):
-        endpoint = f"tcp/{address}:{free_port()}"
+        endpoint = f"quic/{address}:{free_port()}"
+        certs = sandbox / "certs"
+        subprocess.run([supervisor, "link-certs", "--dir", str(certs), "--host-a", address], check=True,
+                       capture_output=True)
         host_a = subprocess.Popen(
             on_a([supervisor, "--world-cmd", corridor, "--plan", str(plans / "corridor.pnml"), "--algo",
                   "q-learning", "--episodes", "1500", "--eval-every", "1500", "--eval-episodes", "0",
-                  "--greedy-episodes", "2", "--remote-agents", "1", "--bridge-listen", endpoint, "--out",
-                  str(sandbox / "a"), "--floor-round-trips", "500"]),
+                  "--greedy-episodes", "2", "--remote-agents", "1", "--bridge-listen", endpoint,
+                  "--link-certs", str(certs / "host-a"), "--out", str(sandbox / "a"),
+                  "--floor-round-trips", "500"]),
             env={**os.environ, "LEARNPNP_IPC_DIR": str(sandbox / "ipc-a")}, stdout=subprocess.PIPE,
             stderr=subprocess.PIPE, text=True)
         host_b = subprocess.Popen(
-            on_b([supervisor, "remote", "--bridge-connect", endpoint, "--out", str(sandbox / "b")]),
+            on_b([supervisor, "remote", "--bridge-connect", endpoint, "--link-certs", str(certs / "host-b"),
+                  "--out", str(sandbox / "b")]),
             env={**os.environ, "LEARNPNP_IPC_DIR": str(sandbox / "ipc-b")}, stdout=subprocess.PIPE,
             stderr=subprocess.PIPE, text=True)
         try:
             # From the sandbox: `learnpnp` is the installed package, not this source tree.
-            client = subprocess.run(on_b([sys.executable, "-c", CLIENT, endpoint]), capture_output=True, text=True,
-                                    timeout=120, cwd=sandbox)
+            client = subprocess.run(on_b([sys.executable, "-c", CLIENT, endpoint, str(certs / "monitor")]),
+                                    capture_output=True, text=True, timeout=120, cwd=sandbox)
         finally:
             a_out, a_err = host_a.communicate(timeout=120)
             b_out, b_err = host_b.communicate(timeout=120)
@@ -118,3 +142,6 @@ def test_a_zenoh_client_on_host_b_reads_the_heartbeats_of_a_run_across_hosts(sup
     assert all(beat["run_id"] == run_id and beat["pid"] > 0 for beat in heard.values())
     summary = json.loads((sandbox / "a" / "summary.json").read_text())
     assert summary["complete"] and summary["experiment"]["final_greedy_mean"] == -4.0
+    link = summary["link"]
+    assert link["security"] == "mutual-tls-quic"
+    assert link["refused"]["access_denied"] >= 2, "the monitor's two publications were denied and counted"

@@ -1,6 +1,8 @@
 //! A run across two hosts: host A runs the simulator or world, its
 //! supervisor, its agents and its bridge; host B runs a remote agent under
-//! `learnpnp-supervisor remote`, whose bridge joins host A's over Zenoh.
+//! `learnpnp-supervisor remote`, whose bridge joins host A's over Zenoh
+//! (TLS with mutual authentication, the certificates made by
+//! `learnpnp-supervisor link-certs` when the test runs).
 //! The hosts are two network namespaces this test creates, joined by a veth
 //! pair with addresses from 198.18.0.0/15 and nothing else (removed after
 //! the test, also when it fails); where namespaces cannot be made (not
@@ -17,7 +19,7 @@ use crate::util::{shipped_arg, text};
 use serde_json::Value;
 
 /// Two hosts: network namespaces joined by a veth pair, or loopback.
-struct Hosts {
+pub(crate) struct Hosts {
     /// The namespaces (A, B), if they could be made.
     namespaces: Option<(String, String)>,
     /// The veth ends (A's, B's).
@@ -42,7 +44,7 @@ fn ip(args: &[&str]) -> bool {
 impl Hosts {
     /// Two namespaces joined by a veth pair 198.18.N.1 <-> 198.18.N.2, or
     /// loopback if they cannot be made.
-    fn new() -> Self {
+    pub(crate) fn new() -> Self {
         let n = HOSTS.fetch_add(1, Ordering::Relaxed);
         let tag = format!("{}{n}", std::process::id() % 100_000);
         let (na, nb) = (format!("lpa{tag}"), format!("lpb{tag}"));
@@ -80,12 +82,26 @@ impl Hosts {
     }
 
     /// Host A's bridge's endpoint.
-    fn endpoint(&self) -> String {
-        format!("tcp/{}:{}", self.a, self.port)
+    pub(crate) fn endpoint(&self) -> String {
+        format!("quic/{}:{}", self.a, self.port)
+    }
+
+    /// Makes the run's certificates in `dir` (host A's named by its address).
+    pub(crate) fn certs(&self, dir: &Path) -> Certs {
+        let made = Command::new(env!("CARGO_BIN_EXE_learnpnp-supervisor"))
+            .args(["link-certs", "--host-a", &self.a, "--dir"])
+            .arg(dir)
+            .output()
+            .unwrap();
+        assert!(made.status.success(), "{}", text(&made.stderr));
+        Certs {
+            host_a: dir.join("host-a").display().to_string(),
+            host_b: dir.join("host-b").display().to_string(),
+        }
     }
 
     /// `command` run on host A (`true`) or host B.
-    fn on(&self, host_a: bool, command: Command) -> Command {
+    pub(crate) fn on(&self, host_a: bool, command: Command) -> Command {
         let Some((na, nb)) = &self.namespaces else {
             return command;
         };
@@ -122,11 +138,25 @@ impl Drop for Hosts {
     }
 }
 
-/// Host B's supervisor, joining host A's run at `endpoint`, its files in `out`.
-fn remote(sandbox: &Sandbox, out: &Path, endpoint: &str) -> Command {
+/// The directories of host A's and host B's certificates.
+pub(crate) struct Certs {
+    pub(crate) host_a: String,
+    pub(crate) host_b: String,
+}
+
+/// Host B's supervisor, joining host A's run at `endpoint` with host B's
+/// certificates, its files in `out`.
+pub(crate) fn remote(sandbox: &Sandbox, out: &Path, endpoint: &str, certs: &Certs) -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_learnpnp-supervisor"));
     command
-        .args(["remote", "--bridge-connect", endpoint, "--out"])
+        .args([
+            "remote",
+            "--bridge-connect",
+            endpoint,
+            "--link-certs",
+            &certs.host_b,
+            "--out",
+        ])
         .arg(out)
         .env("LEARNPNP_IPC_DIR", sandbox.ipc())
         .stdin(Stdio::null())
@@ -136,7 +166,7 @@ fn remote(sandbox: &Sandbox, out: &Path, endpoint: &str) -> Command {
 }
 
 /// Host A's supervisor with `args`, its results in `out`.
-fn host_a(hosts: &Hosts, sandbox: &Sandbox, out: &str, args: &[&str]) -> Child {
+pub(crate) fn host_a(hosts: &Hosts, sandbox: &Sandbox, out: &str, args: &[&str]) -> Child {
     hosts
         .on(true, sandbox.supervisor(out, args))
         .stdout(Stdio::piped())
@@ -145,18 +175,18 @@ fn host_a(hosts: &Hosts, sandbox: &Sandbox, out: &str, args: &[&str]) -> Child {
         .unwrap()
 }
 
-fn finished(child: Child) -> Output {
+pub(crate) fn finished(child: Child) -> Output {
     let output = child.wait_with_output().unwrap();
     assert!(output.status.success(), "{}", text(&output.stderr));
     output
 }
 
 /// Host B's summary (the host's own prefix, faults and shipping).
-fn remote_summary(out: &Path) -> Value {
+pub(crate) fn remote_summary(out: &Path) -> Value {
     serde_json::from_str(&fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
 }
 
-const SHORT: [&str; 12] = [
+pub(crate) const SHORT: [&str; 12] = [
     "--episodes",
     "150",
     "--eval-every",
@@ -178,11 +208,22 @@ fn a_keeper_on_another_host_plays_exactly_the_one_host_episodes() {
     let one = sandbox.supervisor("one", &SHORT).output().unwrap();
     assert!(one.status.success(), "{}", text(&one.stderr));
     let endpoint = hosts.endpoint();
+    let certs = hosts.certs(&sandbox.out("certs"));
     let mut a_args = SHORT.to_vec();
-    a_args.extend(["--remote-agents", "3", "--bridge-listen", &endpoint]);
+    a_args.extend([
+        "--remote-agents",
+        "3",
+        "--bridge-listen",
+        &endpoint,
+        "--link-certs",
+        &certs.host_a,
+    ]);
     let host_a = host_a(&hosts, &sandbox, "two", &a_args);
     let b_out: PathBuf = sandbox.out("host-b");
-    let host_b = hosts.on(false, remote(&sandbox, &b_out, &endpoint)).spawn().unwrap();
+    let host_b = hosts
+        .on(false, remote(&sandbox, &b_out, &endpoint, &certs))
+        .spawn()
+        .unwrap();
     finished(host_b);
     finished(host_a);
     let episodes = |out: &str| fs::read(sandbox.out(out).join("episodes.csv")).unwrap();
@@ -196,6 +237,12 @@ fn a_keeper_on_another_host_plays_exactly_the_one_host_episodes() {
     }
     let (a, b) = (summary(&sandbox.out("two")), remote_summary(&b_out));
     assert_eq!(b["shipped"], true, "{b}");
+    // Over mutual TLS, with nothing refused and no fault.
+    for link in [&a["link"], &b["link"]] {
+        assert_eq!(link["security"], "mutual-tls-quic", "{link}");
+        assert!(link["refused"].as_object().unwrap().values().all(|n| n == 0), "{link}");
+    }
+    assert_eq!(a["faults"], serde_json::json!([]), "{a}");
     // The report shows the round trip across the link: keeper 3's own,
     // through both bridges, slower than local keeper 1's.
     let p50 = |k: &str| a["keeper_latency_us"][k]["p50"].as_f64().unwrap();
@@ -251,12 +298,21 @@ fn in_real_time_a_cut_link_and_a_killed_bridge_cost_deadlines_not_the_run() {
     let sandbox = Sandbox::new("hosts-realtime");
     let hosts = Hosts::new();
     let endpoint = hosts.endpoint();
+    let certs = hosts.certs(&sandbox.out("certs"));
     let mut a_args = realtime_world("150");
-    a_args.extend(["--bridge-listen".to_string(), endpoint.clone()]);
+    a_args.extend([
+        "--bridge-listen".to_string(),
+        endpoint.clone(),
+        "--link-certs".into(),
+        certs.host_a.clone(),
+    ]);
     let a_args: Vec<&str> = a_args.iter().map(String::as_str).collect();
     let host_a = host_a(&hosts, &sandbox, "a", &a_args);
     let b_out = sandbox.out("host-b");
-    let host_b = hosts.on(false, remote(&sandbox, &b_out, &endpoint)).spawn().unwrap();
+    let host_b = hosts
+        .on(false, remote(&sandbox, &b_out, &endpoint, &certs))
+        .spawn()
+        .unwrap();
     // Once the agent acts, cut the link for two seconds, then kill host A's bridge.
     let journal = b_out.join("agent1.journal");
     assert!(wait_until(Duration::from_secs(60), || fs::read_to_string(&journal)
@@ -290,6 +346,7 @@ fn in_real_time_a_cut_link_and_a_killed_bridge_cost_deadlines_not_the_run() {
 /// returned once keeper 3 has checkpointed twice on host B.
 fn keeper_3_on_host_b(sandbox: &Sandbox, hosts: &Hosts, more: &[&str]) -> (Child, Child, PathBuf) {
     let endpoint = hosts.endpoint();
+    let certs = hosts.certs(&sandbox.out("certs"));
     let mut a_args = SHORT.to_vec();
     a_args[1] = "400";
     a_args.extend([
@@ -297,13 +354,18 @@ fn keeper_3_on_host_b(sandbox: &Sandbox, hosts: &Hosts, more: &[&str]) -> (Child
         "3",
         "--bridge-listen",
         &endpoint,
+        "--link-certs",
+        &certs.host_a,
         "--checkpoint-every",
         "10",
     ]);
     a_args.extend(more);
     let host_a = host_a(hosts, sandbox, "a", &a_args);
     let b_out = sandbox.out("host-b");
-    let host_b = hosts.on(false, remote(sandbox, &b_out, &endpoint)).spawn().unwrap();
+    let host_b = hosts
+        .on(false, remote(sandbox, &b_out, &endpoint, &certs))
+        .spawn()
+        .unwrap();
     let prev = b_out.join("values-agent3.bin.prev");
     assert!(
         wait_until(Duration::from_secs(120), || prev.exists()),

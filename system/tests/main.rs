@@ -6,6 +6,7 @@
 mod util;
 
 mod hosts;
+mod intruders;
 mod ipc_wait;
 mod multiprocess;
 mod world;

@@ -1,19 +1,32 @@
 //! One service carried between hosts: what this host's processes publish on
 //! it goes out over Zenoh as the layout's raw bytes, tagged with the type's
-//! name and the protocol version; what arrives is checked against that tag
-//! and its size and published here, where the receiving process validates
-//! it as it validates every message (the bridge trusts nothing it carries).
+//! name and the protocol version; what arrives is checked against that tag,
+//! its size, its key's sender and (for the supervisors' orders) what the
+//! other host may order, and only then published here, where the receiving
+//! process validates it as it validates every message. Whatever fails a
+//! check is refused and counted by reason ([`LinkRefusals`]).
+//!
+//! A service several processes publish on (heartbeats, agents' reports) is
+//! keyed by sender (`.../learnpnp/heartbeat/2`), so that host A's access
+//! control can let host B publish its own agents' keys and no other; the
+//! supervisors' orders are keyed by host (`.../learnpnp/control/host-b`).
 
+use std::collections::BTreeMap;
 use std::fmt::Debug;
 use std::mem::size_of;
 
 use crossbeam::channel::{Receiver, Sender, unbounded};
 use iceoryx2::node::Node;
 use iceoryx2::prelude::ZeroCopySend;
+use shm_layouts::{
+    AgentReport, Control, EpisodeEvent, Header, Heartbeat, KeeperCommand, KeeperSnapshot, WorldCommand, WorldSnapshot,
+    WorldVocabulary, control,
+};
 use zenoh::pubsub::{Publisher, Subscriber};
 use zenoh::sample::Locality;
 use zenoh::{Session, Wait};
 
+use super::refusals::LinkRefusals;
 use super::{BridgeError, zenoh_error};
 use crate::ipc::services::{BridgePorts, Ipc, fail};
 use crate::ipc::wait::WaitStrategy;
@@ -25,7 +38,7 @@ pub enum Direction {
     Out,
     /// From the others to this host.
     In,
-    /// Both ways (the supervisors' commands).
+    /// Both ways (heartbeats, the supervisors' orders).
     Both,
 }
 
@@ -39,6 +52,52 @@ impl Direction {
     }
 }
 
+/// How a service's Zenoh keys name who sent a message, and whom a bridge
+/// takes messages from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Source {
+    /// One key: one publisher (a keeper's snapshots and commands, the episode
+    /// events), whose receiver checks the sender.
+    Single,
+    /// A key per sender (`KEY/SENDER`, the header's sender); what arrives is
+    /// taken from the `accepted` senders only (the other hosts' processes),
+    /// its header naming the same sender as its key.
+    BySender {
+        /// The senders whose messages may arrive.
+        accepted: Vec<u32>,
+    },
+    /// A key per host (`KEY/HOST`): this host sends on its own, takes
+    /// messages from the other's only.
+    ByHost {
+        /// This host's name in keys.
+        this: &'static str,
+        /// The other host's.
+        other: &'static str,
+    },
+}
+
+/// What the other host may order this one's processes (host A's bridge,
+/// about host B's supervisor): that one of its own agents was lost and
+/// restarted, and that the run stop (host B was stopped).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RemoteOrders {
+    /// The other host's agents (0-based): `KEEPER_LOST` may name them only.
+    pub agents: Vec<u32>,
+    /// The sender of this host's simulator or world: `STOP` may go to it only.
+    pub host: u32,
+}
+
+impl RemoteOrders {
+    /// Whether `command` for `target` may come from the other host.
+    fn admits(&self, command: u32, target: u32) -> bool {
+        match command {
+            control::KEEPER_LOST => self.agents.contains(&target),
+            control::STOP => target == self.host,
+            _ => false,
+        }
+    }
+}
+
 /// What one poll of a carried service moved.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Moved {
@@ -46,14 +105,16 @@ pub struct Moved {
     pub sent: u64,
     /// Messages received and published here.
     pub received: u64,
-    /// Messages received and refused (another type, protocol version or size).
-    pub refused: u64,
+    /// Orders to stop the run received from the other host (and passed on).
+    pub stop_requests: u64,
+    /// Messages received and refused, by reason.
+    pub refused: LinkRefusals,
 }
 
 impl Moved {
     /// Whether anything moved.
     pub fn any(&self) -> bool {
-        self.sent + self.received + self.refused > 0
+        self.sent + self.received + self.refused.total() > 0
     }
 
     /// The sum.
@@ -61,7 +122,8 @@ impl Moved {
         Moved {
             sent: self.sent + other.sent,
             received: self.received + other.received,
-            refused: self.refused + other.refused,
+            stop_requests: self.stop_requests + other.stop_requests,
+            refused: self.refused.plus(&other.refused),
         }
     }
 }
@@ -72,10 +134,53 @@ pub trait Carry {
     fn pump(&mut self) -> Result<Moved, BridgeError>;
 }
 
-/// One message that arrived: its bytes and its tag.
+/// A layout the bridge carries: every one begins with a [`Header`].
+pub trait Carried: ZeroCopySend + Debug + Copy + Send + 'static {
+    /// The message's header.
+    fn header(&self) -> &Header;
+
+    /// A supervisor's order: its command and target.
+    fn order(&self) -> Option<(u32, u32)> {
+        None
+    }
+}
+
+macro_rules! carried {
+    ($($t:ty),*) => {$(
+        impl Carried for $t {
+            fn header(&self) -> &Header {
+                &self.header
+            }
+        }
+    )*};
+}
+
+carried!(
+    KeeperSnapshot,
+    KeeperCommand,
+    EpisodeEvent,
+    WorldSnapshot,
+    WorldCommand,
+    WorldVocabulary,
+    AgentReport,
+    Heartbeat
+);
+
+impl Carried for Control {
+    fn header(&self) -> &Header {
+        &self.header
+    }
+
+    fn order(&self) -> Option<(u32, u32)> {
+        Some((self.command, self.target))
+    }
+}
+
+/// One message that arrived: its bytes, its tag and its key's last chunk.
 struct Arrival {
     payload: Vec<u8>,
     tag: Vec<u8>,
+    last_chunk: String,
 }
 
 /// The Zenoh key of service `service` of the run whose prefix is `prefix`.
@@ -90,15 +195,6 @@ fn tag_of<T: ZeroCopySend>() -> Vec<u8> {
     format!("{name};{}", shm_layouts::PROTOCOL_VERSION).into_bytes()
 }
 
-/// One service of `T`, carried.
-pub struct Carrier<T: ZeroCopySend + Debug + Copy + 'static> {
-    ports: BridgePorts<T>,
-    tag: Vec<u8>,
-    publisher: Option<Publisher<'static>>,
-    inbox: Option<Receiver<Arrival>>,
-    _subscriber: Option<Subscriber<()>>,
-}
-
 /// Where and how a service is carried.
 #[derive(Debug, Clone)]
 pub struct Route {
@@ -108,13 +204,32 @@ pub struct Route {
     pub point_to_point: bool,
     /// Which way.
     pub direction: Direction,
+    /// How keys name senders, and whose messages are taken.
+    pub source: Source,
+    /// The orders the other host may give (the supervisors' orders, on host A).
+    pub orders: Option<RemoteOrders>,
     /// The wake-up services of the processes here that receive it.
     pub receivers: Vec<String>,
     /// The run's processes (the service's limits follow from them).
     pub roster: crate::ipc::protocol::Roster,
 }
 
-impl<T: ZeroCopySend + Debug + Copy + Send + 'static> Carrier<T> {
+/// One service of `T`, carried.
+pub struct Carrier<T: Carried> {
+    ports: BridgePorts<T>,
+    tag: Vec<u8>,
+    base: String,
+    source: Source,
+    orders: Option<RemoteOrders>,
+    /// The publishers, by the last chunk of their key ("" for [`Source::Single`]).
+    publishers: BTreeMap<String, Publisher<'static>>,
+    sends: bool,
+    session: Session,
+    inbox: Option<Receiver<Arrival>>,
+    _subscriber: Option<Subscriber<()>>,
+}
+
+impl<T: Carried> Carrier<T> {
     /// Carries `route` of the run whose prefix is `prefix` (the Zenoh keys)
     /// between `node`'s namespace and `session`.
     /// Each arrival rings `doorbell`, to wake the bridge's loop.
@@ -134,25 +249,27 @@ impl<T: ZeroCopySend + Debug + Copy + Send + 'static> Carrier<T> {
             wait,
             route.roster,
         )?;
-        let key = key(prefix, &route.service);
-        let publisher = if route.direction.sends() {
-            Some(session.declare_publisher(key.clone()).wait().map_err(zenoh_error)?)
-        } else {
-            None
-        };
+        let base = key(prefix, &route.service);
         let (inbox, subscriber) = if route.direction.receives() {
+            let listen_on = match &route.source {
+                Source::Single => base.clone(),
+                Source::BySender { .. } => format!("{base}/*"),
+                Source::ByHost { other, .. } => format!("{base}/{other}"),
+            };
             let (tx, rx) = unbounded();
             let doorbell = doorbell.clone();
             let subscriber = session
-                .declare_subscriber(key)
+                .declare_subscriber(listen_on)
                 .allowed_origin(Locality::Remote)
                 .callback(move |sample| {
+                    let key = sample.key_expr().as_str();
                     let arrival = Arrival {
                         payload: sample.payload().to_bytes().into_owned(),
                         tag: sample
                             .attachment()
                             .map(|a| a.to_bytes().into_owned())
                             .unwrap_or_default(),
+                        last_chunk: key.rsplit('/').next().unwrap_or_default().to_string(),
                     };
                     // The bridge is gone when the channel is: nothing to deliver to.
                     let _ = tx.send(arrival);
@@ -167,49 +284,126 @@ impl<T: ZeroCopySend + Debug + Copy + Send + 'static> Carrier<T> {
         Ok(Carrier {
             ports,
             tag: tag_of::<T>(),
-            publisher,
+            base,
+            source: route.source.clone(),
+            orders: route.orders.clone(),
+            publishers: BTreeMap::new(),
+            sends: route.direction.sends(),
+            session: session.clone(),
             inbox,
             _subscriber: subscriber,
         })
     }
+
+    /// The publisher for `value`'s key, declared on first use.
+    fn publisher(&mut self, value: &T) -> Result<&Publisher<'static>, BridgeError> {
+        let chunk = match &self.source {
+            Source::Single => String::new(),
+            Source::BySender { .. } => value.header().sender.to_string(),
+            Source::ByHost { this, .. } => (*this).to_string(),
+        };
+        if !self.publishers.contains_key(&chunk) {
+            let key = if chunk.is_empty() {
+                self.base.clone()
+            } else {
+                format!("{}/{chunk}", self.base)
+            };
+            let publisher = self.session.declare_publisher(key).wait().map_err(zenoh_error)?;
+            self.publishers.insert(chunk.clone(), publisher);
+        }
+        Ok(&self.publishers[&chunk])
+    }
+
+    /// Checks what arrived; the message if it may be published here.
+    fn admit(&self, arrival: &Arrival, moved: &mut Moved) -> Option<T> {
+        if arrival.tag != self.tag {
+            moved.refused.wrong_type += 1;
+            return None;
+        }
+        if arrival.payload.len() != size_of::<T>() {
+            moved.refused.wrong_size += 1;
+            return None;
+        }
+        // SAFETY: the bytes are size_of::<T>() long, and every bit pattern
+        // is a valid value of a shm_layouts type (integers, floats and arrays
+        // of them only; tags are integers): the receiving process validates
+        // the contents.
+        let value: T = unsafe { std::ptr::read_unaligned(arrival.payload.as_ptr().cast::<T>()) };
+        if let Source::BySender { accepted } = &self.source {
+            let Some(sender) = arrival.last_chunk.parse::<u32>().ok().filter(|s| accepted.contains(s)) else {
+                moved.refused.wrong_key += 1;
+                return None;
+            };
+            if value.header().sender != sender {
+                moved.refused.wrong_sender += 1;
+                return None;
+            }
+        }
+        if let (Some(orders), Some((command, target))) = (&self.orders, value.order()) {
+            if !orders.admits(command, target) {
+                moved.refused.forbidden_order += 1;
+                return None;
+            }
+            if command == control::STOP {
+                moved.stop_requests += 1;
+            }
+        }
+        Some(value)
+    }
 }
 
-impl<T: ZeroCopySend + Debug + Copy + Send + 'static> Carry for Carrier<T> {
+impl<T: Carried> Carry for Carrier<T> {
     fn pump(&mut self) -> Result<Moved, BridgeError> {
         let mut moved = Moved::default();
-        if let Some(publisher) = &self.publisher {
+        if self.sends {
             while let Some(sample) = self.ports.subscriber.receive().map_err(fail("receiving a sample"))? {
                 if self.ports.is_own(sample.origin()) {
                     continue; // it came from the other hosts: not carried back
                 }
-                let value: &T = &sample;
+                let value: T = *sample;
+                drop(sample);
                 // SAFETY: every layout of shm_layouts is repr(C) with explicit
                 // reserved fields in place of padding (their tests pin every
                 // offset), so all size_of::<T>() bytes are initialised.
-                let bytes = unsafe { std::slice::from_raw_parts((value as *const T).cast::<u8>(), size_of::<T>()) };
-                publisher
+                let bytes = unsafe { std::slice::from_raw_parts((&value as *const T).cast::<u8>(), size_of::<T>()) };
+                let tag = self.tag.clone();
+                self.publisher(&value)?
                     .put(bytes.to_vec())
-                    .attachment(self.tag.clone())
+                    .attachment(tag)
                     .wait()
                     .map_err(zenoh_error)?;
                 moved.sent += 1;
             }
         }
         if let Some(inbox) = &self.inbox {
-            while let Ok(arrival) = inbox.try_recv() {
-                if arrival.tag != self.tag || arrival.payload.len() != size_of::<T>() {
-                    moved.refused += 1;
-                    continue;
+            let arrivals: Vec<Arrival> = inbox.try_iter().collect();
+            for arrival in arrivals {
+                if let Some(value) = self.admit(&arrival, &mut moved) {
+                    self.ports.outlet.send(value)?;
+                    moved.received += 1;
                 }
-                // SAFETY: the bytes are size_of::<T>() long, and every bit
-                // pattern is a valid value of a shm_layouts type (integers,
-                // floats and arrays of them only; tags are integers): the
-                // receiving process validates the contents.
-                let value: T = unsafe { std::ptr::read_unaligned(arrival.payload.as_ptr().cast::<T>()) };
-                self.ports.outlet.send(value)?;
-                moved.received += 1;
             }
         }
         Ok(moved)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn host_b_may_order_its_own_agents_lost_and_the_run_stopped_only() {
+        let orders = RemoteOrders {
+            agents: vec![2],
+            host: shm_layouts::SENDER_SIMULATOR,
+        };
+        assert!(orders.admits(control::KEEPER_LOST, 2));
+        assert!(!orders.admits(control::KEEPER_LOST, 0), "another host's keeper");
+        assert!(orders.admits(control::STOP, shm_layouts::SENDER_SIMULATOR));
+        assert!(!orders.admits(control::STOP, control::ALL), "every process");
+        assert!(!orders.admits(control::STOP, 0), "a keeper of host A");
+        assert!(!orders.admits(control::CHECKPOINT, 2));
+        assert!(!orders.admits(control::SIM_RESTARTED, control::ALL));
     }
 }

@@ -1,6 +1,7 @@
 //! A run across hosts: each host's bridge (`learnpnp-bridge`) carries the
 //! run's services between the host's iceoryx2 namespace and the other hosts
-//! over Zenoh (TCP only, explicit endpoints, multicast scouting off).
+//! over Zenoh (TLS with mutual authentication by the run's private CA,
+//! explicit endpoints, multicast scouting off: [`link`], [`certs`]).
 //!
 //! Host A runs the simulator or world, the supervisor and the local agents;
 //! host B runs the remote agents under a supervisor of its own
@@ -14,9 +15,17 @@
 //! at the end, host B's bridge ships the remote agents' checkpoints and
 //! histograms to host A ([`remote::FileShipping`]), whose report covers the
 //! whole run.
+//!
+//! Nothing that arrives is trusted for being authenticated: host A's access
+//! control ([`access`]) admits host B to its own agents' keys only, and each
+//! bridge takes from the link only the senders and orders the route carries
+//! and the files the run expects, counting what it refuses ([`refusals`]).
 
+pub mod access;
 pub mod carry;
+pub mod certs;
 pub mod link;
+pub mod refusals;
 pub mod remote;
 
 use std::path::PathBuf;
@@ -44,6 +53,9 @@ pub enum BridgeError {
     /// The run's description cannot be had or read.
     #[error("the run: {0}")]
     RunInfo(String),
+    /// The host's certificates are unusable.
+    #[error(transparent)]
+    Certs(#[from] certs::CertError),
 }
 
 /// A Zenoh error as a [`BridgeError`].
@@ -63,9 +75,10 @@ use shm_layouts::{
 };
 use zenoh::Session;
 
-use carry::{Carrier, Carry, Direction, Moved, Route};
-use link::Endpoints;
-use remote::{FileShipping, RunInfo, fetch_run_info, serve_run_info};
+use carry::{Carried, Carrier, Carry, Direction, Moved, RemoteOrders, Route, Source};
+use link::{Endpoints, PLAIN_TCP_WARNING, Security};
+use refusals::{LinkReport, ZenohRefusals};
+use remote::{ExpectedFiles, FileShipping, RunInfo, fetch_run_info, serve_run_info};
 
 use crate::ipc::namespace::Namespace;
 use crate::ipc::protocol::{Role, Roster};
@@ -90,6 +103,8 @@ pub struct BridgeConfig {
     pub side: Side,
     /// The link's endpoints.
     pub endpoints: Endpoints,
+    /// How the link is protected.
+    pub security: Security,
     /// Host A: the run's description to serve; a remote host: where to write
     /// the description it fetched.
     pub run_info: std::path::PathBuf,
@@ -101,11 +116,18 @@ pub struct BridgeConfig {
 /// How long a remote host's bridge asks for the run before giving up.
 pub const JOIN_TIMEOUT: Duration = Duration::from_secs(60);
 
+/// Host A's name in the keys of a service keyed by host.
+const HOST_A: &str = "host-a";
+
+/// Host B's name in the keys of a service keyed by host.
+const HOST_B: &str = "host-b";
+
 /// The routes of the services of `info`'s run as `side` carries them.
 fn routes(info: &RunInfo, side: Side) -> Vec<(Route, Payload)> {
+    let remote = |role: Role| role.agent_index().is_some_and(|a| info.remote.contains(&a));
     let here = |role: Role| match side {
-        Side::Host => role.is_host() || !role.agent_index().is_some_and(|a| info.remote.contains(&a)),
-        Side::Remote => role.agent_index().is_some_and(|a| info.remote.contains(&a)),
+        Side::Host => role.is_host() || !remote(role),
+        Side::Remote => remote(role),
     };
     let wakes = |roles: &[Role]| -> Vec<String> { roles.iter().filter(|r| here(**r)).map(|r| wake_name(*r)).collect() };
     let roster = info.roster;
@@ -120,10 +142,18 @@ fn routes(info: &RunInfo, side: Side) -> Vec<(Route, Payload)> {
         Side::Host => (Direction::In, receivers),
         Side::Remote => (Direction::Out, Vec::new()),
     };
+    // The senders of the processes on the other hosts.
+    let there: Vec<u32> = std::iter::once(host)
+        .chain(agents.iter().copied())
+        .filter(|r| !here(*r))
+        .map(Role::sender)
+        .collect();
     let route = |service: String, point_to_point: bool, (direction, receivers): (Direction, Vec<String>)| Route {
         service,
         point_to_point,
         direction,
+        source: Source::Single,
+        orders: None,
         receivers,
         roster,
     };
@@ -165,19 +195,43 @@ fn routes(info: &RunInfo, side: Side) -> Vec<(Route, Payload)> {
         route(announcements.0, false, down(wakes(&remote_agents))),
         announcements.1,
     ));
+    let by_sender = Source::BySender {
+        accepted: there.clone(),
+    };
     out.push((
-        route(services::AGENT_REPORT.into(), false, up(wakes(&[host]))),
+        Route {
+            source: by_sender.clone(),
+            ..route(services::AGENT_REPORT.into(), false, up(wakes(&[host])))
+        },
         Payload::AgentReport,
     ));
     // Every host sees every process's heartbeats (a monitor on any host can
     // follow the whole run); the supervisors keep to their own processes'.
     out.push((
-        route(services::HEARTBEAT.into(), false, (Direction::Both, Vec::new())),
+        Route {
+            source: by_sender,
+            ..route(services::HEARTBEAT.into(), false, (Direction::Both, Vec::new()))
+        },
         Payload::Heartbeat,
     ));
     let everyone: Vec<Role> = std::iter::once(host).chain(agents.iter().copied()).collect();
+    let (this, other, orders) = match side {
+        Side::Host => (
+            HOST_A,
+            HOST_B,
+            Some(RemoteOrders {
+                agents: info.remote.iter().map(|&a| roster.agent(a).sender()).collect(),
+                host: host.sender(),
+            }),
+        ),
+        Side::Remote => (HOST_B, HOST_A, None),
+    };
     out.push((
-        route(services::CONTROL.into(), false, (Direction::Both, wakes(&everyone))),
+        Route {
+            source: Source::ByHost { this, other },
+            orders,
+            ..route(services::CONTROL.into(), false, (Direction::Both, wakes(&everyone)))
+        },
         Payload::Control,
     ));
     out
@@ -207,7 +261,7 @@ fn carrier(
     wait: WaitStrategy,
     doorbell: &Sender<()>,
 ) -> Result<Box<dyn Carry>, BridgeError> {
-    fn boxed<T: iceoryx2::prelude::ZeroCopySend + std::fmt::Debug + Copy + Send + 'static>(
+    fn boxed<T: Carried>(
         node: &Node<Ipc>,
         session: &Session,
         prefix: &str,
@@ -250,20 +304,98 @@ const BUSY_FOR: Duration = Duration::from_millis(20);
 /// The longest an idle bridge waits before it polls this host's services again.
 const IDLE_WAIT: Duration = Duration::from_millis(1);
 
+/// How often the bridge rewrites its [`LinkReport`] when something changed.
+const REPORT_EVERY: Duration = Duration::from_secs(1);
+
+/// A bridge's [`LinkReport`]: what earlier bridges of this host reported
+/// (a restarted bridge adds to it) plus this one's traffic and refusals.
+struct Reporting<'a> {
+    dir: &'a Path,
+    earlier: LinkReport,
+    zenoh: &'a ZenohRefusals,
+    written: Option<LinkReport>,
+    at: Instant,
+}
+
+impl<'a> Reporting<'a> {
+    fn new(dir: &'a Path, security: &Security, zenoh: &'a ZenohRefusals) -> Self {
+        let mut earlier = LinkReport::read(dir).unwrap_or_default();
+        earlier.security = security.name().to_string();
+        earlier.warning = (security == &Security::PlainTcp).then(|| PLAIN_TCP_WARNING.to_string());
+        Reporting {
+            dir,
+            earlier,
+            zenoh,
+            written: None,
+            at: Instant::now(),
+        }
+    }
+
+    fn report(&self, traffic: &Traffic) -> LinkReport {
+        let (tls_handshake, access_denied) = self.zenoh.counts();
+        let mut refused = traffic.messages.refused;
+        refused.tls_handshake += tls_handshake;
+        refused.access_denied += access_denied;
+        LinkReport {
+            security: self.earlier.security.clone(),
+            warning: self.earlier.warning.clone(),
+            sent: self.earlier.sent + traffic.messages.sent,
+            received: self.earlier.received + traffic.messages.received,
+            files: self.earlier.files + traffic.files as u64,
+            stop_requests: self.earlier.stop_requests + traffic.messages.stop_requests,
+            refused: self.earlier.refused.plus(&refused),
+        }
+    }
+
+    /// Writes the report if it changed (`now`: whenever due, else at most
+    /// every [`REPORT_EVERY`]).
+    fn write(&mut self, traffic: &Traffic, now: bool) -> Result<(), BridgeError> {
+        if !now && self.at.elapsed() < REPORT_EVERY {
+            return Ok(());
+        }
+        self.at = Instant::now();
+        let report = self.report(traffic);
+        if self.written.as_ref() == Some(&report) {
+            return Ok(());
+        }
+        report.write(self.dir).map_err(|source| BridgeError::Io {
+            path: self.dir.join(refusals::LINK_REPORT_FILE),
+            source,
+        })?;
+        self.written = Some(report);
+        Ok(())
+    }
+}
+
 /// Runs a bridge until `stop` is set: joins the link, serves or fetches the
-/// run's description, then carries the services and the files.
-pub fn run(config: &BridgeConfig, stop: &AtomicBool) -> Result<Traffic, BridgeError> {
-    let session = link::open(&config.endpoints)?;
-    let (info, _queryable) = match config.side {
+/// run's description, then carries the services and the files; keeps its
+/// [`LinkReport`] in the work directory, counting what Zenoh refused as
+/// `zenoh` saw it.
+pub fn run(config: &BridgeConfig, zenoh: &ZenohRefusals, stop: &AtomicBool) -> Result<Traffic, BridgeError> {
+    let mut reporting = Reporting::new(&config.work_dir, &config.security, zenoh);
+    reporting.write(&Traffic::default(), true)?;
+    if config.security == Security::PlainTcp {
+        eprintln!("bridge: warning: {PLAIN_TCP_WARNING}");
+    }
+    let (session, info, _queryable) = match config.side {
         Side::Host => {
             let info = RunInfo::read(&config.run_info)?;
+            let policy = match config.security {
+                Security::MutualTls(_) => {
+                    let routes: Vec<Route> = routes(&info, Side::Host).into_iter().map(|(r, _)| r).collect();
+                    Some(access::host_a_policy(&info.prefix, &routes, &ExpectedFiles::of(&info)))
+                }
+                Security::PlainTcp => None,
+            };
+            let session = link::open(&config.endpoints, &config.security, policy.as_ref())?;
             let queryable = serve_run_info(&session, &info)?;
-            (info, Some(queryable))
+            (session, info, Some(queryable))
         }
         Side::Remote => {
+            let session = link::open(&config.endpoints, &config.security, None)?;
             let info = fetch_run_info(&session, JOIN_TIMEOUT)?;
             info.write(&config.run_info)?;
-            (info, None)
+            (session, info, None)
         }
     };
     let namespace = Namespace::from_prefix(&config.ipc_prefix)?;
@@ -274,7 +406,7 @@ pub fn run(config: &BridgeConfig, stop: &AtomicBool) -> Result<Traffic, BridgeEr
         .map(|(route, payload)| carrier(&node, &session, &info.prefix, route, *payload, info.wait, &doorbell))
         .collect::<Result<Vec<_>, _>>()?;
     let mut files = match config.side {
-        Side::Host => FileShipping::receiver(&session, &info.prefix, &config.work_dir)?,
+        Side::Host => FileShipping::receiver(&session, &info.prefix, &config.work_dir, ExpectedFiles::of(&info))?,
         Side::Remote => FileShipping::sender(&session, &info.prefix, &config.work_dir)?,
     };
     let mut traffic = Traffic::default();
@@ -287,10 +419,15 @@ pub fn run(config: &BridgeConfig, stop: &AtomicBool) -> Result<Traffic, BridgeEr
             moved = moved.plus(carrier.pump()?);
         }
         if last_files.elapsed() >= Duration::from_millis(50) {
-            traffic.files += files.pump(&session)?;
+            traffic.files += files.pump(&session, &mut moved.refused)?;
             last_files = Instant::now();
+            reporting.write(&traffic, false)?;
         }
         traffic.messages = traffic.messages.plus(moved);
+        if moved.stop_requests > 0 {
+            eprintln!("bridge: the other host asked to stop the run");
+            reporting.write(&traffic, true)?;
+        }
         if moved.any() {
             last = Instant::now();
         } else if last.elapsed() < BUSY_FOR {
@@ -299,6 +436,7 @@ pub fn run(config: &BridgeConfig, stop: &AtomicBool) -> Result<Traffic, BridgeEr
             let _ = rings.recv_timeout(IDLE_WAIT);
         }
     }
+    reporting.write(&traffic, true)?;
     Ok(traffic)
 }
 

@@ -13,6 +13,7 @@ use zenoh::pubsub::Subscriber;
 use zenoh::query::Queryable;
 use zenoh::{Session, Wait};
 
+use super::refusals::LinkRefusals;
 use super::{BridgeError, zenoh_error};
 use crate::ipc::protocol::Roster;
 use crate::ipc::wait::WaitStrategy;
@@ -69,7 +70,9 @@ impl RunInfo {
     }
 }
 
-/// Host A: answers host B's request for the run.
+/// Host A: answers host B's request for the run. Over a secure link, host
+/// A's access control lets only host B's certificate ask
+/// ([`super::access`]); over plain TCP anyone who reaches the port can.
 pub fn serve_run_info(session: &Session, info: &RunInfo) -> Result<Queryable<()>, BridgeError> {
     let json = serde_json::to_vec(info).map_err(|e| BridgeError::RunInfo(e.to_string()))?;
     session
@@ -105,14 +108,67 @@ pub fn fetch_run_info(session: &Session, timeout: Duration) -> Result<RunInfo, B
     )))
 }
 
-/// The Zenoh key of file `name` of the run whose prefix is `prefix`.
-fn file_key(prefix: &str, name: &str) -> String {
+/// The Zenoh key of file `name` of the run whose prefix is `prefix` (a
+/// key expression when `name` holds wildcards).
+pub fn file_key(prefix: &str, name: &str) -> String {
     super::carry::key(prefix, &format!("file/{name}"))
 }
 
 /// The Zenoh key of the acknowledgement of file `name`.
-fn ack_key(prefix: &str, name: &str) -> String {
+pub fn ack_key(prefix: &str, name: &str) -> String {
     super::carry::key(prefix, &format!("file-ack/{name}"))
+}
+
+/// The files host B may ship to host A: its agents' checkpoints, results
+/// and histograms, under the names the run gives them, and nothing else (not
+/// `spec.json`, not another agent's values).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ExpectedFiles {
+    /// Names shipped as they are.
+    exact: Vec<String>,
+    /// Histograms, shipped as `STEM.PID.hdr`.
+    histograms: Vec<String>,
+}
+
+impl ExpectedFiles {
+    /// The files of `info`'s remote agents.
+    pub fn of(info: &RunInfo) -> Self {
+        use crate::multiprocess::agent_process::{checkpoint_name, compute_histogram};
+        use crate::multiprocess::floor_probe::REMOTE_HOST_FLOOR;
+        use crate::multiprocess::sim_process::ROUND_TRIP;
+        use crate::multiprocess::world_agent::{WORLD_TURNAROUND, agent_compute_histogram, agent_result_file};
+        let mut exact: Vec<String> = info.remote.iter().map(|&a| checkpoint_name(a)).collect();
+        let mut histograms = vec![REMOTE_HOST_FLOOR.to_string()];
+        match info.roster {
+            Roster::Keepaway => histograms.extend(info.remote.iter().map(|&k| compute_histogram(k))),
+            Roster::World { .. } => {
+                exact.extend(info.remote.iter().map(|&a| agent_result_file(a)));
+                histograms.extend(info.remote.iter().map(|&a| agent_compute_histogram(a)));
+                histograms.extend([ROUND_TRIP.to_string(), WORLD_TURNAROUND.to_string()]);
+            }
+        }
+        ExpectedFiles { exact, histograms }
+    }
+
+    /// Whether a file called `name` may arrive.
+    pub fn admits(&self, name: &str) -> bool {
+        if self.exact.iter().any(|e| e == name) {
+            return true;
+        }
+        let Some(stem_pid) = name.strip_suffix(".hdr") else {
+            return false;
+        };
+        let Some((stem, pid)) = stem_pid.rsplit_once('.') else {
+            return false;
+        };
+        !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()) && self.histograms.iter().any(|h| h == stem)
+    }
+
+    /// The file names as key expressions (a histogram's process id as `$*`).
+    pub fn key_patterns(&self) -> Vec<String> {
+        let histograms = self.histograms.iter().map(|h| format!("{h}.$*.hdr"));
+        self.exact.iter().cloned().chain(histograms).collect()
+    }
 }
 
 /// How often an unacknowledged file is sent again.
@@ -142,6 +198,8 @@ pub enum FileShipping {
         work_dir: PathBuf,
         /// The run's prefix.
         prefix: String,
+        /// The names that may arrive.
+        expected: ExpectedFiles,
         /// Files that arrived (name, bytes).
         arrivals: Receiver<(String, Vec<u8>)>,
         /// Held for the files.
@@ -183,28 +241,37 @@ impl FileShipping {
         })
     }
 
-    /// Host A: writes the files host B ships into `work_dir`.
-    pub fn receiver(session: &Session, prefix: &str, work_dir: &Path) -> Result<Self, BridgeError> {
+    /// Host A: writes the files host B ships into `work_dir`, those of
+    /// the `expected` names only.
+    pub fn receiver(
+        session: &Session,
+        prefix: &str,
+        work_dir: &Path,
+        expected: ExpectedFiles,
+    ) -> Result<Self, BridgeError> {
         let (tx, rx) = unbounded();
         let subscriber = session
             .declare_subscriber(file_key(prefix, "*"))
             .callback(move |sample| {
-                if let Some(name) = name_after(sample.key_expr().as_str(), "/file/") {
-                    let _ = tx.send((name, sample.payload().to_bytes().into_owned()));
-                }
+                // A name that is not plain arrives empty, to be refused and counted.
+                let name = name_after(sample.key_expr().as_str(), "/file/").unwrap_or_default();
+                let _ = tx.send((name, sample.payload().to_bytes().into_owned()));
             })
             .wait()
             .map_err(zenoh_error)?;
         Ok(FileShipping::Receiver {
             work_dir: work_dir.to_path_buf(),
             prefix: prefix.to_string(),
+            expected,
             arrivals: rx,
             _subscriber: subscriber,
         })
     }
 
     /// Sends, resends or writes what is due; returns how many files moved.
-    pub fn pump(&mut self, session: &Session) -> Result<usize, BridgeError> {
+    /// A file under a name the run does not expect is counted in `refused`
+    /// and neither written nor acknowledged.
+    pub fn pump(&mut self, session: &Session, refused: &mut LinkRefusals) -> Result<usize, BridgeError> {
         let io = |path: &Path| {
             let path = path.to_path_buf();
             move |source| BridgeError::Io { path, source }
@@ -246,11 +313,16 @@ impl FileShipping {
             FileShipping::Receiver {
                 work_dir,
                 prefix,
+                expected,
                 arrivals,
                 ..
             } => {
                 let mut moved = 0;
                 while let Ok((name, bytes)) = arrivals.try_recv() {
+                    if !expected.admits(&name) {
+                        refused.file_name += 1;
+                        continue;
+                    }
                     let path = work_dir.join(&name);
                     learnpnp::atomic_file::write_atomic(&path, &bytes).map_err(io(&path))?;
                     session
@@ -262,5 +334,60 @@ impl FileShipping {
                 Ok(moved)
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn info(roster: Roster, remote: Vec<usize>) -> RunInfo {
+        RunInfo {
+            prefix: "lpabc_".into(),
+            run_id: 7,
+            run: 0,
+            roster,
+            remote,
+            clock: Clock::Lockstep,
+            wait: WaitStrategy::Yield,
+            checkpoint_every: 10,
+            floor_round_trips: 100,
+            spec: serde_json::Value::Null,
+        }
+    }
+
+    #[test]
+    fn host_b_ships_its_own_agents_files_only() {
+        let keepaway = ExpectedFiles::of(&info(Roster::Keepaway, vec![2]));
+        for name in [
+            "values-agent3.bin",
+            "compute-keeper3.4242.hdr",
+            "floor-remote-host.17.hdr",
+        ] {
+            assert!(keepaway.admits(name), "{name}");
+        }
+        for name in [
+            "spec.json",
+            "values.bin",
+            "values-agent2.bin",
+            "compute-keeper1.4242.hdr",
+            "compute-keeper3..hdr",
+            "compute-keeper3.12x.hdr",
+            "run-info.json",
+            "",
+        ] {
+            assert!(!keepaway.admits(name), "{name}");
+        }
+        let world = ExpectedFiles::of(&info(Roster::World { agents: 2 }, vec![0]));
+        for name in [
+            "values.bin",
+            "agent1.json",
+            "compute-agent1.9.hdr",
+            "world-turnaround.9.hdr",
+        ] {
+            assert!(world.admits(name), "{name}");
+        }
+        assert!(!world.admits("agent2.json"));
+        assert!(keepaway.key_patterns().contains(&"compute-keeper3.$*.hdr".to_string()));
     }
 }

@@ -176,6 +176,18 @@ pub(super) fn load_checkpoint(path: &Path, plan: &Plan) -> Result<SavedValues, P
     Ok(saved)
 }
 
+/// Whether a begin of `episode` is for the next episode, the last begun
+/// being `last_begun`: in lock-step the one after it, in real time any later
+/// one (a cut link may have lost some); any, when none was begun since the
+/// agent or the simulator started. A replayed or forged begin is not.
+fn begins_next(last_begun: Option<u64>, clock: Clock, episode: u64) -> bool {
+    match (last_begun, clock) {
+        (None, _) => episode > 0,
+        (Some(last), Clock::Lockstep) => last.checked_add(1) == Some(episode),
+        (Some(last), Clock::Realtime) => episode > last,
+    }
+}
+
 /// Builds keeper `k`'s brain for run `context.run` of `spec`.
 fn brain(
     spec: &ExperimentSpec,
@@ -231,6 +243,9 @@ struct Agent {
     announcing: bool,
     /// The episode in progress (0: none) and how it is run.
     episode: u64,
+    /// The last episode begun (none since the agent or the simulator
+    /// started): a begin is taken for the next episode only.
+    last_begun: Option<u64>,
     start: EpisodeStart,
     learning_episodes: u64,
     /// Real time: the cycle's length.
@@ -278,6 +293,7 @@ impl Agent {
                 // episode in progress is dropped (the learner is not told its end).
                 Ok(Some(Order::SimulatorRestarted)) => {
                     self.episode = 0;
+                    self.last_begun = None;
                     self.announcing = true;
                 }
                 Ok(Some(Order::KeeperLost { .. }) | None) => {}
@@ -287,6 +303,10 @@ impl Agent {
         Ok(false)
     }
 
+    fn is_next(&self, episode: u64) -> bool {
+        begins_next(self.last_begun, self.context.clock, episode)
+    }
+
     /// Handles episode events; returns whether one was handled.
     fn episode_events(&mut self) -> Result<bool, ProcessError> {
         let run_id = self.context.run_id;
@@ -294,7 +314,8 @@ impl Agent {
         while let Some(event) = receive(&self.ports.episode, |m| read_episode_event(m, run_id))? {
             handled = true;
             match event {
-                Ok((episode, EpisodeNews::Begin(start))) => {
+                Ok((episode, EpisodeNews::Begin(start))) if self.is_next(episode) => {
+                    self.last_begun = Some(episode);
                     self.announcing = false;
                     self.pacemaker.pulse.state = ProcessState::Running;
                     self.brain.begin_episode(start);
@@ -534,6 +555,7 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
         saver: BackgroundSave::start(CHECKPOINT_SPACING).map_err(ProcessError::Writer)?,
         announcing: true,
         episode: 0,
+        last_begun: None,
         start: EpisodeStart::LEARN,
         learning_episodes: 0,
         cycle: (context.clock == Clock::Realtime)
@@ -555,4 +577,28 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
     agent.pacemaker.pulse.state = ProcessState::Ready;
     agent.pacemaker.beat(&agent.ports.heartbeat)?;
     agent.serve()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_begin_is_taken_for_the_next_episode_only() {
+        assert!(
+            begins_next(None, Clock::Lockstep, 17),
+            "a fresh agent joins at any episode"
+        );
+        assert!(!begins_next(None, Clock::Lockstep, 0));
+        assert!(begins_next(Some(4), Clock::Lockstep, 5));
+        assert!(!begins_next(Some(4), Clock::Lockstep, 4), "replayed");
+        assert!(!begins_next(Some(4), Clock::Lockstep, 1), "an old episode");
+        assert!(!begins_next(Some(4), Clock::Lockstep, 6), "one skipped in lock-step");
+        assert!(
+            begins_next(Some(4), Clock::Realtime, 6),
+            "in real time a lost begin is skipped"
+        );
+        assert!(!begins_next(Some(4), Clock::Realtime, 3));
+        assert!(!begins_next(Some(u64::MAX), Clock::Lockstep, u64::MAX));
+    }
 }

@@ -199,6 +199,23 @@ impl Process {
         self.child.wait()
     }
 
+    /// Asks it to stop (SIGTERM) and waits up to `grace` for it to exit,
+    /// then kills it as [`Process::kill`] does.
+    pub fn stop(&mut self, grace: std::time::Duration) -> io::Result<ExitStatus> {
+        if let Ok(pid) = libc::pid_t::try_from(self.child.id()) {
+            // SAFETY: kill has no memory effects; the process is our child.
+            unsafe { libc::kill(pid, libc::SIGTERM) };
+        }
+        let deadline = std::time::Instant::now() + grace;
+        while std::time::Instant::now() < deadline {
+            if let Some(status) = self.child.try_wait()? {
+                return Ok(status);
+            }
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        self.kill()
+    }
+
     /// Whether process `pid` runs in this process's group (it is this
     /// process, or one it started, such as the world a shell runs).
     pub fn leads(&self, pid: u32) -> bool {

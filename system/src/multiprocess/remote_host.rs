@@ -23,8 +23,9 @@ use super::RunContext;
 use super::agent_process::checkpoint_name;
 use super::floor_probe::{FloorPayload, FloorProbe, KeepawayFloor, WorldFloor};
 use super::launch::{Binaries, Helper, Process, spawn};
-use super::supervisor::{EXIT_CANNOT_RESUME, Fault, SupervisorError, json_error};
+use super::supervisor::{BRIDGE_STOP_GRACE, EXIT_CANNOT_RESUME, Fault, SupervisorError, json_error};
 use crate::bridge::JOIN_TIMEOUT;
+use crate::bridge::refusals::LinkReport;
 use crate::bridge::remote::{OUTBOX, RunInfo};
 use crate::ipc::convert::{control_message, read_heartbeat};
 use crate::ipc::namespace::Namespace;
@@ -36,8 +37,11 @@ use learnpnp::experiment::spec::ExperimentSpec;
 /// How a remote host runs.
 #[derive(Debug, Clone)]
 pub struct RemoteConfig {
-    /// Host A's bridge (`tcp/ADDRESS:PORT`).
+    /// Host A's bridge (`quic/ADDRESS:PORT`).
     pub connect: Vec<String>,
+    /// Host B's certificates (made by `learnpnp-supervisor link-certs`);
+    /// `None`: plain TCP, which gives up encryption and authentication.
+    pub link_certs: Option<PathBuf>,
     /// The agents' and the bridge's binaries.
     pub binaries: Binaries,
     /// A process silent for this long is taken as hung and killed.
@@ -70,6 +74,8 @@ pub struct RemoteSummary {
     pub failure: Option<String>,
     /// Files of this host's namespace left after cleanup (0 unless cleanup failed).
     pub leftover_shm_files: usize,
+    /// How the link was protected, what this host's bridge carried and refused.
+    pub link: LinkReport,
     /// Wall-clock seconds.
     pub wall_seconds: f64,
 }
@@ -137,6 +143,10 @@ impl Host<'_> {
         for endpoint in &self.config.connect {
             args.push("--connect".into());
             args.push(endpoint.into());
+        }
+        match &self.config.link_certs {
+            Some(dir) => args.extend(["--link-certs".into(), dir.clone().into_os_string()]),
+            None => args.push("--insecure-plain-tcp".into()),
         }
         let process = spawn(
             &self.config.binaries.bridge,
@@ -408,6 +418,10 @@ pub fn join(config: &RemoteConfig, work_dir: &Path, stop: &AtomicBool) -> Result
         Ok(true) => host.ship(),
         _ => Ok(false),
     };
+    if let Some(mut bridge) = host.processes.remove(&Role::Bridge) {
+        // Asked to stop, it writes its last link report.
+        let _ = bridge.stop(BRIDGE_STOP_GRACE);
+    }
     for process in host.processes.values_mut() {
         let _ = process.kill();
     }
@@ -428,6 +442,7 @@ pub fn join(config: &RemoteConfig, work_dir: &Path, stop: &AtomicBool) -> Result
         failure: outcome.as_ref().err().map(ToString::to_string),
         leftover_shm_files: 0,
         wall_seconds: host.started.elapsed().as_secs_f64(),
+        link: LinkReport::read(work_dir).unwrap_or_default(),
     };
     released?;
     summary.leftover_shm_files = namespace.files().len();

@@ -16,6 +16,7 @@ use super::floor_probe::REMOTE_HOST_FLOOR;
 use super::sim_process::{AbortedEpisode, FLOOR, ROUND_TRIP, keeper_round_trip_histogram};
 use super::supervisor::{Fault, ResumeCheck, RunRecord, SupervisorConfig, SupervisorError, json_error};
 use super::world_agent::WORLD_TURNAROUND;
+use crate::bridge::refusals::LinkReport;
 use crate::ipc::convert::Rejections;
 use crate::ipc::wait::WaitStrategy;
 use crate::latency::plot::{ReferenceLine, percentile_plot};
@@ -94,6 +95,10 @@ pub struct SystemSummary {
     pub checkpoint_failures: u64,
     /// Faults and what was done about them.
     pub faults: Vec<Fault>,
+    /// A run across hosts: how the link was protected, what host A's bridge
+    /// carried and what it refused, by reason (runs summed).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub link: Option<LinkReport>,
     /// Files of the runs' iceoryx2 namespaces left after cleanup (0 expected).
     pub leftover_shm_files: usize,
     /// The runs' iceoryx2 prefixes.
@@ -209,6 +214,14 @@ pub fn summarize(
         rejected_messages: rejected,
         checkpoint_failures: records.iter().map(|r| r.checkpoint_failures).sum(),
         faults: records.iter().flat_map(|r| r.faults.iter().cloned()).collect(),
+        link: records.iter().filter_map(|r| r.link.clone()).reduce(|a, b| LinkReport {
+            sent: a.sent + b.sent,
+            received: a.received + b.received,
+            files: a.files + b.files,
+            stop_requests: a.stop_requests + b.stop_requests,
+            refused: a.refused.plus(&b.refused),
+            ..a
+        }),
         leftover_shm_files: records.iter().map(|r| r.leftover_files).sum(),
         ipc_prefixes: records.iter().map(|r| r.prefix.clone()).collect(),
         wall_seconds,

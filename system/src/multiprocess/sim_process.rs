@@ -90,6 +90,10 @@ pub struct SimTotals {
     pub rejected: Rejections,
     /// Cycles in which a keeper's plan issued no command.
     pub idle_cycles: u64,
+    /// Lock-step: commands that answered no cycle awaited (forged, or a
+    /// keeper's own displaced by a forged one: its cycle was answered twice).
+    #[serde(default)]
+    pub displaced_commands: u64,
 }
 
 /// What the simulator hands the supervisor when it ends.
@@ -336,7 +340,12 @@ impl KeeperTeam for RemoteTeam {
                         Ok(c) if c.cycle_seq < cycle_seq && link.context.clock == Clock::Realtime => {
                             link.totals.late_commands += 1;
                         }
-                        Ok(_) => link.count(Rejection::Sequence),
+                        Ok(_) => {
+                            link.count(Rejection::Sequence);
+                            if link.context.clock == Clock::Lockstep {
+                                link.totals.displaced_commands += 1;
+                            }
+                        }
                         Err(why) => link.count(why),
                     }
                 }

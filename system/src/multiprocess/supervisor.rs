@@ -23,6 +23,7 @@ use super::launch::{Binaries, LaunchError, Process, set_fifo_priority, spawn, sp
 use super::sim_process::{FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult, keeper_round_trip_histogram};
 use super::world_agent::{EXIT_PLAN_DOES_NOT_FIT, WORLD_TURNAROUND, agent_compute_histogram, agent_result_file};
 use super::{Clock, ProcessError, RunContext};
+use crate::bridge::refusals::LinkReport;
 use crate::ipc::convert::{Rejections, control_message, read_heartbeat};
 use crate::ipc::namespace::{Namespace, NamespaceError, NamespaceOwner};
 use crate::ipc::protocol::{Order, ProcessState, Pulse, Role, Roster};
@@ -102,9 +103,19 @@ pub struct SupervisorConfig {
 pub struct Cluster {
     /// The agents (0-based) that run on other hosts, under their own supervisors.
     pub remote: Vec<usize>,
-    /// Where this host's bridge listens (`tcp/ADDRESS:PORT`).
+    /// Where this host's bridge listens (`quic/ADDRESS:PORT`).
     pub listen: Vec<String>,
+    /// Host A's certificates (made by `learnpnp-supervisor link-certs`);
+    /// `None`: plain TCP, which gives up encryption, authentication and
+    /// access control.
+    pub link_certs: Option<PathBuf>,
 }
+
+/// How often host A tells the other hosts again to stop while it waits for their files.
+const RESTOP_EVERY: Duration = Duration::from_secs(1);
+
+/// How long a bridge asked to stop may take to write its last link report.
+pub const BRIDGE_STOP_GRACE: Duration = Duration::from_secs(2);
 
 /// The file of a run's work directory describing it to the other hosts.
 pub const RUN_INFO_FILE: &str = "run-info.json";
@@ -311,6 +322,8 @@ pub struct RunRecord {
     pub prefix: String,
     /// How the simulator and the agents were scheduled.
     pub scheduling: String,
+    /// A run across hosts: what this host's bridge carried and refused.
+    pub link: Option<LinkReport>,
 }
 
 /// How an exit status reads in a report.
@@ -531,9 +544,15 @@ impl Watch<'_> {
             "--work-dir".into(),
             self.context.work_dir.clone().into(),
         ];
-        for endpoint in self.config.cluster.iter().flat_map(|c| &c.listen) {
-            args.push("--listen".into());
-            args.push(endpoint.into());
+        if let Some(cluster) = &self.config.cluster {
+            for endpoint in &cluster.listen {
+                args.push("--listen".into());
+                args.push(endpoint.into());
+            }
+            match &cluster.link_certs {
+                Some(dir) => args.extend(["--link-certs".into(), dir.clone().into_os_string()]),
+                None => args.push("--insecure-plain-tcp".into()),
+            }
         }
         args
     }
@@ -581,7 +600,16 @@ impl Watch<'_> {
         }
         let deadline = Instant::now() + REMOTE_FILES_TIMEOUT;
         let arrived = |expected: &[PathBuf]| expected.iter().all(|p| p.is_file());
+        let mut ordered = Instant::now();
         while !arrived(&expected) && Instant::now() < deadline {
+            // The stop is told again: a host B whose link was down when it
+            // was first told (its peer's bridge restarted; over QUIC a dead
+            // peer is noticed only when its lease expires) hears it once
+            // the link is back.
+            if ordered.elapsed() >= RESTOP_EVERY {
+                self.order(Order::Stop, None)?;
+                ordered = Instant::now();
+            }
             std::thread::sleep(Duration::from_millis(50));
         }
         if !arrived(&expected) {
@@ -596,7 +624,8 @@ impl Watch<'_> {
         // The histograms come in the same shipment, just after the checkpoints.
         std::thread::sleep(Duration::from_millis(500));
         if let Some(mut bridge) = self.fleet.processes.remove(&Role::Bridge) {
-            let _ = bridge.kill();
+            // Asked to stop, it writes its last link report.
+            let _ = bridge.stop(BRIDGE_STOP_GRACE);
         }
         Ok(())
     }
@@ -1241,6 +1270,7 @@ impl Watch<'_> {
         };
         let values = self.final_values(learning, failure.is_some())?;
         let checkpoint_failures = self.pulses.values().map(|p| p.checkpoint_failures).sum();
+        let link = self.link_faults(&sim);
         let work_dir = &self.context.work_dir;
         Ok(RunRecord {
             run: self.context.run,
@@ -1262,7 +1292,46 @@ impl Watch<'_> {
             leftover_files: 0,
             prefix: String::new(),
             scheduling: self.scheduling(),
+            link,
         })
+    }
+
+    /// A run across hosts: the bridge's link report, and as faults what
+    /// must not pass for a clean run (plain TCP, refusals on the link, a
+    /// stop ordered from another host); in lock-step, commands out of
+    /// sequence (forged or displaced: a cycle answered twice).
+    fn link_faults(&mut self, sim: &SimulatorResult) -> Option<LinkReport> {
+        if sim.totals.displaced_commands > 0 {
+            self.fault(
+                format!(
+                    "{} keeper commands out of sequence in lock-step (forged, or displaced by a forged one)",
+                    sim.totals.displaced_commands
+                ),
+                "the episodes may not be the keepers' own".into(),
+            );
+        }
+        self.config.cluster.as_ref()?;
+        let link = LinkReport::read(&self.context.work_dir).unwrap_or_default();
+        if let Some(warning) = &link.warning {
+            self.fault(warning.clone(), "run as asked".into());
+        }
+        if link.refused.total() > 0 {
+            self.fault(
+                format!(
+                    "the bridge refused {} messages or peers on the link: {:?}",
+                    link.refused.total(),
+                    link.refused
+                ),
+                "none of them reached the run".into(),
+            );
+        }
+        if link.stop_requests > 0 {
+            self.fault(
+                "host B's supervisor ordered the run to stop".into(),
+                "the run was stopped".into(),
+            );
+        }
+        Some(link)
     }
 
     /// Why the run failed, if it did, from how watching it ended (an error

@@ -1,0 +1,239 @@
+//! What a bridge refused, by reason, and the file its host's supervisor
+//! reads them from ([`LinkReport`], `link.json` in the host's work
+//! directory). The bridge refuses what arrives of the wrong type, size, key,
+//! sender or order itself ([`super::carry`], [`super::remote`]); the peers
+//! refused at the TLS handshake and the messages host A's access control
+//! denied are refused inside Zenoh, which says so only in its tracing
+//! events: [`ZenohRefusals`] is a tracing layer that counts them.
+
+use std::path::Path;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use serde::{Deserialize, Serialize};
+use tracing::field::{Field, Visit};
+use tracing::{Event, Level, Metadata, Subscriber};
+use tracing_subscriber::layer::{Context, Layer};
+
+/// The file, in the host's work directory, where its bridge keeps its [`LinkReport`].
+pub const LINK_REPORT_FILE: &str = "link.json";
+
+/// Refused by a bridge, counted by reason.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct LinkRefusals {
+    /// Peers refused at the TLS handshake (no certificate, another CA's, an
+    /// expired one).
+    pub tls_handshake: u64,
+    /// Messages and declarations host A's access control denied (a peer
+    /// publishing or subscribing where its certificate may not).
+    pub access_denied: u64,
+    /// Messages of another type or protocol version.
+    pub wrong_type: u64,
+    /// Messages of the wrong size.
+    pub wrong_size: u64,
+    /// Messages under a key the route does not carry (a sender of another host).
+    pub wrong_key: u64,
+    /// Messages whose sender is not the one their key names.
+    pub wrong_sender: u64,
+    /// Control orders the other host may not give.
+    pub forbidden_order: u64,
+    /// Files under a name the run does not expect.
+    pub file_name: u64,
+}
+
+impl LinkRefusals {
+    /// All refusals.
+    pub fn total(&self) -> u64 {
+        self.tls_handshake
+            + self.access_denied
+            + self.wrong_type
+            + self.wrong_size
+            + self.wrong_key
+            + self.wrong_sender
+            + self.forbidden_order
+            + self.file_name
+    }
+
+    /// The sum, reason by reason.
+    pub fn plus(&self, o: &LinkRefusals) -> LinkRefusals {
+        LinkRefusals {
+            tls_handshake: self.tls_handshake + o.tls_handshake,
+            access_denied: self.access_denied + o.access_denied,
+            wrong_type: self.wrong_type + o.wrong_type,
+            wrong_size: self.wrong_size + o.wrong_size,
+            wrong_key: self.wrong_key + o.wrong_key,
+            wrong_sender: self.wrong_sender + o.wrong_sender,
+            forbidden_order: self.forbidden_order + o.forbidden_order,
+            file_name: self.file_name + o.file_name,
+        }
+    }
+}
+
+/// What a host's bridges did over the run (summed over restarts): its
+/// supervisor copies it into the host's `summary.json`.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct LinkReport {
+    /// `mutual-tls-quic` or `plain-tcp`.
+    pub security: String,
+    /// What plain TCP gives up, when the link is plain TCP.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub warning: Option<String>,
+    /// Messages sent to the other hosts.
+    pub sent: u64,
+    /// Messages received and published here.
+    pub received: u64,
+    /// Files shipped or received.
+    pub files: u64,
+    /// The other host asked this one to stop the run (host A: a STOP order
+    /// from host B's supervisor, which may give it).
+    pub stop_requests: u64,
+    /// Refusals by reason.
+    pub refused: LinkRefusals,
+}
+
+impl LinkReport {
+    /// The report in `dir`, if there is a readable one.
+    pub fn read(dir: &Path) -> Option<LinkReport> {
+        let bytes = std::fs::read(dir.join(LINK_REPORT_FILE)).ok()?;
+        serde_json::from_slice(&bytes).ok()
+    }
+
+    /// Writes it into `dir` (atomically).
+    pub fn write(&self, dir: &Path) -> std::io::Result<()> {
+        let json = serde_json::to_vec_pretty(self).map_err(std::io::Error::other)?;
+        learnpnp::atomic_file::write_atomic(&dir.join(LINK_REPORT_FILE), &json)
+    }
+}
+
+/// Zenoh's refusals as its tracing events report them, counted.
+///
+/// Access control: every decision is a trace event, but so is each of the
+/// nine decisions Zenoh makes in advance when it first sees a key on a link
+/// (to cache them), whatever the peer then does; those follow the event
+/// that announces the caching on the same thread at once and are not
+/// counted. Counted are the peers' own messages and declarations denied
+/// (ingress), and peers whose certificate names no subject of the policy
+/// (everything they send is denied without a trace).
+#[derive(Debug, Clone, Default)]
+pub struct ZenohRefusals {
+    tls_handshake: Arc<AtomicU64>,
+    access_denied: Arc<AtomicU64>,
+}
+
+/// Where zenoh's QUIC listener reports a peer it refused at the TLS handshake.
+const QUIC_TARGET: &str = "zenoh_link_commons::quic";
+
+/// Where zenoh's access control reports its decisions.
+const ACL_TARGET: &str = "zenoh::net::routing::interceptor::access_control";
+
+/// The refusals of each kind printed to the log before they are only counted.
+const LOGGED_REFUSALS: u64 = 20;
+
+/// The decisions zenoh makes to cache a key's permissions.
+const CACHED_DECISIONS: u8 = 9;
+
+/// They follow the announcement within this.
+const CACHING_WITHIN: std::time::Duration = std::time::Duration::from_millis(1);
+
+thread_local! {
+    /// Decisions still to come of a caching announced on this thread, and when it was.
+    static CACHING: std::cell::Cell<(u8, Option<std::time::Instant>)> = const { std::cell::Cell::new((0, None)) };
+}
+
+impl ZenohRefusals {
+    /// The counts so far: peers refused at the TLS handshake, and messages
+    /// (or peers) denied by access control.
+    pub fn counts(&self) -> (u64, u64) {
+        (
+            self.tls_handshake.load(Ordering::Relaxed),
+            self.access_denied.load(Ordering::Relaxed),
+        )
+    }
+
+    /// Installs the counter as the process's tracing subscriber (once, at start).
+    pub fn install(&self) -> Result<(), String> {
+        use tracing_subscriber::layer::SubscriberExt as _;
+        let subscriber = tracing_subscriber::registry().with(self.clone());
+        tracing::subscriber::set_global_default(subscriber).map_err(|e| e.to_string())
+    }
+
+    fn watched(metadata: &Metadata<'_>) -> bool {
+        let target = metadata.target();
+        (target.starts_with("zenoh") && *metadata.level() <= Level::WARN)
+            || (target.starts_with(ACL_TARGET) && *metadata.level() >= Level::INFO)
+    }
+
+    /// Counts one of the access control's events.
+    fn access_event(&self, message: &str) {
+        if message.contains("caching permissions for") {
+            CACHING.set((CACHED_DECISIONS, Some(std::time::Instant::now())));
+            return;
+        }
+        let decision = message.contains(" is unauthorized to ") || message.contains(" is authorized to ");
+        if decision && !message.starts_with("Using cached result") {
+            let (left, at) = CACHING.get();
+            if left > 0 && at.is_some_and(|t| t.elapsed() < CACHING_WITHIN) {
+                CACHING.set((left - 1, at));
+                return;
+            }
+        }
+        let denied = message.contains(" is unauthorized to ") && message.contains("(ingress)");
+        let stranger = message.contains("did not match any configured ACL subject");
+        if denied || stranger {
+            let n = self.access_denied.fetch_add(1, Ordering::Relaxed) + 1;
+            if n <= LOGGED_REFUSALS {
+                eprintln!("bridge: access control denied: {message}");
+            }
+        }
+    }
+}
+
+/// The `message` field of an event, formatted.
+#[derive(Default)]
+struct Message(String);
+
+impl Visit for Message {
+    fn record_debug(&mut self, field: &Field, value: &dyn std::fmt::Debug) {
+        if field.name() == "message" {
+            use std::fmt::Write as _;
+            let _ = write!(self.0, "{value:?}");
+        }
+    }
+}
+
+impl<S: Subscriber> Layer<S> for ZenohRefusals {
+    fn register_callsite(&self, metadata: &'static Metadata<'static>) -> tracing::subscriber::Interest {
+        if Self::watched(metadata) {
+            tracing::subscriber::Interest::always()
+        } else {
+            tracing::subscriber::Interest::never()
+        }
+    }
+
+    fn enabled(&self, metadata: &Metadata<'_>, _: Context<'_, S>) -> bool {
+        Self::watched(metadata)
+    }
+
+    fn on_event(&self, event: &Event<'_>, _: Context<'_, S>) {
+        let mut message = Message::default();
+        event.record(&mut message);
+        let target = event.metadata().target();
+        if target.starts_with(ACL_TARGET) {
+            self.access_event(&message.0);
+        } else if target.starts_with(QUIC_TARGET)
+            && (message.0.contains("Cannot accept QUIC connection")
+                || message.0.contains("increase the system open file limit"))
+        {
+            // The listener's accept failed: the TLS handshake (or reading the
+            // peer's certificate) refused the peer.
+            let n = self.tls_handshake.fetch_add(1, Ordering::Relaxed) + 1;
+            if n <= LOGGED_REFUSALS {
+                let reason = message.0.split(" Hint").next().unwrap_or_default();
+                eprintln!("bridge: refused a peer at the TLS handshake: {reason}");
+            }
+        } else {
+            // Zenoh's other warnings and errors go to the bridge's log.
+            eprintln!("bridge: zenoh: {}: {}", event.metadata().level(), message.0);
+        }
+    }
+}
