@@ -201,6 +201,21 @@ pub(crate) const SHORT: [&str; 12] = [
     "soft-sosmc",
 ];
 
+/// Host A's arguments for [`SHORT`] with keeper 3 on host B, whose bridge
+/// connects to `endpoint` (host A's certificates in `certs`).
+pub(crate) fn keeper_3_remote<'a>(endpoint: &'a str, certs: &'a Certs) -> Vec<&'a str> {
+    let mut args = SHORT.to_vec();
+    args.extend([
+        "--remote-agents",
+        "3",
+        "--bridge-listen",
+        endpoint,
+        "--link-certs",
+        &certs.host_a,
+    ]);
+    args
+}
+
 #[test]
 fn a_keeper_on_another_host_plays_exactly_the_one_host_episodes() {
     let sandbox = Sandbox::new("hosts-lockstep");
@@ -209,15 +224,7 @@ fn a_keeper_on_another_host_plays_exactly_the_one_host_episodes() {
     assert!(one.status.success(), "{}", text(&one.stderr));
     let endpoint = hosts.endpoint();
     let certs = hosts.certs(&sandbox.out("certs"));
-    let mut a_args = SHORT.to_vec();
-    a_args.extend([
-        "--remote-agents",
-        "3",
-        "--bridge-listen",
-        &endpoint,
-        "--link-certs",
-        &certs.host_a,
-    ]);
+    let a_args = keeper_3_remote(&endpoint, &certs);
     let host_a = host_a(&hosts, &sandbox, "two", &a_args);
     let b_out: PathBuf = sandbox.out("host-b");
     let host_b = hosts
@@ -347,18 +354,9 @@ fn in_real_time_a_cut_link_and_a_killed_bridge_cost_deadlines_not_the_run() {
 fn keeper_3_on_host_b(sandbox: &Sandbox, hosts: &Hosts, more: &[&str]) -> (Child, Child, PathBuf) {
     let endpoint = hosts.endpoint();
     let certs = hosts.certs(&sandbox.out("certs"));
-    let mut a_args = SHORT.to_vec();
+    let mut a_args = keeper_3_remote(&endpoint, &certs);
     a_args[1] = "400";
-    a_args.extend([
-        "--remote-agents",
-        "3",
-        "--bridge-listen",
-        &endpoint,
-        "--link-certs",
-        &certs.host_a,
-        "--checkpoint-every",
-        "10",
-    ]);
+    a_args.extend(["--checkpoint-every", "10"]);
     a_args.extend(more);
     let host_a = host_a(hosts, sandbox, "a", &a_args);
     let b_out = sandbox.out("host-b");

@@ -22,7 +22,7 @@ use shm_layouts::{
 };
 use zenoh::{Config, Session, Wait};
 
-use crate::hosts::{Certs, Hosts, SHORT, finished, host_a, remote, remote_summary};
+use crate::hosts::{Certs, Hosts, SHORT, finished, host_a, keeper_3_remote, remote, remote_summary};
 use crate::multiprocess::{Sandbox, prefixes, summary, wait_until};
 use crate::util::text;
 
@@ -364,16 +364,7 @@ fn attacked(attack: Attack) -> (Value, Value) {
     let other: PathBuf = sandbox.out("other-ca");
     hosts.certs(&other);
     let endpoint = hosts.endpoint();
-    let mut a_args = SHORT.to_vec();
-    a_args.extend([
-        "--remote-agents",
-        "3",
-        "--bridge-listen",
-        &endpoint,
-        "--link-certs",
-        &certs.host_a,
-    ]);
-    let host_a = host_a(&hosts, &sandbox, "a", &a_args);
+    let host_a = host_a(&hosts, &sandbox, "a", &keeper_3_remote(&endpoint, &certs));
     let b_out = sandbox.out("host-b");
     let ca = Path::new(&certs.host_b).join("ca.pem");
     let host_b = hosts
