@@ -399,17 +399,13 @@ fn run_system(
     print!("{}", report.latency_table());
     match (&summary.experiment, &config.spec.domain) {
         (Some(e), DomainSpec::World { .. }) => println!(
-            "learning: final evaluation {:.3} (95% CI {:.3} .. {:.3}), greedy {}",
-            e.final_mean,
-            e.final_ci95[0],
-            e.final_ci95[1],
+            "learning: {}, greedy {}",
+            learnpnp::experiment::output::final_score_text(e),
             learnpnp::experiment::output::greedy_text(e),
         ),
         (Some(e), _) => println!(
-            "learning: final evaluation {:.2} s of possession (95% CI {:.2} .. {:.2}), greedy {}, mean episode {:.2} s",
-            e.final_mean,
-            e.final_ci95[0],
-            e.final_ci95[1],
+            "learning: {}, greedy {}, mean episode {:.2} s",
+            learnpnp::experiment::output::final_score_text(e),
             learnpnp::experiment::output::greedy_text(e),
             summary.mean_episode_seconds
         ),

@@ -6,7 +6,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use learnpnp::experiment::checkpoint::{ResumePoint, resume_point};
 use learnpnp::experiment::options::DomainName;
-use learnpnp::experiment::output::{SummaryFile, ci_text, greedy_text, replay_name, with_unit, write_shard_results};
+use learnpnp::experiment::output::{SummaryFile, final_score_text, greedy_text, replay_name, write_shard_results};
 use learnpnp::experiment::ranges;
 use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
 use learnpnp::experiment::shard::{Shard, ShardRecord};
@@ -170,13 +170,11 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
         ),
         Finished::Complete { .. } if args.shard.is_some() => {}
         Finished::Complete { summary, .. } => {
-            let unit = spec.domain.score_unit();
             println!(
-                "{} on {}: final mean {}, 95% CI {}, greedy {}; {} runs in {:.2} s, {:.0} episodes/s; results in {}",
+                "{} on {}: {}, greedy {}; {} runs in {:.2} s, {:.0} episodes/s; results in {}",
                 spec.label,
                 spec.domain.name(),
-                with_unit(summary.final_mean, unit),
-                ci_text(&summary),
+                final_score_text(&summary),
                 greedy_text(&summary),
                 spec.protocol.runs,
                 summary.wall_seconds,

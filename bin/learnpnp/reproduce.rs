@@ -7,7 +7,7 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use learnpnp::atomic_file::write_atomic;
 use learnpnp::experiment::output::{
-    SummaryFile, bar_axis, bar_of, ci_text, greedy_text, score_axis, series, unit_suffix, with_unit,
+    SummaryFile, bar_axis, bar_of, final_score_text, greedy_text, score_axis, series, unit_suffix,
 };
 use learnpnp::experiment::plot::{Series, plot_bars, plot_curves, read_curve_csv};
 use learnpnp::experiment::presets::{self, Figure, FigureKind};
@@ -219,12 +219,10 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
                     (summary, curve, "(already complete)".to_string())
                 }
             };
-            let unit = spec.domain.score_unit();
             println!(
-                "  {:<28} final {} (95% CI {})  greedy {}  {} runs {:.2} s  {note}",
+                "  {:<28} {}  greedy {}  {} runs {:.2} s  {note}",
                 spec.label,
-                with_unit(summary.final_mean, unit),
-                ci_text(&summary),
+                final_score_text(&summary),
                 greedy_text(&summary),
                 spec.protocol.runs,
                 summary.wall_seconds,

@@ -1,8 +1,10 @@
 //! What `reproduce` and `experiment` report: the same baseline gives the same
 //! numbers and the same bar through both; summary.md gives units, the
-//! thesis's claim beside each figure, and says when a greedy score does not apply.
+//! thesis's claim beside each figure, and says when a greedy score does not
+//! apply; the summary lines say when there is no interval or no score.
 
-use crate::util::run_quietly;
+use crate::learnpnp;
+use crate::util::{run_quietly, temp_dir, text};
 use learnpnp::experiment::options::DomainName;
 use learnpnp::experiment::output::{greedy_text, summary};
 use learnpnp::experiment::presets;
@@ -85,4 +87,85 @@ fn the_summary_table_has_units_claims_and_references() {
     );
     cells[4].parse::<f64>().expect("a measured greedy score");
     assert!(cells[6].ends_with(" s"), "the wall time is in seconds: {grid_row}");
+}
+
+/// The standard output of `learnpnp` with `args`, which must succeed.
+fn reported(args: &[&str]) -> String {
+    let o = learnpnp(args);
+    assert!(o.status.success(), "{args:?}: {}", text(&o.stderr));
+    text(&o.stdout)
+}
+
+#[test]
+fn summary_lines_say_when_there_is_no_interval_or_no_score() {
+    let dir = temp_dir("summary-lines");
+    let experiment = |name: &str, flags: &[&str]| {
+        let out = dir.join(name).display().to_string();
+        let mut args = vec![
+            "experiment",
+            "parr-russell",
+            "--algo",
+            "eps-sosmc",
+            "--episodes",
+            "20",
+            "--eval-every",
+            "10",
+            "--out",
+            &out,
+        ];
+        args.extend_from_slice(flags);
+        let stdout = reported(&args);
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with("eps-sosmc on parr-russell: "))
+            .unwrap_or_else(|| panic!("no summary line: {stdout}"))
+            .to_string();
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join(name).join("summary.json")).unwrap()).unwrap();
+        (line, summary)
+    };
+    // Two runs: the mean and its interval.
+    let (line, _) = experiment("two", &["--runs", "2"]);
+    assert!(
+        line.contains(": final evaluation ") && line.contains(" (95% CI "),
+        "{line}"
+    );
+    // One run: the mean, and no interval of zero width.
+    let (line, _) = experiment("one", &["--runs", "1"]);
+    assert!(
+        line.contains(": final evaluation ") && line.contains(" (one run: no interval), greedy "),
+        "{line}"
+    );
+    assert!(!line.contains("95% CI"), "{line}");
+    // No evaluation episodes: no score, where the runs recorded 0.
+    let (line, summary) = experiment("none", &["--runs", "2", "--eval-episodes", "0"]);
+    assert!(
+        line.starts_with("eps-sosmc on parr-russell: no evaluation episodes, greedy "),
+        "{line}"
+    );
+    assert!(!line.contains("95% CI") && !line.contains("final evaluation"), "{line}");
+    // summary.json keeps its numbers.
+    assert_eq!(summary["final_mean"], 0.0);
+    assert_eq!(summary["final_ci95"], serde_json::json!([0.0, 0.0]));
+
+    // A figure of one run (4.3): its line and its row of summary.md.
+    let out = dir.join("reproduced");
+    let stdout = reported(&["reproduce", "4.3", "--out", out.to_str().unwrap()]);
+    let line = stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("e-SoSMC "))
+        .unwrap_or_else(|| panic!("no summary line: {stdout}"));
+    assert!(
+        line.contains(" final evaluation ") && line.contains(" (one run: no interval) "),
+        "{line}"
+    );
+    let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    let row = md
+        .lines()
+        .find(|l| l.starts_with("| e-SoSMC |"))
+        .expect("the curve's row");
+    let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+    cells[2].parse::<f64>().expect("a mean");
+    assert_eq!(cells[3], "one run: no interval", "{row}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

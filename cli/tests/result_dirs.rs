@@ -82,7 +82,7 @@ fn a_second_experiment_on_the_same_directory_is_refused_at_once() {
     assert_eq!(second.status.code(), Some(2), "{}", text(&second.stderr));
     let err = text(&second.stderr);
     assert!(err.contains("another process") && err.contains("run"), "{err}");
-    assert!(!err.contains("final mean"));
+    assert!(!text(&second.stdout).contains("final evaluation"), "no result reported");
     // Killed before it finished, the first leaves no result, only hidden
     // staging that the next user of the directory removes.
     first.kill().expect("kill");

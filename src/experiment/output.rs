@@ -92,17 +92,70 @@ pub fn with_unit(value: f64, unit: &str) -> String {
     }
 }
 
-/// The final score's 95% confidence interval as text, with its unit, or why there is none.
-pub fn ci_text(summary: &SummaryFile) -> String {
+/// What a report says instead of a final score when no evaluation played an episode.
+const NO_EVALUATION: &str = "no evaluation episodes";
+
+/// What a report says instead of a confidence interval over one run (its
+/// width would be zero, which says nothing about the spread).
+const ONE_RUN: &str = "one run: no interval";
+
+/// Whether the evaluations of `spec` measure anything: each plays
+/// `eval_episodes` episodes, so with none there is no score (runs record 0),
+/// unless the domain evaluates without episodes
+/// (`DomainSpec::evaluates_without_episodes`: Sutton's grid).
+fn evaluated(spec: &ExperimentSpec) -> bool {
+    spec.protocol.eval_episodes > 0 || spec.domain.evaluates_without_episodes()
+}
+
+/// The final score's 95% confidence interval `low .. high` with its unit;
+/// `None` over one run.
+fn interval(summary: &SummaryFile) -> Option<String> {
     let unit = summary.spec.domain.score_unit();
-    if summary.spec.protocol.runs < 2 {
-        "n/a (one run)".to_string()
-    } else {
+    (summary.spec.protocol.runs > 1).then(|| {
         format!(
             "{} .. {}",
             with_unit(summary.final_ci95[0], unit),
             with_unit(summary.final_ci95[1], unit)
         )
+    })
+}
+
+/// The final score's 95% confidence interval as text, with its unit, or why
+/// there is none: `0.2400 .. 0.2860`, `one run: no interval` or `no evaluation
+/// episodes` (a table cell; [`final_score_text`] is the whole phrase).
+pub fn ci_text(summary: &SummaryFile) -> String {
+    if evaluated(&summary.spec) {
+        interval(summary).unwrap_or_else(|| ONE_RUN.to_string())
+    } else {
+        NO_EVALUATION.to_string()
+    }
+}
+
+/// The mean final score with its unit, or `no evaluation episodes` when no
+/// evaluation measured one (a table cell).
+pub fn mean_text(summary: &SummaryFile) -> String {
+    if evaluated(&summary.spec) {
+        with_unit(summary.final_mean, summary.spec.domain.score_unit())
+    } else {
+        NO_EVALUATION.to_string()
+    }
+}
+
+/// The final evaluation of `summary` as the lines reporting an experiment say
+/// it: the mean with its unit and its 95% confidence interval over runs, or
+/// what is known instead of an interval that would say nothing:
+/// `final evaluation 0.2630 (95% CI 0.2400 .. 0.2860)`,
+/// `final evaluation 15.55 s (one run: no interval)`, or
+/// `no evaluation episodes` (the runs recorded no score). Only the text
+/// changes: `summary.json` and the CSV files keep every number.
+pub fn final_score_text(summary: &SummaryFile) -> String {
+    if !evaluated(&summary.spec) {
+        return NO_EVALUATION.to_string();
+    }
+    let mean = with_unit(summary.final_mean, summary.spec.domain.score_unit());
+    match interval(summary) {
+        Some(ci) => format!("final evaluation {mean} (95% CI {ci})"),
+        None => format!("final evaluation {mean} ({ONE_RUN})"),
     }
 }
 
@@ -368,5 +421,82 @@ pub fn bar_of(summary: &SummaryFile) -> plot::Bar {
         mean: summary.final_mean,
         low: summary.final_ci95[0],
         high: summary.final_ci95[1],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::experiment::options::{DomainName, ExperimentOptions};
+    use crate::experiment::spec::Algorithm;
+
+    /// The summary of `runs` runs in `domain` with `eval_episodes` episodes
+    /// per evaluation, its figures made up (the interval is zero-wide over one run).
+    fn made_up(domain: DomainName, runs: usize, eval_episodes: usize) -> SummaryFile {
+        let spec = ExperimentOptions {
+            algo: Some(Algorithm::SarsaLambda),
+            runs: Some(runs),
+            eval_episodes: Some(eval_episodes),
+            ..ExperimentOptions::default()
+        }
+        .spec(domain)
+        .expect("a valid experiment");
+        let mean = 15.5512;
+        SummaryFile {
+            spec,
+            final_mean: mean,
+            final_ci95: if runs > 1 { [15.2, 15.9] } else { [mean, mean] },
+            final_greedy_mean: Some(16.1),
+            final_greedy_ci95: Some([16.0, 16.2]),
+            wall_seconds: 1.0,
+            total_episodes: 100,
+            episodes_per_second: 100.0,
+            actions_per_second: 1000.0,
+            cycles_per_second: None,
+            complete: true,
+            runs_completed: runs,
+        }
+    }
+
+    #[test]
+    fn several_runs_give_the_mean_and_its_interval() {
+        let s = made_up(DomainName::ParrRussell, 20, 20);
+        assert_eq!(
+            final_score_text(&s),
+            "final evaluation 15.5512 (95% CI 15.2000 .. 15.9000)"
+        );
+        assert_eq!(
+            (mean_text(&s), ci_text(&s)),
+            ("15.5512".into(), "15.2000 .. 15.9000".into())
+        );
+        let s = made_up(DomainName::KeepawayPass, 4, 20);
+        assert_eq!(
+            final_score_text(&s),
+            "final evaluation 15.55 s (95% CI 15.20 s .. 15.90 s)"
+        );
+    }
+
+    #[test]
+    fn one_run_gives_the_mean_and_no_interval() {
+        let s = made_up(DomainName::KeepawayPass, 1, 20);
+        assert_eq!(final_score_text(&s), "final evaluation 15.55 s (one run: no interval)");
+        assert_eq!(ci_text(&s), "one run: no interval");
+        assert_eq!(mean_text(&s), "15.55 s");
+    }
+
+    #[test]
+    fn no_evaluation_episodes_give_no_score() {
+        for runs in [1, 20] {
+            let s = made_up(DomainName::ParrRussell, runs, 0);
+            assert_eq!(final_score_text(&s), "no evaluation episodes");
+            assert_eq!(ci_text(&s), "no evaluation episodes");
+            assert_eq!(mean_text(&s), "no evaluation episodes");
+        }
+        // Sutton's grid evaluates the greedy policy, with no evaluation episode.
+        let s = made_up(DomainName::Sutton, 20, 0);
+        assert_eq!(
+            final_score_text(&s),
+            "final evaluation 15.5512 (95% CI 15.2000 .. 15.9000)"
+        );
     }
 }

@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 
-use super::output::{SummaryFile, ci_text, greedy_text, with_unit};
+use super::output::{SummaryFile, ci_text, greedy_text, mean_text};
 use super::presets::{Figure, FigureKind};
 
 /// A table cell: `|` escaped.
@@ -36,7 +36,7 @@ pub fn summary_markdown(figures: &[(&Figure, &[SummaryFile])]) -> String {
         let _ = writeln!(md, "| curve | {score} | 95% CI | {greedy} | runs | wall time |");
         md.push_str("|---|---|---|---|---|---|\n");
         for s in summaries.iter() {
-            let (value, ci) = (with_unit(s.final_mean, s.spec.domain.score_unit()), ci_text(s));
+            let (value, ci) = (mean_text(s), ci_text(s));
             let _ = writeln!(
                 md,
                 "| {} | {} | {} | {} | {} | {:.1} s |",

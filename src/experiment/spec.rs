@@ -198,6 +198,14 @@ impl DomainSpec {
         )
     }
 
+    /// Whether an evaluation measures the policy with no evaluation episode:
+    /// in Sutton's grid it runs the greedy policy from every start cell
+    /// whatever `eval_episodes` says (`Sutton`'s [`crate::domains::Task::evaluate`]);
+    /// elsewhere it is the mean return of `eval_episodes` episodes.
+    pub(crate) fn evaluates_without_episodes(&self) -> bool {
+        matches!(self, DomainSpec::Sutton { .. })
+    }
+
     /// A known optimum to draw beside the curves: in Parr and Russell's grid
     /// with the thesis's plan, the exact value of the best memoryless policy.
     pub fn reference(&self) -> Option<Reference> {
