@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
 # The figures of RESULTS.md "More than one machine": Keepaway lock-step and
 # real time on one host, then with keeper 3 on host B, the hosts two network
-# namespaces joined by a veth pair (198.18.7.1 <-> 198.18.7.2). Run as root
-# from the repository root after cargo build --release --bins:
+# namespaces joined by a veth pair (198.18.7.1 <-> 198.18.7.2), over the
+# default link (QUIC, TLS 1.3 with mutual authentication by the private CA made
+# into RESULTS_DIR/certs, access control on host A). Run as root from the
+# repository root after cargo build --release --bins (BIN: where the binaries
+# are, default target/release):
 #   sudo bash docs/cluster/measure-two-hosts.sh [RESULTS_DIR]
 set -u
-S=target/release/learnpnp-supervisor
+BIN=${BIN:-target/release}
+S=$BIN/learnpnp-supervisor
 # The namespaces (and the veth pair in them) go even if the script is stopped.
 trap 'ip netns del lpma 2>/dev/null; ip netns del lpmb 2>/dev/null' EXIT
 ip netns add lpma; ip netns add lpmb
@@ -14,16 +18,19 @@ ip link set lvma netns lpma; ip link set lvmb netns lpmb
 ip -n lpma addr add 198.18.7.1/30 dev lvma; ip -n lpmb addr add 198.18.7.2/30 dev lvmb
 ip -n lpma link set lvma up; ip -n lpmb link set lvmb up; ip -n lpma link set lo up; ip -n lpmb link set lo up
 R=${1:-/tmp/mh}; rm -rf $R; mkdir -p $R
+# The run's CA and each host's certificates (host A's names 198.18.7.1).
+$S link-certs --dir $R/certs --host-a 198.18.7.1 > $R/link-certs.log || { cat $R/link-certs.log; exit 1; }
+CA="--link-certs $R/certs/host-a"; CB="--link-certs $R/certs/host-b"
 LOCK="--episodes 2000 --seed 2011"
 echo "== lock-step, one host"; LEARNPNP_IPC_DIR=$R/i1 $S $LOCK --out $R/lock-one 2>&1 | grep -E "round trip|floor|cycles/s|^  keeper"
 echo "== lock-step, keeper 3 on host B"
-(LEARNPNP_IPC_DIR=$R/ia ip netns exec lpma $S $LOCK --remote-agents 3 --bridge-listen tcp/198.18.7.1:7447 --out $R/lock-two > $R/lock-two.log 2>&1 &)
-sleep 0.5; LEARNPNP_IPC_DIR=$R/ib ip netns exec lpmb $S remote --bridge-connect tcp/198.18.7.1:7447 --out $R/lock-b > /dev/null 2>&1
+(LEARNPNP_IPC_DIR=$R/ia ip netns exec lpma $S $LOCK --remote-agents 3 --bridge-listen quic/198.18.7.1:7447 $CA --out $R/lock-two > $R/lock-two.log 2>&1 &)
+sleep 0.5; LEARNPNP_IPC_DIR=$R/ib ip netns exec lpmb $S remote --bridge-connect quic/198.18.7.1:7447 $CB --out $R/lock-b > /dev/null 2>&1
 sleep 2; grep -E "round trip|floor|remote host|cycles/s|^  keeper" $R/lock-two.log
 cmp $R/lock-one/episodes.csv $R/lock-two/episodes.csv && echo "episodes.csv identical"
 RT="soak --duration 60 --mode realtime --seed 2011"
 echo "== real time, one host"; LEARNPNP_IPC_DIR=$R/i2 $S $RT --out $R/rt-one 2>&1 | grep -E "round trip|floor|cycles/s|missed|^  keeper"
 echo "== real time, keeper 3 on host B"
-(LEARNPNP_IPC_DIR=$R/ia ip netns exec lpma $S $RT --remote-agents 3 --bridge-listen tcp/198.18.7.1:7448 --out $R/rt-two > $R/rt-two.log 2>&1 &)
-sleep 0.5; LEARNPNP_IPC_DIR=$R/ib ip netns exec lpmb $S remote --bridge-connect tcp/198.18.7.1:7448 --out $R/rt-b > /dev/null 2>&1
+(LEARNPNP_IPC_DIR=$R/ia ip netns exec lpma $S $RT --remote-agents 3 --bridge-listen quic/198.18.7.1:7448 $CA --out $R/rt-two > $R/rt-two.log 2>&1 &)
+sleep 0.5; LEARNPNP_IPC_DIR=$R/ib ip netns exec lpmb $S remote --bridge-connect quic/198.18.7.1:7448 $CB --out $R/rt-b > /dev/null 2>&1
 sleep 2; grep -E "round trip|floor|remote host|cycles/s|missed|^  keeper" $R/rt-two.log
