@@ -2,7 +2,7 @@
 //! built in code (and raw nets malformed by design).
 
 use crate::util::net;
-use learnpnp::analysis::{CheckReport, Count, Failure, Note, Property, Verdict, check, explore};
+use learnpnp::analysis::{CheckReport, Count, Failure, Note, Outcome, Property, Verdict, check, explore};
 use learnpnp::net::{PetriNet, PlaceId, TransitionId};
 use learnpnp::plan::{Plan, PlanBuilder, Vocabulary};
 
@@ -175,7 +175,7 @@ fn a_transition_whose_input_is_never_marked_fails_minimality() {
     }
     let text = report.to_string();
     assert!(text.contains("transition t3 'never' can never fire"), "{text}");
-    assert!(text.contains("never marked: p4 'orphan'"), "{text}");
+    assert!(text.contains("never marked (1): p4 'orphan'"), "{text}");
 }
 
 #[test]
@@ -328,6 +328,7 @@ fn hitting_the_marking_limit_makes_passes_inconclusive() {
         );
     }
     assert!(!report.passed());
+    assert_eq!(report.outcome(), Outcome::Inconclusive);
     let text = report.to_string();
     assert!(text.contains("marking limit of 4 reached"), "{text}");
     assert!(text.contains("effectiveness  inconclusive"), "{text}");
@@ -535,4 +536,49 @@ fn a_huge_plan_is_explored_within_the_memory_limit() {
     let text = report.to_string();
     assert!(text.contains("lowered to") && text.contains("256 MiB"), "{text}");
     assert!(!report.passed());
+}
+
+#[test]
+fn the_summary_cuts_every_list_and_the_json_holds_it_whole() {
+    // Twelve transitions that never fire, from twelve places never marked.
+    let mut b = PlanBuilder::new("orphans");
+    let init = b.initial_place("init");
+    let goal = b.goal_place();
+    b.action_into(init, "A", goal);
+    for i in 0..12 {
+        let orphan = b.place(format!("orphan{i}"));
+        b.transition(format!("never{i}"), &[(orphan, 1)], &[(goal, 1)]);
+    }
+    let report = check(&build(b), LIMIT);
+    assert_eq!(report.outcome(), Outcome::Failed);
+    assert_eq!(report.failures.len(), 12);
+    let full = report.to_string();
+    let summary = report.summary(5).to_string();
+    assert!(full.contains("orphan11") && !full.contains("... and"), "{full}");
+    assert!(summary.contains("never marked (12): "), "{summary}");
+    assert!(
+        summary.contains("'orphan4', ... and 7 more (--verbose shows all)"),
+        "{summary}"
+    );
+    assert!(summary.contains("failures (12):"), "{summary}");
+    assert!(
+        summary.contains("  ... and 7 more failures (--verbose shows all)"),
+        "{summary}"
+    );
+    assert!(!summary.contains("orphan5"), "{summary}");
+    // The summary is the full report with lines cut, nothing reworded.
+    for line in summary.lines().filter(|l| !l.contains("... and")) {
+        assert!(full.contains(line), "'{line}' not in the full report");
+    }
+    assert!(summary.ends_with("result: FAILED\n"), "{summary}");
+
+    let json = report.to_json();
+    assert_eq!(json["result"], "FAILED");
+    assert_eq!(json["passed"], false);
+    assert_eq!(json["verdicts"]["minimality"], "FAILED");
+    assert_eq!(json["verdicts"]["safety"], "passed");
+    assert_eq!(json["failures"].as_array().map(Vec::len), Some(12));
+    assert_eq!(json["bounds"]["never_marked"].as_array().map(Vec::len), Some(12));
+    assert_eq!(json["bounds"]["never_marked"][11]["label"], "orphan11");
+    assert_eq!(json["text"], full.as_str());
 }

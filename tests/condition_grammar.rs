@@ -1,8 +1,10 @@
 //! Property tests of the guard grammar: every condition prints to text that
 //! parses back to it, and arbitrary text parses or is refused with an error
-//! that points at a real token of it.
+//! that points at a real token of it and shows how conditions are written.
 
-use learnpnp::condition::{Expr, parse_condition};
+use learnpnp::condition::{Expr, PREFIX_FORM, parse_condition};
+use learnpnp::plan::Vocabulary;
+use learnpnp::plan_file::load_plan;
 use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
 
@@ -83,6 +85,11 @@ proptest! {
                         "token '{}' not at offset {} of '{}'", err.token, err.offset, text
                     );
                 }
+                // Every error shows the prefix form, operator first.
+                let hint = err.hint();
+                prop_assert!(hint.contains(" first: ["), "{}", hint);
+                prop_assert!(err.to_string().ends_with(&format!("; {hint}")), "{}", err);
+
             }
         }
     }
@@ -94,4 +101,64 @@ fn nesting_beyond_the_bound_is_refused_and_within_it_parses() {
     assert!(parse_condition(&nested(20)).is_ok());
     let err = parse_condition(&nested(200)).expect_err("too deep");
     assert!(err.message.contains("nested too deeply"), "{err}");
+}
+
+#[test]
+fn an_infix_operator_is_named_and_the_prefix_form_shown() {
+    let err = parse_condition("ballSeen and ballClose").expect_err("infix");
+    assert_eq!(err.token, "and");
+    assert_eq!(
+        err.to_string(),
+        "expected ')' at 'and' (offset 9 of 'ballSeen and ballClose'); 'and' is an operator, \
+         written first: [and ballSeen ballClose], not [ballSeen and ballClose]"
+    );
+    // C's operators, and an infix operator inside parentheses.
+    let err = parse_condition("free && near").expect_err("infix");
+    assert!(
+        err.to_string()
+            .contains("the operator is 'and', written first: [and free near]"),
+        "{err}"
+    );
+    let err = parse_condition("and c (a or b)").expect_err("infix inside parentheses");
+    assert_eq!((err.token.as_str(), err.offset), ("or", 9));
+    assert!(
+        err.to_string()
+            .contains("'or' is an operator, written first: [or a b], not [a or b]"),
+        "{err}"
+    );
+    // Anything else shows the grammar in general.
+    for text in ["and a", "not a b", "a b", "(a", "3x", "a)"] {
+        let err = parse_condition(text).expect_err("malformed");
+        assert!(err.to_string().ends_with(&format!("; {PREFIX_FORM}")), "{err}");
+    }
+}
+
+#[test]
+fn a_plan_file_with_an_infix_guard_names_the_file_transition_and_token() {
+    let dir = crate::util::temp_dir("infix-guard");
+    let path = dir.join("infix.pnml");
+    std::fs::write(
+        &path,
+        "<pnml><net id='n'>\
+         <place id='p1'><name><value>start</value></name>\
+         <initialMarking><value>Default,1</value></initialMarking></place>\
+         <place id='p2'><name><value>goal</value></name></place>\
+         <transition id='t1'><name><value>[ballSeen and ballClose]</value></name></transition>\
+         <arc id='a1' source='p1' target='t1'/><arc id='a2' source='t1' target='p2'/>\
+         </net></pnml>",
+    )
+    .expect("write");
+    let err = load_plan(&path, Vocabulary::Open).expect_err("an infix guard");
+    assert_eq!(err.element().as_deref(), Some("t1"));
+    assert_eq!(err.token().as_deref(), Some("and"));
+    let text = err.to_string();
+    for part in [
+        "infix.pnml",
+        "transition 't1'",
+        "broken guard: expected ')' at 'and'",
+        "[and ballSeen ballClose], not [ballSeen and ballClose]",
+    ] {
+        assert!(text.contains(part), "'{part}' not in: {text}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -131,6 +131,12 @@ const MALFORMED: &[(&str, usize, &str, &str)] = &[
     ("machine m\n  initial s\n  s -> s a]\n", 3, "]", "without"),
     ("machine m\n  initial s\n  s -> s [and a]\n", 3, "<end>", "at least two"),
     (
+        "machine m\n  initial s\n  s -> s [a and b]\n",
+        3,
+        "and",
+        "'and' is an operator, written first: [and a b], not [a and b]",
+    ),
+    (
         "machine m\n  initial s\n  s -> s [not]\n",
         3,
         "not",

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use learnpnp::analysis;
+use learnpnp::analysis::{self, Outcome};
 use learnpnp::domains::describe;
 use learnpnp::dot::to_dot_with_values;
 use learnpnp::experiment::output::score_axis;
@@ -28,9 +28,30 @@ pub struct CheckArgs {
     /// Most reachable markings to explore (at least 1).
     #[arg(long, allow_hyphen_values = true, default_value_t = analysis::DEFAULT_LIMIT, value_parser = |s: &str| CountRange::new(1, u64::MAX).parse_usize(s))]
     limit: usize,
+    /// Show every item of every list (by default each list shows its count
+    /// and its first few items).
+    #[arg(short, long, conflicts_with = "json")]
+    verbose: bool,
+    /// Print the whole report as JSON, for tools.
+    #[arg(long)]
+    json: bool,
 }
 
-/// Exit 0: loads and passes; 1: loads and fails a check; 2: cannot be read.
+/// How many items of each list the report shows without `--verbose`.
+const SHOWN_ITEMS: usize = 8;
+
+/// The exit status of `check`: the plan passes.
+const PASSED: u8 = 0;
+/// The exit status of `check`: the plan fails a check.
+const FAILED: u8 = 1;
+/// The exit status of `check`: an error (the plan cannot be read, or the
+/// report cannot be written).
+const UNREADABLE: u8 = 2;
+/// The exit status of `check`: no check fails, but one is inconclusive.
+const INCONCLUSIVE: u8 = 3;
+
+/// Exit 0: loads and passes; 1: loads and fails a check; 2: cannot be read;
+/// 3: loads, fails no check, but a check is inconclusive.
 pub fn check(args: &CheckArgs) -> ExitCode {
     if schema::is_schema_path(&args.plan) {
         return check_schema(args);
@@ -39,36 +60,66 @@ pub fn check(args: &CheckArgs) -> ExitCode {
         Ok(plan) => plan,
         Err(e) => {
             eprintln!("error: {e}");
-            return ExitCode::from(2);
+            return ExitCode::from(UNREADABLE);
         }
     };
     let report = analysis::check(&plan, args.limit);
-    print_report(&report, report.passed())
-}
-
-/// Prints a check report (a closed pipe is no error); exit 0 if it passed, 1 if not.
-fn print_report(report: &dyn std::fmt::Display, passed: bool) -> ExitCode {
-    match write!(std::io::stdout().lock(), "{report}") {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
-            eprintln!("error: {e}");
-            ExitCode::from(2)
-        }
-        _ if passed => ExitCode::SUCCESS,
-        _ => ExitCode::from(1),
+    let status = match report.outcome() {
+        Outcome::Passed => PASSED,
+        Outcome::Failed => FAILED,
+        Outcome::Inconclusive => INCONCLUSIVE,
+    };
+    if args.json {
+        print_report(&json_text(&report.to_json()), status)
+    } else if args.verbose {
+        print_report(&report, status)
+    } else {
+        print_report(&report.summary(SHOWN_ITEMS), status)
     }
 }
 
-/// A schema's checks (`schema::check_report`), with the same exit codes.
+/// `value` as pretty-printed JSON, one line after another.
+fn json_text(value: &serde_json::Value) -> String {
+    format!("{value:#}\n")
+}
+
+/// Prints a check report (a closed pipe is no error) and exits with `status`.
+fn print_report(report: &dyn std::fmt::Display, status: u8) -> ExitCode {
+    match write!(std::io::stdout().lock(), "{report}") {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            eprintln!("error: {e}");
+            ExitCode::from(UNREADABLE)
+        }
+        _ => ExitCode::from(status),
+    }
+}
+
+/// A schema's checks (`schema::check_report`), with the same exit codes (a
+/// schema's checks are never inconclusive). Its report is printed whole, so
+/// `--verbose` changes nothing; as JSON: `plan`, `result`, `passed`,
+/// `failures` and `text`.
 fn check_schema(args: &CheckArgs) -> ExitCode {
     let process = match schema::load_process(&args.plan, Vocabulary::Open) {
         Ok(process) => process,
         Err(e) => {
             eprintln!("error: {e}");
-            return ExitCode::from(2);
+            return ExitCode::from(UNREADABLE);
         }
     };
     let (report, passed) = schema::check_report(&process);
-    print_report(&report, passed)
+    let status = if passed { PASSED } else { FAILED };
+    if !args.json {
+        return print_report(&report, status);
+    }
+    let outcome = if passed { Outcome::Passed } else { Outcome::Failed };
+    let json = serde_json::json!({
+        "plan": process.machines().first().map_or("", |m| m.plan().name()),
+        "result": outcome.name(),
+        "passed": passed,
+        "failures": schema::check_failures(&report),
+        "text": report,
+    });
+    print_report(&json_text(&json), status)
 }
 
 #[derive(Args, Debug)]

@@ -27,6 +27,15 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Check a plan's structure: safety, minimality, effectiveness, dead markings.
+    ///
+    /// Each list of the report (places, choice points and their options,
+    /// failures, notes, warnings) shows its count and its first 8 items;
+    /// --verbose shows them all, --json prints the whole report as JSON.
+    ///
+    /// Exit status: 0 every check passed (or does not apply); 1 a check fails;
+    /// 2 the plan cannot be read; 3 no check fails but one is inconclusive
+    /// (the marking limit was reached, or an unbounded place is read), which
+    /// is neither a pass nor a failure.
     Check(inspect::CheckArgs),
     /// Print a plan as Graphviz DOT.
     Dot(inspect::DotArgs),

@@ -171,7 +171,7 @@ fn check_refuses_a_zero_limit_and_counts_are_checked() {
 #[test]
 fn a_closed_pipe_is_no_error() {
     let dir = temp_dir("pipe");
-    // A plan whose DOT text is far larger than a pipe's buffer.
+    // A plan whose DOT text, and whole check report, are far larger than a pipe's buffer.
     let mut b = learnpnp::plan::PlanBuilder::new("long");
     let mut at = b.initial_place("start");
     for i in 0..3000 {
@@ -183,7 +183,7 @@ fn a_closed_pipe_is_no_error() {
     b.action_into(at, "Last", goal);
     let plan = dir.join("long.pnml");
     learnpnp::pnml::write_file(&b.build_net().expect("a net"), learnpnp::pnml::Dialect::Jarp, &plan).expect("write");
-    for args in [vec!["dot", path(&plan)], vec!["check", path(&plan)]] {
+    for args in [vec!["dot", path(&plan)], vec!["check", path(&plan), "--verbose"]] {
         let mut child = Command::new(env!("CARGO_BIN_EXE_learnpnp"))
             .args(&args)
             .stdout(Stdio::piped())
@@ -197,7 +197,8 @@ fn a_closed_pipe_is_no_error() {
         let err = text(&out.stderr);
         assert!(!err.contains("error") && !err.contains("panicked"), "{args:?}: {err}");
         assert!(
-            out.status.code().is_some_and(|c| c == 0 || c == 1),
+            // check: passed, failed or (its marking limit lowered) inconclusive.
+            out.status.code().is_some_and(|c| matches!(c, 0 | 1 | 3)),
             "{args:?}: {:?}",
             out.status
         );

@@ -45,6 +45,129 @@ fn check_exit_codes() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The verdict lines of a report: `(property, verdict)`.
+fn verdicts(report: &str) -> Vec<(String, String)> {
+    report
+        .lines()
+        .filter_map(|line| {
+            let (property, rest) = line.split_once(' ')?;
+            let verdict = ["passed", "FAILED", "inconclusive", "not applicable"]
+                .into_iter()
+                .find(|v| rest.trim_start().starts_with(v))?;
+            ["safety", "minimality", "effectiveness", "deadlock"]
+                .contains(&property)
+                .then(|| (property.to_string(), verdict.to_string()))
+        })
+        .collect()
+}
+
+#[test]
+fn check_of_a_big_plan_fits_a_screen_and_is_inconclusive() {
+    // 1,217 places, 20 choice points: the marking limit is lowered to fit memory.
+    let taxi = shipped_arg("taxi.pnml");
+    let out = learnpnp(&["check", &taxi]);
+    let summary = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(3), "{summary}");
+    assert!(summary.ends_with("result: inconclusive\n"), "{summary}");
+    assert!(summary.lines().count() < 40, "{summary}");
+    assert!(summary.lines().all(|l| l.chars().count() < 320), "{summary}");
+    assert!(
+        summary.contains("  never marked (1192): p10 'south.exec', ")
+            && summary.contains(", ... and 1184 more (--verbose shows all)\n"),
+        "{summary}"
+    );
+    assert!(summary.contains("choice points (20):\n"), "{summary}");
+    assert!(
+        summary.contains("  ... and 12 more choice points (--verbose shows all)\n"),
+        "{summary}"
+    );
+
+    let out = learnpnp(&["check", &taxi, "--verbose"]);
+    let full = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(3), "{full}");
+    assert!(!full.contains("... and"), "{full}");
+    let never = full
+        .lines()
+        .find_map(|l| l.strip_prefix("  never marked (1192): "))
+        .expect("the places never marked");
+    assert_eq!(never.split(", ").count(), 1192);
+    assert_eq!(full.lines().filter(|l| l.starts_with("  - p")).count(), 20);
+    // The summary is the full report with lists cut, nothing reworded.
+    for line in summary.lines().filter(|l| !l.contains("... and")) {
+        assert!(full.lines().any(|f| f == line), "'{line}' not in the full report");
+    }
+
+    let out = learnpnp(&["check", &taxi, "--json"]);
+    assert_eq!(out.status.code(), Some(3));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(json["result"], "inconclusive");
+    assert_eq!(json["passed"], false);
+    assert_eq!(json["places"], 1217);
+    assert_eq!(json["complete"], false);
+    assert_eq!(json["bounds"]["never_marked"].as_array().map(Vec::len), Some(1192));
+    assert_eq!(json["choice_points"].as_array().map(Vec::len), Some(20));
+    assert_eq!(json["text"], full.as_str());
+    let from_json: Vec<(String, String)> = json["verdicts"]
+        .as_object()
+        .expect("verdicts")
+        .iter()
+        .map(|(p, v)| (p.clone(), v.as_str().expect("a verdict").to_string()))
+        .collect();
+    let mut from_text = verdicts(&summary);
+    from_text.sort();
+    assert_eq!(from_json.len(), 4);
+    assert_eq!(from_json, from_text);
+    assert!(
+        json["reasons"]["safety"]
+            .as_str()
+            .is_some_and(|r| r.contains("marking limit"))
+    );
+
+    let out = learnpnp(&["check", &taxi, "--json", "--verbose"]);
+    assert_eq!(out.status.code(), Some(2), "the two forms are exclusive");
+}
+
+#[test]
+fn check_exit_codes_tell_failed_from_inconclusive() {
+    // A plan that fails (a dead marking), as text and as JSON.
+    let untitled = crate::util::fixture("pnml/untitled.v2.pnml");
+    let untitled = untitled.to_str().unwrap();
+    let out = learnpnp(&["check", untitled]);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stdout));
+    assert!(text(&out.stdout).ends_with("result: FAILED\n"));
+    let out = learnpnp(&["check", untitled, "--json"]);
+    assert_eq!(out.status.code(), Some(1));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(
+        (json["result"].as_str(), json["verdicts"]["deadlock"].as_str()),
+        (Some("FAILED"), Some("FAILED"))
+    );
+    assert_eq!(json["failures"].as_array().map(Vec::len), Some(1));
+
+    // A plan that passes, stopped by the marking limit: inconclusive.
+    let kick = shipped_arg("penalty_kick_memory.pnml");
+    let out = learnpnp(&["check", &kick, "--json"]);
+    assert_eq!(out.status.code(), Some(0));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(
+        (json["result"].as_str(), json["passed"].as_bool()),
+        (Some("passed"), Some(true))
+    );
+    let out = learnpnp(&["check", &kick, "--limit", "2"]);
+    assert_eq!(out.status.code(), Some(3), "{}", text(&out.stdout));
+    assert!(text(&out.stdout).ends_with("result: inconclusive\n"));
+
+    // A schema: its checks pass or fail, never inconclusive; as JSON too.
+    let out = learnpnp(&["check", &shipped_arg("football_choice.schema"), "--json"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stdout));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(
+        (json["result"].as_str(), json["passed"].as_bool()),
+        (Some("passed"), Some(true))
+    );
+    assert!(json["text"].as_str().is_some_and(|t| t.contains("result: passed")));
+}
+
 #[test]
 fn convert_round_trips_between_dialects() {
     let dir = temp_dir("convert");

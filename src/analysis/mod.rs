@@ -24,4 +24,6 @@ pub use count::Count;
 pub use guards::{MAX_GUARD_ATOMS, jointly_satisfiable};
 pub use options::{ChoiceAt, before, choices_among, choices_at, option_label, option_transitions, transition_name};
 pub use reachability::{DEFAULT_LIMIT, MEMORY_LIMIT, Reachability, StateId, explore, marking_limit};
-pub use report::{CheckReport, Element, Example, Failure, Note, PlaceBound, Property, ReportedChoice, Verdict};
+pub use report::{
+    CheckReport, Element, Example, Failure, Note, Outcome, PlaceBound, Property, ReportedChoice, Verdict,
+};

@@ -171,6 +171,29 @@ impl fmt::Display for Verdict {
     }
 }
 
+/// The overall result of a check, from its verdicts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    /// Every property passed or does not apply.
+    Passed,
+    /// Some property failed.
+    Failed,
+    /// None failed, but some could not be decided (e.g. the marking limit was
+    /// reached): neither a pass nor a failure.
+    Inconclusive,
+}
+
+impl Outcome {
+    /// `passed`, `FAILED` or `inconclusive`, as the report's last line says.
+    pub fn name(self) -> &'static str {
+        match self {
+            Outcome::Passed => "passed",
+            Outcome::Failed => "FAILED",
+            Outcome::Inconclusive => "inconclusive",
+        }
+    }
+}
+
 /// The most tokens a place holds in any reachable marking.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PlaceBound {
@@ -406,9 +429,20 @@ impl CheckReport {
     /// Whether every property passed or does not apply (an inconclusive
     /// property, e.g. from hitting the marking limit, is no pass).
     pub fn passed(&self) -> bool {
-        self.verdicts
-            .iter()
-            .all(|(_, v)| matches!(v, Verdict::Passed | Verdict::NotApplicable(_)))
+        self.outcome() == Outcome::Passed
+    }
+
+    /// Failed if some property failed; otherwise inconclusive if some could
+    /// not be decided; otherwise passed.
+    pub fn outcome(&self) -> Outcome {
+        let verdicts = || self.verdicts.iter().map(|(_, v)| v);
+        if verdicts().any(|v| *v == Verdict::Failed) {
+            Outcome::Failed
+        } else if verdicts().any(|v| matches!(v, Verdict::Inconclusive(_))) {
+            Outcome::Inconclusive
+        } else {
+            Outcome::Passed
+        }
     }
 
     /// The verdict on `property`.
@@ -421,63 +455,217 @@ impl CheckReport {
         self.bounds.iter().any(|b| b.bound == Count::Unbounded)
     }
 
-    fn write_bounds(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let safe = self.bounds.iter().filter(|b| b.bound == Count::Finite(1)).count();
-        let never: Vec<String> = self
-            .bounds
-            .iter()
-            .filter(|b| b.bound == Count::Finite(0))
-            .map(|b| b.element.to_string())
-            .collect();
-        let above: Vec<String> = self
-            .bounds
-            .iter()
-            .filter(|b| b.bound.exceeds_one())
-            .map(|b| format!("{} {}", b.element, b.bound))
-            .collect();
-        let seen = if self.complete { "" } else { " (seen so far)" };
-        write!(f, "token bounds{seen}: {safe} place(s) hold at most 1 token")?;
-        if !above.is_empty() {
-            write!(f, "; above 1: {}", above.join(", "))?;
+    /// The report as [`Display`](fmt::Display) writes it, but with every list
+    /// (warnings, places, choice points and their options, failures, notes)
+    /// cut to its first `most` items, followed by how many more there are:
+    /// `learnpnp check` without `--verbose`.
+    pub fn summary(&self, most: usize) -> impl fmt::Display + '_ {
+        Shown {
+            report: self,
+            most: Some(most),
         }
-        if !never.is_empty() {
-            write!(f, "; never marked: {}", never.join(", "))?;
-        }
-        writeln!(f)
+    }
+
+    /// The whole report as JSON, as `learnpnp check --json` prints it: `plan`,
+    /// `result` (as the last line of the text), `passed`, `places`,
+    /// `transitions`, `markings`, `limit`, `complete`, `verdicts` (property ->
+    /// [`Verdict::summary`]), `reasons` (property -> why it is inconclusive or
+    /// does not apply), `bounds` (`at_most_one`: how many places; `above_one`:
+    /// place and bound, a number or `unbounded`; `never_marked`: places),
+    /// `choice_points` (place and options), `failures`, `notes` and `warnings`
+    /// (as the text words them), and `text` (the report as text, in full).
+    /// Places and transitions are `{"id", "label"}`.
+    pub fn to_json(&self) -> serde_json::Value {
+        use serde_json::{Map, Value, json};
+        let element = |e: &Element| json!({ "id": e.id, "label": e.label });
+        let verdicts: Map<String, Value> = self
+            .verdicts
+            .iter()
+            .map(|(p, v)| (p.name().to_string(), Value::from(v.summary())))
+            .collect();
+        let reasons: Map<String, Value> = self
+            .verdicts
+            .iter()
+            .filter_map(|(p, v)| Some((p.name().to_string(), Value::from(v.reason()?))))
+            .collect();
+        let above_one: Vec<Value> = self
+            .above_one()
+            .map(|b| {
+                let bound = match b.bound {
+                    Count::Finite(n) => Value::from(n),
+                    Count::Unbounded => Value::from("unbounded"),
+                };
+                json!({ "place": element(&b.element), "bound": bound })
+            })
+            .collect();
+        let never_marked: Vec<Value> = self.never_marked().map(|b| element(&b.element)).collect();
+        let choice_points: Vec<Value> = self
+            .choice_points
+            .iter()
+            .map(|c| {
+                let options: Vec<Value> = c.options.iter().map(|(_, e)| element(e)).collect();
+                json!({ "place": element(&c.element), "options": options })
+            })
+            .collect();
+        let failures: Vec<String> = self.failures.iter().map(ToString::to_string).collect();
+        let notes: Vec<String> = self.notes.iter().map(ToString::to_string).collect();
+        json!({
+            "plan": self.plan,
+            "result": self.outcome().name(),
+            "passed": self.passed(),
+            "places": self.places,
+            "transitions": self.transitions,
+            "markings": self.markings,
+            "limit": self.limit,
+            "complete": self.complete,
+            "verdicts": verdicts,
+            "reasons": reasons,
+            "bounds": {
+                "at_most_one": self.at_most_one(),
+                "above_one": above_one,
+                "never_marked": never_marked,
+            },
+            "choice_points": choice_points,
+            "failures": failures,
+            "notes": notes,
+            "warnings": self.warnings,
+            "text": self.to_string(),
+        })
+    }
+
+    /// How many places hold at most one token.
+    fn at_most_one(&self) -> usize {
+        self.bounds.iter().filter(|b| b.bound == Count::Finite(1)).count()
+    }
+
+    /// The places that hold more than one token.
+    fn above_one(&self) -> impl Iterator<Item = &PlaceBound> {
+        self.bounds.iter().filter(|b| b.bound.exceeds_one())
+    }
+
+    /// The places never marked.
+    fn never_marked(&self) -> impl Iterator<Item = &PlaceBound> {
+        self.bounds.iter().filter(|b| b.bound == Count::Finite(0))
     }
 }
 
+/// A report as text, every list in full (`most` is `None`) or cut to its
+/// first `most` items.
+struct Shown<'a> {
+    report: &'a CheckReport,
+    most: Option<usize>,
+}
+
+impl Shown<'_> {
+    /// The first items of `items` to show, and how many are left out.
+    fn cut<'b, T>(&self, items: &'b [T]) -> (&'b [T], usize) {
+        let shown = self.most.map_or(items.len(), |most| most.min(items.len()));
+        (&items[..shown], items.len() - shown)
+    }
+
+    /// `items` on one line, separated by commas, cut to the first few.
+    fn write_inline(&self, f: &mut fmt::Formatter<'_>, items: &[String]) -> fmt::Result {
+        let (shown, rest) = self.cut(items);
+        f.write_str(&shown.join(", "))?;
+        if rest > 0 {
+            write!(f, ", {}", more(rest, ""))?;
+        }
+        Ok(())
+    }
+
+    /// `title (count):` and one line per item (`- item`), cut to the first few.
+    fn write_lines<T: fmt::Display>(&self, f: &mut fmt::Formatter<'_>, title: &str, items: &[T]) -> fmt::Result {
+        if items.is_empty() {
+            return Ok(());
+        }
+        writeln!(f, "{title} ({}):", items.len())?;
+        let (shown, rest) = self.cut(items);
+        for item in shown {
+            writeln!(f, "  - {item}")?;
+        }
+        if rest > 0 {
+            writeln!(f, "  {}", more(rest, &format!(" {title}")))?;
+        }
+        Ok(())
+    }
+
+    fn write_bounds(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let report = self.report;
+        let seen = if report.complete { "" } else { " (seen so far)" };
+        writeln!(
+            f,
+            "token bounds{seen}: {} place(s) hold at most 1 token",
+            report.at_most_one()
+        )?;
+        let above: Vec<String> = report
+            .above_one()
+            .map(|b| format!("{} {}", b.element, b.bound))
+            .collect();
+        let never: Vec<String> = report.never_marked().map(|b| b.element.to_string()).collect();
+        for (title, places) in [("above 1 token", above), ("never marked", never)] {
+            if !places.is_empty() {
+                write!(f, "  {title} ({}): ", places.len())?;
+                self.write_inline(f, &places)?;
+                writeln!(f)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `... and N more things (--verbose shows all)`: what stands for `rest`
+/// items left out of a list (`what`, with its leading space, names them).
+fn more(rest: usize, what: &str) -> String {
+    format!("... and {rest} more{what} (--verbose shows all)")
+}
+
 /// A multi-line report: summary, verdicts, bounds, choice points, failures,
-/// notes and the overall result.
+/// notes and the overall result, every list in full
+/// ([`CheckReport::summary`] cuts them).
 impl fmt::Display for CheckReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        Shown {
+            report: self,
+            most: None,
+        }
+        .fmt(f)
+    }
+}
+
+impl fmt::Display for Shown<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let report = self.report;
         writeln!(
             f,
             "plan '{}': {} places, {} transitions, {} choice point(s), {} reachable marking(s)",
-            self.plan,
-            self.places,
-            self.transitions,
-            self.choice_points.len(),
-            self.markings
+            report.plan,
+            report.places,
+            report.transitions,
+            report.choice_points.len(),
+            report.markings
         )?;
-        if !self.complete {
+        if !report.complete {
             writeln!(
                 f,
                 "  marking limit of {} reached: exploration incomplete, results partial",
-                self.limit
+                report.limit
             )?;
         }
-        if self.has_unbounded() {
+        if report.has_unbounded() {
             writeln!(
                 f,
                 "  unbounded places are counted as ω: markings form a coverability graph"
             )?;
         }
-        for w in &self.warnings {
+        let (warnings, rest) = self.cut(&report.warnings);
+        for w in warnings {
             writeln!(f, "warning: {w}")?;
         }
-        for (property, verdict) in &self.verdicts {
-            let meaning = match (property, verdict, self.has_goal) {
+        if rest > 0 {
+            writeln!(f, "{}", more(rest, " warnings"))?;
+        }
+        for (property, verdict) in &report.verdicts {
+            let meaning = match (property, verdict, report.has_goal) {
                 // Without a goal place a plan never ends by itself: say what passing means.
                 (Property::Deadlock, Verdict::Passed, false) => {
                     "no reachable marking stops the plan: with no goal place it runs until stopped from outside"
@@ -490,32 +678,28 @@ impl fmt::Display for CheckReport {
             }
         }
         self.write_bounds(f)?;
-        if !self.choice_points.is_empty() {
-            writeln!(f, "choice points:")?;
-            for c in &self.choice_points {
-                let options: Vec<String> = c.options.iter().map(|(_, e)| e.to_string()).collect();
-                writeln!(f, "  - {}: {}", c.element, options.join(", "))?;
-            }
-        }
-        if !self.failures.is_empty() {
-            writeln!(f, "failures:")?;
-            for failure in &self.failures {
-                writeln!(f, "  - {failure}")?;
-            }
-        }
-        if !self.notes.is_empty() {
-            writeln!(f, "notes:")?;
-            for note in &self.notes {
-                writeln!(f, "  - {note}")?;
-            }
-        }
-        let result = if self.passed() {
-            "passed"
-        } else if self.failures.is_empty() {
-            "inconclusive"
-        } else {
-            "FAILED"
-        };
-        writeln!(f, "result: {result}")
+        let choice_points: Vec<ShownChoice<'_>> = report
+            .choice_points
+            .iter()
+            .map(|choice| ShownChoice { shown: self, choice })
+            .collect();
+        self.write_lines(f, "choice points", &choice_points)?;
+        self.write_lines(f, "failures", &report.failures)?;
+        self.write_lines(f, "notes", &report.notes)?;
+        writeln!(f, "result: {}", report.outcome().name())
+    }
+}
+
+/// A choice point as a report shows it: `place: option, option...`.
+struct ShownChoice<'a> {
+    shown: &'a Shown<'a>,
+    choice: &'a ReportedChoice,
+}
+
+impl fmt::Display for ShownChoice<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let options: Vec<String> = self.choice.options.iter().map(|(_, e)| e.to_string()).collect();
+        write!(f, "{}: ", self.choice.element)?;
+        self.shown.write_inline(f, &options)
     }
 }

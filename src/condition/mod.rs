@@ -7,4 +7,4 @@ mod parse;
 
 pub use compiled::{AtomRef, Condition};
 pub use knowledge::{AtomId, AtomTable, BitKnowledgeBase, KnowledgeBase};
-pub use parse::{ConditionError, Expr, parse_condition};
+pub use parse::{ConditionError, Expr, PREFIX_FORM, parse_condition};

@@ -64,9 +64,12 @@ fn join_nested(es: &[Expr]) -> String {
     es.iter().map(Expr::nested).collect::<Vec<_>>().join(" ")
 }
 
-/// A condition that does not parse: what was wrong and the offending token.
+/// How conditions are written, shown with every error of one that does not parse.
+pub const PREFIX_FORM: &str = "conditions are written in prefix form, operator first: [and a b], [or a b], [not a], nested in parentheses: [or a (and b c)]";
+
+/// A condition that does not parse: what was wrong, the offending token, and
+/// how to write it ([`ConditionError::hint`]).
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{message} at '{token}' (offset {offset} of '{text}')")]
 pub struct ConditionError {
     /// What was expected.
     pub message: String,
@@ -76,6 +79,76 @@ pub struct ConditionError {
     pub offset: usize,
     /// The condition text as written.
     pub text: String,
+}
+
+/// `message at 'token' (offset n of 'text'); hint`.
+impl std::fmt::Display for ConditionError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} at '{}' (offset {} of '{}'); {}",
+            self.message,
+            self.token,
+            self.offset,
+            self.text,
+            self.hint()
+        )
+    }
+}
+
+impl ConditionError {
+    /// How to write the condition: for an operator written between its
+    /// operands (`a and b`, `a && b`), that it goes first, with the condition
+    /// rewritten where it is one operator between atoms; otherwise
+    /// [`PREFIX_FORM`].
+    pub fn hint(&self) -> String {
+        let Some(op) = infix_operator(&self.token) else {
+            return PREFIX_FORM.to_string();
+        };
+        // The operator is infix when it follows an operand: an atom or a ')'.
+        let before = self.text.get(..self.offset).unwrap_or("").trim_end();
+        let after_operand = before.ends_with(')')
+            || before
+                .rsplit(|c: char| c.is_ascii_whitespace() || c == '(')
+                .next()
+                .is_some_and(|word| is_atom(word) && is_keyword(word).is_none());
+        if !after_operand {
+            return PREFIX_FORM.to_string();
+        }
+        let written = &self.token;
+        let (prefix, infix) = match prefix_rewrite(&self.text) {
+            Some(rewritten) => (rewritten, self.text.trim().to_string()),
+            None => (format!("{op} a b"), format!("a {written} b")),
+        };
+        if is_keyword(written).is_some() {
+            format!("'{written}' is an operator, written first: [{prefix}], not [{infix}]")
+        } else {
+            format!("the operator is '{op}', written first: [{prefix}], not [{infix}]")
+        }
+    }
+}
+
+/// The binary operator `token` means when written between operands: `and`
+/// or `or` (as keywords, or as C's `&&`, `&`, `||`, `|`).
+fn infix_operator(token: &str) -> Option<&'static str> {
+    match token {
+        "&&" | "&" => Some("and"),
+        "||" | "|" => Some("or"),
+        _ => is_keyword(token).filter(|&op| op != "not"),
+    }
+}
+
+/// `a and b and c` (atoms joined by one infix operator) as `and a b c`.
+fn prefix_rewrite(text: &str) -> Option<String> {
+    let words: Vec<&str> = text.split_whitespace().collect();
+    if words.len() < 3 || words.len().is_multiple_of(2) {
+        return None;
+    }
+    let op = infix_operator(words[1])?;
+    let same_operator = words.iter().skip(1).step_by(2).all(|w| infix_operator(w) == Some(op));
+    let atoms: Vec<&str> = words.iter().step_by(2).copied().collect();
+    let all_atoms = atoms.iter().all(|a| is_atom(a) && is_keyword(a).is_none());
+    (same_operator && all_atoms).then(|| format!("{op} {}", atoms.join(" ")))
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -317,6 +390,35 @@ mod tests {
         assert_eq!((e.token.as_str(), e.offset), (")", 3));
         let e = parse_condition("not and").unwrap_err();
         assert_eq!(e.token, "and");
+    }
+
+    #[test]
+    fn infix_operators_are_recognised_only_after_an_operand() {
+        let hint = |text: &str| parse_condition(text).unwrap_err().hint();
+        assert_eq!(
+            hint("a and b"),
+            "'and' is an operator, written first: [and a b], not [a and b]"
+        );
+        assert_eq!(
+            hint("a OR b or c"),
+            "'OR' is an operator, written first: [or a b c], not [a OR b or c]"
+        );
+        assert_eq!(
+            hint("x && y"),
+            "the operator is 'and', written first: [and x y], not [x && y]"
+        );
+        assert_eq!(
+            hint("(not a) || b"),
+            "the operator is 'or', written first: [or a b], not [a || b]"
+        );
+        assert_eq!(
+            hint("a and b or c"),
+            "'and' is an operator, written first: [and a b], not [a and b]"
+        );
+        // Not after an operand, or not an infix operator: the grammar in general.
+        for text in ["not and", "or and a b", "a b", "3x", "a not b", "and a"] {
+            assert_eq!(hint(text), PREFIX_FORM, "{text}");
+        }
     }
 
     #[test]

@@ -595,11 +595,7 @@ fn check_plan_file(path: &Path, plan: &Plan) -> Result<(), ExperimentError> {
         if passed {
             Vec::new()
         } else {
-            report
-                .lines()
-                .filter_map(|l| l.trim_start().strip_prefix("FAIL "))
-                .map(str::to_string)
-                .collect()
+            schema::check_failures(&report)
         }
     } else {
         let report = analysis::check(plan, analysis::DEFAULT_LIMIT);

@@ -34,7 +34,7 @@ pub use construct::{
 };
 pub use error::{SchemaError, SchemaFileError};
 pub use model::{Edge, KEYWORDS, Machine, PlanState, Schema, StateKind};
-pub use report::{check_report, describe, to_dot};
+pub use report::{check_failures, check_report, describe, to_dot};
 pub use text::{parse_schema, write_schema};
 
 use crate::plan::{Plan, Vocabulary};

@@ -342,8 +342,13 @@ fn validate_machine(draft: DraftMachine) -> Result<Machine, SchemaError> {
         };
         let condition = match &e.condition {
             None => Expr::True,
-            Some(text) => parse_condition(text)
-                .map_err(|err| SchemaError::new(e.line, format!("malformed condition: {}", err.message), &err.token))?,
+            Some(text) => parse_condition(text).map_err(|err| {
+                SchemaError::new(
+                    e.line,
+                    format!("malformed condition: {} ({})", err.message, err.hint()),
+                    &err.token,
+                )
+            })?,
         };
         let atoms: Vec<&str> = event.iter().map(String::as_str).chain(condition.atoms()).collect();
         check_internal_atoms(atoms, &states[from], &machine, e.line)?;

@@ -324,3 +324,12 @@ pub fn check_report(process: &Process) -> (String, bool) {
     let _ = writeln!(out, "\nresult: {}", if passed { "passed" } else { "failed" });
     (out, passed)
 }
+
+/// The failed checks of a [`check_report`], one line each (without `FAIL`).
+pub fn check_failures(report: &str) -> Vec<String> {
+    report
+        .lines()
+        .filter_map(|l| l.trim_start().strip_prefix("FAIL "))
+        .map(str::to_string)
+        .collect()
+}
