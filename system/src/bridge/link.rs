@@ -82,6 +82,20 @@ fn check_scheme(endpoints: &[String], security: &Security) -> Result<(), BridgeE
     }
 }
 
+/// A QUIC endpoint on one stream (`?multistream=0`): by default Zenoh's QUIC
+/// link opens a stream per priority, its declarations on one and the data on
+/// another, so that a message can overtake the declaration of the key it is
+/// sent under, and the receiver drops it. A run counts on every message (a
+/// keeper lost, announced on a key declared at that moment, was lost so and
+/// stalled a lock-step run): one stream keeps them in order, as TCP does.
+/// Set on host A's listener, it is what every peer negotiates.
+fn one_stream(endpoint: &str, security: &Security) -> String {
+    match security {
+        Security::MutualTls(_) if !endpoint.contains('?') => format!("{endpoint}?multistream=0"),
+        _ => endpoint.to_string(),
+    }
+}
+
 fn set(config: &mut Config, key: &str, value: &str) -> Result<(), BridgeError> {
     config
         .insert_json5(key, value)
@@ -102,7 +116,10 @@ pub fn open(
 ) -> Result<Session, BridgeError> {
     check_scheme(&endpoints.listen, security)?;
     check_scheme(&endpoints.connect, security)?;
-    let list = |v: &[String]| serde_json::to_string(v).unwrap_or_else(|_| "[]".into());
+    let list = |v: &[String]| {
+        let v: Vec<String> = v.iter().map(|e| one_stream(e, security)).collect();
+        serde_json::to_string(&v).unwrap_or_else(|_| "[]".into())
+    };
     let mut config = Config::default();
     let mode = if endpoints.listen.is_empty() {
         "\"client\""
