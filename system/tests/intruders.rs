@@ -271,6 +271,9 @@ fn attack(session: &Session, attack: Attack) -> Value {
             }
         }
     }
+    // Give the last puts time to leave before the session closes (under
+    // load a close could drop what is still queued).
+    std::thread::sleep(Duration::from_millis(500));
     json!({ "connected": true, "run_info": true, "received": received })
 }
 
