@@ -152,8 +152,10 @@ pub struct ExperimentFlags {
     /// bootstrap at every state of the process, not only at choices).
     #[arg(long)]
     every_marking: bool,
-    /// Soft-SoSMC: the weight of an option with no estimate yet: as-best (the
-    /// default: that of the best estimated option) or none (eq. 1.8 as written).
+    /// Soft-SoSMC: the weight of an option valued -inf (no estimate yet): none
+    /// (eq. 1.8 as written: weight 0; the default, where the thesis's domains
+    /// start from a finite pessimistic value) or as-best (that of the best
+    /// estimated option)
     #[arg(long, value_parser = named::<Unestimated>())]
     unestimated: Option<Unestimated>,
     /// SoSMC: the policy of exploiting episodes: greedy (the default: taken

@@ -33,6 +33,7 @@ fn bounds(domain: &DomainSpec) -> Bounds {
             low: 0.0,
             high: config.goal_reward,
         },
+        // An episode lasts no less than nothing.
         DomainSpec::Keepaway { .. } => Bounds { low: 0.0, high: 60.0 },
         DomainSpec::Nmdp { .. } => Bounds { low: 0.0, high: 20.0 },
         DomainSpec::World { .. } => Bounds { low: 0.0, high: 0.0 },
@@ -83,12 +84,15 @@ fn keepaway_learner(algorithm: Algorithm, mode: KeepawayMode) -> LearnerSpec {
         // Exploration from the episode number alone, so that agents agree (4.4).
         assessment: Assessment::EveryN(20),
         step_size: StepSize::Constant(0.05),
-        initial_value: f64::NEG_INFINITY,
+        // Algorithm 1: "initialize Q(s, a) pessimistically"; no episode lasts
+        // less than 0 s. Eq. 1.8 then weighs an untried option
+        // e^((0 - best)/tau), as the text writes it.
+        initial_value: 0.0,
         threshold: Some(ThresholdRule {
             threshold: 18.0,
             window: 200,
         }),
-        unestimated: Unestimated::AsBest,
+        unestimated: Unestimated::None,
         exploit: ExploitPolicy::Greedy,
     };
     let td = |lambda: f64, target: Target| TdConfig {
@@ -158,15 +162,21 @@ pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec
         } else {
             StepSize::Constant(0.01)
         },
-        // Chapter 6 (6.1.2): "when not differently specified the Q-function
-        // has been initialised at -4" in Parr and Russell's grid.
-        initial_value: match domain {
-            DomainSpec::Sutton { .. } => b.high,
-            DomainSpec::ParrRussell { .. } => b.low,
-            _ => f64::NEG_INFINITY,
+        // Algorithm 1 initialises Q pessimistically; chapter 6 (6.1.2): "when
+        // not differently specified the Q-function has been initialised at
+        // -4" in Parr and Russell's grid. Sutton's grid has no initial phase
+        // and optimistic values (6.4, as section 4.2.1 allows). The N-MDP's
+        // returns are normally distributed, unbounded below: only negative
+        // infinity is pessimistic there (its e-greedy draws never weigh it).
+        initial_value: if sutton {
+            b.high
+        } else if nmdp {
+            f64::NEG_INFINITY
+        } else {
+            b.low
         },
         threshold: None,
-        unestimated: Unestimated::AsBest,
+        unestimated: Unestimated::None,
         exploit: ExploitPolicy::Greedy,
     };
     learner_of(
@@ -184,8 +194,13 @@ pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec
 /// user's plan, driven from Python or by a world in its own process), whose
 /// returns are unknown: TD with Sutton and Barto's usual alpha 0.1 and a
 /// constant epsilon 0.1 from values of 0; SoSMC and MCESP as in the grid worlds
-/// (chapter 6: a 100-episode exploratory phase, then exploitation, from no
-/// estimate).
+/// (chapter 6: a 100-episode exploratory phase, then exploitation). The
+/// returns' range is unknown, so no finite value is known to be pessimistic:
+/// SoSMC starts from no estimate (negative infinity) and Soft-SoSMC weighs an
+/// untried option as the best estimated one (`Unestimated::AsBest`), so every
+/// policy keeps a chance (section 4.2.2's condition 3). A user who knows a
+/// return no policy falls below gives it as `initial_value` with
+/// `unestimated="none"` for the thesis's rule.
 pub fn plan_learner(algorithm: Algorithm) -> LearnerSpec {
     let td = |lambda: f64, target: Target| TdConfig {
         gamma: 1.0,

@@ -232,13 +232,9 @@ fn trace_figure(
             title,
             d.clone(),
             algorithm,
-            with_td(algorithm, &d, |c| {
-                // Not given by the thesis: a step and initial values at which
-                // the one-step methods show their equilibria within the run.
-                c.exploration = exploration;
-                c.alpha = 0.1;
-                c.initial_value = 0.0;
-            }),
+            // Section 6.1.2's parameters (alpha 0.01, values from -4); the
+            // exploration is the figure's.
+            with_td(algorithm, &d, |c| c.exploration = exploration),
             p,
         )],
     }

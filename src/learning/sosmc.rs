@@ -69,21 +69,31 @@ pub enum Sigma {
 /// Soft-SoSMC: the weight of an option with no estimate yet (its value
 /// negative infinity) among estimated ones.
 ///
-/// Eq. 1.8 gives such an option e^(-inf/tau) = 0: it is never drawn once
-/// another option has an estimate. Section 4.2.2's stochastic search needs a
-/// strategy Sigma that gives every policy a non-zero probability (its
-/// condition 3), which that violates; the default weighs the option as the
-/// best estimated one, as promising as anything seen (docs/results/RESULTS.md
-/// has the figures both ways).
+/// Algorithm 1 initialises Q "pessimistically" and chapter 6 uses a finite
+/// value (-4 in Parr and Russell's grid), so every option has a value and
+/// eq. 1.8 weighs an untried one e^((initial - best)/tau): small, never zero,
+/// as section 4.2.2's condition 3 requires. The defaults do that, and the
+/// default here is eq. 1.8 as written. An initial value of negative infinity
+/// ("no estimate") gives an untried option e^(-inf/tau) = 0, never drawn once
+/// another has an estimate; `AsBest` is the rule for that representation
+/// (docs/results/RESULTS.md has the figures both ways).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Unestimated {
     /// The weight of the best estimated option.
-    #[default]
     AsBest,
-    /// Softmax exactly as eq. 1.8 writes it: weight 0, the option is not
-    /// drawn while another has an estimate.
+    /// Softmax exactly as eq. 1.8 writes it: an option valued negative
+    /// infinity has weight 0, not drawn while another has an estimate.
+    #[default]
     None,
+}
+
+impl Unestimated {
+    /// The rule of configurations saved before the option existed (read
+    /// from files without the field): `AsBest`, the only rule then.
+    fn saved_before_option() -> Self {
+        Unestimated::AsBest
+    }
 }
 
 impl crate::named::Named for Unestimated {
@@ -148,13 +158,14 @@ pub struct SoSmcConfig {
     pub assessment: Assessment,
     /// Step size of exploiting updates.
     pub step_size: StepSize,
-    /// Initial value: negative infinity (pessimistic: no estimate) or an optimistic bound.
+    /// Initial value: a pessimistic bound of the returns (Algorithm 1), an
+    /// optimistic one (section 4.2.1: no initial phase), or negative infinity (no estimate).
     #[serde(with = "crate::json_float")]
     pub initial_value: f64,
     /// The optional threshold rule.
     pub threshold: Option<ThresholdRule>,
     /// Softmax: the weight of an option with no estimate.
-    #[serde(default)]
+    #[serde(default = "Unestimated::saved_before_option")]
     pub unestimated: Unestimated,
     /// The policy of exploiting episodes.
     #[serde(default)]

@@ -1,0 +1,168 @@
+#!/usr/bin/env python3
+"""Ablations of issue 37: each sweep varies one factor of a figure, runs every
+setting over the same seeds, and prints the whole table (never its best row).
+
+Usage: ablate.py LEARNPNP OUT SWEEP...   (sweeps: see SWEEPS below; `all` runs all)
+
+A setting is `learnpnp experiment` with the figure's flags plus the factor's.
+Trace sweeps run one run per seed (traces are recorded for run 0 only) and
+count the share of trace points at which each option of the initial
+observation is greedy; curve sweeps run the seeds as the runs of one
+experiment and report its final score with its 95% CI over runs.
+Only the standard library is used.
+"""
+import csv
+import json
+import math
+import os
+import statistics
+import subprocess
+import sys
+from collections import Counter, defaultdict
+
+# 6.5-6.9: one-step methods in Parr and Russell's grid (one run per seed).
+TRACE_BASE = "parr-russell --runs 1 --episodes 10000 --eval-every 1000 --eval-episodes 20 --greedy-episodes 100"
+ONE_STEP = {
+    "6.5 Q-learning e-greedy 0.1": "--algo q-learning --epsilon 0.1",
+    "6.6 Sarsa(0) e-greedy 0.1": "--algo sarsa0 --epsilon 0.1",
+    "6.7 Q-learning softmax 0.01": "--algo q-learning --tau 0.01",
+    "6.8 Sarsa(0) softmax 0.01": "--algo sarsa0 --tau 0.01",
+    "6.9 Sarsa(0) softmax 1": "--algo sarsa0 --tau 1",
+}
+# 6.10: Soft-SoSMC, one run per seed.
+SOFT_6_10 = "parr-russell --algo soft-sosmc --assess per-decision --runs 1 --episodes 1000 --eval-every 100 --eval-episodes 20 --greedy-episodes 100"
+# 6.3: e-SoSMC without exploration after its initial phase, 200 runs.
+SOSMC_6_3 = "parr-russell --algo eps-sosmc --runs 200 --episodes 1000 --eval-every 20 --eval-episodes 20 --greedy-episodes 100 --epsilon 0.1 --initial-parameter 1 --assess never --alpha 0.01"
+# 6.13: Sutton's grid, 50 runs.
+SUTTON = "sutton --runs 50 --episodes 40000 --eval-every 200 --eval-episodes 0 --greedy-episodes 0"
+
+SWEEPS = {
+    # (kind, [(row label, flags)], seeds)
+    "one-step": ("trace", [
+        (f"{name}; {factor}", f"{TRACE_BASE} {flags} {extra}")
+        for name, flags in ONE_STEP.items()
+        for factor, extra in [
+            ("alpha 0.01, from -4 (6.1.2)", ""),
+            ("alpha 0.1, from -4", "--alpha 0.1"),
+            ("alpha 0.01, from 0", "--initial-value 0"),
+            ("alpha 0.1, from 0 (before issue 37)", "--alpha 0.1 --initial-value 0"),
+            ("alpha 0.01, from -4, every marking valued", "--every-marking"),
+            ("alpha 0.01, from -4, gamma 0.9 (not in the text)", "--gamma 0.9"),
+        ]
+    ], 20),
+    "6.10": ("trace", [
+        ("from -4, eq. 1.8 (default)", SOFT_6_10),
+        ("from no estimate, as-best", f"{SOFT_6_10} --initial-value=-inf --unestimated as-best"),
+        ("from no estimate, eq. 1.8 (weight 0)", f"{SOFT_6_10} --initial-value=-inf --unestimated none"),
+        ("from -4, tau 1 -> 0.05 then 0.5", f"{SOFT_6_10} --tau 0.5"),
+        ("from -4, step 1/n", f"{SOFT_6_10} --step-size inverse"),
+    ], 40),
+    "6.3": ("curve", [
+        (f"initial phase {n}", f"{SOSMC_6_3} --initial-phase {n}") for n in (25, 50, 75, 100, 150, 200)
+    ], None),
+    "6.13": ("curve", [
+        (f"{algo}; {factor}", f"{SUTTON} --algo {algo} {extra}")
+        for algo, factors in [
+            ("sarsa-lambda", [("defaults", ""), ("alpha 0.05", "--alpha 0.05"), ("alpha 0.2", "--alpha 0.2")]),
+            ("soft-sosmc", [
+                ("defaults (tau 4, every 20)", ""),
+                ("tau 1", "--tau 1"), ("tau 16", "--tau 16"),
+                ("every 5", "--assess every:5"), ("every 80", "--assess every:80"),
+                ("step 1/n", "--step-size inverse"), ("step 0.05", "--step-size 0.05"),
+            ]),
+        ]
+        for factor, extra in factors
+    ], None),
+}
+
+
+def run(learnpnp, flags, out, seed=None):
+    args = [learnpnp, "experiment", *flags.split(), "--out", out]
+    if seed is not None:
+        args += ["--seed", str(seed)]
+    subprocess.run(args, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    (curve,) = [d for d in os.listdir(out) if os.path.isdir(os.path.join(out, d))] or [""]
+    return os.path.join(out, curve) if curve else out
+
+
+def greedy_shares(curve_dir):
+    """Share of trace points at which each option of the first traced observation is greedy."""
+    by_episode = defaultdict(dict)
+    with open(os.path.join(curve_dir, "traces.csv")) as f:
+        for row in csv.DictReader(f):
+            by_episode[int(row["episode"])][row["name"]] = float(row["value"])
+    counts = Counter(max(v, key=v.get).split("/")[-1] for v in by_episode.values())
+    total = sum(counts.values())
+    return {k: n / total for k, n in counts.items()}
+
+
+def ci95(xs):
+    if len(xs) < 2:
+        return float("nan")
+    return 1.96 * statistics.stdev(xs) / math.sqrt(len(xs))
+
+
+def trace_sweep(learnpnp, out, rows, seeds):
+    print("| setting | final score (mean, 95% CI over seeds) | greedy policy's score | share of the run each move is greedy (mean over seeds) | seeds where north is greedy at the end |")
+    print("|---|---|---|---|---|")
+    for label, flags in rows:
+        finals, greedies, shares, north_last = [], [], defaultdict(list), 0
+        for seed in range(1, seeds + 1):
+            d = run(learnpnp, flags, os.path.join(out, slug(label), str(seed)), seed)
+            s = json.load(open(os.path.join(d, "summary.json")))
+            finals.append(s["final_mean"])
+            greedies.append(s["final_greedy_mean"])
+            sh = greedy_shares(d)
+            for k in ("MoveNorth", "MoveEast", "MoveSouth", "MoveWest"):
+                shares[k].append(sh.get(k, 0.0))
+            north_last += last_greedy(d) == "MoveNorth"
+        share_text = ", ".join(f"{k[4:].lower()} {statistics.mean(v):.2f}" for k, v in shares.items())
+        print(f"| {label} | {statistics.mean(finals):.3f} ± {ci95(finals):.3f} | {statistics.mean(greedies):.3f} ± {ci95(greedies):.3f} | {share_text} | {north_last} of {seeds} |")
+        sys.stdout.flush()
+
+
+def last_greedy(curve_dir):
+    last, values = -1, {}
+    with open(os.path.join(curve_dir, "traces.csv")) as f:
+        for row in csv.DictReader(f):
+            e = int(row["episode"])
+            if e > last:
+                last, values = e, {}
+            values[row["name"].split("/")[-1]] = float(row["value"])
+    return max(values, key=values.get)
+
+
+def curve_sweep(learnpnp, out, rows):
+    print("| setting | final score | 95% CI over runs | greedy policy's score |")
+    print("|---|---|---|---|")
+    for label, flags in rows:
+        d = run(learnpnp, flags, os.path.join(out, slug(label)))
+        s = json.load(open(os.path.join(d, "summary.json")))
+        lo, hi = s["final_ci95"]
+        g = s["final_greedy_mean"]
+        gtext = "not measured" if g is None else f"{g:.3f}"
+        print(f"| {label} | {s['final_mean']:.3f} | {lo:.3f} .. {hi:.3f} | {gtext} |")
+        sys.stdout.flush()
+
+
+def slug(text):
+    return "".join(c if c.isalnum() else "-" for c in text).strip("-")[:60]
+
+
+def main():
+    if len(sys.argv) < 4:
+        sys.exit(__doc__)
+    learnpnp, out, names = sys.argv[1], sys.argv[2], sys.argv[3:]
+    if names == ["all"]:
+        names = list(SWEEPS)
+    for name in names:
+        kind, rows, seeds = SWEEPS[name]
+        print(f"\n### Sweep {name}\n")
+        if kind == "trace":
+            trace_sweep(learnpnp, os.path.join(out, name), rows, seeds)
+        else:
+            curve_sweep(learnpnp, os.path.join(out, name), rows)
+
+
+if __name__ == "__main__":
+    main()
