@@ -240,12 +240,13 @@ pub const DEFAULT_SEED: u64 = 2011;
 /// thesis's; fixed Keepaway policies use the baselines preset's).
 pub(crate) fn default_protocol(domain: &DomainSpec) -> Protocol {
     match domain {
-        // Nothing learns: 50 episodes, then 50 evaluated ones, in each of 20 runs.
+        // Nothing learns: 50 episodes, then 1000 evaluated ones, in each of
+        // 20 runs (the interval is over the runs' means).
         DomainSpec::Keepaway { .. } if domain.is_fixed_policy() => Protocol {
             runs: 20,
             episodes: 50,
             eval_every: 50,
-            eval_episodes: 50,
+            eval_episodes: 1000,
             greedy_episodes: 0,
             trace_every: Some(0),
         },

@@ -56,9 +56,18 @@ SWEEPS = {
         ("from no estimate, eq. 1.8 (weight 0)", f"{SOFT_6_10} --initial-value=-inf --unestimated none"),
         ("from -4, tau 1 -> 0.05 then 0.5", f"{SOFT_6_10} --tau 0.5"),
         ("from -4, step 1/n", f"{SOFT_6_10} --step-size inverse"),
+        ("from -4, initial phase at tau 1 throughout", f"{SOFT_6_10} --initial-parameter 1"),
+        ("from -4, initial phase of 200 episodes", f"{SOFT_6_10} --initial-phase 200"),
+        ("from -4, assessing tau 0.02", f"{SOFT_6_10} --tau 0.02"),
+        ("from -4, gamma 0.9 (not in the text)", f"{SOFT_6_10} --gamma 0.9"),
     ], 40),
     "6.3": ("curve", [
-        (f"initial phase {n}", f"{SOSMC_6_3} --initial-phase {n}") for n in (25, 50, 75, 100, 150, 200)
+        *[(f"initial phase {n}", f"{SOSMC_6_3} --initial-phase {n}") for n in (25, 50, 75, 100, 150, 200)],
+        ("initial phase 50, exploit the last policy (Algorithm 1 as written)", f"{SOSMC_6_3} --initial-phase 50 --exploit-policy last"),
+        ("initial phase 50, step 1/n", f"{SOSMC_6_3} --initial-phase 50 --step-size inverse"),
+        ("initial phase 50, from no estimate", f"{SOSMC_6_3} --initial-phase 50 --initial-value=-inf"),
+        ("initial phase 50, episodes cut at 200 actions", f"{SOSMC_6_3} --initial-phase 50 --max-actions 200"),
+        ("initial phase 50, gamma 0.9 (not in the text)", f"{SOSMC_6_3} --initial-phase 50 --gamma 0.9"),
     ], None),
     "6.13": ("curve", [
         (f"{algo}; {factor}", f"{SUTTON} --algo {algo} {extra}")
