@@ -6,18 +6,9 @@ use learnpnp::condition::{Expr, PREFIX_FORM, parse_condition};
 use learnpnp::plan::Vocabulary;
 use learnpnp::plan_file::load_plan;
 use proptest::prelude::*;
-use proptest::test_runner::FileFailurePersistence;
 
 /// `cases` cases; failures are saved next to this file (integration tests have
 /// no lib.rs for proptest's default to find).
-fn config(cases: u32) -> ProptestConfig {
-    ProptestConfig {
-        cases,
-        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
-        ..ProptestConfig::default()
-    }
-}
-
 /// An atom of the grammar, never an operator.
 fn atom() -> impl Strategy<Value = String> {
     "[a-zA-Z][-@a-zA-Z0-9._#{,}<>\"+^/]{0,6}".prop_filter("not an operator", |a| {
@@ -58,7 +49,7 @@ fn text() -> impl Strategy<Value = String> {
 }
 
 proptest! {
-    #![proptest_config(config(500))]
+    #![proptest_config(crate::util::proptest_config(500))]
 
     #[test]
     fn printed_conditions_parse_back(e in expr()) {

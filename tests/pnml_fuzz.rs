@@ -8,18 +8,9 @@ use learnpnp::net::{PetriNet, PlaceNode, Position, TransitionNode};
 use learnpnp::pnml::{self, Dialect};
 use proptest::prelude::*;
 use proptest::sample::Index;
-use proptest::test_runner::FileFailurePersistence;
 
 /// `cases` cases; failures are saved next to this file (integration tests have
 /// no lib.rs for proptest's default to find).
-fn config(cases: u32) -> ProptestConfig {
-    ProptestConfig {
-        cases,
-        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
-        ..ProptestConfig::default()
-    }
-}
-
 /// Text with XML-special characters, white space (carriage return included) and
 /// non-ASCII characters.
 fn text() -> impl Strategy<Value = String> {
@@ -176,7 +167,7 @@ fn apply(bytes: &mut Vec<u8>, mutation: &Mutation) {
 }
 
 proptest! {
-    #![proptest_config(config(256))]
+    #![proptest_config(crate::util::proptest_config(256))]
 
     #[test]
     fn random_nets_round_trip_in_both_dialects(net in net()) {
@@ -192,7 +183,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(config(1000))]
+    #![proptest_config(crate::util::proptest_config(1000))]
 
     /// `parse` returns Ok or Err on mangled input, never panics; whatever it
     /// accepts it also writes back and reads again unchanged.
@@ -286,7 +277,7 @@ fn item() -> impl Strategy<Value = String> {
 }
 
 proptest! {
-    #![proptest_config(config(500))]
+    #![proptest_config(crate::util::proptest_config(500))]
 
     /// Well-formed documents of PNML elements in random arrangements reach the
     /// PNML reader itself: it returns Ok or Err, never panics, and what it

@@ -11,6 +11,7 @@ use learnpnp::experiment::spec::ExperimentSpec;
 use learnpnp::keepaway_sim::world::Player;
 use learnpnp::keepaway_sim::{KeepawayConfig, Vec2, VisionMode};
 use learnpnp::net::{PetriNet, PlaceNode, TransitionNode};
+use proptest::test_runner::{Config as ProptestConfig, FileFailurePersistence};
 
 /// The workspace's root directory (where `plans/` and `tests/fixtures/` are).
 pub fn root() -> &'static Path {
@@ -190,4 +191,14 @@ pub fn net(places: &[(&str, &str, u8)], transitions: &[(&str, &str)], arcs: &[(&
         .map(|(&(s, t, w), id)| (id.as_str(), s, t, w))
         .collect();
     PetriNet::new("test", places, transitions, &arcs).expect("a well-formed net")
+}
+
+/// Proptest's settings with `cases` cases, failures kept beside the source
+/// (`proptest-regressions/`) so that a found case is re-run first.
+pub fn proptest_config(cases: u32) -> ProptestConfig {
+    ProptestConfig {
+        cases,
+        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
+        ..ProptestConfig::default()
+    }
 }

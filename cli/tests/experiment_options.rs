@@ -5,18 +5,9 @@
 use learnpnp::experiment::options::{DomainName, ExperimentOptions};
 use learnpnp::experiment::ranges::{self, RealRange};
 use proptest::prelude::*;
-use proptest::test_runner::FileFailurePersistence;
 
 /// `cases` cases; failures are saved next to this file (integration tests have
 /// no lib.rs for proptest's default to find).
-fn config(cases: u32) -> ProptestConfig {
-    ProptestConfig {
-        cases,
-        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
-        ..ProptestConfig::default()
-    }
-}
-
 fn parse(args: &[&str]) -> Result<ExperimentOptions, clap::Error> {
     learnpnp_cli::args::parse_experiment_flags(args)
 }
@@ -149,7 +140,7 @@ fn real() -> impl Strategy<Value = f64> {
 }
 
 proptest! {
-    #![proptest_config(config(300))]
+    #![proptest_config(crate::util::proptest_config(300))]
 
     #[test]
     fn a_real_flag_is_accepted_exactly_when_in_range(flag in 0usize..9, value in real()) {

@@ -1,7 +1,7 @@
 //! `learnpnp._native`: the Rust side of the Python package `learnpnp`.
 //!
-//! Plans ([`plan`]), the plan builder ([`builder`]) and the plan agent that
-//! learns in any environment ([`agent`]). The Python package (`learnpnp/`)
+//! Plans (module `plan`), the plan builder (`builder`) and the plan agent that
+//! learns in any environment (`agent`). The Python package (`learnpnp/`)
 //! re-exports them and adds the gymnasium and PettingZoo environments.
 
 mod agent;
