@@ -33,7 +33,12 @@ from .loop import run_episode
 try:  # gymnasium is a dependency; registering costs nothing until make().
     import gymnasium as _gymnasium
 
-    _gymnasium.register(id="learnpnp/KeepawayPass-v0", entry_point="learnpnp.envs:KeepawayPassEnv")
+    _gymnasium.register(
+        id="learnpnp/KeepawayPass-v0",
+        entry_point="learnpnp.envs:KeepawayPassEnv",
+        # gym.make_vec builds the Rust-stepped batch, not copies in Python.
+        vector_entry_point="learnpnp.envs:KeepawayVectorEnv",
+    )
 except ImportError:  # pragma: no cover
     pass
 

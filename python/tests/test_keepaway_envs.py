@@ -99,6 +99,14 @@ def test_vector_env_steps_copies_together_with_next_step_autoreset():
     assert len({tuple(e[:episodes]) for e in ended}) == n, "each copy plays its own run"
 
 
+def test_make_vec_builds_the_rust_stepped_batch():
+    vec = gym.make_vec("learnpnp/KeepawayPass-v0", num_envs=3)
+    assert isinstance(vec.unwrapped, KeepawayVectorEnv)
+    obs, _ = vec.reset(seed=5)
+    direct, _ = KeepawayVectorEnv(3).reset(seed=5)
+    assert np.array_equal(obs, direct)
+
+
 def test_the_gymnasium_environments_need_no_pettingzoo(tmp_path):
     # PettingZoo is optional: without it the gymnasium environments work and
     # the AEC environment says what to install.

@@ -265,7 +265,8 @@ fn garbage_on_the_world_services_is_refused_and_counted() {
 fn a_world_that_keeps_dying_stops_the_run_with_a_clear_failure() {
     let sandbox = Sandbox::new("world-dying");
     let mut args = corridor_run(100);
-    args[1] = "sh -c 'exit 3'".to_string();
+    // Each death leaves another last line: the world is restarted up to the limit.
+    args[1] = "sh -c 'date +%s%N >&2; exit 3'".to_string();
     args.extend(["--max-restarts".to_string(), "2".to_string()]);
     let output = run(&sandbox, "dying", &args);
     assert!(!output.status.success());
@@ -276,6 +277,24 @@ fn a_world_that_keeps_dying_stops_the_run_with_a_clear_failure() {
         "{failure}"
     );
     assert_eq!(s["restarts"], 3, "{s}");
+    sandbox.assert_clean(&prefixes(&s));
+}
+
+#[test]
+fn a_world_that_fails_the_same_way_at_its_start_is_given_up_at_its_second_failure() {
+    let sandbox = Sandbox::new("world-failing");
+    let mut args = corridor_run(100);
+    args[1] = "sh -c 'echo Traceback >&2; echo ValueError: the reward is NaN >&2; exit 1'".to_string();
+    let output = run(&sandbox, "failing", &args);
+    assert!(!output.status.success());
+    let s = summary(&sandbox.out("failing"));
+    let failure = s["failure"].as_str().unwrap();
+    assert!(
+        failure.contains("the world exited: exit code 1, the same way twice before its first episode")
+            && failure.contains("(ValueError: the reward is NaN)"),
+        "{failure}"
+    );
+    assert_eq!(s["restarts"], 1, "restarted once, not up to the limit: {s}");
     sandbox.assert_clean(&prefixes(&s));
 }
 

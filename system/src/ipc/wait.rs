@@ -8,17 +8,9 @@
 //! docs/results/RESULTS.md (multi-process system).
 //!
 //! A blocking pause waits on the process's wake-up listener itself
-//! (`Listener::timed_wait`), not on an iceoryx2 `WaitSet`: measured with
-//! `cargo bench -p learnpnp-system --bench wake_latency` (a floor ping and
-//! its pong between two processes, each sent by an `Outlet` and each side
-//! blocked between polls; 3 runs of 3 alternating rounds of 5,000 round
-//! trips, on 2 shared cores with a load average of 17), the round trip (two
-//! wake-ups) had a median of 14.9 us on the listener and 15.7 us on a
-//! `WaitSet` made once per process (per-round medians 14.6 to 17.2 us
-//! against 15.5 to 17.8 us, one listener round at 52 us under load aside); a
-//! `WaitSet` made for each wait took 34 us. The `WaitSet` adds an epoll
-//! wait before the listener's own receive, and this process waits on one
-//! event only: its multiplexing buys nothing here.
+//! (`Listener::timed_wait`), not on an iceoryx2 `WaitSet`: the process waits
+//! on one event only, so the `WaitSet`'s extra epoll wait buys nothing
+//! (measured in RESULTS.md, "Wait strategies").
 
 use std::time::{Duration, Instant};
 

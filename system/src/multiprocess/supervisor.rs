@@ -217,11 +217,22 @@ pub enum RunFailure {
         /// The last lines of its log (the lists).
         log: String,
     },
-    /// The simulator was lost once more than the restarts allowed.
-    #[error("{what}: run given up")]
+    /// The simulator (or world) was lost once more than the restarts allowed.
+    #[error("{what}: run given up ({log})")]
     SimulatorGivenUp {
         /// What happened the last time.
         what: String,
+        /// The last line of its log (for a Python world, the exception).
+        log: String,
+    },
+    /// The simulator (or world) failed twice the same way before it ended an
+    /// episode: a third start would fail again.
+    #[error("{what}, the same way twice before its first episode: run given up ({log})")]
+    HostFailsAtStart {
+        /// What happened.
+        what: String,
+        /// The last line of its log (for a Python world, the exception).
+        log: String,
     },
     /// The simulator hung and is not restarted.
     #[error("{what}")]
@@ -368,6 +379,15 @@ impl Drop for Fleet {
 }
 
 /// The last lines of a log, for an error message.
+/// The last non-empty line of the log at `path` ("(empty log)" if none).
+fn last_log_line(path: &Path) -> String {
+    let text = fs::read_to_string(path).unwrap_or_default();
+    text.lines()
+        .rev()
+        .find(|l| !l.trim().is_empty())
+        .map_or_else(|| "(empty log)".to_string(), |l| l.trim().to_string())
+}
+
 fn log_tail(path: &Path) -> String {
     let text = fs::read_to_string(path).unwrap_or_default();
     let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
@@ -464,6 +484,10 @@ struct Watch<'a> {
     progress: Option<(u64, Instant)>,
     /// When a process was last restarted.
     last_restart: Option<Instant>,
+    /// The episodes the current host reported first and last (`None` before its first heartbeat).
+    host_episodes: Option<(u64, u64)>,
+    /// The host's last failure and its log's last line, if it came before the host ended an episode.
+    early_host_failure: Option<(String, String)>,
     /// Why the run was stopped as stalled, if it was.
     stalled: Option<String>,
     resumes: Vec<PendingResume>,
@@ -702,6 +726,10 @@ impl Watch<'_> {
                     .map(Process::pid);
                 if current.is_some() {
                     self.last_heard.insert(pulse.role, Instant::now());
+                    if pulse.role == self.roster.host() {
+                        let first = self.host_episodes.map_or(pulse.episodes, |(first, _)| first);
+                        self.host_episodes = Some((first, pulse.episodes));
+                    }
                 }
                 if let Role::Agent(a) = pulse.role
                     && self.is_remote(a)
@@ -786,14 +814,30 @@ impl Watch<'_> {
     /// Replaces the host after it `what`: a new simulator continues from its
     /// journal's last episode boundary, a new world begins a new episode;
     /// the agents drop the episode in progress.
-    fn restart_host(&mut self, what: String) -> Result<(), SupervisorError> {
+    ///
+    /// A host that exits by itself (`own_exit`: not killed) twice the same way
+    /// (what happened and its log's last line) before it ends an episode is not
+    /// started a third time.
+    fn restart_host(&mut self, what: String, own_exit: bool) -> Result<(), SupervisorError> {
         let host = self.roster.host();
+        let log = last_log_line(&self.log(host));
+        let early = own_exit && self.host_episodes.is_none_or(|(first, last)| last <= first);
+        self.host_episodes = None;
+        let failure = (what.clone(), log.clone());
+        if early && self.early_host_failure.as_ref() == Some(&failure) {
+            self.fault(
+                what.clone(),
+                "not restarted: it failed the same way at its last start".into(),
+            );
+            return Err(RunFailure::HostFailsAtStart { what, log }.into());
+        }
+        self.early_host_failure = early.then_some(failure);
         if self.count_restart(host) > self.config.max_restarts {
             self.fault(
                 what.clone(),
                 format!("not restarted: {} restarts already", self.config.max_restarts),
             );
-            return Err(RunFailure::SimulatorGivenUp { what }.into());
+            return Err(RunFailure::SimulatorGivenUp { what, log }.into());
         }
         self.order(Order::SimulatorRestarted, None)?;
         self.namespace.remove_dead_nodes()?;
@@ -933,11 +977,13 @@ impl Watch<'_> {
             self.fleet.processes.remove(&role);
             match role {
                 Role::Simulator if !status.success() && self.may_restart_host() => {
-                    self.restart_host(format!("the simulator exited: {}", describe(status)))?;
+                    let what = format!("the simulator exited: {}", describe(status));
+                    self.restart_host(what, status.code().is_some())?;
                 }
                 // A world ends when its agents are done and the supervisor says stop.
                 Role::World if self.may_restart_host() => {
-                    self.restart_host(format!("the world exited: {}", describe(status)))?;
+                    let what = format!("the world exited: {}", describe(status));
+                    self.restart_host(what, status.code().is_some())?;
                 }
                 Role::Simulator | Role::World => return Ok(Some(status)),
                 Role::Bridge => {
@@ -948,7 +994,8 @@ impl Watch<'_> {
                             what.clone(),
                             format!("not restarted: {} restarts already", self.config.max_restarts),
                         );
-                        return Err(RunFailure::SimulatorGivenUp { what }.into());
+                        let log = last_log_line(&self.log(Role::Bridge));
+                        return Err(RunFailure::SimulatorGivenUp { what, log }.into());
                     }
                     self.start(Role::Bridge, true)?;
                     self.fault(what, "restarted; the link is joined again".into());
@@ -1005,7 +1052,7 @@ impl Watch<'_> {
                     describe(status)
                 );
                 match role {
-                    Role::Simulator | Role::World if self.may_restart_host() => self.restart_host(what)?,
+                    Role::Simulator | Role::World if self.may_restart_host() => self.restart_host(what, false)?,
                     Role::Simulator | Role::World => {
                         self.fault(what.clone(), "run given up".into());
                         return Err(RunFailure::SimulatorHung { what }.into());
@@ -1213,6 +1260,8 @@ impl<'a> Watch<'a> {
             stop_requested: false,
             progress: None,
             last_restart: None,
+            host_episodes: None,
+            early_host_failure: None,
             stalled: None,
             resumes: Vec::new(),
             control_sequence: 0,
