@@ -2,7 +2,9 @@
 //! built in code (and raw nets malformed by design).
 
 use crate::util::net;
-use learnpnp::analysis::{CheckReport, Count, Failure, Note, Outcome, Property, Verdict, check, explore};
+use learnpnp::analysis::{
+    CheckReport, Count, Failure, Limits, Note, Outcome, Property, Stop, Verdict, check, check_within, explore,
+};
 use learnpnp::net::{PetriNet, PlaceId, TransitionId};
 use learnpnp::plan::{Plan, PlanBuilder, Vocabulary};
 
@@ -56,7 +58,9 @@ fn a_sequence_passes() {
 
 #[test]
 fn the_goal_marking_is_terminal() {
-    let graph = explore(&sequence(), LIMIT);
+    let exploration = explore(&sequence(), LIMIT);
+    assert_eq!(exploration.parts().len(), 1);
+    let graph = &exploration.parts()[0];
     let goal = graph
         .states()
         .find(|&s| graph.is_terminal(s))
@@ -382,7 +386,10 @@ fn overflow_beyond_255_tokens_counts_as_unbounded_without_panicking() {
     assert_eq!(report.bounds[1].bound, Count::Finite(0));
     assert!(report.complete);
     assert_eq!(report.markings, 2);
-    let graph = explore(&plan, LIMIT);
+    // The heap and the empty place are independent parts.
+    let exploration = explore(&plan, LIMIT);
+    assert_eq!(exploration.parts().len(), 2);
+    let graph = exploration.part_of(PlaceId::new(0));
     let last = graph.states().last().expect("two markings");
     assert!(graph.marking(last).is_none() && graph.has_omega(last));
     assert_eq!(graph.describe(&plan, last), "heap*ω");
@@ -492,11 +499,8 @@ fn an_empty_initial_marking_is_named() {
     );
 }
 
-#[test]
-fn a_huge_plan_is_explored_within_the_memory_limit() {
-    // A chain of 100 000 places: each marking costs 400 kB to store, so the
-    // marking limit is lowered and the check stops, inconclusive, in bounded memory.
-    let n = 100_000;
+/// A chain of `n` steps from `p0` to the goal place `p{n}`, as a raw net.
+fn chain(n: usize) -> Plan {
     let places: Vec<(String, String, u8)> = (0..=n)
         .map(|i| {
             (
@@ -515,7 +519,7 @@ fn a_huge_plan_is_explored_within_the_memory_limit() {
             ]
         })
         .collect();
-    let plan = raw_plan(
+    raw_plan(
         &places
             .iter()
             .map(|(a, b, c)| (a.as_str(), b.as_str(), *c))
@@ -528,14 +532,57 @@ fn a_huge_plan_is_explored_within_the_memory_limit() {
             .iter()
             .map(|(a, b, c)| (a.as_str(), b.as_str(), *c))
             .collect::<Vec<_>>(),
+    )
+}
+
+#[test]
+fn a_huge_plan_with_few_tokens_is_checked_whole() {
+    // 100 001 places: a marking stores its one marked place, not every place,
+    // so every marking fits and the check concludes.
+    let n = 100_000;
+    let report = check(&chain(n), 1_000_000);
+    assert!(report.complete, "{}", report.summary(3));
+    assert_eq!((report.markings, report.stored, report.stop), (n + 1, n + 1, None));
+    assert!(report.passed(), "{}", report.summary(3));
+}
+
+#[test]
+fn the_limit_that_stops_an_exploration_is_named() {
+    let plan = chain(20_000);
+    // Markings and edges together outgrow one MiB before 20 000 markings.
+    let report = check_within(
+        &plan,
+        Limits {
+            markings: 1_000_000,
+            memory: 1 << 20,
+        },
     );
-    let limit = learnpnp::analysis::marking_limit(n + 1, LIMIT);
-    assert!(limit < 1000 && limit * (n + 1) * 4 <= learnpnp::analysis::MEMORY_LIMIT);
-    let report = check(&plan, LIMIT);
-    assert_eq!((report.markings, report.limit, report.complete), (limit, limit, false));
+    assert!(!report.complete);
+    let Some(Stop::Memory { limit, markings, edges }) = report.stop else {
+        panic!("stopped by memory: {:?}", report.stop);
+    };
+    assert_eq!(limit, 1 << 20);
+    assert!(
+        markings < 20_000 && markings == report.stored && edges + 1 == markings,
+        "{markings} {edges}"
+    );
     let text = report.to_string();
-    assert!(text.contains("lowered to") && text.contains("256 MiB"), "{text}");
-    assert!(!report.passed());
+    assert!(
+        text.contains(&format!(
+            "memory limit of 1 MiB ({markings} markings and {edges} edges stored) reached: exploration incomplete"
+        )),
+        "{text}"
+    );
+    assert!(
+        matches!(report.verdict(Property::Safety), Some(Verdict::Inconclusive(why)) if why.contains("memory limit")),
+        "{text}"
+    );
+    assert_eq!(report.to_json()["stopped_by"], "memory");
+    // The marking limit, when it comes first, is the one named.
+    let report = check(&plan, 100);
+    assert_eq!(report.stop, Some(Stop::Markings { limit: 100 }));
+    assert_eq!(report.to_json()["stopped_by"], "markings");
+    assert!(report.to_string().contains("marking limit of 100 reached"));
 }
 
 #[test]

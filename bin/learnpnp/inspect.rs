@@ -28,6 +28,10 @@ pub struct CheckArgs {
     /// Most reachable markings to explore (at least 1).
     #[arg(long, allow_hyphen_values = true, default_value_t = analysis::DEFAULT_LIMIT, value_parser = |s: &str| CountRange::new(1, u64::MAX).parse_usize(s))]
     limit: usize,
+    /// Most memory, in MiB, the stored markings and edges may take with the
+    /// checks' bookkeeping (at least 1); the limit reached is named in the report.
+    #[arg(long, value_name = "MIB", allow_hyphen_values = true, default_value_t = analysis::MEMORY_LIMIT >> 20, value_parser = |s: &str| CountRange::new(1, 1 << 30).parse_usize(s))]
+    memory: usize,
     /// Show every item of every list (by default each list shows its count
     /// and its first few items).
     #[arg(short, long, conflicts_with = "json")]
@@ -63,7 +67,11 @@ pub fn check(args: &CheckArgs) -> ExitCode {
             return ExitCode::from(UNREADABLE);
         }
     };
-    let report = analysis::check(&plan, args.limit);
+    let limits = analysis::Limits {
+        markings: args.limit,
+        memory: args.memory.saturating_mul(1 << 20),
+    };
+    let report = analysis::check_within(&plan, limits);
     let status = match report.outcome() {
         Outcome::Passed => PASSED,
         Outcome::Failed => FAILED,

@@ -197,7 +197,7 @@ fn a_closed_pipe_is_no_error() {
         let err = text(&out.stderr);
         assert!(!err.contains("error") && !err.contains("panicked"), "{args:?}: {err}");
         assert!(
-            // check: passed, failed or (its marking limit lowered) inconclusive.
+            // check: passed, failed or (a limit reached) inconclusive.
             out.status.code().is_some_and(|c| matches!(c, 0 | 1 | 3)),
             "{args:?}: {:?}",
             out.status

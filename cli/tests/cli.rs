@@ -62,50 +62,61 @@ fn verdicts(report: &str) -> Vec<(String, String)> {
 }
 
 #[test]
-fn check_of_a_big_plan_fits_a_screen_and_is_inconclusive() {
-    // 1,217 places, 20 choice points: the marking limit is lowered to fit memory.
+fn check_of_a_big_plan_fits_a_screen_and_concludes() {
+    // 1,217 places, 212 choice points: every marking stored, the check concludes.
     let taxi = shipped_arg("taxi.pnml");
     let out = learnpnp(&["check", &taxi]);
     let summary = text(&out.stdout);
-    assert_eq!(out.status.code(), Some(3), "{summary}");
-    assert!(summary.ends_with("result: inconclusive\n"), "{summary}");
+    assert_eq!(out.status.code(), Some(0), "{summary}");
+    assert!(summary.ends_with("result: passed\n"), "{summary}");
+    assert!(
+        summary.starts_with(
+            "plan 'taxi': 1217 places, 2218 transitions, 212 choice point(s), 1217 reachable marking(s)\n"
+        ),
+        "{summary}"
+    );
     assert!(summary.lines().count() < 40, "{summary}");
     assert!(summary.lines().all(|l| l.chars().count() < 320), "{summary}");
     assert!(
-        summary.contains("  never marked (1192): p10 'south.exec', ")
-            && summary.contains(", ... and 1184 more (--verbose shows all)\n"),
+        summary.contains("  - p8 'get_R': t7 '[taxi_0_0]', ")
+            && summary.contains(", ... and 17 more (--verbose shows all)\n"),
         "{summary}"
     );
-    assert!(summary.contains("choice points (20):\n"), "{summary}");
+    assert!(summary.contains("choice points (212):\n"), "{summary}");
     assert!(
-        summary.contains("  ... and 12 more choice points (--verbose shows all)\n"),
+        summary.contains("  ... and 204 more choice points (--verbose shows all)\n"),
         "{summary}"
     );
 
     let out = learnpnp(&["check", &taxi, "--verbose"]);
     let full = text(&out.stdout);
-    assert_eq!(out.status.code(), Some(3), "{full}");
+    assert_eq!(out.status.code(), Some(0), "{full}");
     assert!(!full.contains("... and"), "{full}");
-    let never = full
+    let get_r = full
         .lines()
-        .find_map(|l| l.strip_prefix("  never marked (1192): "))
-        .expect("the places never marked");
-    assert_eq!(never.split(", ").count(), 1192);
-    assert_eq!(full.lines().filter(|l| l.starts_with("  - p")).count(), 20);
+        .find_map(|l| l.strip_prefix("  - p8 'get_R': "))
+        .expect("the choice at get_R");
+    assert_eq!(get_r.split(", ").count(), 25);
+    assert_eq!(full.lines().filter(|l| l.starts_with("  - p")).count(), 212);
     // The summary is the full report with lists cut, nothing reworded.
     for line in summary.lines().filter(|l| !l.contains("... and")) {
         assert!(full.lines().any(|f| f == line), "'{line}' not in the full report");
     }
 
     let out = learnpnp(&["check", &taxi, "--json"]);
-    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(out.status.code(), Some(0));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
-    assert_eq!(json["result"], "inconclusive");
-    assert_eq!(json["passed"], false);
+    assert_eq!(json["result"], "passed");
+    assert_eq!(json["passed"], true);
     assert_eq!(json["places"], 1217);
-    assert_eq!(json["complete"], false);
-    assert_eq!(json["bounds"]["never_marked"].as_array().map(Vec::len), Some(1192));
-    assert_eq!(json["choice_points"].as_array().map(Vec::len), Some(20));
+    assert_eq!(
+        (json["markings"].as_u64(), json["stored"].as_u64()),
+        (Some(1217), Some(1217))
+    );
+    assert_eq!(json["complete"], true);
+    assert_eq!(json["stopped_by"], serde_json::Value::Null);
+    assert_eq!(json["bounds"]["at_most_one"], 1217);
+    assert_eq!(json["choice_points"].as_array().map(Vec::len), Some(212));
     assert_eq!(json["text"], full.as_str());
     let from_json: Vec<(String, String)> = json["verdicts"]
         .as_object()
@@ -117,14 +128,50 @@ fn check_of_a_big_plan_fits_a_screen_and_is_inconclusive() {
     from_text.sort();
     assert_eq!(from_json.len(), 4);
     assert_eq!(from_json, from_text);
-    assert!(
-        json["reasons"]["safety"]
-            .as_str()
-            .is_some_and(|r| r.contains("marking limit"))
-    );
 
     let out = learnpnp(&["check", &taxi, "--json", "--verbose"]);
     assert_eq!(out.status.code(), Some(2), "the two forms are exclusive");
+}
+
+#[test]
+fn check_names_the_limit_it_reached() {
+    let taxi = shipped_arg("taxi.pnml");
+    let out = learnpnp(&["check", &taxi, "--limit", "100", "--json"]);
+    assert_eq!(out.status.code(), Some(3));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(
+        (json["result"].as_str(), json["stopped_by"].as_str()),
+        (Some("inconclusive"), Some("markings"))
+    );
+    assert!(
+        json["reasons"]["safety"]
+            .as_str()
+            .is_some_and(|r| r.contains("the marking limit of 100 was reached")),
+        "{json}"
+    );
+    // Three chains of 60 actions in parallel: 121^3 markings, far more than 1 MiB holds.
+    let dir = temp_dir("limits");
+    let mut b = learnpnp::plan::PlanBuilder::new("parallel");
+    let start = b.initial_place("start");
+    for (i, mut at) in b.fork(start, 3).into_iter().enumerate() {
+        for j in 0..60 {
+            at = b.action(at, &format!("A{i}_{j}")).done;
+        }
+    }
+    let plan = dir.join("parallel.pnml");
+    learnpnp::pnml::write_file(&b.build_net().expect("a net"), learnpnp::pnml::Dialect::Jarp, &plan).expect("write");
+    let out = learnpnp(&["check", plan.to_str().expect("a path"), "--memory", "1"]);
+    let report = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(3), "{report}");
+    assert!(report.contains("\n  memory limit of 1 MiB ("), "{report}");
+    assert!(
+        report.contains(" edges stored) reached: exploration incomplete"),
+        "{report}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = learnpnp(&["check", &taxi, "--memory", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("from 1 to"), "{}", text(&out.stderr));
 }
 
 #[test]

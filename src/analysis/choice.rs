@@ -7,8 +7,9 @@
 //! transitions are, and so is an action's end next to an interrupt whose
 //! condition may hold at the same time (the executor then asks the chooser).
 
+use super::exploration::Exploration;
 use super::guards::jointly_satisfiable;
-use super::reachability::{Reachability, enabled};
+use super::reachability::enabled;
 use crate::net::{PlaceId, TransitionId};
 use crate::plan::Plan;
 
@@ -62,32 +63,38 @@ pub fn structural_choice_points(plan: &Plan) -> Vec<ChoicePoint> {
 /// Choice points of the explored markings: places with two output transitions
 /// whose guards can hold together, both token-enabled in some explored
 /// non-terminal marking where the place holds fewer tokens than they consume
-/// together (so firing one excludes the other). In place order.
-pub fn choice_points(plan: &Plan, graph: &Reachability) -> Vec<ChoicePoint> {
+/// together (so firing one excludes the other). In place order. Both
+/// transitions consume from the place, so they belong to its part, and the
+/// markings of that part decide.
+pub fn choice_points(plan: &Plan, exploration: &Exploration) -> Vec<ChoicePoint> {
     let incidence = plan.incidence();
-    let mut found = Vec::new();
-    for place in (0..incidence.place_count()).map(PlaceId::new) {
-        let pairs = option_pairs(plan, place);
-        if pairs.is_empty() {
-            continue;
-        }
-        let mut confirmed = vec![false; pairs.len()];
+    let pairs: Vec<Vec<OptionPair>> = (0..incidence.place_count())
+        .map(|p| option_pairs(plan, PlaceId::new(p)))
+        .collect();
+    let mut confirmed: Vec<Vec<bool>> = pairs.iter().map(|p| vec![false; p.len()]).collect();
+    for graph in exploration.parts() {
         for s in graph.states().filter(|&s| !graph.is_terminal(s)) {
-            let tokens = graph.state_tokens(s);
-            for (pair, seen) in pairs.iter().zip(confirmed.iter_mut()) {
-                if !*seen {
-                    let demand = u16::from(pair.first.1) + u16::from(pair.second.1);
-                    *seen = tokens[place.index()] < demand
-                        && enabled(incidence, tokens, pair.first.0)
-                        && enabled(incidence, tokens, pair.second.0);
+            let marking = graph.entries(s);
+            for &(place, tokens) in marking {
+                let at = place.index();
+                for (pair, seen) in pairs[at].iter().zip(confirmed[at].iter_mut()) {
+                    if !*seen {
+                        let demand = u16::from(pair.first.1) + u16::from(pair.second.1);
+                        *seen = tokens < demand
+                            && enabled(incidence, marking, pair.first.0)
+                            && enabled(incidence, marking, pair.second.0);
+                    }
                 }
             }
-            if confirmed.iter().all(|&c| c) {
-                break;
-            }
         }
-        let chosen = pairs.iter().zip(&confirmed).filter(|&(_, &c)| c).map(|(p, _)| p);
-        found.extend(choice_point(place, chosen));
     }
-    found
+    pairs
+        .iter()
+        .zip(&confirmed)
+        .enumerate()
+        .filter_map(|(p, (pairs, confirmed))| {
+            let chosen = pairs.iter().zip(confirmed).filter(|&(_, &c)| c).map(|(p, _)| p);
+            choice_point(PlaceId::new(p), chosen)
+        })
+        .collect()
 }

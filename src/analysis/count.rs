@@ -7,6 +7,7 @@
 
 use std::fmt;
 
+use super::markings::{self, Entry};
 use crate::net::PlaceId;
 
 /// The internal representation of ω.
@@ -72,15 +73,15 @@ pub(super) enum Tri {
     No,
 }
 
-/// Whether `tokens` has exactly the required count on every listed place (the
-/// goal or fail test); a plan with no such places never matches.
-pub(super) fn matches(required: &[(PlaceId, u8)], tokens: &[u16]) -> Tri {
+/// Whether the sparse `marking` has exactly the required count on every
+/// listed place (the goal or fail test); a plan with no such places never matches.
+pub(super) fn matches(required: &[(PlaceId, u8)], marking: &[Entry]) -> Tri {
     if required.is_empty() {
         return Tri::No;
     }
     let mut answer = Tri::Yes;
     for &(p, n) in required {
-        match tokens[p.index()] {
+        match markings::count(marking, p) {
             OMEGA => answer = Tri::Maybe,
             raw if raw == u16::from(n) => {}
             _ => return Tri::No,
@@ -109,9 +110,10 @@ mod tests {
     #[test]
     fn goal_test_is_three_valued() {
         let req = [(PlaceId::new(0), 1), (PlaceId::new(1), 2)];
-        assert_eq!(matches(&req, &[1, 2]), Tri::Yes);
-        assert_eq!(matches(&req, &[1, OMEGA]), Tri::Maybe);
-        assert_eq!(matches(&req, &[0, OMEGA]), Tri::No);
-        assert_eq!(matches(&[], &[1, 2]), Tri::No);
+        let marking = |a, b| [(PlaceId::new(0), a), (PlaceId::new(1), b)];
+        assert_eq!(matches(&req, &marking(1, 2)), Tri::Yes);
+        assert_eq!(matches(&req, &marking(1, OMEGA)), Tri::Maybe);
+        assert_eq!(matches(&req, &[(PlaceId::new(1), OMEGA)]), Tri::No);
+        assert_eq!(matches(&[], &marking(1, 2)), Tri::No);
     }
 }

@@ -4,6 +4,8 @@
 //! markings are affected.
 
 use super::count::Count;
+use super::exploration::Exploration;
+use super::markings::{self, Entry};
 use super::reachability::{Reachability, StateId, enabled};
 use crate::net::{PlaceId, TransitionId};
 use crate::plan::Plan;
@@ -48,7 +50,7 @@ fn names(plan: &Plan, transitions: &[TransitionId]) -> String {
         .join(", ")
 }
 
-/// Why transition `t` never fires.
+/// Why transition `t` never fires (`graph`: the part holding `t`).
 pub(super) fn dead_transition(plan: &Plan, graph: &Reachability, bounds: &[Count], t: TransitionId) -> Vec<String> {
     let incidence = plan.incidence();
     let mut why = Vec::new();
@@ -75,7 +77,7 @@ pub(super) fn dead_transition(plan: &Plan, graph: &Reachability, bounds: &[Count
     if why.is_empty() {
         let covering: Vec<StateId> = graph
             .states()
-            .filter(|&s| enabled(incidence, graph.state_tokens(s), t))
+            .filter(|&s| enabled(incidence, graph.entries(s), t))
             .collect();
         if covering.is_empty() {
             let inputs: Vec<String> = incidence.inputs(t).iter().map(|a| place(plan, a.place)).collect();
@@ -90,8 +92,15 @@ pub(super) fn dead_transition(plan: &Plan, graph: &Reachability, bounds: &[Count
     why
 }
 
-/// Why no goal marking can be reached from the `stuck` markings.
-pub(super) fn no_goal(plan: &Plan, graph: &Reachability, bounds: &[Count], stuck: &[StateId]) -> Vec<String> {
+/// Why no goal marking can be reached from the `stuck` markings of the
+/// ending part `graph` (part 0 of `exploration`).
+pub(super) fn no_goal(
+    plan: &Plan,
+    exploration: &Exploration,
+    graph: &Reachability,
+    bounds: &[Count],
+    stuck: &[StateId],
+) -> Vec<String> {
     let mut why = Vec::new();
     let goal = plan.goal();
     for &(g, needed) in goal {
@@ -117,8 +126,8 @@ pub(super) fn no_goal(plan: &Plan, graph: &Reachability, bounds: &[Count], stuck
     }
     if why.is_empty() && goal.len() > 1 {
         let reached = graph.states().any(|s| {
-            let tokens = graph.state_tokens(s);
-            goal.iter().all(|&(g, n)| tokens[g.index()] >= u16::from(n))
+            let marking = graph.entries(s);
+            goal.iter().all(|&(g, n)| markings::count(marking, g) >= u16::from(n))
         });
         if !reached {
             let places: Vec<String> = goal.iter().map(|&(g, _)| place(plan, g)).collect();
@@ -128,8 +137,17 @@ pub(super) fn no_goal(plan: &Plan, graph: &Reachability, bounds: &[Count], stuck
             ));
         }
     }
-    if let Some(cycle) = stuck_loop(graph, stuck) {
-        let (start, transitions) = &cycle;
+    // A loop of the ending part through stuck markings, or else a loop of a
+    // free part, which leaves the ending part stuck where it is.
+    let cycle = stuck_loop(graph, stuck).map(|(s, loop_)| (exploration.combine(&[(0, s)]), loop_));
+    let cycle = cycle.or_else(|| {
+        let &first = stuck.first()?;
+        exploration.parts().iter().enumerate().skip(1).find_map(|(i, part)| {
+            let all: Vec<StateId> = part.states().collect();
+            stuck_loop(part, &all).map(|(s, loop_)| (exploration.combine(&[(0, first), (i, s)]), loop_))
+        })
+    });
+    if let Some((start, transitions)) = &cycle {
         let shown: Vec<String> = transitions
             .iter()
             .take(SHOWN_LOOP)
@@ -138,7 +156,7 @@ pub(super) fn no_goal(plan: &Plan, graph: &Reachability, bounds: &[Count], stuck
         let more = if transitions.len() > SHOWN_LOOP { " → …" } else { "" };
         why.push(format!(
             "from [{}] the plan loops for ever without reaching its goal: {}{more} leads back to it",
-            graph.describe(plan, *start),
+            start.describe(plan),
             shown.join(" → ")
         ));
     } else if stuck
@@ -151,42 +169,53 @@ pub(super) fn no_goal(plan: &Plan, graph: &Reachability, bounds: &[Count], stuck
 }
 
 /// A loop through the stuck markings: a state on it and the transitions
-/// around it, found by following successors that stay stuck.
+/// around it, found by following successors that stay stuck. Each walk takes
+/// the first stuck successor until a state repeats; a walk that ends, or meets
+/// a state an earlier walk left, finds no loop, so every state is walked once.
 fn stuck_loop(graph: &Reachability, stuck: &[StateId]) -> Option<(StateId, Vec<TransitionId>)> {
+    const UNSEEN: usize = usize::MAX;
+    const LEFT: usize = usize::MAX - 1;
     let mut is_stuck = vec![false; graph.len()];
     for s in stuck {
         is_stuck[s.index()] = true;
     }
+    // The position of a state on the current walk, or UNSEEN, or LEFT.
+    let mut seen = vec![UNSEEN; graph.len()];
     for &start in stuck {
-        // Walk, always taking the first stuck successor, until a state repeats.
         let mut path: Vec<(StateId, TransitionId)> = Vec::new();
-        let mut seen = vec![usize::MAX; graph.len()];
         let mut at = start;
         loop {
-            if seen[at.index()] != usize::MAX {
-                let from = seen[at.index()];
-                let transitions = path[from..].iter().map(|&(_, t)| t).collect();
-                return Some((at, transitions));
+            match seen[at.index()] {
+                LEFT => break,
+                UNSEEN => {}
+                from => {
+                    let transitions = path[from..].iter().map(|&(_, t)| t).collect();
+                    return Some((at, transitions));
+                }
             }
             seen[at.index()] = path.len();
             let Some(&(t, next)) = graph.successors(at).iter().find(|(_, n)| is_stuck[n.index()]) else {
+                seen[at.index()] = LEFT;
                 break;
             };
             path.push((at, t));
             at = next;
         }
+        for (s, _) in path {
+            seen[s.index()] = LEFT;
+        }
     }
     None
 }
 
-/// Why the plan stops in the dead marking `s`.
-pub(super) fn dead_marking(plan: &Plan, graph: &Reachability, s: StateId) -> Vec<String> {
+/// Why the plan stops in the dead marking `marking` (sparse; `initial` when
+/// it is the initial marking).
+pub(super) fn dead_marking(plan: &Plan, marking: &[Entry], initial: bool) -> Vec<String> {
     let incidence = plan.incidence();
-    let tokens = graph.state_tokens(s);
     let mut why = Vec::new();
-    let marked: Vec<PlaceId> = (0..tokens.len()).filter(|&i| tokens[i] > 0).map(PlaceId::new).collect();
+    let marked: Vec<PlaceId> = marking.iter().map(|&(p, _)| p).collect();
     if marked.is_empty() {
-        why.push(if s.index() == 0 {
+        why.push(if initial {
             "no place holds a token at the start: give the initial place a token".to_string()
         } else {
             "every token has been consumed and no place is marked".to_string()
@@ -208,7 +237,7 @@ pub(super) fn dead_marking(plan: &Plan, graph: &Reachability, s: StateId) -> Vec
             let missing: Vec<String> = incidence
                 .inputs(t)
                 .iter()
-                .filter(|a| tokens[a.place.index()] < u16::from(a.weight))
+                .filter(|a| markings::count(marking, a.place) < u16::from(a.weight))
                 .map(|a| {
                     if a.weight == 1 {
                         format!("a token in {}", place(plan, a.place))

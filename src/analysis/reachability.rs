@@ -1,4 +1,5 @@
-//! The markings a plan can reach, guards ignored, with unbounded places accelerated.
+//! The markings one part of a plan can reach, guards ignored, with unbounded
+//! places accelerated.
 //!
 //! Every guard may be true or false, so every token-enabled transition may fire
 //! (interleaving semantics: one transition per edge). Goal and fail markings are
@@ -7,41 +8,20 @@
 //! they become ω and the exploration terminates. The result is then a
 //! coverability graph: an ω-marking stands for reachable markings that agree on
 //! its finite places and hold arbitrarily many tokens in its ω places.
+//!
+//! Markings are stored sparsely ([`super::markings`]), and a marking's
+//! successors are found from the transitions that consume its marked places
+//! (plus those with no input place), so exploring a marking costs what its
+//! tokens touch, not what the plan holds.
 
-use rustc_hash::FxHashMap;
-
-use super::count::{self, Count, OMEGA, Tri};
+use super::count::{self, OMEGA};
+use super::limits::{Budget, CHECK_EDGE_BYTES, CHECK_STATE_BYTES, Stop};
+use super::markings::{self, Entry, Markings, weighted_total};
+use super::parts::{self, Part};
 use crate::net::{Incidence, Marking, PlaceId, TransitionId};
 use crate::plan::Plan;
 
-/// A marking limit large enough for hand-written plans.
-pub const DEFAULT_LIMIT: usize = 100_000;
-
-/// The memory an exploration (and the checks over it) may use for its
-/// markings and edges: 256 MiB. The marking limit is lowered so that the
-/// stored markings fit ([`marking_limit`]); a plan with many places thus
-/// explores fewer markings, and its check becomes inconclusive instead of
-/// exhausting memory.
-pub const MEMORY_LIMIT: usize = 256 << 20;
-
-/// Bytes a stored marking of `places` places costs, with the checks'
-/// bookkeeping: two `u16` copies of every count (the marking and its hash
-/// key) and about a hundred bytes per state.
-const fn state_bytes(places: usize) -> usize {
-    4 * places + 128
-}
-
-/// Bytes an edge costs (its entry, and the predecessor list the checks build).
-const EDGE_BYTES: usize = 16;
-
-/// The number of markings an exploration of a plan with `places` places
-/// stores at most when asked for `limit`: `limit`, lowered to what
-/// [`MEMORY_LIMIT`] holds (at least one).
-pub fn marking_limit(places: usize, limit: usize) -> usize {
-    limit.min(MEMORY_LIMIT / state_bytes(places)).max(1)
-}
-
-/// Index of an explored marking (the initial marking is state 0).
+/// Index of an explored marking in its part (the initial marking is state 0).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct StateId(u32);
 
@@ -50,149 +30,188 @@ impl StateId {
     pub const fn index(self) -> usize {
         self.0 as usize
     }
+
+    /// The initial marking of a part.
+    pub(super) const fn initial() -> Self {
+        StateId(0)
+    }
 }
 
-/// The explored markings and the transitions between them.
+/// The explored markings of one part of a plan (see [`super::Exploration`])
+/// and the transitions between them. Its markings hold tokens in the part's
+/// places only.
 #[derive(Debug, Clone)]
 pub struct Reachability {
+    /// Places of the whole plan (the length of a [`Marking`]).
     places: usize,
-    /// Token counts, state after state, `places` values each.
-    tokens: Vec<u16>,
+    markings: Markings,
     /// Token totals with ω counted as 256 (a quick test for strict covering).
     totals: Vec<u32>,
+    /// The least total of each state and its ancestors: no ancestor can be
+    /// strictly covered by a marking whose total is not above it.
+    floors: Vec<u32>,
     /// How each state was first reached.
     parent: Vec<Option<(StateId, TransitionId)>>,
     terminal: Vec<bool>,
     /// `edges[edge_start[i]..edge_start[i + 1]]` leave expanded state `i`.
     edge_start: Vec<usize>,
     edges: Vec<(TransitionId, StateId)>,
+    /// The part's transitions without input places: enabled in every marking.
+    sources: Vec<TransitionId>,
+    /// Whether goal and fail markings are terminal here (the ending part).
+    ends: bool,
     complete: bool,
-    limit: usize,
 }
 
-/// Explores the markings reachable from `plan`'s initial marking, storing at
-/// most `limit` of them (at least the initial one), lowered by
-/// [`marking_limit`] to fit [`MEMORY_LIMIT`]; edges beyond what the memory
-/// left holds also stop the exploration. Breadth first, transitions in index
-/// order: the result and its state numbering are deterministic.
-pub fn explore(plan: &Plan, limit: usize) -> Reachability {
-    let incidence = plan.incidence();
-    let places = incidence.place_count();
-    let limit = marking_limit(places, limit);
-    let max_edges = MEMORY_LIMIT.saturating_sub(limit * state_bytes(places)) / EDGE_BYTES;
-    let mut graph = Reachability {
-        places,
-        tokens: Vec::new(),
-        totals: Vec::new(),
-        parent: Vec::new(),
-        terminal: Vec::new(),
-        edge_start: vec![0],
-        edges: Vec::new(),
-        complete: false,
-        limit,
-    };
-    let mut index: FxHashMap<Box<[u16]>, StateId> = FxHashMap::default();
-    let initial: Vec<u16> = plan.initial_marking().tokens().iter().map(|&t| u16::from(t)).collect();
-    graph.push(plan, &initial, None, &mut index);
-
-    let mut current = vec![0u16; places];
-    let mut next = vec![0u16; places];
-    let mut state = 0;
-    while state < graph.len() {
-        let from = StateId(state as u32);
-        if !graph.terminal[state] {
-            current.copy_from_slice(graph.state_tokens(from));
-            for t in incidence.transition_ids() {
-                if !enabled(incidence, &current, t) {
-                    continue;
-                }
-                fire(incidence, &current, t, &mut next);
-                let target = match index.get(&next[..]) {
-                    Some(&known) => known,
-                    None => {
-                        graph.accelerate(from, &mut next);
-                        match index.get(&next[..]) {
-                            Some(&known) => known,
-                            None if graph.len() >= graph.limit => {
-                                // The state stays unexpanded: drop its partial edges.
-                                graph.edges.truncate(graph.edge_start[state]);
-                                return graph;
-                            }
-                            None => graph.push(plan, &next, Some((from, t)), &mut index),
-                        }
-                    }
-                };
-                if graph.edges.len() >= max_edges {
-                    graph.edges.truncate(graph.edge_start[state]);
-                    return graph;
-                }
-                graph.edges.push((t, target));
-            }
+/// Fires `t` (enabled) from the sparse marking `from` into `to`.
+fn fire(incidence: &Incidence, from: &[Entry], t: TransitionId, to: &mut Vec<Entry>) {
+    to.clear();
+    to.extend_from_slice(from);
+    for a in incidence.inputs(t) {
+        if let Ok(i) = to.binary_search_by_key(&a.place, |&(p, _)| p) {
+            to[i].1 = count::sub(to[i].1, a.weight);
         }
-        graph.edge_start.push(graph.edges.len());
-        state += 1;
     }
-    graph.complete = true;
-    graph
+    for a in incidence.outputs(t) {
+        match to.binary_search_by_key(&a.place, |&(p, _)| p) {
+            Ok(i) => to[i].1 = count::add(to[i].1, a.weight),
+            Err(i) => to.insert(i, (a.place, count::add(0, a.weight))),
+        }
+    }
+    to.retain(|&(_, n)| n > 0);
 }
 
-/// Whether `t` has enough tokens in every input place (ω is enough).
-pub(super) fn enabled(incidence: &Incidence, tokens: &[u16], t: TransitionId) -> bool {
+/// Whether `t` has enough tokens in every input place of the sparse `marking` (ω is enough).
+pub(super) fn enabled(incidence: &Incidence, marking: &[Entry], t: TransitionId) -> bool {
     incidence
         .inputs(t)
         .iter()
-        .all(|a| tokens[a.place.index()] >= u16::from(a.weight))
-}
-
-/// Fires enabled `t` from `from` into `to`.
-fn fire(incidence: &Incidence, from: &[u16], t: TransitionId, to: &mut [u16]) {
-    to.copy_from_slice(from);
-    for a in incidence.inputs(t) {
-        let slot = &mut to[a.place.index()];
-        *slot = count::sub(*slot, a.weight);
-    }
-    for a in incidence.outputs(t) {
-        let slot = &mut to[a.place.index()];
-        *slot = count::add(*slot, a.weight);
-    }
-}
-
-/// The token total with ω as 256: strictly monotone in every place.
-fn weighted_total(tokens: &[u16]) -> u32 {
-    tokens
-        .iter()
-        .map(|&t| if t == OMEGA { 256 } else { u32::from(t) })
-        .sum()
+        .all(|a| markings::count(marking, a.place) >= u16::from(a.weight))
 }
 
 impl Reachability {
-    fn push(
-        &mut self,
-        plan: &Plan,
-        tokens: &[u16],
-        parent: Option<(StateId, TransitionId)>,
-        index: &mut FxHashMap<Box<[u16]>, StateId>,
-    ) -> StateId {
-        let id = StateId(self.parent.len() as u32);
-        self.tokens.extend_from_slice(tokens);
-        self.totals.push(weighted_total(tokens));
+    /// The part `part` of `plan` with its initial marking only, not expanded yet.
+    pub(super) fn start(plan: &Plan, part: &Part) -> Self {
+        let incidence = plan.incidence();
+        let mut graph = Reachability {
+            places: incidence.place_count(),
+            markings: Markings::new(),
+            totals: Vec::new(),
+            floors: Vec::new(),
+            parent: Vec::new(),
+            terminal: Vec::new(),
+            edge_start: vec![0],
+            edges: Vec::new(),
+            sources: part
+                .transitions
+                .iter()
+                .copied()
+                .filter(|&t| incidence.inputs(t).is_empty())
+                .collect(),
+            ends: part.ends,
+            complete: false,
+        };
+        let initial: Vec<Entry> = parts::initial(plan)
+            .into_iter()
+            .filter(|(p, _)| part.places.binary_search(p).is_ok())
+            .collect();
+        graph.push(plan, &initial, None);
+        graph
+    }
+
+    /// Explores breadth first, transitions in index order (the result and its
+    /// state numbering are deterministic), until every reachable marking is
+    /// stored or `budget` says a limit is reached: then the limit, with the
+    /// state being expanded left unexpanded.
+    pub(super) fn expand(&mut self, plan: &Plan, budget: &Budget) -> Option<Stop> {
+        let incidence = plan.incidence();
+        let mut current = Vec::new();
+        let mut candidates = Vec::new();
+        let mut next = Vec::new();
+        let mut state = self.edge_start.len() - 1;
+        while state < self.len() {
+            if let Some(stop) = budget.reached(self.len(), self.edges.len(), self.bytes(), false) {
+                return Some(stop);
+            }
+            let from = StateId(state as u32);
+            if !self.terminal[state] {
+                current.clear();
+                current.extend_from_slice(self.markings.get(state));
+                self.enabled_into(incidence, &current, &mut candidates);
+                for &t in &candidates {
+                    fire(incidence, &current, t, &mut next);
+                    let known = match self.markings.find(&next) {
+                        Some(known) => Some(known),
+                        None => {
+                            self.accelerate(from, &mut next);
+                            self.markings.find(&next)
+                        }
+                    };
+                    let target = match known {
+                        Some(known) => known,
+                        None => {
+                            if let Some(stop) = budget.reached(self.len(), self.edges.len(), self.bytes(), true) {
+                                self.edges.truncate(self.edge_start[state]);
+                                return Some(stop);
+                            }
+                            self.push(plan, &next, Some((from, t)))
+                        }
+                    };
+                    self.edges.push((t, StateId(target as u32)));
+                }
+            }
+            self.edge_start.push(self.edges.len());
+            state += 1;
+        }
+        self.complete = true;
+        None
+    }
+
+    /// The transitions enabled in the sparse `marking` (of this part), in index order, into `out`.
+    fn enabled_into(&self, incidence: &Incidence, marking: &[Entry], out: &mut Vec<TransitionId>) {
+        out.clear();
+        for &(p, _) in marking {
+            out.extend(incidence.consumers(p).iter().map(|&(t, _)| t));
+        }
+        out.extend_from_slice(&self.sources);
+        out.sort_unstable();
+        out.dedup();
+        out.retain(|&t| enabled(incidence, marking, t));
+    }
+
+    /// Whether no transition is enabled in `s`.
+    pub(super) fn enables_nothing(&self, incidence: &Incidence, s: StateId) -> bool {
+        let mut out = Vec::new();
+        self.enabled_into(incidence, self.entries(s), &mut out);
+        out.is_empty()
+    }
+
+    fn push(&mut self, plan: &Plan, marking: &[Entry], parent: Option<(StateId, TransitionId)>) -> usize {
+        let id = self.markings.insert(marking);
+        let total = weighted_total(marking);
+        let floor = parent.map_or(total, |(p, _)| total.min(self.floors[p.index()]));
+        self.totals.push(total);
+        self.floors.push(floor);
         self.parent.push(parent);
-        self.terminal
-            .push(count::matches(plan.goal(), tokens) == Tri::Yes || count::matches(plan.fail(), tokens) == Tri::Yes);
-        index.insert(tokens.into(), id);
+        self.terminal.push(self.ends && parts::is_terminal(plan, marking));
         id
     }
 
     /// Karp–Miller acceleration: for every ancestor of the new marking (its
-    /// parent `from` included) that it strictly covers, the grown places become ω.
-    fn accelerate(&self, from: StateId, new: &mut [u16]) {
+    /// parent `from` included) that it strictly covers, the grown places
+    /// become ω. The walk stops at the first ancestor whose floor shows that
+    /// none further up has a smaller total.
+    fn accelerate(&self, from: StateId, new: &mut [Entry]) {
         let mut total = weighted_total(new);
         let mut cursor = Some(from);
         while let Some(ancestor) = cursor {
-            let old = self.state_tokens(ancestor);
-            if self.totals[ancestor.index()] < total && new.iter().zip(old).all(|(n, o)| n >= o) {
-                for (n, &o) in new.iter_mut().zip(old) {
-                    if *n > o {
+            if self.floors[ancestor.index()] >= total {
+                break;
+            }
+            let old = self.markings.get(ancestor.index());
+            if self.totals[ancestor.index()] < total && old.iter().all(|&(p, n)| markings::count(new, p) >= n) {
+                for (p, n) in new.iter_mut() {
+                    if *n > markings::count(old, *p) {
                         *n = OMEGA;
                     }
                 }
@@ -202,9 +221,31 @@ impl Reachability {
         }
     }
 
-    pub(super) fn state_tokens(&self, s: StateId) -> &[u16] {
-        let start = s.index() * self.places;
-        &self.tokens[start..start + self.places]
+    /// Bytes allocated for this graph, with what the checks will add over it.
+    pub(super) fn bytes(&self) -> usize {
+        self.markings.bytes()
+            + (self.totals.capacity() + self.floors.capacity()) * size_of::<u32>()
+            + self.parent.capacity() * size_of::<Option<(StateId, TransitionId)>>()
+            + self.terminal.capacity()
+            + self.edge_start.capacity() * size_of::<usize>()
+            + self.edges.capacity() * size_of::<(TransitionId, StateId)>()
+            + self.len() * CHECK_STATE_BYTES
+            + self.edges.len() * CHECK_EDGE_BYTES
+    }
+
+    /// The marked places of `s` and their counts, in place order.
+    pub(super) fn entries(&self, s: StateId) -> &[Entry] {
+        self.markings.get(s.index())
+    }
+
+    /// The entries of every state, state after state.
+    pub(super) fn all_entries(&self) -> &[Entry] {
+        self.markings.entries()
+    }
+
+    /// Number of edges stored.
+    pub fn edge_count(&self) -> usize {
+        self.edges.len()
     }
 
     /// Number of explored markings.
@@ -217,15 +258,14 @@ impl Reachability {
         self.parent.is_empty()
     }
 
-    /// Whether every reachable marking was explored (the limit was not hit).
+    /// Whether every reachable marking of the part was explored.
     pub fn is_complete(&self) -> bool {
         self.complete
     }
 
-    /// The marking limit the exploration ran with (lowered by
-    /// [`marking_limit`] for plans with many places).
-    pub fn limit(&self) -> usize {
-        self.limit
+    /// Whether this is the ending part: the one holding the goal and fail places.
+    pub fn is_ending(&self) -> bool {
+        self.ends
     }
 
     /// Every explored state, in order of discovery.
@@ -233,23 +273,24 @@ impl Reachability {
         (0..self.len() as u32).map(StateId)
     }
 
-    /// Tokens of `place` in state `s`.
-    pub fn tokens(&self, s: StateId, place: PlaceId) -> Count {
-        Count::from_raw(self.state_tokens(s)[place.index()])
+    /// Tokens of `place` in state `s` (0 for a place of another part).
+    pub fn tokens(&self, s: StateId, place: PlaceId) -> count::Count {
+        count::Count::from_raw(markings::count(self.entries(s), place))
     }
 
     /// Whether some place of `s` is unbounded (ω).
     pub fn has_omega(&self, s: StateId) -> bool {
-        self.state_tokens(s).contains(&OMEGA)
+        self.entries(s).iter().any(|&(_, n)| n == OMEGA)
     }
 
-    /// The marking of `s`, or `None` when it has an unbounded place.
+    /// The marking of `s` over the whole plan's places (the other parts' places
+    /// empty), or `None` when it has an unbounded place.
     pub fn marking(&self, s: StateId) -> Option<Marking> {
-        self.state_tokens(s)
-            .iter()
-            .map(|&t| u8::try_from(t).ok())
-            .collect::<Option<Vec<u8>>>()
-            .map(Marking::from_tokens)
+        let mut tokens = vec![0u8; self.places];
+        for &(p, n) in self.entries(s) {
+            tokens[p.index()] = u8::try_from(n).ok()?;
+        }
+        Some(Marking::from_tokens(tokens))
     }
 
     /// Whether `s` is a goal or fail marking (the executor stops there; not expanded).
@@ -258,7 +299,7 @@ impl Reachability {
     }
 
     /// Whether the successors of `s` were computed (false for the states left
-    /// when the limit was hit).
+    /// when a limit was hit).
     pub(crate) fn is_expanded(&self, s: StateId) -> bool {
         s.index() + 1 < self.edge_start.len()
     }
@@ -272,7 +313,7 @@ impl Reachability {
         }
     }
 
-    /// A shortest firing sequence from the initial marking to `s`.
+    /// A shortest firing sequence of the part from its initial marking to `s`.
     pub fn trace(&self, s: StateId) -> Vec<TransitionId> {
         let mut out = Vec::new();
         let mut cursor = s;
@@ -284,38 +325,29 @@ impl Reachability {
         out
     }
 
-    /// The largest count of every place over the explored markings (a lower
-    /// bound when the exploration is incomplete).
-    pub fn bounds(&self) -> Vec<Count> {
-        let mut max = vec![0u16; self.places];
-        for chunk in self.tokens.chunks_exact(self.places.max(1)) {
-            for (m, &t) in max.iter_mut().zip(chunk) {
-                *m = (*m).max(t);
-            }
-        }
-        max.into_iter().map(Count::from_raw).collect()
-    }
-
-    /// `s` as the labels of its marked places (see [`Plan::describe`]), `*ω`
-    /// marking an unbounded place.
+    /// `s` as the labels of its marked places, as [`Plan::describe`] writes a
+    /// marking, `*ω` marking an unbounded place.
     pub fn describe(&self, plan: &Plan, s: StateId) -> String {
-        if let Some(m) = self.marking(s) {
-            return plan.describe(&m);
-        }
-        let parts: Vec<String> = self
-            .state_tokens(s)
-            .iter()
-            .enumerate()
-            .filter(|&(_, &t)| t > 0)
-            .map(|(i, &t)| {
-                let name = plan.place_name(PlaceId::new(i));
-                match t {
-                    1 => name.to_string(),
-                    OMEGA => format!("{name}*ω"),
-                    n => format!("{name}*{n}"),
-                }
-            })
-            .collect();
-        parts.join(" ")
+        describe(plan, self.entries(s))
     }
+}
+
+/// A sparse marking as the labels of its marked places, as [`Plan::describe`]
+/// writes a marking (`*n` for n tokens, `-` for none), `*ω` marking an unbounded place.
+pub(super) fn describe(plan: &Plan, marking: &[Entry]) -> String {
+    if marking.is_empty() {
+        return "-".to_string();
+    }
+    let parts: Vec<String> = marking
+        .iter()
+        .map(|&(p, n)| {
+            let name = plan.place_name(p);
+            match n {
+                1 => name.to_string(),
+                OMEGA => format!("{name}*ω"),
+                n => format!("{name}*{n}"),
+            }
+        })
+        .collect();
+    parts.join(" ")
 }

@@ -3,6 +3,7 @@
 use std::fmt;
 
 use super::count::Count;
+use super::limits::Stop;
 use crate::net::{PlaceId, TransitionId};
 use crate::plan::Plan;
 
@@ -403,12 +404,19 @@ pub struct CheckReport {
     pub places: usize,
     /// Number of transitions.
     pub transitions: usize,
-    /// Number of explored markings (ω-markings of unbounded places count once).
+    /// Number of reachable markings explored (ω-markings of unbounded places
+    /// count once): the product of the parts' markings, saturating at `usize::MAX`.
     pub markings: usize,
+    /// Number of markings stored: the sum of the parts' markings.
+    pub stored: usize,
+    /// Number of independent parts explored apart (see [`super::Exploration`]).
+    pub parts: usize,
     /// The marking limit of the exploration.
     pub limit: usize,
-    /// Whether every reachable marking was explored (the limit was not hit).
+    /// Whether every reachable marking was explored (no limit was hit).
     pub complete: bool,
+    /// The limit that stopped the exploration, if one did.
+    pub stop: Option<Stop>,
     /// The token bound of every place, in place order (lower bounds when incomplete).
     pub bounds: Vec<PlaceBound>,
     /// The choice points met in the explored markings, in place order.
@@ -468,7 +476,10 @@ impl CheckReport {
 
     /// The whole report as JSON, as `learnpnp check --json` prints it: `plan`,
     /// `result` (as the last line of the text), `passed`, `places`,
-    /// `transitions`, `markings`, `limit`, `complete`, `verdicts` (property ->
+    /// `transitions`, `markings` (reachable), `stored` (markings stored, over
+    /// `parts` independent parts), `limit`, `complete`, `stopped_by` (`null`,
+    /// `markings` or `memory`: the limit that stopped the exploration),
+    /// `verdicts` (property ->
     /// [`Verdict::summary`]), `reasons` (property -> why it is inconclusive or
     /// does not apply), `bounds` (`at_most_one`: how many places; `above_one`:
     /// place and bound, a number or `unbounded`; `never_marked`: places),
@@ -516,8 +527,11 @@ impl CheckReport {
             "places": self.places,
             "transitions": self.transitions,
             "markings": self.markings,
+            "stored": self.stored,
+            "parts": self.parts,
             "limit": self.limit,
             "complete": self.complete,
+            "stopped_by": self.stop.map(Stop::name),
             "verdicts": verdicts,
             "reasons": reasons,
             "bounds": {
@@ -635,21 +649,29 @@ impl fmt::Display for CheckReport {
 impl fmt::Display for Shown<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let report = self.report;
+        let markings = if report.markings == usize::MAX {
+            format!("at least {}", report.markings)
+        } else {
+            report.markings.to_string()
+        };
         writeln!(
             f,
-            "plan '{}': {} places, {} transitions, {} choice point(s), {} reachable marking(s)",
+            "plan '{}': {} places, {} transitions, {} choice point(s), {markings} reachable marking(s)",
             report.plan,
             report.places,
             report.transitions,
             report.choice_points.len(),
-            report.markings
         )?;
-        if !report.complete {
+        if report.parts > 1 {
             writeln!(
                 f,
-                "  marking limit of {} reached: exploration incomplete, results partial",
-                report.limit
+                "  {} independent parts (no place in common) explored apart: {} marking(s) stored, \
+                 the reachable markings are their combinations",
+                report.parts, report.stored
             )?;
+        }
+        if let Some(stop) = report.stop {
+            writeln!(f, "  {stop} reached: exploration incomplete, results partial")?;
         }
         if report.has_unbounded() {
             writeln!(
