@@ -36,7 +36,36 @@ SOSMC_6_3 = "parr-russell --algo eps-sosmc --runs 200 --episodes 1000 --eval-eve
 # 6.13: Sutton's grid, 50 runs.
 SUTTON = "sutton --runs 50 --episodes 40000 --eval-every 200 --eval-episodes 0 --greedy-episodes 0"
 
+# Chapter 7, shortened: 10 runs of 3000 episodes (the figures run 20 x 10,000 and 20 x 6000).
+PASS = "keepaway-pass --runs 10 --episodes 3000 --eval-every 500 --eval-episodes 20 --greedy-episodes 50"
+POSITION = "keepaway-position --runs 10 --episodes 3000 --eval-every 500 --eval-episodes 20 --greedy-episodes 50"
+FIXED = "keepaway-fixed --runs 10 --episodes 10 --eval-every 10 --eval-episodes 200"
+# Soft-SoSMC's rule before issue 37: no estimate, untried options weighed as the best.
+AS_BEST = "--initial-value=-inf --unestimated as-best"
+# The perception modes: the framework's players (see synchronisation), the
+# server in synchronous mode, and the full state.
+VISIONS = [("framework", ""), ("synch mode", "--synch-mode"), ("full state", "--vision full-state")]
+
 SWEEPS = {
+    "7.3": ("curve", [
+        *[(f"Soft-SoSMC; {v}", f"{PASS} --algo soft-sosmc {flags}") for v, flags in VISIONS],
+        ("Soft-SoSMC; framework, no estimate, as-best (before issue 37)", f"{PASS} --algo soft-sosmc {AS_BEST}"),
+        ("Soft-SoSMC; framework, no threshold rule", f"{PASS} --algo soft-sosmc --threshold 1000:200"),
+        *[(f"Sarsa(0.9); {v}", f"{PASS} --algo sarsa-lambda {flags}") for v, flags in VISIONS],
+        ("Sarsa(0.9); framework, alpha 0.05", f"{PASS} --algo sarsa-lambda --alpha 0.05"),
+        *[(f"{algo}; framework, pass-line threshold {t} m", f"{PASS} --algo {algo} --lane-threshold {t}")
+          for algo in ("soft-sosmc", "sarsa-lambda") for t in (1.5, 4.0)],
+    ], None),
+    "7.5": ("curve", [
+        *[(f"Soft-SoSMC; {v}", f"{POSITION} --algo soft-sosmc {flags}") for v, flags in VISIONS],
+        ("Soft-SoSMC; framework, no estimate, as-best (before issue 37)", f"{POSITION} --algo soft-sosmc {AS_BEST}"),
+        *[(f"Sarsa(0.9); {v}", f"{POSITION} --algo sarsa-lambda {flags}") for v, flags in VISIONS],
+    ], None),
+    "baselines": ("curve", [
+        *[(f"{policy}; {v}", f"{FIXED} --policy {policy} {flags}")
+          for policy in ("handcoded", "threshold") for v, flags in VISIONS],
+        *[(f"threshold; framework, passes at {d} m", f"{FIXED} --policy threshold --hold-threshold {d}") for d in (3.0, 7.0)],
+    ], None),
     # (kind, [(row label, flags)], seeds)
     "one-step": ("trace", [
         (f"{name}; {factor}", f"{TRACE_BASE} {flags} {extra}")
