@@ -13,7 +13,7 @@ use learnpnp::experiment::defaults::{
 use learnpnp::experiment::options::ExperimentOptions;
 use learnpnp::experiment::ranges;
 use learnpnp::experiment::spec::Algorithm;
-use learnpnp::keepaway_sim::params::VisionMode;
+use learnpnp::keepaway_sim::params::{ServerTimer, VisionMode};
 use learnpnp::learning::{ExploitPolicy, Schedule, StepSize, ThresholdRule, Unestimated};
 use learnpnp::named::Named;
 
@@ -92,6 +92,11 @@ pub struct ExperimentFlags {
     /// Keepaway: what the agents perceive.
     #[arg(long, value_parser = named::<VisionMode>(), default_value = "framework")]
     vision: VisionMode,
+    /// Keepaway: the soccer server's timer, which fixes when the players see
+    /// (framework vision): real-time (as keepaway.sh ran it; the players
+    /// synchronise their sees) or synchronous (synch_mode, think at 80 ms).
+    #[arg(long, value_parser = named::<ServerTimer>(), default_value = "real-time")]
+    server_timer: ServerTimer,
     /// Keepaway: distance (m) at which the threshold policy passes (0 to 200).
     #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::DISTANCE.parse(s))]
     hold_threshold: Option<f64>,
@@ -194,6 +199,7 @@ impl From<ExperimentFlags> for ExperimentOptions {
             variant: args.variant,
             policy: args.policy,
             vision: args.vision,
+            timer: args.server_timer,
             hold_threshold: args.hold_threshold,
             lane_threshold: args.lane_threshold,
             taker_threshold: args.taker_threshold,

@@ -13,7 +13,7 @@ use crate::domains::nmdp::NmdpConfig;
 use crate::domains::parr_russell::ParrRussellConfig;
 use crate::domains::penalty_kick::{PenaltyKickConfig, Variant};
 use crate::domains::sutton::SuttonConfig;
-use crate::keepaway_sim::params::VisionMode;
+use crate::keepaway_sim::params::{ServerTimer, VisionMode};
 use crate::learning::persist;
 use crate::named::Named;
 
@@ -102,6 +102,8 @@ pub struct ExperimentOptions {
     pub policy: FixedPolicy,
     /// Keepaway: what the agents perceive.
     pub vision: VisionMode,
+    /// Keepaway: the soccer server's timer.
+    pub timer: ServerTimer,
     /// Keepaway: distance (m) at which the threshold policy passes.
     pub hold_threshold: Option<f64>,
     /// Keepaway: threshold (m) of the takers' distance to a pass line.
@@ -149,6 +151,7 @@ impl ExperimentOptions {
                     _ => KeepawayMode::Fixed(self.policy),
                 });
                 config.vision = self.vision;
+                config.timer = self.timer;
                 if let Some(t) = self.hold_threshold {
                     config.hold_threshold = t;
                 }

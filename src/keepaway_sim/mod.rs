@@ -10,8 +10,8 @@
 //!   reset, all randomness from one seeded generator;
 //! - [`perception`]: what each agent perceives ([`perception::PlayerView`]):
 //!   the framework players' perception (by default: [`see`], what the server
-//!   tells them, and [`world_model`], what their world model makes of it), full
-//!   state, or quantised;
+//!   tells them, [`timing`], when, and [`world_model`], what their world model
+//!   makes of it), full state, or quantised;
 //! - [`skills`], [`taker`], [`keeper`]: the framework's behaviours; the keeper with the
 //!   ball asks a pluggable [`keeper::KeeperPolicy`];
 //! - [`policies`]: random, always-hold, hand-coded and the thesis's threshold policy;
@@ -39,6 +39,7 @@ pub mod simulator;
 pub mod skills;
 pub mod state_vars;
 pub mod taker;
+pub mod timing;
 pub mod world;
 pub mod world_model;
 
@@ -46,7 +47,7 @@ pub use command::Command;
 pub use episode::{EpisodeOutcome, Keepaway, run_episode};
 pub use geometry::Vec2;
 pub use keeper::{KeeperAction, KeeperPolicy, SupportAction};
-pub use params::{ConfigError, KeepawayConfig, ServerParams, SkillParams, VisionMode};
+pub use params::{ConfigError, KeepawayConfig, ServerParams, ServerTimer, SkillParams, VisionMode};
 pub use perception::{Perception, PlayerId, PlayerView, perceive};
 pub use policies::BaselinePolicy;
 pub use referee::EndReason;

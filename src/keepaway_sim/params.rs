@@ -262,6 +262,35 @@ impl crate::named::Named for VisionMode {
     }
 }
 
+/// The soccer server's timer (its `synch_mode` parameter): when the players'
+/// see messages arrive within a step and when they act
+/// ([`super::timing`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ServerTimer {
+    /// Real time (`synch_mode=0`, rcssserver's `StandardTimer`), as the
+    /// framework's `keepaway.sh` runs the server by default: the players
+    /// synchronise their sees before the first kick-off and act at 70% or 85%
+    /// of the step.
+    #[default]
+    RealTime,
+    /// Synchronous mode (`synch_mode=1`, `SyncTimer`, with `keepaway.sh`'s
+    /// `synch_offset=80`): the players act on the server's think message, 80
+    /// ms into the step, and do not synchronise their sees.
+    Synchronous,
+}
+
+impl crate::named::Named for ServerTimer {
+    const KIND: &'static str = "server timer";
+    const ALL: &'static [Self] = &[ServerTimer::RealTime, ServerTimer::Synchronous];
+
+    fn name(self) -> &'static str {
+        match self {
+            ServerTimer::RealTime => "real-time",
+            ServerTimer::Synchronous => "synchronous",
+        }
+    }
+}
+
 /// The keepaway framework's skill settings (its `PlayerSettings` defaults and the
 /// constants of its keepaway skills).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -364,6 +393,10 @@ pub struct KeepawayConfig {
     pub region: Region,
     /// How agents perceive the world.
     pub vision: VisionMode,
+    /// The server's timer, which fixes when see messages arrive
+    /// ([`VisionMode::Framework`] only).
+    #[serde(default)]
+    pub timer: ServerTimer,
     /// Motion and turn noise on (the server's behaviour) or off.
     pub motion_noise: bool,
     /// The framework's skill settings.
@@ -379,6 +412,7 @@ impl Default for KeepawayConfig {
             server: ServerParams::default(),
             region: Region::default(),
             vision: VisionMode::Framework,
+            timer: ServerTimer::RealTime,
             motion_noise: true,
             skills: SkillParams::default(),
             max_episode_cycles: Some(100_000),

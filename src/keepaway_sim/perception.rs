@@ -12,7 +12,8 @@
 use super::command::Command;
 use super::geometry::{Vec2, normalize_deg, quantize, round_ties_even};
 use super::params::{KeepawayConfig, VisionMode};
-use super::see::{SeeArrival, SeePhase, change, quantised_distance, relative_direction, see, see_arrival, sense_body};
+use super::see::{change, quantised_distance, relative_direction, see, sense_body};
+use super::timing::{SeeArrival, SeePhase, WINDOW_CYCLES, WINDOW_MS, phases_at_kick_off, see_arrival};
 use super::world::{FieldState, NUM_KEEPERS, NUM_PLAYERS, Side};
 use super::world_model::{SaidBall, WorldModel};
 use crate::rng::{SimRng, derive_seed, seeded};
@@ -277,7 +278,7 @@ impl Quantiser {
     }
 }
 
-/// The stream, derived from a run's seed, of the server's visual phases.
+/// The stream, derived from a run's seed, of the players' connection times.
 const PHASE_STREAM: u64 = 0x5EE_0001;
 /// The stream, derived from the simulator's random state at an episode's
 /// start, of the episode's perception draws.
@@ -296,21 +297,26 @@ const EPISODE_STREAM: u64 = 0x5EE_0002;
 ///    (`AudioSenderPlayerv8::newCycle`, hear capacity 1), and takes the ball
 ///    from it if the framework would ([`WorldModel::hear`]);
 /// 3. gets a see message of the cycle's state in two cycles of three, as its
-///    visual phase and the cycle's place in the server's 300 ms period give
-///    ([`see_arrival`]); one that arrives before the player acts updates its
-///    model now ([`WorldModel::after_see`]), a later one after the view is taken;
+///    visual phase, the cycle's place in the server's 300 ms period and the
+///    server's timer give ([`see_arrival`]); one that arrives before the
+///    player acts updates its model now ([`WorldModel::after_see`]), a later
+///    one after the view is taken;
 /// 4. is given its view ([`WorldModel::view`]).
 ///
 /// [`Perception::sent`] then takes the cycle's commands: what each player says
 /// ([`WorldModel::say`], from its model as it decided) and what its next body
 /// sense will show it executed.
 ///
-/// Randomness: each player's visual phase is drawn once, from the run's seed
-/// (the framework's players keep their connection to the server for a whole
-/// run); each episode draws its place in the server's period, the server's
-/// random omissions of far numbers and velocities and its choice of heard
-/// messages from a stream seeded by the simulator's random state at the
-/// episode's start. So a run is replayed exactly from its seed, and a restart
+/// Randomness: where in the server's 300 ms period each player connected is
+/// drawn once, from the run's seed (the framework's players keep their
+/// connection for a whole run); its visual phase follows from what the server
+/// and the player do before the first kick-off ([`phases_at_kick_off`]: in
+/// real time the framework's synchronisation, which gives almost every
+/// player the same early phase; in synchronous mode the connection alone).
+/// Each episode draws its place in the server's period, the server's random
+/// omissions of far numbers and velocities and its choice of heard messages
+/// from a stream seeded by the simulator's random state at the episode's
+/// start. So a run is replayed exactly from its seed, and a restart
 /// from an episode boundary (which restores that state) replays the rest.
 /// The memoryless modes draw nothing.
 ///
@@ -337,7 +343,8 @@ impl Perception {
     pub fn new(cfg: &KeepawayConfig, seed: u64) -> Self {
         let mut rng = seeded(derive_seed(seed, PHASE_STREAM));
         let phases = if cfg.vision == VisionMode::Framework {
-            [(); NUM_PLAYERS].map(|()| SeePhase::draw(&mut rng))
+            let offsets = [(); NUM_PLAYERS].map(|()| rng.random_range(0..WINDOW_MS));
+            phases_at_kick_off(offsets, cfg.timer)
         } else {
             [SeePhase::ALL[0]; NUM_PLAYERS]
         };
@@ -370,7 +377,7 @@ impl Perception {
         }
         let base: u64 = sim_rng.clone().random();
         self.rng = seeded(derive_seed(base, EPISODE_STREAM));
-        self.offset = self.rng.random_range(0..super::see::WINDOW_CYCLES);
+        self.offset = self.rng.random_range(0..WINDOW_CYCLES);
         self.models = [0, 1, 2, 3, 4].map(|i| WorldModel::new(PlayerId(i)));
         self.decided = self.models;
         self.sent = [Command::None; NUM_PLAYERS];
@@ -406,7 +413,7 @@ impl Perception {
             let arrival = if first {
                 SeeArrival::BeforeDecision
             } else {
-                see_arrival(self.phases[i], now.wrapping_add(self.offset))
+                see_arrival(self.phases[i], now.wrapping_add(self.offset), cfg.timer)
             };
             let message = arrival.sees().then(|| see(world, id, &cfg, Some(&mut self.rng)));
             let model = &mut self.models[i];
@@ -615,7 +622,7 @@ mod tests {
             w.physics_step(&[Command::None; NUM_PLAYERS], &cfg.server, false, &mut rng);
             let views = p.views(&w);
             for i in 0..NUM_PLAYERS {
-                let arrival = see_arrival(p.phases[i], w.cycle + p.offset);
+                let arrival = see_arrival(p.phases[i], w.cycle + p.offset, cfg.timer);
                 if arrival != SeeArrival::BeforeDecision && saw[i] {
                     let b = previous[i].ball;
                     assert!(views[i].ball.pos.dist(b.pos + b.vel) < 1e-12);
@@ -627,6 +634,34 @@ mod tests {
             previous = views;
         }
         assert!(predicted > 0);
+    }
+
+    #[test]
+    fn phases_come_from_the_synchronisation_or_the_connection() {
+        use crate::keepaway_sim::params::ServerTimer;
+        use std::collections::HashMap;
+        let real_time = KeepawayConfig::default();
+        let synchronous = KeepawayConfig {
+            timer: ServerTimer::Synchronous,
+            ..real_time
+        };
+        let (mut real, mut synch) = (HashMap::new(), HashMap::new());
+        for seed in 0..200 {
+            for p in Perception::new(&real_time, seed).phases() {
+                *real.entry(p).or_insert(0) += 1;
+            }
+            for p in Perception::new(&synchronous, seed).phases() {
+                *synch.entry(p).or_insert(0) += 1;
+            }
+        }
+        let phase = |i| SeePhase::new(i).expect("phase");
+        // Synchronised: the early phase 0, or 3 for the one connection time in
+        // 30 that misleads the synchronisation; never a late see.
+        assert_eq!(real.len(), 2);
+        assert!(real[&phase(0)] > 900 && real[&phase(3)] > 0, "{real:?}");
+        // Connections taken at the thinks: every phase but the late one, about equally.
+        assert_eq!(synch.len(), 3);
+        assert!([0, 2, 3].iter().all(|&i| synch[&phase(i)] > 250), "{synch:?}");
     }
 
     #[test]

@@ -1,23 +1,19 @@
 //! What the soccer server tells each player, as the keepaway framework's players
-//! received it: when a see message arrives in a cycle, what it carries, and the
-//! body sense of every cycle. This is the server's side of
-//! [`super::params::VisionMode::Framework`]; [`super::world_model`] is the
-//! player's side.
+//! received it: what a see message carries, and the body sense of every
+//! cycle. This is the server's side of [`super::params::VisionMode::Framework`];
+//! [`super::timing`] says when the sees come, and [`super::world_model`] is
+//! the player's side.
 //!
-//! Sources (rcssserver 11.1, the line the framework's `keepaway.sh` ran; 12 to
-//! 15 behave the same in everything used here):
-//! - timing: `StandardTimer::run` (`stdtimer.cc`) calls `sendVisuals` every
-//!   `send_step / 4` ms on its 10 ms clock (`TIMEDELTA`), restarting every
-//!   `lcm_step` (300 ms); `VisualSenderPlayerV1::sendVisual` (`visual.cc`) sends a
-//!   player's see on every `visSend()`-th call, 4 for the default normal width
-//!   and high quality (`Player::changeView`, `player.cc`). The framework's players
-//!   never send `change_view` (no `CMD_CHANGEVIEW` is issued in its `player/`
-//!   code), and `keepaway.sh` sets `visible_angle=360` and leaves `send_step`
-//!   (150 ms) alone: every player sees the whole field every 150 ms;
+//! Sources: rcssserver 11.1, the oldest in its git history (the framework 0.6's
+//! README recommends 9.4.5; the NEWS and ChangeLog entries from 9.4.5 to 11.1
+//! change nothing used here, and 12 to 19 behave the same), with the
+//! framework's `keepaway.sh`, which sets `visible_angle=360` and leaves
+//! `send_step` (150 ms) alone, so every see shows the whole field:
 //! - content: `VisualSenderPlayerV1::sendHighBall`, `sendHighPlayer` and
-//!   `calcVel`, `VisualSenderPlayerV8::serializePlayer` (`visual.cc`),
-//!   `calcQuantDist`, `calcBodyDir` and the rounding `rad2Deg` of protocol 7 and
-//!   later (`visual.h`; the framework speaks protocol 12, `main.cc`);
+//!   `calcVel`, `VisualSenderPlayerV8::serializePlayer` (`visual.cc`; the
+//!   server gives protocols 8 to 11 this sender), `calcQuantDist`,
+//!   `calcBodyDir` and the rounding `rad2Deg` of protocol 7 and later
+//!   (`visual.h`; the framework speaks protocol 9.3, `main.cc`);
 //! - body sense: `BodySenderPlayerV6::sendVelocity` (`bodysender.cc`), sent
 //!   every `sense_body_step` (100 ms, `stdtimer.cc`).
 
@@ -29,29 +25,6 @@ use crate::rng::SimRng;
 use rand::RngExt;
 use std::sync::LazyLock;
 
-/// The server's simulation step, ms (`simulator_step`, `SIMULATOR_STEP_INTERVAL_MSEC`).
-const SIM_STEP_MS: u32 = 100;
-/// The server's `send_step`, ms (`UDP_SEND_STEP_INTERVAL_MSEC`): one see per
-/// `send_step` for the normal width and high quality.
-const SEND_STEP_MS: f64 = 150.0;
-/// The server timer's resolution, ms (`TIMEDELTA`): events fall on its ticks.
-const TIMER_MS: f64 = 10.0;
-/// `sendVisuals` calls per `send_step` (`StandardTimer::run`: every `send_step * 0.25`).
-const VISUAL_CALLS_PER_SEND_STEP: u32 = 4;
-/// Calls between two sees of a player with the normal width and high quality
-/// (`Player::changeView`: `M_vis_send = 4`).
-const CALLS_PER_SEE: u32 = 4;
-/// The server timer's period, ms (`lcm_step`, the least common multiple of its steps).
-const WINDOW_MS: u32 = 300;
-/// Cycles in the timer's period.
-pub(crate) const WINDOW_CYCLES: u32 = WINDOW_MS / SIM_STEP_MS;
-/// `sendVisuals` calls in the timer's period.
-const CALLS_PER_WINDOW: u32 = 8;
-/// The framework's wait before acting in the cycle after the one without a see,
-/// as a fraction of the step (`PlayerSettings`: `dFractionWaitSeeBegin`).
-const WAIT_SEE_BEGIN: f64 = 0.70;
-/// The framework's wait in the next cycle (`dFractionWaitSeeEnd`).
-const WAIT_SEE_END: f64 = 0.85;
 /// Beyond this quantised distance a player's number (and the ball's or a
 /// player's velocity) may be left out (`UNUM_FAR_LENGTH`, m).
 const UNUM_FAR_LENGTH: f64 = 20.0;
@@ -65,100 +38,6 @@ const DIR_CHANGE_STEP: f64 = 0.1;
 const DIST_STEP: f64 = 0.1;
 /// Quantisation of the body sense's speed (`sendVelocity`).
 const SPEED_STEP: f64 = 0.01;
-
-/// Which of the server's four visual calls of every `send_step` carry a
-/// player's see: fixed by when the player connected, so fixed for a run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct SeePhase(u8);
-
-impl SeePhase {
-    /// The four phases.
-    pub const ALL: [SeePhase; 4] = [SeePhase(0), SeePhase(1), SeePhase(2), SeePhase(3)];
-
-    /// Phase `i` (`0..4`), if in range.
-    pub fn new(i: u8) -> Option<SeePhase> {
-        SeePhase::ALL.get(usize::from(i)).copied()
-    }
-
-    /// A phase drawn uniformly: the players connect at times unrelated to the
-    /// server's 37.5 ms visual calls.
-    pub(crate) fn draw(rng: &mut SimRng) -> SeePhase {
-        SeePhase(rng.random_range(0..4u8))
-    }
-
-    /// Offsets (ms from the start of the timer's period) of this phase's sees.
-    fn see_times(self) -> impl Iterator<Item = u32> {
-        (0..CALLS_PER_WINDOW)
-            .filter(move |k| k % CALLS_PER_SEE == u32::from(self.0))
-            .map(visual_call_time)
-    }
-}
-
-/// When the server's `k`-th visual call of its period happens, ms: the first
-/// tick of its 10 ms clock at or after `k x send_step / 4`.
-fn visual_call_time(k: u32) -> u32 {
-    let due = f64::from(k) * SEND_STEP_MS / f64::from(VISUAL_CALLS_PER_SEND_STEP);
-    // At most 8 calls of at most 300 ms: the product fits easily.
-    ((due / TIMER_MS).ceil() * TIMER_MS) as u32
-}
-
-/// Whether a see message arrives in a cycle, and whether before the player acts.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SeeArrival {
-    /// No see in this cycle: the player acts on its world model's prediction.
-    None,
-    /// A see of this cycle's state arrives before the player sends its command.
-    BeforeDecision,
-    /// A see arrives after the command is sent (it informs the next cycle).
-    AfterDecision,
-}
-
-impl SeeArrival {
-    /// Whether a see message arrives in the cycle at all.
-    pub fn sees(self) -> bool {
-        self != SeeArrival::None
-    }
-}
-
-/// The see of a player with `phase` in the cycle at position `cycle` (taken
-/// modulo 3) of the server's 300 ms period.
-///
-/// Two of every three cycles carry a see. The framework's player
-/// (`SenseHandler::setTimeSignal`, re-synchronised in `analyzeSeeMessage`)
-/// expects the pattern: in the cycle after the one without a see it sends its
-/// command at 70% of the step, in the next at 85%; a see that arrives later
-/// than that is processed after the command. Relative to the step, the phases
-/// see at 0 and 50 ms (both in time), 40 and 90 ms (the second too late), 80
-/// ms and, a cycle later, 30 ms, or 20 and 70 ms.
-pub fn see_arrival(phase: SeePhase, cycle: u32) -> SeeArrival {
-    let w = cycle % WINDOW_CYCLES;
-    let mut offset = None;
-    let mut seen = [false; WINDOW_CYCLES as usize];
-    for t in phase.see_times() {
-        let c = t / SIM_STEP_MS;
-        if let Some(s) = seen.get_mut(c as usize) {
-            *s = true;
-        }
-        if c == w {
-            offset = Some(t % SIM_STEP_MS);
-        }
-    }
-    let Some(offset) = offset else {
-        return SeeArrival::None;
-    };
-    // The cycle without a see; the framework waits `WAIT_SEE_BEGIN` in the next one.
-    let blind = (0..WINDOW_CYCLES).find(|&c| !seen[c as usize]).unwrap_or(0);
-    let wait = if (blind + 1) % WINDOW_CYCLES == w {
-        WAIT_SEE_BEGIN
-    } else {
-        WAIT_SEE_END
-    };
-    if f64::from(offset) < wait * f64::from(SIM_STEP_MS) {
-        SeeArrival::BeforeDecision
-    } else {
-        SeeArrival::AfterDecision
-    }
-}
 
 /// One object in a see message, relative to the viewer's neck (taken as
 /// aligned with its body).
@@ -359,27 +238,6 @@ pub fn sense_body(world: &FieldState, me: PlayerId) -> SenseBody {
 mod tests {
     use super::*;
     use crate::rng::seeded;
-
-    #[test]
-    fn visual_calls_fall_on_the_timer_ticks() {
-        let times: Vec<u32> = (0..CALLS_PER_WINDOW).map(visual_call_time).collect();
-        assert_eq!(times, [0, 40, 80, 120, 150, 190, 230, 270]);
-    }
-
-    #[test]
-    fn two_sees_in_three_cycles_and_one_late_phase() {
-        use SeeArrival::{AfterDecision as A, BeforeDecision as B, None as N};
-        let table: Vec<[SeeArrival; 3]> = SeePhase::ALL
-            .iter()
-            .map(|&p| [0, 1, 2].map(|c| see_arrival(p, c)))
-            .collect();
-        assert_eq!(table, [[B, B, N], [B, A, N], [B, N, B], [N, B, B]]);
-        for p in SeePhase::ALL {
-            for c in 0..9 {
-                assert_eq!(see_arrival(p, c), see_arrival(p, c % 3));
-            }
-        }
-    }
 
     fn world() -> FieldState {
         let mut w = FieldState::default();

@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use super::world::atoms;
 use crate::domains::TaskError;
 use crate::keepaway_sim::features::FeatureThresholds;
-use crate::keepaway_sim::params::{KeepawayConfig, VisionMode};
+use crate::keepaway_sim::params::{KeepawayConfig, ServerTimer, VisionMode};
 use crate::keepaway_sim::policies::{BaselinePolicy, DEFAULT_HOLD_THRESHOLD};
 use crate::keepaway_sim::world::NUM_KEEPERS;
 use crate::named::Named;
@@ -66,6 +66,9 @@ pub struct KeepawayDomainConfig {
     /// What the agents perceive: the framework players' perception (default),
     /// full state, or quantised vision without memory.
     pub vision: VisionMode,
+    /// The soccer server's timer: real time (default) or synchronous mode.
+    #[serde(default)]
+    pub timer: ServerTimer,
     /// The thresholds of the three binary features.
     pub thresholds: FeatureThresholds,
     /// The distance at which the threshold policy passes.
@@ -77,6 +80,7 @@ impl Default for KeepawayDomainConfig {
         KeepawayDomainConfig {
             mode: KeepawayMode::Pass,
             vision: VisionMode::Framework,
+            timer: ServerTimer::RealTime,
             thresholds: FeatureThresholds::default(),
             hold_threshold: DEFAULT_HOLD_THRESHOLD,
         }
@@ -96,6 +100,7 @@ impl KeepawayDomainConfig {
     pub fn simulator(&self) -> KeepawayConfig {
         KeepawayConfig {
             vision: self.vision,
+            timer: self.timer,
             ..KeepawayConfig::default()
         }
     }
