@@ -44,7 +44,7 @@ FIXED = "keepaway-fixed --runs 10 --episodes 10 --eval-every 10 --eval-episodes 
 AS_BEST = "--initial-value=-inf --unestimated as-best"
 # The perception modes: the framework's players (see synchronisation), the
 # server in synchronous mode, and the full state.
-VISIONS = [("framework", ""), ("synch mode", "--synch-mode"), ("full state", "--vision full-state")]
+VISIONS = [("framework", ""), ("synchronous server", "--server-timer synchronous"), ("full state", "--vision full-state")]
 
 SWEEPS = {
     "7.3": ("curve", [

@@ -138,7 +138,7 @@ pub fn fastest_teammate(view: &PlayerView, cfg: &KeepawayConfig) -> Option<usize
 ///
 /// Only the estimates that can decide are made: at each `i` before the
 /// horizon, those of the players who could possibly arrive within `i` cycles
-/// ([`RunBound`]; any other estimates more than `i`, so can neither end the
+/// (a run bound; any other estimates more than `i`, so can neither end the
 /// search nor be the fewest where it ends); at the horizon, the teammates' of
 /// the last `i` at which any was estimated, found from the horizon down. A test
 /// compares this with the framework's search, every estimate made.
