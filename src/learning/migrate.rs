@@ -183,7 +183,8 @@ pub struct MigrationReport {
 /// A table that shares nothing with the plan it is loaded into.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
-    "the values share nothing with plan '{given}': none of their {entries} entries (learned on plan '{saved}') has a counterpart; the saved plan's first choice points are [{}], this plan's are [{}]",
+    "the values share nothing with plan '{given}': none of their {entries} entries (learned on plan '{saved}') has a counterpart; their marked places missing here (first few): [{}]; the saved plan's first choice points are [{}], this plan's are [{}]",
+    missing.join(", "),
     saved_choices.join(", "),
     given_choices.join(", ")
 )]
@@ -194,6 +195,9 @@ pub struct SharesNothing {
     pub given: String,
     /// Saved entries.
     pub entries: usize,
+    /// The first places marked by saved entries that have no unambiguous
+    /// counterpart in the given plan (keys, or names for a version 1 file).
+    pub missing: Vec<String>,
     /// The saved plan's first choice points (or places, for a version 1 file).
     pub saved_choices: Vec<String>,
     /// The given plan's first choice points.
@@ -305,7 +309,7 @@ pub fn migrate(saved: &SavedValues, plans: &[&Plan]) -> Result<(SavedValues, Mig
     let collided = collided.len();
     report.kept = entries.len();
     if report.kept == 0 && !saved.entries.is_empty() {
-        return Err(shares_nothing(saved, plans, &identities));
+        return Err(shares_nothing(saved, plans, &identities, &targets));
     }
     if collided > 0 {
         report.ambiguous.push(EntryName {
@@ -391,7 +395,34 @@ fn index(items: &[String]) -> HashMap<&str, Vec<usize>> {
 }
 
 /// The refusal for a table that maps onto nothing.
-fn shares_nothing(saved: &SavedValues, plans: &[&Plan], identities: &[PlanIdentity]) -> SharesNothing {
+fn shares_nothing(
+    saved: &SavedValues,
+    plans: &[&Plan],
+    identities: &[PlanIdentity],
+    targets: &[Vec<Target>],
+) -> SharesNothing {
+    let mut missing: BTreeSet<(usize, usize)> = BTreeSet::new();
+    for e in &saved.entries {
+        let k = usize::from(e.plan);
+        for (i, &n) in e.tokens.iter().enumerate() {
+            if n > 0 && !matches!(targets.get(k).and_then(|t| t.get(i)), Some(Target::Place(_))) {
+                missing.insert((k, i));
+            }
+        }
+    }
+    let missing: Vec<String> = missing
+        .into_iter()
+        .take(SHOWN)
+        .map(|(k, i)| {
+            saved
+                .identities
+                .get(k)
+                .and_then(|id| id.keys.get(i))
+                .or_else(|| saved.plans[k].places.get(i))
+                .cloned()
+                .unwrap_or_default()
+        })
+        .collect();
     let saved_choices: Vec<String> = match saved.identities.first() {
         Some(id) => id.choices.iter().take(SHOWN).map(|c| c.place.clone()).collect(),
         None => saved
@@ -408,6 +439,7 @@ fn shares_nothing(saved: &SavedValues, plans: &[&Plan], identities: &[PlanIdenti
         saved: saved.plans.first().map_or_else(String::new, |p| p.name.clone()),
         given: plans.first().map_or_else(String::new, |p| p.name().to_string()),
         entries: saved.entries.len(),
+        missing,
         saved_choices,
         given_choices,
     }
