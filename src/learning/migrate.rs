@@ -215,7 +215,7 @@ enum Target {
 /// `saved` carried into `plans` (the activation plans of the new plan, root
 /// first): the table rewritten onto the new plans' places, and what happened.
 /// A table learned on these very plans is returned as it is.
-pub fn migrate(saved: &SavedValues, plans: &[&Plan]) -> Result<(SavedValues, MigrationReport), SharesNothing> {
+pub fn migrate(saved: &SavedValues, plans: &[&Plan]) -> Result<(SavedValues, MigrationReport), Box<SharesNothing>> {
     let labels: Vec<PlanLabels> = plans.iter().map(|p| PlanLabels::of(p)).collect();
     if saved.plans == labels {
         let report = MigrationReport {
@@ -309,7 +309,7 @@ pub fn migrate(saved: &SavedValues, plans: &[&Plan]) -> Result<(SavedValues, Mig
     let collided = collided.len();
     report.kept = entries.len();
     if report.kept == 0 && !saved.entries.is_empty() {
-        return Err(shares_nothing(saved, plans, &identities, &targets));
+        return Err(Box::new(shares_nothing(saved, plans, &identities, &targets)));
     }
     if collided > 0 {
         report.ambiguous.push(EntryName {
