@@ -286,8 +286,10 @@ pub fn plot(args: &PlotArgs) -> Result<()> {
 pub struct ValuesArgs {
     /// A value table saved by an experiment (values.bin).
     file: PathBuf,
-    /// The plan the values were learned on (default: the plan of the
-    /// experiment, from summary.json next to the table).
+    /// The plan the values were learned on, or a revision of it: the values
+    /// are then carried over by name and what was kept, dropped and new is
+    /// printed on standard error (default: the plan of the experiment, from
+    /// summary.json next to the table).
     #[arg(long)]
     plan: Option<PathBuf>,
 }
