@@ -31,3 +31,4 @@ mod schema_format;
 mod schema_semantics;
 mod schema_thesis;
 mod shipped_plans;
+mod values_migration;

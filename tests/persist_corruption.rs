@@ -44,6 +44,7 @@ fn values() -> SavedValues {
             entry(0, &[0, 1, 0], f64::NEG_INFINITY),
             entry(1, &[1], 2.0),
         ],
+        identities: Vec::new(),
     }
 }
 

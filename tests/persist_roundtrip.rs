@@ -139,6 +139,7 @@ fn large_payloads_are_within_the_decoder_limits() {
                 visits: 0,
             })
             .collect(),
+        identities: Vec::new(),
     };
     save(&path, &wide).expect("save");
     assert_eq!(load(&path).expect("load"), wide);
@@ -274,6 +275,7 @@ fn csv_refuses_inconsistent_values() {
             value: 0.0,
             visits: 0,
         }],
+        identities: Vec::new(),
     };
     let err = write_csv(&saved, &mut Vec::new()).expect_err("no plan 0");
     assert_eq!(err.kind(), std::io::ErrorKind::InvalidData);

@@ -6,7 +6,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use learnpnp::experiment::checkpoint::{ResumePoint, resume_point};
 use learnpnp::experiment::options::DomainName;
-use learnpnp::experiment::output::{SummaryFile, final_score_text, greedy_text, replay_name, write_shard_results};
+use learnpnp::experiment::output::{SummaryFile, final_score_text, greedy_text, replay_name, write_shard_results_with};
 use learnpnp::experiment::ranges;
 use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
 use learnpnp::experiment::shard::{Shard, ShardRecord};
@@ -110,6 +110,7 @@ pub fn run_into(
         stop: Some(interrupt.flag()),
         only: record.as_ref().map(|r| r.runs.as_slice()),
     };
+    let migration = initial_values_migration(spec)?;
     let output = run_experiment(spec, options, completed).context("experiment failed")?;
     if output.runs.is_empty() {
         return Err(Interrupted {
@@ -121,7 +122,8 @@ pub fn run_into(
         }
         .into());
     }
-    let summary = write_shard_results(&output, record.as_ref(), dir).context("writing results")?;
+    let extra: Vec<(&str, String)> = migration.into_iter().map(|text| ("migration.json", text)).collect();
+    let summary = write_shard_results_with(&output, record.as_ref(), dir, &extra).context("writing results")?;
     let complete = match &record {
         Some(record) => output.runs.len() == record.runs.len(),
         None => output.is_complete(),
@@ -150,6 +152,29 @@ pub fn run_into(
         summary: Box::new(summary),
         output: Box::new(output),
     })
+}
+
+/// What loading `--initial-values` into the experiment's plan does, printed
+/// on standard error when a table is carried into a revised plan; returns
+/// `migration.json`'s text then (one object per table: `path` and the report),
+/// `None` when every table was learned on this very plan.
+fn initial_values_migration(spec: &ExperimentSpec) -> Result<Option<String>> {
+    if spec.initial_values.is_empty() {
+        return Ok(None);
+    }
+    let plan = spec.domain.load_plan().context("loading the plan")?;
+    let tables = spec
+        .migrate_initial_values(plan.as_deref())
+        .context("loading --initial-values")?;
+    if tables.iter().all(|(_, _, report)| report.unchanged) {
+        return Ok(None);
+    }
+    let mut json = Vec::new();
+    for (path, _, report) in &tables {
+        eprintln!("{}: {report}", path.display());
+        json.push(serde_json::json!({ "path": path, "report": report.to_json() }));
+    }
+    Ok(Some(serde_json::to_string_pretty(&json)?))
 }
 
 pub fn run(args: &ExperimentArgs) -> Result<()> {

@@ -14,6 +14,7 @@ use learnpnp::experiment::plot::{Reference, Series, plot_curves, read_curve_csv}
 use learnpnp::experiment::ranges::CountRange;
 use learnpnp::experiment::spec::{DomainSpec, ExperimentSpec};
 use learnpnp::learning::by_choice::{self, group_by_choice};
+use learnpnp::learning::migrate;
 use learnpnp::learning::persist::{self, SavedValues};
 use learnpnp::plan::{Plan, Vocabulary};
 use learnpnp::plan_file::load_plan;
@@ -285,8 +286,10 @@ pub fn plot(args: &PlotArgs) -> Result<()> {
 pub struct ValuesArgs {
     /// A value table saved by an experiment (values.bin).
     file: PathBuf,
-    /// The plan the values were learned on (default: the plan of the
-    /// experiment, from summary.json next to the table).
+    /// The plan the values were learned on, or a revision of it: the values
+    /// are then carried over by name and what was kept, dropped and new is
+    /// printed on standard error (default: the plan of the experiment, from
+    /// summary.json next to the table).
     #[arg(long)]
     plan: Option<PathBuf>,
 }
@@ -317,6 +320,11 @@ pub fn values(args: &ValuesArgs) -> Result<()> {
     let mut text = Vec::new();
     match plan {
         Some(plan) => {
+            let (saved, report) = migrate::migrate(&saved, &plan.activation_plans())
+                .with_context(|| format!("{}", args.file.display()))?;
+            if !report.unchanged {
+                eprintln!("{}: {report}", args.file.display());
+            }
             let learned = group_by_choice(&[&plan], &saved).with_context(|| format!("{}", args.file.display()))?;
             by_choice::write_csv(&learned, &saved, &mut text)?;
         }

@@ -328,7 +328,7 @@ fn an_experiment_writes_its_results_and_replays_with_its_seed() {
     );
 
     // A later experiment can start from the learned table; one learned on
-    // another plan is refused.
+    // a plan that shares nothing with the experiment's is refused.
     let resumed = dir.join("resumed");
     let values_file = a.join("values.bin");
     let o = learnpnp(&[
@@ -363,7 +363,11 @@ fn an_experiment_writes_its_results_and_replays_with_its_seed() {
         dir.join("wrong").to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(text(&o.stderr).contains("another plan"), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("share nothing with plan 'sutton'"),
+        "{}",
+        text(&o.stderr)
+    );
 
     let svg = dir.join("both.svg");
     let plot = learnpnp(&[

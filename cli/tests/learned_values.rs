@@ -127,3 +127,117 @@ fn a_table_without_its_plan_is_listed_per_marking_with_a_warning() {
     assert!(grouped.lines().skip(1).any(|l| l.ends_with(",greedy")), "{grouped}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `plans/keepaway_pass.pnml` without the option `Pass2` (its place, its two
+/// transitions and their arcs), as a designer would prune it.
+fn without_pass2(pnml: &str) -> String {
+    let mut out = String::new();
+    let mut skipping = false;
+    for line in pnml.lines() {
+        let t = line.trim_start();
+        let starts = [
+            r#"<place id="p15">"#,
+            r#"<transition id="t17">"#,
+            r#"<transition id="t18">"#,
+        ];
+        let arc = t.starts_with("<arc ") && ["\"p15\"", "\"t17\"", "\"t18\""].iter().any(|id| t.contains(id));
+        if starts.iter().any(|s| t.starts_with(s)) || (arc && !t.ends_with("/>")) {
+            skipping = true;
+            continue;
+        }
+        if arc {
+            continue;
+        }
+        if skipping {
+            if t.starts_with("</place>") || t.starts_with("</transition>") || t.starts_with("</arc>") {
+                skipping = false;
+            }
+            continue;
+        }
+        out.push_str(line);
+        out.push('\n');
+    }
+    out
+}
+
+#[test]
+fn values_carry_into_a_revised_plan_with_a_report() {
+    let dir = temp_dir("revised");
+    let full = shipped_arg("keepaway_pass.pnml");
+    let revised = dir.join("no_pass2.pnml");
+    let text = std::fs::read_to_string(&full).expect("the shipped plan");
+    std::fs::write(&revised, without_pass2(&text)).expect("write");
+    let revised = revised.to_str().expect("a path");
+    let learned = dir.join("learned");
+    let learned = learned.to_str().expect("a path");
+    let common = [
+        "--algo",
+        "soft-sosmc",
+        "--runs",
+        "1",
+        "--episodes",
+        "40",
+        "--threads",
+        "1",
+    ];
+    let mut args = vec!["experiment", "keepaway-pass", "--plan", &full, "--out", learned];
+    args.extend(common);
+    ok(&args);
+    let values = format!("{learned}/values.bin");
+    let out = learnpnp(&["values", &values, "--plan", revised]);
+    assert!(out.status.success());
+    let (csv, err) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(
+        err.contains("values carried into a revised plan") && err.contains("ball (-Pass2.start)"),
+        "{err}"
+    );
+    assert!(!csv.contains("Pass2") && csv.contains("Pass1.start"), "{csv}");
+    // The experiment starts from the carried values and writes the report.
+    let next = dir.join("next");
+    let next = next.to_str().expect("a path");
+    let mut args = vec![
+        "experiment",
+        "keepaway-pass",
+        "--plan",
+        revised,
+        "--initial-values",
+        &values,
+        "--out",
+        next,
+    ];
+    args.extend(common);
+    let out = learnpnp(&args);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(format!("{next}/migration.json")).expect("migration.json"))
+            .expect("JSON");
+    let report = &report[0]["report"];
+    assert!(report["kept"].as_u64().expect("a count") > 0, "{report}");
+    assert!(
+        report["dropped"]
+            .as_array()
+            .expect("a list")
+            .iter()
+            .all(|e| e["marking"].as_str().unwrap_or("").contains("Pass2.exec"))
+    );
+    assert_eq!(report["changed_choices"][0]["removed"][0], "Pass2.start");
+    // The same plan: no report, the table as saved.
+    let same = dir.join("same");
+    let same = same.to_str().expect("a path");
+    let mut args = vec![
+        "experiment",
+        "keepaway-pass",
+        "--plan",
+        &full,
+        "--initial-values",
+        &values,
+        "--out",
+        same,
+    ];
+    args.extend(common);
+    ok(&args);
+    assert!(!std::path::Path::new(&format!("{same}/migration.json")).exists());
+}

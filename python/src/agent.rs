@@ -5,7 +5,8 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 use learnpnp::experiment::defaults::{Overrides, plan_learner};
 use learnpnp::experiment::spec::Algorithm;
-use learnpnp::learning::persist::{self, PlanLabels, SavedValues};
+use learnpnp::learning::migrate;
+use learnpnp::learning::persist::{self, SavedValues};
 use learnpnp::rng::seeded;
 use learnpnp::stepwise::{ActionOutcome, StepError, StepwiseAgent};
 use learnpnp::{AtomId, EpisodeMode, Named, Status};
@@ -42,6 +43,8 @@ pub struct PyPlanAgent {
     inner: Mutex<StepwiseAgent>,
     plan: Arc<learnpnp::Plan>,
     algo: Algorithm,
+    /// What `load` did to carry the values into the plan, as JSON.
+    migration: Option<String>,
 }
 
 impl PyPlanAgent {
@@ -104,6 +107,7 @@ impl PyPlanAgent {
             inner: Mutex::new(agent),
             plan: Arc::clone(&plan.inner),
             algo: algorithm,
+            migration: None,
         })
     }
 }
@@ -174,7 +178,11 @@ impl PyPlanAgent {
 
     /// An agent for `plan` starting from the values saved in `path` (by
     /// `save` or by `learnpnp`); `algo` defaults to the one that saved them.
-    /// The values must have been learned on this plan.
+    /// The values may have been learned on this plan or on an earlier revision
+    /// of it: they are then carried over by the names of their choice points,
+    /// options and marked places, and `agent.migration` says what was kept,
+    /// dropped, ambiguous and new. A plan that shares nothing with the values
+    /// is refused (`ValueError`).
     #[staticmethod]
     #[pyo3(signature = (path, plan, algo = None, seed = 0, unchecked = false, actions = None, **params))]
     fn load(
@@ -187,24 +195,32 @@ impl PyPlanAgent {
         params: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         let saved = persist::load(&path).map_err(value_error)?;
-        let given: Vec<PlanLabels> = plan.inner.activation_plans().into_iter().map(PlanLabels::of).collect();
-        if saved.plans != given {
-            return Err(value_error(format!(
-                "{}: the values were learned on plan '{}', not on plan '{}'",
-                path.display(),
-                saved.plans.first().map_or("", |p| p.name.as_str()),
-                plan.inner.name()
-            )));
-        }
+        let (saved, report) = migrate::migrate(&saved, &plan.inner.activation_plans())
+            .map_err(|e| value_error(format!("{}: {e}", path.display())))?;
         let algo = algo.unwrap_or(&saved.algorithm);
-        let agent = Self::build(&plan, algo, seed, unchecked, actions, params)?;
+        let mut agent = Self::build(&plan, algo, seed, unchecked, actions, params)?;
         {
             let mut inner = agent.agent()?;
             let learner = inner.learner_mut();
             let table = saved.to_table(learner.values().initial_value());
             *learner.values_mut() = table;
         }
+        agent.migration = Some(report.to_json().to_string());
         Ok(agent)
+    }
+
+    /// What `PlanAgent.load` did to carry the saved values into this plan (a
+    /// dict: `unchanged` (learned on this very plan), `by_names_only` (a
+    /// version 1 file), `kept` (a count), `dropped`, `ambiguous` (lists of
+    /// `{plan, marking}`), `new_options` (`{plan, choice, at, option}`),
+    /// `changed_choices` (`{plan, choice, added, removed}`), `new_choices`,
+    /// `removed_choices` and `visits_reset`); `None` for an agent not loaded.
+    #[getter]
+    fn migration<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        match &self.migration {
+            Some(text) => Ok(Some(py.import("json")?.call_method1("loads", (text.as_str(),))?)),
+            None => Ok(None),
+        }
     }
 
     /// Reports `atoms` (what holds now: a set of atom names, or a dict of atom

@@ -149,5 +149,5 @@ def test_values_files_are_the_commands(tmp_path, plans, learnpnp_cli):
     grid = learnpnp.Plan.load(plans / "parr_russell.pnml")
     loaded = learnpnp.PlanAgent.load(out / "values.bin", grid)
     assert loaded.values() and all(v["plan"] == "parr_russell" for v in loaded.values())
-    with pytest.raises(ValueError, match="not on plan"):
+    with pytest.raises(ValueError, match="share nothing"):
         learnpnp.PlanAgent.load(out / "values.bin", plan)

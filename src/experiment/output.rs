@@ -242,8 +242,23 @@ pub fn write_shard_results(
     shard: Option<&shard::ShardRecord>,
     dir: &mut ResultDir,
 ) -> Result<SummaryFile, ExperimentError> {
+    write_shard_results_with(output, shard, dir, &[])
+}
+
+/// [`write_shard_results`] with further text files in the same set (such as
+/// `migration.json`, what loading `--initial-values` into a revised plan did),
+/// each as (name, contents).
+pub fn write_shard_results_with(
+    output: &ExperimentOutput,
+    shard: Option<&shard::ShardRecord>,
+    dir: &mut ResultDir,
+    extra: &[(&str, String)],
+) -> Result<SummaryFile, ExperimentError> {
     let mut files = dir.writer()?;
     let summary = stage_results(output, &mut files)?;
+    for (name, text) in extra {
+        files.add_text(name, text)?;
+    }
     let json = serde_json::to_string_pretty(&summary).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
     files.add_text("summary.json", &json)?;
     if !output.is_complete() || shard.is_some() {

@@ -14,6 +14,7 @@ use crate::domains::parr_russell::{self, ParrRussell, ParrRussellConfig};
 use crate::domains::penalty_kick::{self, PenaltyKick, PenaltyKickConfig};
 use crate::domains::sutton::{self, Sutton, SuttonConfig};
 use crate::domains::{Task, TaskError};
+use crate::learning::migrate::{self, MigrationReport};
 use crate::learning::persist::{self, PlanLabels, SavedValues};
 use crate::learning::{
     Assessment, Exploration, Learner, Mcesp, McespConfig, RandomLearner, Sigma, SoSmc, SoSmcConfig, StepSize, TdConfig,
@@ -620,23 +621,47 @@ impl ExperimentSpec {
         Ok(spec)
     }
 
-    /// Loads the starting tables, checking each was learned on this plan. A
-    /// file that cannot be used is an error (see
-    /// [`persist::load_latest`] for reading its previous good version instead).
+    /// Loads the starting tables, carried into this plan: a table learned on
+    /// this very plan is used as saved; one learned on an earlier revision of
+    /// it is mapped onto its places ([`migrate::migrate`]); one that shares
+    /// nothing with it is an error saying what differs. A file that cannot be
+    /// used is an error (see [`persist::load_latest`] for reading its previous
+    /// good version instead).
     pub fn load_initial_values(&self, plan: Option<&Plan>) -> Result<Vec<SavedValues>, ExperimentError> {
+        Ok(self
+            .migrate_initial_values(plan)?
+            .into_iter()
+            .map(|(_, values, _)| values)
+            .collect())
+    }
+
+    /// The starting tables as [`ExperimentSpec::load_initial_values`] loads
+    /// them, each with its path and what its migration did.
+    pub fn migrate_initial_values(
+        &self,
+        plan: Option<&Plan>,
+    ) -> Result<Vec<(PathBuf, SavedValues, MigrationReport)>, ExperimentError> {
         let mut tables = Vec::new();
         for path in &self.initial_values {
             let saved = persist::load(path).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
-            let expected: Vec<PlanLabels> = plan
-                .map(|p| p.activation_plans().into_iter().map(PlanLabels::of).collect())
-                .unwrap_or_default();
-            if let Some(difference) = plan_difference(&saved.plans, &expected) {
-                return Err(ExperimentError::Invalid(format!(
-                    "{}: the values were learned on another plan: {difference}",
-                    path.display()
-                )));
-            }
-            tables.push(saved);
+            let Some(plan) = plan else {
+                if let Some(difference) = plan_difference(&saved.plans, &[]) {
+                    return Err(ExperimentError::Invalid(format!(
+                        "{}: the values were learned on another plan: {difference}",
+                        path.display()
+                    )));
+                }
+                let report = MigrationReport {
+                    unchanged: true,
+                    kept: saved.entries.len(),
+                    ..MigrationReport::default()
+                };
+                tables.push((path.clone(), saved, report));
+                continue;
+            };
+            let (values, report) = migrate::migrate(&saved, &plan.activation_plans())
+                .map_err(|e| ExperimentError::Invalid(format!("{}: {e}", path.display())))?;
+            tables.push((path.clone(), values, report));
         }
         Ok(tables)
     }

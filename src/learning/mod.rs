@@ -8,6 +8,7 @@
 
 pub mod by_choice;
 mod mcesp;
+pub mod migrate;
 mod monte_carlo;
 pub mod persist;
 mod random;

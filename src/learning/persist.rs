@@ -16,6 +16,12 @@
 //! can be listed ([`write_csv`]) without the plans that produced it, and checked
 //! for consistency when it is read back.
 //!
+//! Version 2 (this build's) adds, per plan, the identity of every place and the
+//! choice points with their options ([`PlanIdentity`]: names a designer
+//! controls, see [`super::migrate`]), so that values can be carried into a
+//! revised plan. Version 1 files (no identities) are still read: their
+//! [`SavedValues::identities`] is empty.
+//!
 //! [`save`] never leaves a half-written file behind: it writes a temporary file
 //! in the same directory, syncs it and renames it over the target; the previous
 //! table, if it was a valid value file, is kept as `<path>.prev` first.
@@ -38,8 +44,11 @@ use crate::plan::Plan;
 /// The first eight bytes of every value file.
 pub const MAGIC: [u8; 8] = *b"LPNPVAL\0";
 
-/// The format version this build writes and reads.
-pub const FORMAT_VERSION: u32 = 1;
+/// The format version this build writes (and the newest it reads).
+pub const FORMAT_VERSION: u32 = 2;
+
+/// The oldest format version this build reads (version 1: no place identities).
+pub const OLDEST_VERSION: u32 = 1;
 
 /// Bytes before the payload: magic, version, payload length, checksum.
 pub const HEADER_LEN: usize = 24;
@@ -54,6 +63,38 @@ pub struct SavedValues {
     pub plans: Vec<PlanLabels>,
     /// Every entry of the table, in the table's id order.
     pub entries: Vec<SavedEntry>,
+    /// One per plan (same order as `plans`): the places' identities and the
+    /// choice points, to carry the values into a revised plan; empty in a
+    /// version 1 file.
+    pub identities: Vec<PlanIdentity>,
+}
+
+/// What a plan's places and choices are, by names a designer controls (see
+/// [`super::migrate::place_keys`]).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PlanIdentity {
+    /// One key per place, in place order: its name, qualified by the places
+    /// leading to it where names repeat.
+    pub keys: Vec<String>,
+    /// The choice points, in place order.
+    pub choices: Vec<SavedChoice>,
+}
+
+/// A choice point and its options, by name.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SavedChoice {
+    /// The choice point's place key.
+    pub place: String,
+    /// The names (labels, or ids when blank) of the transitions it chooses among, sorted.
+    pub options: Vec<String>,
+}
+
+/// A version 1 payload: [`SavedValues`] without identities.
+#[derive(Deserialize)]
+struct SavedValuesV1 {
+    algorithm: String,
+    plans: Vec<PlanLabels>,
+    entries: Vec<SavedEntry>,
 }
 
 /// The names of one plan and of its places.
@@ -106,6 +147,16 @@ pub enum Inconsistency {
         /// Token counts in the entry.
         found: usize,
     },
+    /// A plan's identity does not fit its places, or not every plan has one.
+    #[error("plan {plan} has {found} place key(s) for {expected} place(s), or the identities do not match the plans")]
+    WrongIdentity {
+        /// The plan at fault.
+        plan: usize,
+        /// Its places.
+        expected: usize,
+        /// Its keys.
+        found: usize,
+    },
     /// Two entries have the same plan and marking.
     #[error("entry {entry} repeats the marking of entry {first} (plan {plan})")]
     Duplicate {
@@ -136,7 +187,9 @@ pub enum PersistError {
         path: PathBuf,
     },
     /// The file was written in a format version this build does not read.
-    #[error("{path}: unsupported value file version {found} (this build reads version {supported})")]
+    #[error(
+        "{path}: unsupported value file version {found} (this build reads versions {OLDEST_VERSION} to {supported})"
+    )]
     UnsupportedVersion {
         /// The file.
         path: PathBuf,
@@ -260,6 +313,7 @@ impl SavedValues {
         SavedValues {
             algorithm: algorithm.into(),
             plans: plans.iter().map(|p| PlanLabels::of(p)).collect(),
+            identities: plans.iter().map(|p| super::migrate::identity_of(p)).collect(),
             entries: table
                 .entries()
                 .map(|(key, value, visits)| SavedEntry {
@@ -294,6 +348,25 @@ impl SavedValues {
     /// Checks that every entry names a listed plan, fits its places, and that no
     /// (plan, marking) appears twice.
     pub fn validate(&self) -> Result<(), Inconsistency> {
+        if !self.identities.is_empty() {
+            for (plan, labels) in self.plans.iter().enumerate() {
+                let found = self.identities.get(plan).map_or(0, |i| i.keys.len());
+                if found != labels.places.len() {
+                    return Err(Inconsistency::WrongIdentity {
+                        plan,
+                        expected: labels.places.len(),
+                        found,
+                    });
+                }
+            }
+            if self.identities.len() != self.plans.len() {
+                return Err(Inconsistency::WrongIdentity {
+                    plan: self.plans.len(),
+                    expected: 0,
+                    found: 0,
+                });
+            }
+        }
         let mut seen: HashMap<(u16, &[u8]), usize> = HashMap::with_capacity(self.entries.len());
         for (entry, e) in self.entries.iter().enumerate() {
             let Some(plan) = self.plans.get(usize::from(e.plan)) else {
@@ -420,7 +493,7 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<SavedValues, PersistError> {
     let (version, header) = split_u32(header);
     let (length, header) = split_u64(header);
     let (stored, _) = split_u32(header);
-    if version != FORMAT_VERSION {
+    if !(OLDEST_VERSION..=FORMAT_VERSION).contains(&version) {
         return Err(PersistError::UnsupportedVersion {
             path: path_buf(),
             found: version,
@@ -449,7 +522,20 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<SavedValues, PersistError> {
             computed,
         });
     }
-    let (values, used) = decode_bounded::<SavedValues>(rest).map_err(|error| PersistError::Decode {
+    let decoded = if version == 1 {
+        decode_bounded::<SavedValuesV1>(rest).map(|(v, used)| {
+            let values = SavedValues {
+                algorithm: v.algorithm,
+                plans: v.plans,
+                entries: v.entries,
+                identities: Vec::new(),
+            };
+            (values, used)
+        })
+    } else {
+        decode_bounded::<SavedValues>(rest)
+    };
+    let (values, used) = decoded.map_err(|error| PersistError::Decode {
         path: path_buf(),
         error,
     })?;
