@@ -327,6 +327,9 @@ const EPISODE_STREAM: u64 = 0x5EE_0002;
 pub struct Perception {
     cfg: KeepawayConfig,
     phases: [SeePhase; NUM_PLAYERS],
+    /// Each player's see in the three cycles of the server's period
+    /// ([`see_arrival`] of its phase, fixed for the run).
+    arrivals: [[SeeArrival; WINDOW_CYCLES as usize]; NUM_PLAYERS],
     rng: SimRng,
     offset: u32,
     first: bool,
@@ -348,10 +351,12 @@ impl Perception {
         } else {
             [SeePhase::ALL[0]; NUM_PLAYERS]
         };
+        let arrivals = phases.map(|p| [0, 1, 2].map(|c| see_arrival(p, c, cfg.timer)));
         let models = [0, 1, 2, 3, 4].map(|i| WorldModel::new(PlayerId(i)));
         Perception {
             cfg: *cfg,
             phases,
+            arrivals,
             rng,
             offset: 0,
             first: true,
@@ -413,7 +418,8 @@ impl Perception {
             let arrival = if first {
                 SeeArrival::BeforeDecision
             } else {
-                see_arrival(self.phases[i], now.wrapping_add(self.offset), cfg.timer)
+                let place = now.wrapping_add(self.offset) % WINDOW_CYCLES;
+                self.arrivals[i][place as usize]
             };
             let message = arrival.sees().then(|| see(world, id, &cfg, Some(&mut self.rng)));
             let model = &mut self.models[i];
