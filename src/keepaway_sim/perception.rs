@@ -310,7 +310,7 @@ const EPISODE_STREAM: u64 = 0x5EE_0002;
 /// Randomness: where in the server's 300 ms period each player connected is
 /// drawn once, from the run's seed (the framework's players keep their
 /// connection for a whole run); its visual phase follows from what the server
-/// and the player do before the first kick-off ([`phases_at_kick_off`]: in
+/// and the player do before the first kick-off (`phases_at_kick_off`: in
 /// real time the framework's synchronisation, which gives almost every
 /// player the same early phase; in synchronous mode the connection alone).
 /// Each episode draws its place in the server's period, the server's random

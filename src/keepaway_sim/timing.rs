@@ -19,14 +19,14 @@
 //!   receives the clients' messages (`recv_step`, 10 ms), then every 100 ms
 //!   runs a step and sends the body senses, then calls the visual sender when
 //!   `send_step / 4` (37.5 ms) more is due: at 0, 40, 80, 120, 150, 190, 230
-//!   and 270 ms of the period ([`visual_call_time`]);
+//!   and 270 ms of the period (`visual_call_time`);
 //! - `SyncTimer::run` (`synctimer.cc`), synchronous mode: the same schedule in
 //!   simulated time, then, `synch_offset` into each step, `Stadium::doSendThink`
 //!   (`field.C`), which sends `(think)`, receives the clients' messages (the
 //!   only place this timer does) and waits for their `(done)`;
 //! - `VisualSenderPlayerV1::sendVisual` (`visual.cc`): each visual call adds one
 //!   to the player's counter (0 when it connects) and sends it a see when the
-//!   counter reaches the player's interval, which resets it ([`VisualSender`]);
+//!   counter reaches the player's interval, which resets it (`VisualSender`);
 //! - `Player::change_view` (`player.cc`): the interval is 4 at normal width and
 //!   high quality (a new player's view), 2 at narrow width, and half that at
 //!   low quality; the counter is left as it is;
@@ -54,7 +54,7 @@
 //!   period's last and ends on calls 3 and 7 (20 and 70 ms into the last two
 //!   steps, both in time to act). It does all this once per run (`bNeedSync`
 //!   is a static); in play-on it only asks for normal and high again while
-//!   its body sense still reports low quality ([`Synchroniser`]);
+//!   its body sense still reports low quality (`Synchroniser`);
 //! - `analyzeSeeMessage` counts the sees of the current cycle
 //!   (`m_iSeeCounter`), taking only those stamped with the cycle of the last
 //!   body sense; the player's clock (`Time`) is that cycle and how many cycles
@@ -67,7 +67,7 @@
 //!
 //! `keepaway.sh` starts the server, then the keepers 2 s later and the takers
 //! 2 s after them; nothing fixes where in the server's 300 ms period each
-//! player connects, so that is drawn ([`phases_at_kick_off`]).
+//! player connects, so that is drawn (`phases_at_kick_off`).
 //!
 //! Left out: messages arrive and are handled within a tick (10 ms); the
 //! players' hear messages (one between a cycle's body sense and its first see
