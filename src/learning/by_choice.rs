@@ -13,7 +13,7 @@
 use std::collections::HashMap;
 
 use super::persist::{PlanLabels, SavedValues};
-use crate::analysis::{before, choices_among, structural_choice_points, transition_name};
+use crate::analysis::{ChoiceAt, ChoicePoint, before, choices_among, structural_choice_points, transition_name};
 use crate::net::{Marking, PlaceId, TransitionId};
 use crate::plan::Plan;
 
@@ -90,6 +90,77 @@ pub struct PlanMismatch {
     pub given_places: Vec<String>,
 }
 
+/// Finds the choices whose options lead to a marking, remembering the
+/// choices offered at each marking it looked at.
+pub(crate) struct ChoiceFinder<'a> {
+    plan: &'a Plan,
+    points: Vec<ChoicePoint>,
+    /// The transitions that may lead to a marking with a token in each place
+    /// (its producers), and those with no output (they may lead anywhere).
+    producers: Vec<Vec<TransitionId>>,
+    sinks: Vec<TransitionId>,
+    offered: HashMap<Marking, Vec<ChoiceAt>>,
+}
+
+impl<'a> ChoiceFinder<'a> {
+    /// A finder over `plan`'s structural choice points.
+    pub(crate) fn new(plan: &'a Plan) -> Self {
+        let incidence = plan.incidence();
+        let mut producers = vec![Vec::new(); incidence.place_count()];
+        let mut sinks = Vec::new();
+        for t in incidence.transition_ids() {
+            let outputs = incidence.outputs(t);
+            if outputs.is_empty() {
+                sinks.push(t);
+            }
+            for out in outputs {
+                producers[out.place.index()].push(t);
+            }
+        }
+        ChoiceFinder {
+            plan,
+            points: structural_choice_points(plan),
+            producers,
+            sinks,
+            offered: HashMap::new(),
+        }
+    }
+
+    /// Every (marking where the choice is made, choice) with an option that
+    /// leads to `after`.
+    pub(crate) fn leading_to(&mut self, after: &Marking) -> Vec<(Marking, ChoiceAt)> {
+        let mut candidates: Vec<TransitionId> = after
+            .marked()
+            .flat_map(|(p, _)| self.producers[p.index()].iter().copied())
+            .chain(self.sinks.iter().copied())
+            .collect();
+        candidates.sort_unstable();
+        candidates.dedup();
+        let mut found = Vec::new();
+        for t in candidates {
+            let Some(at) = before(self.plan, after, t) else {
+                continue;
+            };
+            let (plan, points) = (self.plan, &self.points);
+            let choices = self
+                .offered
+                .entry(at.clone())
+                .or_insert_with(|| choices_among(plan, points, &at));
+            for c in choices.iter() {
+                if c.options.iter().any(|(u, next)| *u == t && next == after) {
+                    found.push((at.clone(), c.clone()));
+                }
+            }
+        }
+        found
+    }
+
+    /// The choices offered at `at`, if the finder has looked at it.
+    pub(crate) fn offered(&self, at: &Marking) -> Option<&[ChoiceAt]> {
+        self.offered.get(at).map(Vec::as_slice)
+    }
+}
+
 /// Groups `saved` by the choice points of `plans` (indexed as the table's
 /// plans: the root plan first). Entries of plans not given count as others.
 pub fn group_by_choice(plans: &[&Plan], saved: &SavedValues) -> Result<LearnedValues, PlanMismatch> {
@@ -115,25 +186,13 @@ pub fn group_by_choice(plans: &[&Plan], saved: &SavedValues) -> Result<LearnedVa
             .filter(|(_, e)| e.plan == k)
             .map(|(i, e)| (e.tokens.as_slice(), i))
             .collect();
-        let points = structural_choice_points(plan);
+        let mut finder = ChoiceFinder::new(plan);
         // (place, marking where chosen) -> its options, each with its entry if any.
         let mut groups: HashMap<(PlaceId, Marking), Vec<(TransitionId, Marking)>> = HashMap::new();
-        let mut offered: HashMap<Marking, Vec<crate::analysis::ChoiceAt>> = HashMap::new();
         for (&tokens, &i) in &entries {
-            let after = Marking::from_tokens(tokens.to_vec());
-            for t in plan.incidence().transition_ids() {
-                let Some(at) = before(plan, &after, t) else {
-                    continue;
-                };
-                let choices = offered
-                    .entry(at.clone())
-                    .or_insert_with(|| choices_among(plan, &points, &at));
-                for c in choices.iter() {
-                    if c.options.iter().any(|(u, next)| *u == t && *next == after) {
-                        claimed[i] = true;
-                        groups.entry((c.place, at.clone())).or_insert_with(|| c.options.clone());
-                    }
-                }
+            for (at, c) in finder.leading_to(&Marking::from_tokens(tokens.to_vec())) {
+                claimed[i] = true;
+                groups.entry((c.place, at)).or_insert(c.options);
             }
         }
         let mut choices: Vec<ChoiceValues> = groups

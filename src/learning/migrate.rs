@@ -36,8 +36,9 @@ use std::fmt;
 
 use serde::Serialize;
 
+use super::by_choice::ChoiceFinder;
 use super::persist::{PlanIdentity, PlanLabels, SavedChoice, SavedEntry, SavedValues};
-use crate::analysis::{before, choices_among, structural_choice_points, transition_name};
+use crate::analysis::{structural_choice_points, transition_name};
 use crate::net::{Marking, PlaceId};
 use crate::plan::Plan;
 
@@ -335,24 +336,7 @@ fn saved_keys(saved: &SavedValues, k: usize) -> Option<Vec<String>> {
 
 /// Tokens as the keys (or names) of the marked places.
 fn describe_keys(keys: Option<&[String]>, names: &[String], tokens: &[u8]) -> String {
-    let parts: Vec<String> = tokens
-        .iter()
-        .enumerate()
-        .filter(|(_, n)| **n > 0)
-        .map(|(i, &n)| {
-            let name = keys
-                .and_then(|k| k.get(i))
-                .or_else(|| names.get(i))
-                .cloned()
-                .unwrap_or_else(|| format!("#{i}"));
-            if n == 1 { name } else { format!("{name}*{n}") }
-        })
-        .collect();
-    if parts.is_empty() {
-        "-".to_string()
-    } else {
-        parts.join(" ")
-    }
+    super::persist::describe_tokens(tokens, |i| keys.and_then(|k| k.get(i)).or_else(|| names.get(i)))
 }
 
 /// Where every place of a saved plan goes in a new one.
@@ -504,43 +488,18 @@ fn options_of_kept(plans: &[&Plan], migrated: &mut SavedValues, report: &mut Mig
             .filter(|(_, e)| usize::from(e.plan) == n)
             .map(|(i, e)| (e.tokens.as_slice(), i))
             .collect();
-        let points = structural_choice_points(plan);
-        let incidence = plan.incidence();
-        let mut producers: Vec<Vec<crate::net::TransitionId>> = vec![Vec::new(); incidence.place_count()];
-        for t in incidence.transition_ids() {
-            for out in incidence.outputs(t) {
-                producers[out.place.index()].push(t);
-            }
-        }
+        let mut finder = ChoiceFinder::new(plan);
         let mut groups: BTreeSet<(PlaceId, Vec<u8>)> = BTreeSet::new();
-        let mut offered: HashMap<Marking, Vec<crate::analysis::ChoiceAt>> = HashMap::new();
         for &tokens in entries.keys() {
-            let after = Marking::from_tokens(tokens.to_vec());
-            let mut candidates: Vec<crate::net::TransitionId> = after
-                .marked()
-                .flat_map(|(p, _)| producers[p.index()].iter().copied())
-                .collect();
-            candidates.sort_unstable();
-            candidates.dedup();
-            for t in candidates {
-                let Some(at) = before(plan, &after, t) else {
-                    continue;
-                };
-                let choices = offered
-                    .entry(at.clone())
-                    .or_insert_with(|| choices_among(plan, &points, &at));
-                for c in choices.iter() {
-                    if c.options.iter().any(|(u, next)| *u == t && *next == after) {
-                        groups.insert((c.place, at.tokens().to_vec()));
-                    }
-                }
+            for (at, c) in finder.leading_to(&Marking::from_tokens(tokens.to_vec())) {
+                groups.insert((c.place, at.tokens().to_vec()));
             }
         }
         for (place, at) in groups {
             let at = Marking::from_tokens(at);
             let choice = keys[place.index()].as_str();
             let is_changed = changed.contains(&(name.as_str(), choice));
-            let Some(c) = offered.get(&at).and_then(|cs| cs.iter().find(|c| c.place == place)) else {
+            let Some(c) = finder.offered(&at).and_then(|cs| cs.iter().find(|c| c.place == place)) else {
                 continue;
             };
             for (t, next) in &c.options {

@@ -285,20 +285,27 @@ impl PlanLabels {
     /// `name*n` for a place with `n > 1` tokens, `-` when nothing is marked.
     /// Token counts beyond the listed places are named `#<index>`.
     pub fn describe(&self, tokens: &[u8]) -> String {
-        let parts: Vec<String> = tokens
-            .iter()
-            .enumerate()
-            .filter(|(_, n)| **n > 0)
-            .map(|(i, &n)| {
-                let name = self.places.get(i).cloned().unwrap_or_else(|| format!("#{i}"));
-                if n == 1 { name } else { format!("{name}*{n}") }
-            })
-            .collect();
-        if parts.is_empty() {
-            "-".to_string()
-        } else {
-            parts.join(" ")
-        }
+        describe_tokens(tokens, |i| self.places.get(i))
+    }
+}
+
+/// Tokens as `name name*n ...` (`name*n` for a place with `n > 1` tokens, `-`
+/// when nothing is marked), each place named by `name_of` (`#<index>` where it
+/// has no name).
+pub(crate) fn describe_tokens<'a>(tokens: &[u8], name_of: impl Fn(usize) -> Option<&'a String>) -> String {
+    let parts: Vec<String> = tokens
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| **n > 0)
+        .map(|(i, &n)| {
+            let name = name_of(i).cloned().unwrap_or_else(|| format!("#{i}"));
+            if n == 1 { name } else { format!("{name}*{n}") }
+        })
+        .collect();
+    if parts.is_empty() {
+        "-".to_string()
+    } else {
+        parts.join(" ")
     }
 }
 
