@@ -14,6 +14,8 @@ use pyo3::prelude::*;
 
 /// Panics on purpose, so a test can show a Rust panic arrives in Python as an
 /// exception (`pyo3_runtime.PanicException`) instead of ending the process.
+/// Built only with the cargo feature `testing` (CI's build), never in a wheel.
+#[cfg(feature = "testing")]
 #[pyfunction]
 fn _provoke_panic() {
     panic!("a Rust panic provoked by learnpnp._native._provoke_panic");
@@ -38,6 +40,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("PlanStalledError", m.py().get_type::<errors::PlanStalledError>())?;
     m.add("ALGORITHMS", agent::algorithm_names())?;
     m.add("PARAMETERS", learnpnp::experiment::defaults::Overrides::NAMES.to_vec())?;
+    #[cfg(feature = "testing")]
     m.add_function(wrap_pyfunction!(_provoke_panic, m)?)?;
     Ok(())
 }

@@ -40,7 +40,7 @@ def test_stubs_match_the_extension():
             assert not extra, f"{name}: the stub names {extra}, which the extension lacks"
             missing = {m for m in runtime_members(runtime) if not m.startswith("_")} - members
             assert not missing, f"{name}: {missing} missing from the stub"
-    public = {n for n in dir(_native) if not n.startswith("__") and n not in ("ALGORITHMS", "PARAMETERS")}
+    public = {n for n in dir(_native) if not n.startswith("_") and n not in ("ALGORITHMS", "PARAMETERS")}
     assert public <= set(stubs), f"missing from the stub: {public - set(stubs)}"
 
 
