@@ -4,7 +4,7 @@
 
 use learnpnp::domains::keepaway::{Decision, FixedPolicy, KeepawayDomainConfig, KeepawayMode, PassDecisions, Stop};
 use learnpnp::experiment::runner::run_task_rng;
-use learnpnp::keepaway_sim::{KeepawayConfig, KeeperAction, VisionMode};
+use learnpnp::keepaway_sim::{KeepawayConfig, KeeperAction, ServerTimer, VisionMode};
 use learnpnp::named::Named;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -23,12 +23,20 @@ struct Settings {
 }
 
 impl Settings {
-    fn new(deciders: usize, vision: &str, others: &str, field_length: f64, field_width: f64) -> PyResult<Self> {
+    fn new(
+        deciders: usize,
+        vision: &str,
+        others: &str,
+        field_length: f64,
+        field_width: f64,
+        server_timer: &str,
+    ) -> PyResult<Self> {
         if !(1..=3).contains(&deciders) {
             return Err(value_error(format!("deciders {deciders}: it must be 1, 2 or 3")));
         }
         let mut config = KeepawayConfig {
             vision: VisionMode::from_name(vision).map_err(value_error)?,
+            timer: ServerTimer::from_name(server_timer).map_err(value_error)?,
             ..KeepawayConfig::default()
         };
         config.region.length = field_length;
@@ -74,10 +82,12 @@ fn decision_tuple(d: &Decision) -> DecisionTuple {
 /// One Keepaway 3 vs 2 game paused at pass decisions (the core of
 /// `learnpnp.envs.KeepawayPassEnv` and `KeepawayAECEnv`).
 ///
-/// `KeepawayGame(deciders, seed, vision, others, field_length, field_width)`:
-/// keepers `0..deciders` decide from outside, the others play the fixed policy
-/// `others` (`handcoded`, `threshold`, `always-hold`, `random`). Seed `s`
-/// plays run 0 of a `learnpnp experiment` of base seed `s`.
+/// `KeepawayGame(deciders, seed, vision, others, field_length, field_width,
+/// server_timer)`: keepers `0..deciders` decide from outside, the others play
+/// the fixed policy `others` (`handcoded`, `threshold`, `always-hold`,
+/// `random`); `server_timer` (`real-time` or `synchronous`) is `learnpnp
+/// experiment --server-timer`. Seed `s` plays run 0 of a `learnpnp
+/// experiment` of base seed `s`.
 #[pyclass(module = "learnpnp")]
 pub struct KeepawayGame {
     settings: Settings,
@@ -87,7 +97,7 @@ pub struct KeepawayGame {
 #[pymethods]
 impl KeepawayGame {
     #[new]
-    #[pyo3(signature = (deciders = 1, seed = 0, vision = "framework", others = "handcoded", field_length = 20.0, field_width = 20.0))]
+    #[pyo3(signature = (deciders = 1, seed = 0, vision = "framework", others = "handcoded", field_length = 20.0, field_width = 20.0, server_timer = "real-time"))]
     fn new(
         deciders: usize,
         seed: u64,
@@ -95,8 +105,9 @@ impl KeepawayGame {
         others: &str,
         field_length: f64,
         field_width: f64,
+        server_timer: &str,
     ) -> PyResult<Self> {
-        let settings = Settings::new(deciders, vision, others, field_length, field_width)?;
+        let settings = Settings::new(deciders, vision, others, field_length, field_width, server_timer)?;
         Ok(KeepawayGame {
             game: settings.game(seed, 0)?,
             settings,
@@ -151,8 +162,9 @@ impl KeepawayGame {
 
 /// N games of one decider stepped together (the core of
 /// `learnpnp.envs.KeepawayVectorEnv`): game i plays run i of a `learnpnp
-/// experiment` of base seed `seed`. Arrays cross as bytes (numpy reads them
-/// without a copy): states as float32 N x 13, actions as int64.
+/// experiment` of base seed `seed`; the options are `KeepawayGame`'s. Arrays
+/// cross as bytes (numpy reads them without a copy): states as float32 N x 13,
+/// actions as int64.
 #[pyclass(module = "learnpnp")]
 pub struct KeepawayBatch {
     settings: Settings,
@@ -170,12 +182,20 @@ impl KeepawayBatch {
 #[pymethods]
 impl KeepawayBatch {
     #[new]
-    #[pyo3(signature = (n, seed = 0, vision = "framework", others = "handcoded", field_length = 20.0, field_width = 20.0))]
-    fn new(n: usize, seed: u64, vision: &str, others: &str, field_length: f64, field_width: f64) -> PyResult<Self> {
+    #[pyo3(signature = (n, seed = 0, vision = "framework", others = "handcoded", field_length = 20.0, field_width = 20.0, server_timer = "real-time"))]
+    fn new(
+        n: usize,
+        seed: u64,
+        vision: &str,
+        others: &str,
+        field_length: f64,
+        field_width: f64,
+        server_timer: &str,
+    ) -> PyResult<Self> {
         if n == 0 {
             return Err(value_error("a batch needs at least one game"));
         }
-        let settings = Settings::new(1, vision, others, field_length, field_width)?;
+        let settings = Settings::new(1, vision, others, field_length, field_width, server_timer)?;
         let games = (0..n).map(|i| settings.game(seed, i)).collect::<PyResult<Vec<_>>>()?;
         Ok(KeepawayBatch {
             settings,

@@ -13,6 +13,8 @@ plan in any environment the caller steps and learns which option pays best.
 True
 """
 
+from __future__ import annotations
+
 from ._native import (
     ALGORITHMS,
     PARAMETERS,

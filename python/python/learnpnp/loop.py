@@ -1,12 +1,34 @@
 """The environment loop of a ``PlanAgent`` in a gymnasium environment."""
 
-from typing import Any, Callable, Dict, Iterable, Optional, Sequence, Tuple
+from __future__ import annotations
+
+from typing import Any, Callable, Dict, Iterable, Optional, Protocol, Sequence, SupportsFloat, Tuple, TypeVar
+
+from ._native import PlanAgent
+
+_Obs = TypeVar("_Obs", covariant=True)
+
+
+class SteppedEnv(Protocol[_Obs]):
+    """What ``run_episode`` needs of an environment: gymnasium's ``reset`` and
+    ``step`` with a discrete action (its index), as every ``gymnasium.Env`` of
+    a ``Discrete`` action space has."""
+
+    def reset(
+        self, *, seed: Optional[int] = None, options: Optional[Dict[str, Any]] = None
+    ) -> Tuple[_Obs, Dict[str, Any]]:
+        """Starts an episode: its first observation and an info dict."""
+        ...
+
+    def step(self, action: int, /) -> Tuple[_Obs, SupportsFloat, bool, bool, Dict[str, Any]]:
+        """Takes action ``action``: observation, reward, terminated, truncated, info."""
+        ...
 
 
 def run_episode(
-    env: Any,
-    agent: Any,
-    atoms: Callable[[Any], Iterable[str]],
+    env: SteppedEnv[_Obs],
+    agent: PlanAgent,
+    atoms: Callable[[_Obs], Iterable[str]],
     actions: Sequence[str],
     *,
     seed: Optional[int] = None,

@@ -14,15 +14,23 @@ duration from the first decision on. The observation is the 13 state variables
 of the keepaway papers, seen from the deciding keeper (distances in metres,
 angles in degrees). With seed ``s`` an environment plays run 0 of a ``learnpnp
 experiment`` of base seed ``s`` (copy ``i`` of a vector plays run ``i``).
+``server_timer`` is ``learnpnp experiment --server-timer``.
 """
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
 
 from .single import KeepawayPassEnv
 from .vector import KeepawayVectorEnv
 
+if TYPE_CHECKING:
+    from .aec import KeepawayAECEnv
+
 __all__ = ["KeepawayAECEnv", "KeepawayPassEnv", "KeepawayVectorEnv"]
 
 
-def __getattr__(name):
+def __getattr__(name: str) -> Any:
     """``KeepawayAECEnv`` is imported on first use: it needs PettingZoo, an
     optional dependency (``pip install './python[pettingzoo]'``)."""
     if name == "KeepawayAECEnv":

@@ -7,46 +7,63 @@ paid the seconds each step lasted, so each keeper's return is the episode's
 duration from the first decision on.
 """
 
+from __future__ import annotations
+
+from typing import Any, Dict, List, Optional, SupportsInt, Tuple
+
 import numpy as np
+from gymnasium import spaces
+from numpy.typing import NDArray
 from pettingzoo import AECEnv
 
 from .. import _native
 from .spaces import action_space, observation_space
 
 
-class KeepawayAECEnv(AECEnv):
+class KeepawayAECEnv(AECEnv[str, NDArray[np.float32], SupportsInt]):
     """Keepers ``keeper_0``, ``keeper_1``, ``keeper_2`` each decide hold or pass
     when they have the ball. Options as ``KeepawayPassEnv`` (``vision``,
-    ``field_length``, ``field_width``). A keeper's observation is the state
-    variables of its latest decision (zeros before its first).
+    ``field_length``, ``field_width``, ``server_timer``). A keeper's
+    observation is the state variables of its latest decision (zeros before
+    its first).
     """
 
-    metadata = {"name": "keepaway_v0", "render_modes": [], "is_parallelizable": False}
+    metadata: Dict[str, Any] = {"name": "keepaway_v0", "render_modes": [], "is_parallelizable": False}
+    #: Each keeper's latest decision's state variables (set by ``reset``).
+    _observations: Dict[str, NDArray[np.float32]]
 
-    def __init__(self, vision="framework", field_length=20.0, field_width=20.0, render_mode=None):
-        super().__init__()
+    def __init__(
+        self,
+        vision: str = "framework",
+        field_length: float = 20.0,
+        field_width: float = 20.0,
+        render_mode: Optional[str] = None,
+        server_timer: str = "real-time",
+    ) -> None:
+        super().__init__()  # type: ignore[no-untyped-call]  # (PettingZoo leaves it unannotated)
         if render_mode is not None:
             raise ValueError("KeepawayAECEnv has no render mode")
         self.render_mode = None
         self.possible_agents = [f"keeper_{k}" for k in range(3)]
         self._observation_space = observation_space(field_length, field_width)
         self._action_space = action_space()
-        self._game = _native.KeepawayGame(3, 0, vision, "handcoded", field_length, field_width)
+        self._game = _native.KeepawayGame(3, 0, vision, "handcoded", field_length, field_width, server_timer)
         self._seeded = False
 
-    def observation_space(self, agent):
+    def observation_space(self, agent: str) -> spaces.Box[np.float32]:
         """The 13 state variables."""
         return self._observation_space
 
-    def action_space(self, agent):
+    def action_space(self, agent: str) -> spaces.Discrete[np.int64]:
         """Hold, pass to the nearest teammate, pass to the second nearest."""
         return self._action_space
 
-    def observe(self, agent):
+    def observe(self, agent: str) -> NDArray[np.float32]:
         """The state variables of ``agent``'s latest decision."""
-        return self._observations[agent].copy()
+        observation: NDArray[np.float32] = self._observations[agent].copy()
+        return observation
 
-    def reset(self, seed=None, options=None):
+    def reset(self, seed: Optional[int] = None, options: Optional[Dict[str, Any]] = None) -> None:
         """Starts an episode at its first decision."""
         if seed is not None:
             self._game.reseed(seed)
@@ -65,13 +82,13 @@ class KeepawayAECEnv(AECEnv):
         self._decide(decision)
         self.infos[self.agent_selection].update(seconds_before=before, skipped_episodes=skipped)
 
-    def _decide(self, decision):
+    def _decide(self, decision: Tuple[int, List[float], int]) -> None:
         keeper, state, handcoded = decision
         self.agent_selection = self.possible_agents[keeper]
         self._observations[self.agent_selection] = np.asarray(state, dtype=np.float32)
         self.infos[self.agent_selection] = {"handcoded_action": handcoded}
 
-    def step(self, action):
+    def step(self, action: SupportsInt) -> None:
         """The selected keeper's decision; play goes on to the next one."""
         if self.terminations[self.agent_selection] or self.truncations[self.agent_selection]:
             self._was_dead_step(action)
@@ -88,9 +105,9 @@ class KeepawayAECEnv(AECEnv):
             self._decide(decision)
         self._accumulate_rewards()
 
-    def render(self):
+    def render(self) -> None:
         """No rendering (record games with ``learnpnp experiment --record``)."""
         return None
 
-    def close(self):
+    def close(self) -> None:
         """Nothing to release."""

@@ -1,10 +1,14 @@
 """The spaces the Keepaway environments share."""
 
+from __future__ import annotations
+
+from typing import Tuple
+
 import numpy as np
 from gymnasium import spaces
 
 #: Stone, Sutton and Kuhlmann's 13 state variables, in the papers' order.
-STATE_VARIABLES = (
+STATE_VARIABLES: Tuple[str, ...] = (
     "dist(K1,C)",
     "dist(K1,K2)",
     "dist(K1,K3)",
@@ -21,10 +25,10 @@ STATE_VARIABLES = (
 )
 
 #: The actions, by index.
-ACTIONS = ("hold", "pass-nearest", "pass-second-nearest")
+ACTIONS: Tuple[str, ...] = ("hold", "pass-nearest", "pass-second-nearest")
 
 
-def observation_space(field_length, field_width):
+def observation_space(field_length: float, field_width: float) -> spaces.Box[np.float32]:
     """The 13 state variables: distances and angles are never negative; the
     bound (four times the region's half-perimeter, at least 180 degrees) is
     one no distance on the field reaches."""
@@ -32,6 +36,6 @@ def observation_space(field_length, field_width):
     return spaces.Box(low=0.0, high=high, shape=(len(STATE_VARIABLES),), dtype=np.float32)
 
 
-def action_space():
+def action_space() -> spaces.Discrete[np.int64]:
     """Hold, pass to the nearest teammate, pass to the second nearest."""
     return spaces.Discrete(len(ACTIONS))

@@ -5,10 +5,14 @@ Each class lies in memory exactly as its Rust twin in ``shm_layouts/src/lib.rs``
 tests), and its ``type_name()`` is the Rust ``type_name``, so that iceoryx2
 connects Python ports to the Rust ones. Tags are plain integers, as in Rust:
 anything read from shared memory may hold any bit pattern and is checked
-before it is used.
+before it is used. (mypy reads a structure's fields as ``Any``: ``_fields_``
+gives their C types.)
 """
 
+from __future__ import annotations
+
 import ctypes
+from typing import Tuple, Type
 
 #: The version of the protocol; a message with another version is refused.
 PROTOCOL_VERSION = 1
@@ -100,7 +104,7 @@ class Header(ctypes.Structure):
     _fields_ = [("version", _u32), ("sender", _u32), ("run_id", _u64)]
 
     @staticmethod
-    def type_name():
+    def type_name() -> str:
         """The Rust type's name."""
         return "learnpnp::Header"
 
@@ -126,7 +130,7 @@ class WorldSnapshot(ctypes.Structure):
     ]
 
     @staticmethod
-    def type_name():
+    def type_name() -> str:
         """The Rust type's name."""
         return "learnpnp::WorldSnapshot"
 
@@ -145,7 +149,7 @@ class WorldCommand(ctypes.Structure):
     ]
 
     @staticmethod
-    def type_name():
+    def type_name() -> str:
         """The Rust type's name."""
         return "learnpnp::WorldCommand"
 
@@ -167,7 +171,7 @@ class WorldVocabulary(ctypes.Structure):
     ]
 
     @staticmethod
-    def type_name():
+    def type_name() -> str:
         """The Rust type's name."""
         return "learnpnp::WorldVocabulary"
 
@@ -185,7 +189,7 @@ class AgentReport(ctypes.Structure):
     ]
 
     @staticmethod
-    def type_name():
+    def type_name() -> str:
         """The Rust type's name."""
         return "learnpnp::AgentReport"
 
@@ -208,7 +212,7 @@ class Heartbeat(ctypes.Structure):
     ]
 
     @staticmethod
-    def type_name():
+    def type_name() -> str:
         """The Rust type's name."""
         return "learnpnp::Heartbeat"
 
@@ -226,10 +230,18 @@ class Control(ctypes.Structure):
     ]
 
     @staticmethod
-    def type_name():
+    def type_name() -> str:
         """The Rust type's name."""
         return "learnpnp::Control"
 
 
 #: Every message type whose layout ``shm_layouts/layouts.json`` lists.
-MESSAGE_TYPES = (Header, WorldSnapshot, WorldCommand, WorldVocabulary, AgentReport, Heartbeat, Control)
+MESSAGE_TYPES: Tuple[Type[ctypes.Structure], ...] = (
+    Header,
+    WorldSnapshot,
+    WorldCommand,
+    WorldVocabulary,
+    AgentReport,
+    Heartbeat,
+    Control,
+)

@@ -4,11 +4,17 @@ The supervisor creates every service of the run before it starts the world
 (``shm_layouts/README.md``, "A world in its own process"); the world opens
 them with the same limits as requirements, so a world started outside a run
 fails at once instead of waiting for agents that never come.
+
+iceoryx2's Python bindings carry no annotations, so its types (``iox.Node``,
+``iox.Publisher``, ...) name what each value is but read as ``Any`` to mypy.
 """
+
+from __future__ import annotations
 
 import ctypes
 import os
 import time
+from typing import Iterable, List, Optional, Tuple, Type, TypeVar, Union
 
 try:
     import iceoryx2 as iox
@@ -20,12 +26,17 @@ except ImportError as error:  # pragma: no cover - depends on the installation
 
 from .layouts import AgentReport, Control, Heartbeat, WorldCommand, WorldSnapshot, WorldVocabulary
 
+#: A message type (one of ``layouts``' structures).
+_Message = TypeVar("_Message", bound=ctypes.Structure)
+#: A service's (publishers, subscribers, subscriber buffer) limits.
+Limits = Tuple[int, int, int]
+
 #: Nodes every service of a run allows.
 MAX_NODES = 32
 #: (publishers, subscribers, buffer) of the services between the world and one agent.
-POINT_TO_POINT = (4, 4, 32)
+POINT_TO_POINT: Limits = (4, 4, 32)
 #: (publishers, subscribers, buffer) of the services every process uses.
-SHARED = (16, 16, 256)
+SHARED: Limits = (16, 16, 256)
 #: Listeners and notifiers of a wake-up event service.
 WAKE_LISTENERS, WAKE_NOTIFIERS = 2, 16
 
@@ -35,17 +46,17 @@ HEARTBEAT = "learnpnp/heartbeat"
 CONTROL = "learnpnp/control"
 
 
-def snapshot_service(agent):
+def snapshot_service(agent: int) -> str:
     """The service of agent ``agent``'s snapshots."""
     return f"learnpnp/world/agent/{agent}/snapshot"
 
 
-def command_service(agent):
+def command_service(agent: int) -> str:
     """The service of agent ``agent``'s commands."""
     return f"learnpnp/world/agent/{agent}/command"
 
 
-def wake_service(process):
+def wake_service(process: str) -> str:
     """The event service that wakes ``process`` (``world``, ``agent-0``, ...)."""
     return f"learnpnp/wake/{process}"
 
@@ -54,7 +65,7 @@ class WorldError(Exception):
     """The world cannot be served: a bad argument, environment or run."""
 
 
-def namespace_config(prefix, root):
+def namespace_config(prefix: str, root: str) -> iox.config.Config:
     """The iceoryx2 configuration of the run's namespace (prefix and root directory)."""
     config = iox.config.default()
     config.global_cfg.prefix = iox.FileName.new(prefix)
@@ -62,7 +73,9 @@ def namespace_config(prefix, root):
     return config
 
 
-def pubsub_builder(node, name, payload, limits):
+def pubsub_builder(
+    node: iox.Node, name: str, payload: Type[ctypes.Structure], limits: Limits
+) -> iox.ServiceBuilderPublishSubscribe:
     """The builder of publish-subscribe service ``name`` with the run's ``limits``."""
     publishers, subscribers, buffer = limits
     return (
@@ -77,7 +90,7 @@ def pubsub_builder(node, name, payload, limits):
     )
 
 
-def event_builder(node, name):
+def event_builder(node: iox.Node, name: str) -> iox.ServiceBuilderEvent:
     """The builder of wake-up event service ``name`` with the run's limits."""
     return (
         node.service_builder(iox.ServiceName.new(name))
@@ -88,7 +101,10 @@ def event_builder(node, name):
     )
 
 
-def _opened(name, builder):
+def _opened(
+    name: str, builder: Union[iox.ServiceBuilderPublishSubscribe, iox.ServiceBuilderEvent]
+) -> Union[iox.PortFactoryPublishSubscribe, iox.PortFactoryEvent]:
+    """The service ``builder`` opens, or a ``WorldError`` that names it."""
     try:
         return builder.open()
     except Exception as error:  # iceoryx2's open errors share no base class
@@ -98,7 +114,7 @@ def _opened(name, builder):
         ) from error
 
 
-def copy_of(sample, payload):
+def copy_of(sample: iox.Sample, payload: Type[_Message]) -> _Message:
     """A copy of ``sample``'s payload (read once from shared memory, then released)."""
     value = payload()
     ctypes.memmove(ctypes.addressof(value), sample.payload_ptr, ctypes.sizeof(payload))
@@ -108,9 +124,10 @@ def copy_of(sample, payload):
 class WorldPorts:
     """Every port of the world process, on one node of the run's namespace."""
 
-    def __init__(self, prefix, root, agents, notifies):
+    def __init__(self, prefix: str, root: str, agents: int, notifies: bool) -> None:
         try:
-            self.node = (
+            #: The world's node (None once closed).
+            self.node: Optional[iox.Node] = (
                 iox.NodeBuilder.new()
                 .name(iox.NodeName.new("world"))
                 .config(namespace_config(prefix, root))
@@ -119,48 +136,50 @@ class WorldPorts:
             )
         except Exception as error:
             raise WorldError(f"cannot create the iceoryx2 node in {root!r} ({error!r})") from error
-        self._services = []
-        self.vocabulary = self._publisher(VOCABULARY, WorldVocabulary, SHARED)
-        self.heartbeat = self._publisher(HEARTBEAT, Heartbeat, SHARED)
-        self.reports = self._subscriber(AGENT_REPORT, AgentReport, SHARED)
-        self.control = self._subscriber(CONTROL, Control, SHARED)
-        self.snapshots = [self._publisher(snapshot_service(a), WorldSnapshot, POINT_TO_POINT) for a in range(agents)]
-        self.commands = [self._subscriber(command_service(a), WorldCommand, POINT_TO_POINT) for a in range(agents)]
-        self.wake = self._event("world").listener_builder().create()
-        self.agent_wakes = (
+        self._services: List[Union[iox.PortFactoryPublishSubscribe, iox.PortFactoryEvent]] = []
+        self.vocabulary: iox.Publisher = self._publisher(VOCABULARY, WorldVocabulary, SHARED)
+        self.heartbeat: iox.Publisher = self._publisher(HEARTBEAT, Heartbeat, SHARED)
+        self.reports: iox.Subscriber = self._subscriber(AGENT_REPORT, AgentReport, SHARED)
+        self.control: iox.Subscriber = self._subscriber(CONTROL, Control, SHARED)
+        self.snapshots: List[iox.Publisher] = [self._publisher(snapshot_service(a), WorldSnapshot, POINT_TO_POINT) for a in range(agents)]
+        self.commands: List[iox.Subscriber] = [self._subscriber(command_service(a), WorldCommand, POINT_TO_POINT) for a in range(agents)]
+        #: The world's wake-up listener.
+        self.wake: iox.Listener = self._event("world").listener_builder().create()
+        #: Each agent's wake-up notifier (none when the run does not block).
+        self.agent_wakes: List[iox.Notifier] = (
             [self._event(f"agent-{a}").notifier_builder().create() for a in range(agents)] if notifies else []
         )
 
-    def _publisher(self, name, payload, limits):
+    def _publisher(self, name: str, payload: Type[ctypes.Structure], limits: Limits) -> iox.Publisher:
         service = _opened(name, pubsub_builder(self.node, name, payload, limits))
         self._services.append(service)
         return service.publisher_builder().create()
 
-    def _subscriber(self, name, payload, limits):
+    def _subscriber(self, name: str, payload: Type[ctypes.Structure], limits: Limits) -> iox.Subscriber:
         service = _opened(name, pubsub_builder(self.node, name, payload, limits))
         self._services.append(service)
         return service.subscriber_builder().create()
 
-    def _event(self, process):
+    def _event(self, process: str) -> iox.PortFactoryEvent:
         name = wake_service(process)
         service = _opened(name, event_builder(self.node, name))
         self._services.append(service)
         return service
 
-    def send_snapshot(self, agent, snapshot):
+    def send_snapshot(self, agent: int, snapshot: WorldSnapshot) -> None:
         """Publishes ``snapshot`` to ``agent``, then wakes it if the run blocks."""
         self.snapshots[agent].send_copy(snapshot)
         if self.agent_wakes:
             self.agent_wakes[agent].notify()
 
-    def send_vocabulary(self, parts):
+    def send_vocabulary(self, parts: Iterable[WorldVocabulary]) -> None:
         """Publishes every part of the vocabulary, then wakes every agent if the run blocks."""
         for part in parts:
             self.vocabulary.send_copy(part)
         for wake in self.agent_wakes:
             wake.notify()
 
-    def close(self):
+    def close(self) -> None:
         """Releases the ports, the services and the node (the run's services live on)."""
         ports = [*self.agent_wakes, self.wake, *self.commands, *self.snapshots]
         ports += [self.control, self.reports, self.heartbeat, self.vocabulary]
@@ -193,12 +212,12 @@ class Idle:
     ``HYBRID_YIELD_NS``, then blocks.
     """
 
-    def __init__(self, strategy, listener):
+    def __init__(self, strategy: str, listener: iox.Listener) -> None:
         self.strategy = strategy
         self.listener = listener
         self.since = time.monotonic_ns()
 
-    def pause(self, limit_ns=MAX_BLOCK_NS):
+    def pause(self, limit_ns: int = MAX_BLOCK_NS) -> None:
         """Pauses once between two polls, for at most about ``limit_ns``."""
         if self.strategy == "spin":
             return
@@ -217,7 +236,7 @@ class Idle:
             if "Interrupt" not in repr(error):
                 raise
 
-    def pause_until(self, deadline_ns):
+    def pause_until(self, deadline_ns: int) -> None:
         """Pauses once, returning by ``deadline_ns`` (``time.monotonic_ns()``)."""
         left = deadline_ns - time.monotonic_ns()
         if self.strategy in ("block", "hybrid") and left <= TIMED_WAIT_SLACK_NS:

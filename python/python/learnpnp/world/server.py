@@ -6,10 +6,30 @@ then episodes of snapshots answered by commands (lock-step or real time),
 each command checked and refused by reason when it is wrong.
 """
 
+from __future__ import annotations
+
 import math
 import os
 import time
 from dataclasses import dataclass
+from typing import (
+    Any,
+    Callable,
+    Dict,
+    Generic,
+    Iterable,
+    List,
+    Mapping,
+    Optional,
+    Protocol,
+    Sequence,
+    Set,
+    SupportsFloat,
+    Tuple,
+    TypeVar,
+    Union,
+    cast,
+)
 
 from .layouts import (
     MAX_ACTIONS,
@@ -38,6 +58,27 @@ from .layouts import (
 )
 from .ports import WAIT_STRATEGIES, Idle, WorldError, WorldPorts, copy_of
 
+_T = TypeVar("_T")
+_Obs = TypeVar("_Obs")
+_Obs_co = TypeVar("_Obs_co", covariant=True)
+
+#: A command's action: its index (or ``NO_ACTION``) and its numeric arguments.
+_Action = Tuple[int, Tuple[float, ...]]
+
+
+class WorldEnv(Protocol[_Obs_co]):
+    """What ``serve`` needs of an environment: gymnasium's ``reset`` and
+    ``step`` (every ``gymnasium.Env`` has them)."""
+
+    def reset(self, *, seed: Optional[int] = None) -> Tuple[_Obs_co, Dict[str, Any]]:
+        """Starts an episode: its first observation and an info dict."""
+        ...
+
+    def step(self, action: Any, /) -> Tuple[_Obs_co, SupportsFloat, bool, bool, Any]:
+        """Takes ``action``: observation, reward, terminated, truncated, info
+        (a dict, whose ``action_status`` is read)."""
+        ...
+
 #: About how often the world publishes its heartbeat and, while it waits for
 #: agents, its vocabulary.
 ANNOUNCE_NS = 100_000_000
@@ -46,7 +87,7 @@ ANNOUNCE_NS = 100_000_000
 STOPPING_LINGER_S = 0.05
 
 #: ``info["action_status"]`` values a step may report (default ``"finished"``).
-ACTION_STATUSES = {"running": ActionStatus.RUNNING, "finished": ActionStatus.FINISHED, "failed": ActionStatus.FAILED}
+ACTION_STATUSES: Dict[str, int] = {"running": ActionStatus.RUNNING, "finished": ActionStatus.FINISHED, "failed": ActionStatus.FAILED}
 
 
 @dataclass(frozen=True)
@@ -63,11 +104,11 @@ class RunSettings:
     seed: int
 
     @classmethod
-    def from_environment(cls, environ=None):
+    def from_environment(cls, environ: Optional[Mapping[str, str]] = None) -> RunSettings:
         """Reads the ``LEARNPNP_*`` variables (``environ``: default ``os.environ``)."""
         environ = os.environ if environ is None else environ
 
-        def variable(name, parse, expected):
+        def variable(name: str, parse: Callable[[str], _T], expected: str) -> _T:
             text = environ.get(name)
             if text is None:
                 raise WorldError(
@@ -79,8 +120,8 @@ class RunSettings:
             except ValueError:
                 raise WorldError(f"{name}={text!r}: expected {expected}") from None
 
-        def natural(low, high):
-            def parse(text):
+        def natural(low: int, high: int) -> Callable[[str], int]:
+            def parse(text: str) -> int:
                 value = int(text, 10)
                 if not low <= value <= high:
                     raise ValueError(text)
@@ -88,20 +129,20 @@ class RunSettings:
 
             return parse
 
-        def one_of(choices):
-            def parse(text):
+        def one_of(choices: Tuple[str, ...]) -> Callable[[str], str]:
+            def parse(text: str) -> str:
                 if text not in choices:
                     raise ValueError(text)
                 return text
 
             return parse
 
-        def prefix(text):
+        def prefix(text: str) -> str:
             if not (text.startswith("lp") and text.replace("_", "").isalnum() and text.isascii() and len(text) <= 64):
                 raise ValueError(text)
             return text
 
-        def directory(text):
+        def directory(text: str) -> str:
             if not text.endswith("/"):
                 raise ValueError(text)
             return text
@@ -125,8 +166,8 @@ class RunSettings:
         )
 
 
-def _checked_names(kind, names, limit):
-    names = tuple(names)
+def _checked_names(kind: str, given: Iterable[str], limit: int) -> Tuple[str, ...]:
+    names = tuple(given)
     if len(names) > limit:
         raise WorldError(f"{len(names)} {kind}: a world has at most {limit}")
     for name in names:
@@ -144,23 +185,23 @@ def _checked_names(kind, names, limit):
 class Vocabulary:
     """The world's names: atoms, fluents and actions, each in index order."""
 
-    atoms: tuple
-    fluents: tuple
-    actions: tuple
+    atoms: Tuple[str, ...]
+    fluents: Tuple[str, ...]
+    actions: Tuple[str, ...]
 
     @classmethod
-    def checked(cls, atoms, fluents, actions):
+    def checked(cls, atoms: Iterable[str], fluents: Iterable[str], actions: Iterable[str]) -> Vocabulary:
         """The vocabulary of these names, refused if a limit is exceeded."""
-        actions = _checked_names("actions", actions, MAX_ACTIONS)
-        if not actions:
+        checked_actions = _checked_names("actions", actions, MAX_ACTIONS)
+        if not checked_actions:
             raise WorldError("a world has at least one action")
         return cls(
             _checked_names("atoms", atoms, MAX_ATOMS),
             _checked_names("fluents", fluents, MAX_FLUENTS),
-            actions,
+            checked_actions,
         )
 
-    def parts(self, header, agents):
+    def parts(self, header: Header, agents: int) -> List[WorldVocabulary]:
         """The ``WorldVocabulary`` messages that carry every name."""
         names = [*self.atoms, *self.fluents, *self.actions]
         count = math.ceil(len(names) / NAMES_PER_PART)
@@ -186,12 +227,24 @@ class Vocabulary:
         return parts
 
 
-class _Slot:
+class _Slot(Generic[_Obs]):
     """One agent's environment and where it stands in the episode."""
 
     RUNNING, ENDED, DONE = "running", "ended", "done"
 
-    def __init__(self, env):
+    #: The environment's latest observation (None before the first episode).
+    observation: Optional[_Obs]
+    #: ``RUNNING``, ``ENDED`` or ``DONE``.
+    phase: str
+    #: The steps taken in the episode.
+    step: int
+    #: An ``EpisodeStatus`` and an ``ActionStatus`` tag.
+    episode_status: int
+    action_status: int
+    command: Optional[_Action]
+    last_action: Optional[_Action]
+
+    def __init__(self, env: WorldEnv[_Obs]) -> None:
         self.env = env
         #: The cycle of the last snapshot sent: the cycle its answer must carry.
         self.expected_cycle = 0
@@ -200,7 +253,7 @@ class _Slot:
         self.begin(None)
         self.phase = self.DONE
 
-    def begin(self, observation):
+    def begin(self, observation: Optional[_Obs]) -> None:
         """A new episode from ``observation``."""
         self.observation = observation
         self.phase = self.RUNNING
@@ -216,16 +269,24 @@ class _Slot:
         #: Real time: the last action taken (index, args), repeated when a command misses its deadline.
         self.last_action = None
 
-    def end(self, episode_status, action_status):
+    def end(self, episode_status: int, action_status: int) -> None:
         """The episode has ended with ``episode_status``: its last snapshot is due."""
         self.phase, self.end_due = self.ENDED, True
         self.episode_status, self.action_status = episode_status, action_status
 
 
-class _World:
+class _World(Generic[_Obs]):
     """The world process: its run, its environments and its counters."""
 
-    def __init__(self, settings, vocabulary, envs, atoms, fluents, env_action):
+    def __init__(
+        self,
+        settings: RunSettings,
+        vocabulary: Vocabulary,
+        envs: Sequence[WorldEnv[_Obs]],
+        atoms: Callable[[_Obs], Iterable[str]],
+        fluents: Optional[Callable[[_Obs], Iterable[SupportsFloat]]],
+        env_action: Callable[[int, Tuple[float, ...]], Any],
+    ) -> None:
         self.settings = settings
         self.vocabulary = vocabulary
         self.slots = [_Slot(env) for env in envs]
@@ -242,23 +303,23 @@ class _World:
         self.stop = False
         self.parent = os.getppid()
         #: Agents whose readiness the world waits for.
-        self.awaiting = set(range(settings.agents))
+        self.awaiting: Set[int] = set(range(settings.agents))
         #: The process id the supervisor named for a lost agent's replacement.
-        self.expected_pid = {}
+        self.expected_pid: Dict[int, int] = {}
         #: The process id of each agent's last readiness report.
-        self.ready_pid = {}
+        self.ready_pid: Dict[int, int] = {}
         #: The agents lost during the episode in flight.
-        self.lost = set()
+        self.lost: Set[int] = set()
         self.episode = 0
         self.cycle = 0
 
     # -- housekeeping: heartbeat, control, reports --------------------------------
 
-    def reject(self, reason):
+    def reject(self, reason: int) -> None:
         """Counts one refused message."""
         self.heartbeat.rejected[reason] += 1
 
-    def housekeeping(self):
+    def housekeeping(self) -> None:
         """The heartbeat if due, then the supervisor's commands and the agents' reports."""
         now = time.monotonic_ns()
         if now >= self.next_heartbeat_ns:
@@ -273,13 +334,13 @@ class _World:
         while (sample := self.ports.reports.receive()) is not None:
             self.apply_report(copy_of(sample, AgentReport))
 
-    def send_heartbeat(self):
+    def send_heartbeat(self) -> None:
         """Publishes the heartbeat now."""
         self.heartbeat.sequence += 1
         self.heartbeat.cycles = self.cycle
         self.ports.heartbeat.send_copy(self.heartbeat)
 
-    def header_refusal(self, header, sender_allowed):
+    def header_refusal(self, header: Header, sender_allowed: Callable[[int], bool]) -> Optional[int]:
         """Why a message with ``header`` is refused, or None."""
         if header.version != PROTOCOL_VERSION:
             return Reject.VERSION
@@ -289,7 +350,7 @@ class _World:
             return Reject.SENDER
         return None
 
-    def apply_control(self, msg):
+    def apply_control(self, msg: Control) -> None:
         """Acts on one of the supervisor's commands (STOP, KEEPER_LOST), refusing bad ones."""
         refusal = self.header_refusal(msg.header, lambda s: s == SENDER_SUPERVISOR)
         if refusal is None and msg.reserved != 0:
@@ -308,7 +369,7 @@ class _World:
         elif msg.command not in (ControlCommand.CHECKPOINT, ControlCommand.SIM_RESTARTED):
             self.reject(Reject.CONTENT)
 
-    def apply_report(self, msg):
+    def apply_report(self, msg: AgentReport) -> None:
         """Records an agent's readiness; an episode's end report needs nothing from the world."""
         refusal = self.header_refusal(msg.header, lambda s: s < self.settings.agents)
         if refusal is not None:
@@ -328,7 +389,7 @@ class _World:
 
     # -- commands -------------------------------------------------------------------
 
-    def command_refusal(self, msg, agent):
+    def command_refusal(self, msg: WorldCommand, agent: int) -> Optional[int]:
         """Why agent ``agent``'s command is refused whatever its cycle, or None."""
         refusal = self.header_refusal(msg.header, lambda s: s == agent)
         if refusal is not None:
@@ -338,7 +399,7 @@ class _World:
             return Reject.CONTENT
         return None
 
-    def read_commands(self):
+    def read_commands(self) -> None:
         """Takes every command that answers its agent's last snapshot; refuses the others."""
         for agent, slot in enumerate(self.slots):
             subscriber = self.ports.commands[agent]
@@ -360,7 +421,7 @@ class _World:
                 elif not (self.settings.realtime and this_episode and msg.cycle < slot.expected_cycle):
                     self.reject(Reject.SEQUENCE)  # (in real time a late command is dropped, not refused)
 
-    def drain_commands(self):
+    def drain_commands(self) -> None:
         """Drops the commands left from an episode that is over, refusing invalid ones."""
         for agent, subscriber in enumerate(self.ports.commands):
             while (sample := subscriber.receive()) is not None:
@@ -370,7 +431,7 @@ class _World:
 
     # -- snapshots ------------------------------------------------------------------
 
-    def snapshot(self, agent, slot, episode_status):
+    def snapshot(self, agent: int, slot: _Slot[_Obs], episode_status: int) -> WorldSnapshot:
         """Agent ``agent``'s snapshot of ``slot`` for the current cycle."""
         msg = WorldSnapshot(
             header=self.header,
@@ -384,13 +445,15 @@ class _World:
             episode_status=episode_status,
             action_status=slot.action_status,
         )
-        for name in self.atoms(slot.observation):
+        # Every episode begins with the environment's observation (None only before the first).
+        observation = cast(_Obs, slot.observation)
+        for name in self.atoms(observation):
             index = self.atom_index.get(name)
             if index is None:
                 raise WorldError(f"atoms() returned {name!r}, which is not among atom_names")
             msg.atoms[index // 64] |= 1 << (index % 64)
         if self.fluents is not None:
-            values = [float(v) for v in self.fluents(slot.observation)]
+            values = [float(v) for v in self.fluents(observation)]
             if len(values) != len(self.vocabulary.fluents):
                 expected = len(self.vocabulary.fluents)
                 raise WorldError(f"fluents() returned {len(values)} values for {expected} fluent_names")
@@ -401,7 +464,7 @@ class _World:
         msg.sent_ns = time.monotonic_ns()
         return msg
 
-    def publish(self, aborted=False):
+    def publish(self, aborted: bool = False) -> None:
         """Begins a cycle: a snapshot to every agent whose episode goes on or has just ended."""
         self.cycle += 1
         for agent, slot in enumerate(self.slots):
@@ -414,7 +477,7 @@ class _World:
 
     # -- the world's life -----------------------------------------------------------
 
-    def run(self):
+    def run(self) -> None:
         """Serves the run until the supervisor says STOP."""
         try:
             self.housekeeping()
@@ -430,7 +493,7 @@ class _World:
             time.sleep(STOPPING_LINGER_S)
             self.ports.close()
 
-    def wait_ready(self):
+    def wait_ready(self) -> None:
         """Announces the vocabulary until every awaited agent has said it is ready."""
         self.heartbeat.state = State.READY
         idle = Idle(self.settings.wait, self.ports.wake)
@@ -444,13 +507,13 @@ class _World:
                 self.next_vocabulary_ns = now + ANNOUNCE_NS
             idle.pause()
 
-    def reset(self, agent, slot):
+    def reset(self, agent: int, slot: _Slot[_Obs]) -> None:
         """Resets ``slot``'s environment: with the run's seed (plus the agent) the first time."""
         seed = self.settings.seed + agent if self.episode == 1 else None
         observation, _info = slot.env.reset(seed=seed)
         slot.begin(observation)
 
-    def play_episode(self):
+    def play_episode(self) -> None:
         """One episode, from the reset to every agent's acknowledgement of its end
         (or to an agent's loss, or STOP)."""
         self.heartbeat.state = State.RUNNING
@@ -482,7 +545,7 @@ class _World:
             on_schedule = published_ns - deadline_ns < self.settings.period_ns // 2
             deadline_ns = (deadline_ns if on_schedule else published_ns) + self.settings.period_ns
 
-    def abort(self):
+    def abort(self) -> None:
         """An agent was lost: every agent is told the episode is discarded, and
         the world waits for each to say it is ready again (a lost one's
         replacement, with the process id the supervisor named)."""
@@ -490,11 +553,11 @@ class _World:
         self.heartbeat.aborted_episodes += 1
         self.awaiting.update(a for a in range(self.settings.agents) if a not in self.lost)
 
-    def episode_over(self):
+    def episode_over(self) -> bool:
         """Whether every agent has acknowledged the end of its episode."""
         return all(slot.phase == _Slot.DONE for slot in self.slots)
 
-    def collect(self, deadline_ns):
+    def collect(self, deadline_ns: int) -> str:
         """Waits for the commands of the cycle. Returns ``"answered"`` (all in;
         in real time, acknowledgements of ended episodes may come later),
         ``"deadline"`` (real time: the running agents' deadline passed),
@@ -519,7 +582,7 @@ class _World:
             else:
                 idle.pause()
 
-    def sleep_until(self, deadline_ns):
+    def sleep_until(self, deadline_ns: int) -> str:
         """Real time: waits for the cycle's end, keeping the heartbeat and control.
         Returns ``"next"``, ``"lost"`` or ``"stop"``."""
         idle = Idle(self.settings.wait, self.ports.wake)
@@ -532,7 +595,7 @@ class _World:
             idle.pause_until(deadline_ns)
         return "next"
 
-    def advance(self, missed_deadline):
+    def advance(self, missed_deadline: bool) -> None:
         """Steps every running environment with its command (real time: the
         last action again if the command missed its deadline); takes the
         acknowledgements of ended episodes."""
@@ -566,7 +629,7 @@ class _World:
                 slot.end(EpisodeStatus.TERMINATED if terminated else EpisodeStatus.TRUNCATED, slot.action_status)
 
     @staticmethod
-    def action_status(info):
+    def action_status(info: Any) -> int:
         """The status of the action a step took, from ``info["action_status"]`` (default finished)."""
         name = info.get("action_status", "finished") if isinstance(info, dict) else "finished"
         if name not in ACTION_STATUSES:
@@ -574,7 +637,17 @@ class _World:
         return ACTION_STATUSES[name]
 
 
-def serve(env, atoms, actions, *, atom_names, fluents=None, fluent_names=(), env_action=None, environ=None):
+def serve(
+    env: Union[WorldEnv[_Obs], List[WorldEnv[_Obs]], Tuple[WorldEnv[_Obs], ...]],
+    atoms: Callable[[_Obs], Iterable[str]],
+    actions: Iterable[str],
+    *,
+    atom_names: Iterable[str],
+    fluents: Optional[Callable[[_Obs], Iterable[SupportsFloat]]] = None,
+    fluent_names: Iterable[str] = (),
+    env_action: Optional[Callable[[int, Tuple[float, ...]], Any]] = None,
+    environ: Optional[Mapping[str, str]] = None,
+) -> None:
     """Serves ``env`` as the world process of a learnpnp run, until the supervisor says STOP.
 
     Run it as the run's world command (``learnpnp-supervisor --world-cmd
