@@ -29,6 +29,37 @@ def test_size_offsets_and_type_name(name):
     assert mirror.type_name() == f"learnpnp::{name}"
 
 
+#: The ctypes scalars of the messages: how layouts.py names each, and the Python type ctypes reads it as.
+SCALARS = {
+    ctypes.c_uint8: ("c_uint8", "int"),
+    ctypes.c_uint32: ("c_uint32", "int"),
+    ctypes.c_uint64: ("c_uint64", "int"),
+    ctypes.c_double: ("c_double", "float"),
+}
+
+
+def element(c_type):
+    """An array's element as an annotation names it (``ctypes.c_uint8``, ...)."""
+    if issubclass(c_type, ctypes.Array):
+        return f"ctypes.Array[{element(c_type._type_)}]"
+    return f"ctypes.{SCALARS[c_type][0]}"
+
+
+def annotation(c_type):
+    """The annotation of a field of C type ``c_type``: the Python type ctypes
+    reads it as, a ``ctypes.Array`` for arrays, the structure for structures."""
+    if issubclass(c_type, ctypes.Array):
+        return f"ctypes.Array[{element(c_type._type_)}]"
+    return SCALARS[c_type][1] if c_type in SCALARS else c_type.__name__
+
+
+@pytest.mark.parametrize("name", sorted(LAYOUTS["types"]))
+def test_annotations_match_the_fields(name):
+    # What a type checker reads (the annotations) is what ctypes lays out (_fields_), in order.
+    mirror = MIRRORS[name]
+    assert list(mirror.__annotations__.items()) == [(f, annotation(t)) for f, t in mirror._fields_]
+
+
 def test_limits_and_protocol_version():
     assert LAYOUTS["protocol_version"] == world.PROTOCOL_VERSION
     assert LAYOUTS["limits"] == {

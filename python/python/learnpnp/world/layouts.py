@@ -5,8 +5,8 @@ Each class lies in memory exactly as its Rust twin in ``shm_layouts/src/lib.rs``
 tests), and its ``type_name()`` is the Rust ``type_name``, so that iceoryx2
 connects Python ports to the Rust ones. Tags are plain integers, as in Rust:
 anything read from shared memory may hold any bit pattern and is checked
-before it is used. (mypy reads a structure's fields as ``Any``: ``_fields_``
-gives their C types.)
+before it is used. Each structure annotates its fields with the Python
+types ctypes gives them (``_fields_`` gives the C types).
 """
 
 from __future__ import annotations
@@ -101,6 +101,10 @@ _u8, _u32, _u64, _f64 = ctypes.c_uint8, ctypes.c_uint32, ctypes.c_uint64, ctypes
 class Header(ctypes.Structure):
     """Begins every message: protocol version, sender, run id."""
 
+    version: int
+    sender: int
+    run_id: int
+
     _fields_ = [("version", _u32), ("sender", _u32), ("run_id", _u64)]
 
     @staticmethod
@@ -111,6 +115,21 @@ class Header(ctypes.Structure):
 
 class WorldSnapshot(ctypes.Structure):
     """One agent's knowledge-base snapshot: world to agent ``agent``."""
+
+    header: Header
+    episode: int
+    cycle: int
+    sent_ns: int
+    answer_cycle: int
+    answer_received_ns: int
+    reward: float
+    agent: int
+    step: int
+    episode_status: int
+    action_status: int
+    reserved: ctypes.Array[ctypes.c_uint8]
+    atoms: ctypes.Array[ctypes.c_uint64]
+    fluents: ctypes.Array[ctypes.c_double]
 
     _fields_ = [
         ("header", Header),
@@ -138,6 +157,14 @@ class WorldSnapshot(ctypes.Structure):
 class WorldCommand(ctypes.Structure):
     """An agent's answer to one snapshot: an action index (or ``NO_ACTION``) and its arguments."""
 
+    header: Header
+    episode: int
+    cycle: int
+    compute_ns: int
+    action: int
+    reserved: int
+    args: ctypes.Array[ctypes.c_double]
+
     _fields_ = [
         ("header", Header),
         ("episode", _u64),
@@ -156,6 +183,17 @@ class WorldCommand(ctypes.Structure):
 
 class WorldVocabulary(ctypes.Structure):
     """One part of the world's names (atoms, then fluents, then actions)."""
+
+    header: Header
+    atoms: int
+    fluents: int
+    actions: int
+    agents: int
+    part: int
+    parts: int
+    first: int
+    count: int
+    names: ctypes.Array[ctypes.Array[ctypes.c_uint8]]
 
     _fields_ = [
         ("header", Header),
@@ -179,6 +217,13 @@ class WorldVocabulary(ctypes.Structure):
 class AgentReport(ctypes.Structure):
     """An agent is ready (its pid) or has ended an episode."""
 
+    header: Header
+    episode: int
+    kind: int
+    pid: int
+    exploratory: int
+    reserved: ctypes.Array[ctypes.c_uint8]
+
     _fields_ = [
         ("header", Header),
         ("episode", _u64),
@@ -196,6 +241,18 @@ class AgentReport(ctypes.Structure):
 
 class Heartbeat(ctypes.Structure):
     """A process is alive, with its counters."""
+
+    header: Header
+    pid: int
+    state: int
+    sequence: int
+    episodes: int
+    cycles: int
+    rejected: ctypes.Array[ctypes.c_uint64]
+    missed_deadlines: int
+    aborted_episodes: int
+    checkpoints: int
+    checkpoint_failures: int
 
     _fields_ = [
         ("header", Header),
@@ -219,6 +276,13 @@ class Heartbeat(ctypes.Structure):
 
 class Control(ctypes.Structure):
     """A command of the supervisor."""
+
+    header: Header
+    command: int
+    target: int
+    sequence: int
+    pid: int
+    reserved: int
 
     _fields_ = [
         ("header", Header),

@@ -141,8 +141,12 @@ class WorldPorts:
         self.heartbeat: iox.Publisher = self._publisher(HEARTBEAT, Heartbeat, SHARED)
         self.reports: iox.Subscriber = self._subscriber(AGENT_REPORT, AgentReport, SHARED)
         self.control: iox.Subscriber = self._subscriber(CONTROL, Control, SHARED)
-        self.snapshots: List[iox.Publisher] = [self._publisher(snapshot_service(a), WorldSnapshot, POINT_TO_POINT) for a in range(agents)]
-        self.commands: List[iox.Subscriber] = [self._subscriber(command_service(a), WorldCommand, POINT_TO_POINT) for a in range(agents)]
+        self.snapshots: List[iox.Publisher] = [
+            self._publisher(snapshot_service(a), WorldSnapshot, POINT_TO_POINT) for a in range(agents)
+        ]
+        self.commands: List[iox.Subscriber] = [
+            self._subscriber(command_service(a), WorldCommand, POINT_TO_POINT) for a in range(agents)
+        ]
         #: The world's wake-up listener.
         self.wake: iox.Listener = self._event("world").listener_builder().create()
         #: Each agent's wake-up notifier (none when the run does not block).

@@ -79,6 +79,7 @@ class WorldEnv(Protocol[_Obs_co]):
         (a dict, whose ``action_status`` is read)."""
         ...
 
+
 #: About how often the world publishes its heartbeat and, while it waits for
 #: agents, its vocabulary.
 ANNOUNCE_NS = 100_000_000
@@ -87,7 +88,11 @@ ANNOUNCE_NS = 100_000_000
 STOPPING_LINGER_S = 0.05
 
 #: ``info["action_status"]`` values a step may report (default ``"finished"``).
-ACTION_STATUSES: Dict[str, int] = {"running": ActionStatus.RUNNING, "finished": ActionStatus.FINISHED, "failed": ActionStatus.FAILED}
+ACTION_STATUSES: Dict[str, int] = {
+    "running": ActionStatus.RUNNING,
+    "finished": ActionStatus.FINISHED,
+    "failed": ActionStatus.FAILED,
+}
 
 
 @dataclass(frozen=True)
@@ -222,7 +227,7 @@ class Vocabulary:
             )
             for slot, name in enumerate(chunk):
                 encoded = name.encode("utf-8")
-                part.names[slot][: len(encoded)] = encoded
+                part.names[slot][: len(encoded)] = list(encoded)
             parts.append(part)
         return parts
 
