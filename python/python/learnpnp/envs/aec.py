@@ -20,7 +20,8 @@ from .. import _native
 from .spaces import action_space, observation_space
 
 
-class KeepawayAECEnv(AECEnv[str, NDArray[np.float32], SupportsInt]):
+# An action is None for a keeper whose episode has ended (PettingZoo's dead step).
+class KeepawayAECEnv(AECEnv[str, NDArray[np.float32], Optional[SupportsInt]]):
     """Keepers ``keeper_0``, ``keeper_1``, ``keeper_2`` each decide hold or pass
     when they have the ball. Options as ``KeepawayPassEnv`` (``vision``,
     ``field_length``, ``field_width``, ``server_timer``). A keeper's
@@ -88,11 +89,15 @@ class KeepawayAECEnv(AECEnv[str, NDArray[np.float32], SupportsInt]):
         self._observations[self.agent_selection] = np.asarray(state, dtype=np.float32)
         self.infos[self.agent_selection] = {"handcoded_action": handcoded}
 
-    def step(self, action: SupportsInt) -> None:
-        """The selected keeper's decision; play goes on to the next one."""
+    def step(self, action: Optional[SupportsInt]) -> None:
+        """The selected keeper's decision; play goes on to the next one. A
+        keeper whose episode has ended is stepped with ``None`` (PettingZoo's
+        dead step)."""
         if self.terminations[self.agent_selection] or self.truncations[self.agent_selection]:
             self._was_dead_step(action)
             return
+        if action is None:
+            raise TypeError(f"{self.agent_selection} must decide: None steps only a keeper whose episode has ended")
         self._cumulative_rewards[self.agent_selection] = 0.0
         decision, seconds, episode_seconds = self._game.step(int(action))
         for agent in self.agents:
