@@ -4,6 +4,7 @@ and defaults, and everything public has a docstring."""
 import ast
 import inspect
 import pathlib
+import sys
 
 import learnpnp
 import learnpnp.envs
@@ -76,7 +77,11 @@ def test_stub_signatures_match_the_extension():
             if "property" in decorators:
                 continue
             stub = stub_parameters(function)[0 if "staticmethod" in decorators else 1 :]
-            runtime = runtime_parameters(cls if function.name == "__init__" else getattr(cls, function.name))
+            try:
+                runtime = runtime_parameters(cls if function.name == "__init__" else getattr(cls, function.name))
+            except ValueError:
+                assert sys.version_info < (3, 10), f"{node.name}.{function.name} has no signature"
+                continue  # (Python 3.9's inspect reads no class's text signature)
             runtime = runtime[1:] if runtime and runtime[0][0] == "self" else runtime
             where = f"{node.name}.{function.name}"
             names = [n for n, _ in stub]
