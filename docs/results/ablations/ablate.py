@@ -89,6 +89,12 @@ SWEEPS = {
         (f"{name}; {r}", f"{PASS} --algo {algo} {flags}")
         for name, algo in (("Soft-SoSMC", "soft-sosmc"), ("Sarsa(0.9)", "sarsa-lambda")) for r, flags in REFEREES
     ], None),
+    # The same rows over ten more runs (another base seed: the experiment's runs
+    # draw their seeds from it), for twenty runs per rule in all.
+    "referee-7.3-seed2": ("curve", [
+        (f"{name}; {r}; base seed 2", f"{PASS} --algo {algo} --seed 2 {flags}")
+        for name, algo in (("Soft-SoSMC", "soft-sosmc"), ("Sarsa(0.9)", "sarsa-lambda")) for r, flags in REFEREES
+    ], None),
     # 7.3's open parameters against the text: Soft-SoSMC's step (the default
     # 0.05 came from a sweep before issue 10; chapter 6 uses a constant 0.01,
     # section 4.3 names 1/n as the other schedule), its temperature after the
