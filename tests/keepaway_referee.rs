@@ -3,7 +3,7 @@
 use crate::util::noiseless;
 use learnpnp::keepaway_sim::referee::{Referee, TURNOVER_TIME};
 use learnpnp::keepaway_sim::world::{NUM_PLAYERS, Player};
-use learnpnp::keepaway_sim::{Command, EndReason, FieldState, KeepawayConfig, Simulator, Vec2};
+use learnpnp::keepaway_sim::{Command, EndReason, FieldState, KeepawayConfig, RefereeRule, Simulator, Vec2};
 
 /// Everybody at rest in a row far from the ball at the origin.
 fn quiet_world() -> FieldState {
@@ -112,6 +112,23 @@ fn counter_reset_by_a_lone_keeper_and_kept_when_nobody_is_near() {
     }
     assert_eq!(r.check(&nobody, &c), None);
     assert_eq!(r.take_count, 3);
+}
+
+#[test]
+fn rcssserver_9_4_5_takes_after_five_cycles() {
+    let c = KeepawayConfig {
+        referee: RefereeRule::Rcssserver9_4_5,
+        ..noiseless()
+    };
+    assert_eq!(RefereeRule::Rcssserver11.turnover_time(), TURNOVER_TIME);
+    assert_eq!(c.referee.turnover_time(), 5);
+    let mut w = quiet_world();
+    w.players[3].pos = Vec2::new(1.0, 0.0);
+    let mut r = Referee::default();
+    for k in 1..=5 {
+        assert_eq!(r.check(&w, &c), None, "check {k}");
+    }
+    assert_eq!(r.check(&w, &c), Some(EndReason::Taken));
 }
 
 #[test]

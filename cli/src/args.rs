@@ -13,7 +13,7 @@ use learnpnp::experiment::defaults::{
 use learnpnp::experiment::options::ExperimentOptions;
 use learnpnp::experiment::ranges;
 use learnpnp::experiment::spec::Algorithm;
-use learnpnp::keepaway_sim::params::{ServerTimer, VisionMode};
+use learnpnp::keepaway_sim::params::{RefereeRule, ServerTimer, VisionMode};
 use learnpnp::learning::{ExploitPolicy, Schedule, StepSize, ThresholdRule, Unestimated};
 use learnpnp::named::Named;
 
@@ -97,6 +97,11 @@ pub struct ExperimentFlags {
     /// synchronise their sees) or synchronous (synch_mode, think at 80 ms).
     #[arg(long, value_parser = named::<ServerTimer>(), default_value = "real-time")]
     server_timer: ServerTimer,
+    /// Keepaway: the referee's turnover rule: rcssserver-11 (4 cycles of taker
+    /// possession) or rcssserver-9.4.5 (5 cycles; its smaller possession area is
+    /// not known and not ported).
+    #[arg(long, value_parser = named::<RefereeRule>(), default_value = "rcssserver-11")]
+    referee: RefereeRule,
     /// Keepaway: distance (m) at which the threshold policy passes (0 to 200).
     #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::DISTANCE.parse(s))]
     hold_threshold: Option<f64>,
@@ -200,6 +205,7 @@ impl From<ExperimentFlags> for ExperimentOptions {
             policy: args.policy,
             vision: args.vision,
             timer: args.server_timer,
+            referee: args.referee,
             hold_threshold: args.hold_threshold,
             lane_threshold: args.lane_threshold,
             taker_threshold: args.taker_threshold,

@@ -11,8 +11,6 @@ use super::penalty_kick::{self, PenaltyKickConfig};
 use super::sutton::{self, SuttonConfig};
 use crate::executor::{Registered, RegisteredKind, Registry};
 
-use crate::keepaway_sim::referee::TURNOVER_TIME;
-
 /// One domain, as a plan author needs it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DomainDescription {
@@ -61,8 +59,9 @@ fn keepaway(name: &'static str, mode: KeepawayMode) -> DomainDescription {
             (sim.server.cycle_seconds * 1000.0).round()
         ),
         episode_end: format!(
-            "the ball leaves the region, or a taker holds it (within {} m) for {TURNOVER_TIME} consecutive cycles{}",
+            "the ball leaves the region, or a taker holds it (within {} m) for {} consecutive cycles{}",
             sim.server.kickable_distance(),
+            sim.referee.turnover_time(),
             if mode == KeepawayMode::Position {
                 format!(
                     "; the ball holder passes when a taker is within {} m",

@@ -13,7 +13,7 @@ use crate::domains::nmdp::NmdpConfig;
 use crate::domains::parr_russell::ParrRussellConfig;
 use crate::domains::penalty_kick::{PenaltyKickConfig, Variant};
 use crate::domains::sutton::SuttonConfig;
-use crate::keepaway_sim::params::{ServerTimer, VisionMode};
+use crate::keepaway_sim::params::{RefereeRule, ServerTimer, VisionMode};
 use crate::learning::persist;
 use crate::named::Named;
 
@@ -104,6 +104,8 @@ pub struct ExperimentOptions {
     pub vision: VisionMode,
     /// Keepaway: the soccer server's timer.
     pub timer: ServerTimer,
+    /// Keepaway: the referee's turnover rule.
+    pub referee: RefereeRule,
     /// Keepaway: distance (m) at which the threshold policy passes.
     pub hold_threshold: Option<f64>,
     /// Keepaway: threshold (m) of the takers' distance to a pass line.
@@ -152,6 +154,7 @@ impl ExperimentOptions {
                 });
                 config.vision = self.vision;
                 config.timer = self.timer;
+                config.referee = self.referee;
                 if let Some(t) = self.hold_threshold {
                     config.hold_threshold = t;
                 }

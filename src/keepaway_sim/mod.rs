@@ -47,7 +47,7 @@ pub use command::Command;
 pub use episode::{EpisodeOutcome, Keepaway, run_episode};
 pub use geometry::Vec2;
 pub use keeper::{KeeperAction, KeeperPolicy, SupportAction};
-pub use params::{ConfigError, KeepawayConfig, ServerParams, ServerTimer, SkillParams, VisionMode};
+pub use params::{ConfigError, KeepawayConfig, RefereeRule, ServerParams, ServerTimer, SkillParams, VisionMode};
 pub use perception::{Perception, PlayerId, PlayerView, perceive};
 pub use policies::BaselinePolicy;
 pub use referee::EndReason;

@@ -291,6 +291,49 @@ impl crate::named::Named for ServerTimer {
     }
 }
 
+/// The keepaway referee's turnover rule (rcssserver's `KeepawayRef`), named by
+/// the server version whose rule it is ([`super::referee::Referee::check`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum RefereeRule {
+    /// rcssserver 10.0.4 and later (the oldest source in the server's history,
+    /// 11.1's `src/referee.cc`): a turnover after 4 cycles of taker possession
+    /// (`KeepawayRef::TURNOVER_TIME = 4`), possession within
+    /// `ServerParam::kickableArea()` (player_size + ball_size + kickable_margin).
+    #[default]
+    Rcssserver11,
+    /// rcssserver 9.4.5, the server keepaway 0.6's README names: a turnover after
+    /// 5 cycles. The server's NEWS for 10.0.4: "Fixed defect #1222134 in which
+    /// the kickable area used to decide possession in KeepawayRef was too small.
+    /// Also changed the number of consecutive cycles in which a taker must touch
+    /// the ball to declare a turnover from 5 to 4." The 9.4.5 source is not in
+    /// the server's history (it starts at 11.1) nor in any public source found,
+    /// so its smaller possession area is not known: the area stays the kickable
+    /// area, and only the count is 9.4.5's.
+    Rcssserver9_4_5,
+}
+
+impl RefereeRule {
+    /// Cycles of taker possession that end an episode (the server's `TURNOVER_TIME`).
+    pub fn turnover_time(self) -> u32 {
+        match self {
+            RefereeRule::Rcssserver11 => super::referee::TURNOVER_TIME,
+            RefereeRule::Rcssserver9_4_5 => 5,
+        }
+    }
+}
+
+impl crate::named::Named for RefereeRule {
+    const KIND: &'static str = "referee";
+    const ALL: &'static [Self] = &[RefereeRule::Rcssserver11, RefereeRule::Rcssserver9_4_5];
+
+    fn name(self) -> &'static str {
+        match self {
+            RefereeRule::Rcssserver11 => "rcssserver-11",
+            RefereeRule::Rcssserver9_4_5 => "rcssserver-9.4.5",
+        }
+    }
+}
+
 /// The keepaway framework's skill settings (its `PlayerSettings` defaults and the
 /// constants of its keepaway skills).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -397,6 +440,9 @@ pub struct KeepawayConfig {
     /// ([`VisionMode::Framework`] only).
     #[serde(default)]
     pub timer: ServerTimer,
+    /// The referee's turnover rule.
+    #[serde(default)]
+    pub referee: RefereeRule,
     /// Motion and turn noise on (the server's behaviour) or off.
     pub motion_noise: bool,
     /// The framework's skill settings.
@@ -413,6 +459,7 @@ impl Default for KeepawayConfig {
             region: Region::default(),
             vision: VisionMode::Framework,
             timer: ServerTimer::RealTime,
+            referee: RefereeRule::Rcssserver11,
             motion_noise: true,
             skills: SkillParams::default(),
             max_episode_cycles: Some(100_000),

@@ -7,8 +7,9 @@ use crate::rng::SimRng;
 use rand::RngExt;
 use serde::{Deserialize, Serialize};
 
-/// Consecutive cycles of taker possession that end an episode (the server's
-/// `TURNOVER_TIME`).
+/// Consecutive cycles of taker possession that end an episode under the
+/// default rule (the server's `TURNOVER_TIME`;
+/// [`super::params::RefereeRule::turnover_time`] gives each rule's).
 pub const TURNOVER_TIME: u32 = 4;
 
 /// Why an episode ended.
@@ -16,7 +17,7 @@ pub const TURNOVER_TIME: u32 = 4;
 pub enum EndReason {
     /// The ball left the region.
     Out,
-    /// A taker held the ball for [`TURNOVER_TIME`] consecutive cycles.
+    /// A taker held the ball for the rule's turnover time (4 cycles by default).
     Taken,
     /// The configured safety cap on the episode length was reached.
     CycleLimit,
@@ -32,19 +33,21 @@ pub struct Referee {
 impl Referee {
     /// The server's check after each cycle's movement, in its order:
     /// 1. the ball is outside the region (`|x| >= L/2` or `|y| >= W/2`): [`EndReason::Out`];
-    /// 2. the counter has reached [`TURNOVER_TIME`]: [`EndReason::Taken`];
+    /// 2. the counter has reached the rule's turnover time
+    ///    ([`super::params::RefereeRule::turnover_time`], 4 by default): [`EndReason::Taken`];
     /// 3. otherwise the counter is updated: +1 if any taker is within the kickable
     ///    distance of the ball (a taker beats a keeper), reset to 0 if only keepers
     ///    are, unchanged if nobody is.
     ///
     /// As in rcssserver's `KeepawayRef::analyse`, the counter is tested before this
     /// cycle's update, so an episode ends at the first check after a taker has held
-    /// the ball for 4 consecutive cycles (the 5th check).
+    /// the ball for 4 consecutive cycles (the 5th check; 5 and the 6th under
+    /// rcssserver 9.4.5's rule).
     pub fn check(&mut self, world: &FieldState, cfg: &KeepawayConfig) -> Option<EndReason> {
         if !cfg.region.contains(world.ball.pos) {
             return Some(EndReason::Out);
         }
-        if self.take_count >= TURNOVER_TIME {
+        if self.take_count >= cfg.referee.turnover_time() {
             return Some(EndReason::Taken);
         }
         let kick_sq = cfg.server.kickable_distance().powi(2);

@@ -46,6 +46,21 @@ AS_BEST = "--initial-value=-inf --unestimated as-best"
 # server in synchronous mode, and the full state.
 VISIONS = [("framework", ""), ("synchronous server", "--server-timer synchronous"), ("full state", "--vision full-state")]
 
+# The referee's turnover rule (`--referee`): rcssserver 11's (4 cycles, the
+# default) against 9.4.5's (5 cycles; NEWS of 10.0.4), which keepaway 0.6's
+# README names.
+REFEREES = [("rcssserver-11", ""), ("rcssserver-9.4.5", "--referee rcssserver-9.4.5")]
+# Sarsa(0.9) with section 6.1.2's parameters, the only ones the text gives for
+# Sarsa in chapter 6: alpha 0.01; e-greedy from 0.2 to 0 over 80,000 actions
+# from a pessimistic start (6.1.2's -4 is the 4 x 3 grid's usual return; here
+# the 20-action cut's -20), or greedy from an optimistic start (6.1.2's 1 is
+# above every return; here 0, the best return).
+SARSA_6_1_2 = [
+    ("section 6.1.2's e-greedy: alpha 0.01, epsilon 0.2 -> 0 over 80,000 actions, from -20",
+     "--alpha 0.01 --epsilon 0.2:0:80000 --initial-value=-20"),
+    ("section 6.1.2's optimistic: alpha 0.01, greedy, from 0", "--alpha 0.01 --greedy --initial-value 0"),
+]
+
 SWEEPS = {
     "7.3": ("curve", [
         *[(f"Soft-SoSMC; {v}", f"{PASS} --algo soft-sosmc {flags}") for v, flags in VISIONS],
@@ -65,6 +80,35 @@ SWEEPS = {
         *[(f"{policy}; {v}", f"{FIXED} --policy {policy} {flags}")
           for policy in ("handcoded", "threshold") for v, flags in VISIONS],
         *[(f"threshold; framework, passes at {d} m", f"{FIXED} --policy threshold --hold-threshold {d}") for d in (3.0, 7.0)],
+    ], None),
+    "referee-baselines": ("curve", [
+        (f"{policy}; {r}", f"{FIXED} --policy {policy} {flags}")
+        for policy in ("random", "always-hold", "handcoded", "threshold") for r, flags in REFEREES
+    ], None),
+    "referee-7.3": ("curve", [
+        (f"{name}; {r}", f"{PASS} --algo {algo} {flags}")
+        for name, algo in (("Soft-SoSMC", "soft-sosmc"), ("Sarsa(0.9)", "sarsa-lambda")) for r, flags in REFEREES
+    ], None),
+    # The same rows over ten more runs (another base seed: the experiment's runs
+    # draw their seeds from it), for twenty runs per rule in all.
+    "referee-7.3-seed2": ("curve", [
+        (f"{name}; {r}; base seed 2", f"{PASS} --algo {algo} --seed 2 {flags}")
+        for name, algo in (("Soft-SoSMC", "soft-sosmc"), ("Sarsa(0.9)", "sarsa-lambda")) for r, flags in REFEREES
+    ], None),
+    # 7.3's open parameters against the text: Soft-SoSMC's step (the default
+    # 0.05 came from a sweep before issue 10; chapter 6 uses a constant 0.01,
+    # section 4.3 names 1/n as the other schedule), its temperature after the
+    # initial phase (default 3), and the fixed keepers' pass distance (the text:
+    # "until the takers are closer than a threshold", no value; default 5 m).
+    "7.3-text": ("curve", [
+        ("Soft-SoSMC; step 0.01 (chapter 6's constant)", f"{PASS} --algo soft-sosmc --step-size 0.01"),
+        ("Soft-SoSMC; step 1/n (section 4.3's other schedule)", f"{PASS} --algo soft-sosmc --step-size inverse"),
+        ("Soft-SoSMC; tau 1 after the initial phase", f"{PASS} --algo soft-sosmc --tau 1"),
+        ("Soft-SoSMC; fixed keepers pass at 3 m", f"{PASS} --algo soft-sosmc --hold-threshold 3"),
+        ("Sarsa(0.9); fixed keepers pass at 3 m", f"{PASS} --algo sarsa-lambda --hold-threshold 3"),
+    ], None),
+    "6.13-text": ("curve", [
+        (f"sarsa-lambda; {label}", f"{SUTTON} --algo sarsa-lambda {flags}") for label, flags in SARSA_6_1_2
     ], None),
     # (kind, [(row label, flags)], seeds)
     "one-step": ("trace", [
@@ -115,7 +159,8 @@ SWEEPS = {
 
 
 def run(learnpnp, flags, out, seed=None):
-    args = [learnpnp, "experiment", *flags.split(), "--out", out]
+    # One worker thread: the results are the same whatever the number (runner.rs).
+    args = [learnpnp, "experiment", *flags.split(), "--threads", "1", "--out", out]
     if seed is not None:
         args += ["--seed", str(seed)]
     subprocess.run(args, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)

@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use super::world::atoms;
 use crate::domains::TaskError;
 use crate::keepaway_sim::features::FeatureThresholds;
-use crate::keepaway_sim::params::{KeepawayConfig, ServerTimer, VisionMode};
+use crate::keepaway_sim::params::{KeepawayConfig, RefereeRule, ServerTimer, VisionMode};
 use crate::keepaway_sim::policies::{BaselinePolicy, DEFAULT_HOLD_THRESHOLD};
 use crate::keepaway_sim::world::NUM_KEEPERS;
 use crate::named::Named;
@@ -69,6 +69,9 @@ pub struct KeepawayDomainConfig {
     /// The soccer server's timer: real time (default) or synchronous mode.
     #[serde(default)]
     pub timer: ServerTimer,
+    /// The referee's turnover rule: rcssserver 11's (default) or 9.4.5's.
+    #[serde(default)]
+    pub referee: RefereeRule,
     /// The thresholds of the three binary features.
     pub thresholds: FeatureThresholds,
     /// The distance at which the threshold policy passes.
@@ -81,6 +84,7 @@ impl Default for KeepawayDomainConfig {
             mode: KeepawayMode::Pass,
             vision: VisionMode::Framework,
             timer: ServerTimer::RealTime,
+            referee: RefereeRule::Rcssserver11,
             thresholds: FeatureThresholds::default(),
             hold_threshold: DEFAULT_HOLD_THRESHOLD,
         }
@@ -101,6 +105,7 @@ impl KeepawayDomainConfig {
         KeepawayConfig {
             vision: self.vision,
             timer: self.timer,
+            referee: self.referee,
             ..KeepawayConfig::default()
         }
     }
