@@ -139,6 +139,7 @@
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
 
+pub mod agent;
 pub mod analysis;
 pub mod atomic_file;
 pub mod condition;
@@ -157,10 +158,10 @@ pub mod pnml;
 pub mod result_dir;
 pub mod rng;
 pub mod schema;
-pub mod stepwise;
 
+pub use agent::PlanAgent;
 pub use condition::{AtomId, AtomTable, KnowledgeBase};
-pub use domains::{PlanAgent, TaskError};
+pub use domains::TaskError;
 pub use executor::{Action, Chooser, Executor, Registry, Status, World};
 pub use learning::persist::{self, SavedValues};
 pub use learning::{EpisodeMode, EpisodeStart, Learner, SoSmc, SoSmcConfig};

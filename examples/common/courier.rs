@@ -10,8 +10,9 @@
 
 use std::sync::Arc;
 
+use learnpnp::PlanAgent;
 use learnpnp::condition::{AtomId, AtomTable, KnowledgeBase};
-use learnpnp::domains::{PlanAgent, TaskError};
+use learnpnp::domains::TaskError;
 use learnpnp::executor::{Action, Registry, World};
 use learnpnp::learning::{
     Assessment, EpisodeMode, EpisodeStart, ExploitPolicy, Learner, Schedule, Sigma, SoSmc, SoSmcConfig, StepSize,

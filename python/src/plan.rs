@@ -3,10 +3,11 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use learnpnp::agent::stepwise;
 use learnpnp::analysis::{self, CheckReport};
 use learnpnp::learning::by_choice::group_by_choice;
 use learnpnp::pnml::{self, Dialect};
-use learnpnp::{Plan, Vocabulary, dot, load_plan, persist, schema, stepwise};
+use learnpnp::{Plan, Vocabulary, dot, load_plan, persist, schema};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 

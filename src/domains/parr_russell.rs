@@ -13,8 +13,9 @@ use std::sync::Arc;
 use rand::RngExt;
 
 use super::Task;
-use super::driver::{EpisodeOutcome, PlanAgent, TaskError, root_key, traced};
 use super::grid::{Direction, Mover};
+use super::task::{EpisodeOutcome, TaskError, root_key, traced};
+use crate::agent::PlanAgent;
 use crate::condition::{AtomId, AtomTable, KnowledgeBase};
 use crate::executor::{Registry, World};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};

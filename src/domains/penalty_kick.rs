@@ -9,7 +9,8 @@
 use std::sync::Arc;
 
 use super::Task;
-use super::driver::{EpisodeOutcome, PlanAgent, TaskError, root_key, traced};
+use super::task::{EpisodeOutcome, TaskError, root_key, traced};
+use crate::agent::PlanAgent;
 use crate::condition::{AtomId, KnowledgeBase};
 use crate::executor::{Action, Registry, World};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};

@@ -11,8 +11,9 @@ use std::sync::Arc;
 use rand::RngExt;
 
 use super::Task;
-use super::driver::{EpisodeOutcome, PlanAgent, TaskError};
 use super::grid::{Direction, Mover};
+use super::task::{EpisodeOutcome, TaskError};
+use crate::agent::PlanAgent;
 use crate::condition::{AtomId, AtomTable, KnowledgeBase};
 use crate::executor::{Registry, World};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner};

@@ -33,6 +33,7 @@ use crate::ipc::world::{
     world_command,
 };
 use crate::latency::Latency;
+use learnpnp::agent::stepwise::{ActionOutcome, StepError, StepwiseAgent, action_names, atom_table};
 use learnpnp::domains::{EpisodeOutcome, Task, TaskError};
 use learnpnp::experiment::runner::{RunOutput, learner_for, run_protocol};
 use learnpnp::experiment::spec::{DomainSpec, ExperimentError};
@@ -40,7 +41,6 @@ use learnpnp::learning::persist::{self, SavedValues};
 use learnpnp::learning::{EpisodeMode, Learner};
 use learnpnp::named::Named;
 use learnpnp::plan_file::load_plan;
-use learnpnp::stepwise::{ActionOutcome, StepError, StepwiseAgent, action_names, atom_table};
 
 /// The exit code of an agent whose plan does not fit the world's
 /// vocabulary: it is not restarted, and the run stops.
@@ -623,7 +623,7 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
         spec.load_initial_values(Some(&plan))?.into_iter().nth(a)
     };
     let learner = learner_for(&spec, context.run, a, start.as_ref());
-    let stepwise = StepwiseAgent::new(Arc::clone(&plan), learner).map_err(ProcessError::Task)?;
+    let stepwise = StepwiseAgent::new(Arc::clone(&plan), learner).map_err(|e| ProcessError::Task(e.into()))?;
     let namespace = context.namespace()?;
     let node = node(&namespace, &format!("agent-{a}"))?;
     let ports = WorldAgentPorts::open(&node, a, context.wait)?;

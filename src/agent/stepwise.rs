@@ -23,8 +23,7 @@
 use std::sync::Arc;
 
 use crate::condition::{AtomId, AtomTable, BitKnowledgeBase, KnowledgeBase};
-use crate::domains::TaskError;
-use crate::executor::{Action, Executor, PendingReward, Registry, Status, World};
+use crate::executor::{Action, ExecError, Executor, PendingReward, Registry, Status, World};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner};
 use crate::plan::Plan;
 
@@ -187,7 +186,7 @@ pub struct StepwiseAgent {
 impl StepwiseAgent {
     /// Binds every action of `plan` (and of a schema's machines) to an action
     /// whose outcome the caller reports, with `learner` at the choice points.
-    pub fn new(plan: Arc<Plan>, learner: Box<dyn Learner>) -> Result<Self, TaskError> {
+    pub fn new(plan: Arc<Plan>, learner: Box<dyn Learner>) -> Result<Self, ExecError> {
         let actions = action_names(&plan);
         let atoms = atom_table(&plan);
         let mut registry = Registry::new();
