@@ -12,7 +12,7 @@
 //!    standard PNML, or a plan schema, thesis chapter 3), or build one with
 //!    [`PlanBuilder`] and the thesis's operators (sequence, sensing, fork and
 //!    join, interrupts, non-deterministic choice). Guards name atoms; a
-//!    [`Vocabulary`] says which atoms the world has. [`analysis::check`] verifies
+//!    [`AllowedAtoms`] says which atoms the world has. [`analysis::check`] verifies
 //!    safety, minimality and effectiveness.
 //! 2. **A world and its actions**: the world answers the atoms
 //!    ([`KnowledgeBase`]) and pays rewards ([`World`]); each action the plan
@@ -44,7 +44,7 @@
 //! use learnpnp::rng::seeded;
 //! use learnpnp::{
 //!     Action, AtomId, AtomTable, EpisodeMode, EpisodeStart, KnowledgeBase, Learner, PlanAgent, PlanBuilder,
-//!     Registry, SavedValues, SoSmc, SoSmcConfig, TaskError, Vocabulary, World, persist,
+//!     Registry, SavedValues, SoSmc, SoSmcConfig, TaskError, AllowedAtoms, World, persist,
 //! };
 //!
 //! /// The world: whether a door is open, what it paid, and the reward the
@@ -90,7 +90,7 @@
 //! builder.action_into(start, "Left", goal);
 //! builder.action_into(start, "Right", goal);
 //! let atoms: AtomTable = ["Open"].into_iter().collect();
-//! let plan = Arc::new(builder.build(Vocabulary::Closed(&atoms))?);
+//! let plan = Arc::new(builder.build(AllowedAtoms::Closed(&atoms))?);
 //!
 //! // 2. The actions, by the names the plan uses.
 //! let mut registry = Registry::new();
@@ -166,5 +166,5 @@ pub use executor::{Action, Chooser, Executor, Registry, Status, World};
 pub use learning::persist::{self, SavedValues};
 pub use learning::{EpisodeMode, EpisodeStart, Learner, SoSmc, SoSmcConfig};
 pub use named::Named;
-pub use plan::{Plan, PlanBuilder, PlanError, Vocabulary};
+pub use plan::{AllowedAtoms, Plan, PlanBuilder, PlanError};
 pub use plan_file::{LoadError, load_plan};

@@ -9,6 +9,6 @@ pub mod labels;
 
 pub use builder::{ActionNet, PlaceRef, PlanBuilder, SensingNet, Tracker, TransitionRef};
 pub(crate) use definition::PlanOrigin;
-pub use definition::{ActionId, ActionInfo, Call, InternalCondition, InternalKind, Plan, TransitionInfo, Vocabulary};
+pub use definition::{ActionId, ActionInfo, AllowedAtoms, Call, InternalCondition, InternalKind, Plan, TransitionInfo};
 pub use error::{PlanError, PlanWarning};
 pub use labels::Function;

@@ -615,7 +615,7 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
     };
     let (a, agents) = (settings.agent, plans.len());
     let path = plans.get(a).ok_or(ProcessError::NoAgent(a + 1))?;
-    let plan = Arc::new(load_plan(path, learnpnp::Vocabulary::Open).map_err(ExperimentError::from)?);
+    let plan = Arc::new(load_plan(path, learnpnp::AllowedAtoms::Open).map_err(ExperimentError::from)?);
     let checkpoint = context.work_dir.join(checkpoint_name(a));
     let start = if settings.resume {
         Some(load_checkpoint(&checkpoint, &plan)?)
