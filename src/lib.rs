@@ -141,7 +141,6 @@ pub struct ReadmeDoctests;
 
 pub mod agent;
 pub mod analysis;
-pub mod atomic_file;
 pub mod condition;
 pub mod domains;
 pub mod dot;
@@ -155,7 +154,6 @@ pub mod net;
 pub mod plan;
 pub mod plan_file;
 pub mod pnml;
-pub mod result_dir;
 pub mod rng;
 pub mod schema;
 

@@ -12,6 +12,7 @@ use learnpnp::dot::to_dot_with_values;
 use learnpnp::experiment::output::score_axis;
 use learnpnp::experiment::plot::{Reference, Series, plot_curves, read_curve_csv};
 use learnpnp::experiment::ranges::CountRange;
+use learnpnp::experiment::result_dir::{self, Contents};
 use learnpnp::experiment::spec::{DomainSpec, ExperimentSpec};
 use learnpnp::learning::by_choice::{self, group_by_choice};
 use learnpnp::learning::migrate;
@@ -19,7 +20,6 @@ use learnpnp::learning::persist::{self, SavedValues};
 use learnpnp::plan::{AllowedAtoms, Plan};
 use learnpnp::plan_file::load_plan;
 use learnpnp::pnml::{self, Dialect};
-use learnpnp::result_dir::{self, Contents};
 use learnpnp::schema;
 
 #[derive(Args, Debug)]

@@ -10,6 +10,7 @@ pub mod presets;
 pub mod progress;
 pub mod ranges;
 pub mod report;
+pub mod result_dir;
 pub mod runner;
 pub mod shard;
 pub mod spec;

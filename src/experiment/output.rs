@@ -13,8 +13,8 @@ use super::runner::ExperimentOutput;
 use super::shard;
 use super::spec::{ExperimentError, ExperimentSpec};
 use super::stats::{Summary, summarize};
+use crate::experiment::result_dir::{Progress, ResultDir, ResultWriter};
 use crate::learning::persist;
-use crate::result_dir::{Progress, ResultDir, ResultWriter};
 
 /// One named series of (episode, value) points.
 type Scatter = (String, Vec<(f64, f64)>);
@@ -226,7 +226,7 @@ pub fn series(output: &ExperimentOutput) -> Series {
 }
 
 /// Writes every result file of `output` into `dir` as one set (see
-/// [`crate::result_dir`]: the previous set is replaced whole) and returns the
+/// [`crate::experiment::result_dir`]: the previous set is replaced whole) and returns the
 /// summary. The output of an interrupted experiment is written as a partial
 /// result: its figures are over the completed runs, `summary.json` says
 /// `"complete": false`, and [`checkpoint::CHECKPOINT`] keeps the runs for `--resume`.

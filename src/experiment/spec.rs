@@ -14,6 +14,7 @@ use crate::domains::parr_russell::{self, ParrRussell, ParrRussellConfig};
 use crate::domains::penalty_kick::{self, PenaltyKick, PenaltyKickConfig};
 use crate::domains::sutton::{self, Sutton, SuttonConfig};
 use crate::domains::{Task, TaskError};
+use crate::experiment::result_dir::ResultDirError;
 use crate::learning::migrate::{self, MigrationReport};
 use crate::learning::persist::{self, PlanLabels, SavedValues};
 use crate::learning::{
@@ -23,7 +24,6 @@ use crate::learning::{
 use crate::named::Named;
 use crate::plan::{AllowedAtoms, Plan};
 use crate::plan_file::{LoadError, load_plan};
-use crate::result_dir::ResultDirError;
 use crate::rng::SimRng;
 use crate::schema;
 

@@ -427,9 +427,9 @@ pub fn save(path: &Path, values: &SavedValues) -> Result<(), PersistError> {
     let previous = fs::read(path).ok().filter(|old| parse(path, old).is_ok());
     if let Some(old) = previous {
         let prev = prev_path(path);
-        crate::atomic_file::write_atomic(&prev, &old).map_err(|source| PersistError::Io { path: prev, source })?;
+        atomic_file::write_atomic(&prev, &old).map_err(|source| PersistError::Io { path: prev, source })?;
     }
-    crate::atomic_file::write_atomic(path, &bytes).map_err(|source| PersistError::Io {
+    atomic_file::write_atomic(path, &bytes).map_err(|source| PersistError::Io {
         path: path.to_path_buf(),
         source,
     })

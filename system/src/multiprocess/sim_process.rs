@@ -737,7 +737,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
     save_histograms(&context.work_dir, link)?;
     let json = serde_json::to_vec_pretty(&result)?;
     let path = context.work_dir.join(RESULT_FILE);
-    learnpnp::atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })?;
+    atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })?;
     Ok(result)
 }
 
@@ -770,7 +770,7 @@ fn save_histograms(dir: &Path, link: &Link) -> Result<(), ProcessError> {
     for histogram in [&round_trip, &link.floor].into_iter().chain(&link.keeper_round_trips) {
         let bytes = histogram.to_bytes()?;
         let path = histogram_file(dir, histogram.name());
-        learnpnp::atomic_file::write_atomic(&path, &bytes).map_err(|source| ProcessError::Io { path, source })?;
+        atomic_file::write_atomic(&path, &bytes).map_err(|source| ProcessError::Io { path, source })?;
     }
     Ok(())
 }

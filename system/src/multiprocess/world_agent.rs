@@ -701,7 +701,7 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
     };
     let json = serde_json::to_vec_pretty(&result)?;
     let path = context.work_dir.join(agent_result_file(a));
-    learnpnp::atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })?;
+    atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })?;
     // The last heartbeat says the agent is done (a supervisor on another
     // host learns it so); a sample its publisher outlives is lost, so the
     // ports stay a moment for it to be read.
