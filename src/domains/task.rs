@@ -29,9 +29,10 @@ pub enum TaskError {
     /// The run was asked to stop before it ended.
     #[error("the run was stopped before it ended")]
     Stopped,
-    /// Keepers in other processes cannot be reached.
-    #[error("keeper processes: {0}")]
-    Remote(String),
+    /// Something the task depends on outside this library failed (another
+    /// process, a link, a device): its own error, which says what.
+    #[error(transparent)]
+    External(Box<dyn std::error::Error + Send + Sync>),
 }
 
 /// What one episode earned.

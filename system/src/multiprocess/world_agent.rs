@@ -538,7 +538,7 @@ impl Task for WorldAgent {
         }
         let outcome = self.play(mode).map_err(|e| match e {
             ProcessError::Stopped => TaskError::Stopped,
-            other => TaskError::Remote(other.to_string()),
+            other => TaskError::External(Box::new(other)),
         })?;
         self.record(mode, outcome);
         Ok(outcome)
