@@ -17,10 +17,11 @@
 //! never read (counters only written), otherwise a pass is inconclusive.
 
 use super::choice::choice_points;
-use super::count::{self, Count, Tri};
+use super::count::{Count, Tri};
 use super::diagnosis;
 use super::exploration::{Exploration, explore_within, product};
 use super::limits::Limits;
+use super::markings;
 use super::reachability::{Reachability, StateId};
 use super::report::{CheckReport, Element, Example, Failure, Note, PlaceBound, Property, ReportedChoice, Verdict};
 use crate::net::{PlaceId, TransitionId};
@@ -140,11 +141,11 @@ impl Checker<'_> {
     }
 
     fn goal(&self, graph: &Reachability, s: StateId) -> Tri {
-        count::matches(self.plan.goal(), graph.entries(s))
+        markings::matches(self.plan.goal(), graph.entries(s))
     }
 
     fn fail(&self, graph: &Reachability, s: StateId) -> Tri {
-        count::matches(self.plan.fail(), graph.entries(s))
+        markings::matches(self.plan.fail(), graph.entries(s))
     }
 
     /// Passed when nothing was found and the exploration is complete.

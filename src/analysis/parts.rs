@@ -27,8 +27,8 @@
 //! dead when each part's marking is, and a goal is reachable from a combined
 //! marking when it is from its ending part's marking.
 
-use super::count::{self, Tri};
-use super::markings::Entry;
+use super::count::Tri;
+use super::markings::{self, Entry};
 use crate::net::{PlaceId, TransitionId};
 use crate::plan::Plan;
 
@@ -53,7 +53,7 @@ pub(super) fn initial(plan: &Plan) -> Vec<Entry> {
 
 /// Whether `marking` is a goal or fail marking of `plan` for certain.
 pub(super) fn is_terminal(plan: &Plan, marking: &[Entry]) -> bool {
-    count::matches(plan.goal(), marking) == Tri::Yes || count::matches(plan.fail(), marking) == Tri::Yes
+    markings::matches(plan.goal(), marking) == Tri::Yes || markings::matches(plan.fail(), marking) == Tri::Yes
 }
 
 /// The whole plan as one part.
