@@ -146,7 +146,7 @@ pub mod domains;
 pub mod dot;
 pub mod executor;
 pub mod experiment;
-pub mod json_float;
+pub(crate) mod json_float;
 pub mod keepaway_sim;
 pub mod learning;
 pub mod named;

@@ -30,7 +30,7 @@ use crate::plan::Plan;
 /// Executor steps one [`StepwiseAgent::act`] may take without an action
 /// starting before the plan counts as stalled (waiting on atoms that never
 /// change while no action runs).
-pub const STALL_STEPS: u32 = 1000;
+pub(crate) const STALL_STEPS: u32 = 1000;
 
 /// The names of the primitive actions `plan` runs, in order of appearance: a
 /// Petri Net Plan's, or those of every machine of a plan schema (a machine

@@ -14,4 +14,4 @@ pub mod result_dir;
 pub mod runner;
 pub mod shard;
 pub mod spec;
-pub mod stats;
+pub(crate) mod stats;

@@ -77,7 +77,7 @@ pub enum DomainSpec {
 }
 
 /// The most agents a world serves (as `shm_layouts::MAX_AGENTS`).
-pub const MAX_WORLD_AGENTS: usize = 16;
+pub(crate) const MAX_WORLD_AGENTS: usize = 16;
 
 /// Why an experiment cannot be set up or run.
 #[derive(Debug, thiserror::Error)]

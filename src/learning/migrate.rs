@@ -5,7 +5,7 @@
 //! id when blank) when no other place of the plan has that name; otherwise its
 //! name qualified by the keys of the places leading to it (the input places of
 //! the transitions that put tokens into it), `name<pred1,pred2>`, refined for
-//! up to [`REFINE_ROUNDS`] rounds while keys still repeat. The builder's
+//! up to [`REFINE_ROUNDS`](super::persist::REFINE_ROUNDS) rounds while keys still repeat. The builder's
 //! `south.exec` of cell `nav_2_3` is `south.exec<nav_2_3>`. A saved entry (an
 //! afterstate) is the multiset of the keys of its marked places; a choice
 //! point is its place's key, an option the name of its transition. Keys that

@@ -49,7 +49,7 @@ pub const MAGIC: [u8; 8] = *b"LPNPVAL\0";
 pub const FORMAT_VERSION: u32 = 2;
 
 /// The oldest format version this build reads (version 1: no place identities).
-pub const OLDEST_VERSION: u32 = 1;
+pub(crate) const OLDEST_VERSION: u32 = 1;
 
 /// Bytes before the payload: magic, version, payload length, checksum.
 pub const HEADER_LEN: usize = 24;
@@ -751,7 +751,7 @@ pub(super) fn counts(keys: &[String]) -> HashMap<&str, usize> {
 
 /// The identity of `plan` as a value file stores it: the place keys and the
 /// choice points with their options' names.
-pub fn identity_of(plan: &Plan) -> PlanIdentity {
+pub(crate) fn identity_of(plan: &Plan) -> PlanIdentity {
     let keys = place_keys(plan);
     let choices = structural_choice_points(plan)
         .into_iter()

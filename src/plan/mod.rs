@@ -5,7 +5,7 @@ mod builder;
 pub mod catalog;
 mod definition;
 mod error;
-pub mod labels;
+pub(crate) mod labels;
 
 pub use builder::{ActionNet, PlaceRef, PlanBuilder, SensingNet, Tracker, TransitionRef};
 pub(crate) use definition::PlanOrigin;
