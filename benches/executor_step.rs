@@ -8,7 +8,7 @@ use std::sync::Arc;
 use criterion::{Criterion, criterion_group, criterion_main};
 use learnpnp::condition::{AtomId, BitKnowledgeBase, KnowledgeBase};
 use learnpnp::executor::{Action, Executor, RandomChooser, Registry, World};
-use learnpnp::plan::{PlanBuilder, Vocabulary};
+use learnpnp::plan::{AllowedAtoms, PlanBuilder};
 use learnpnp::rng::seeded;
 
 struct Bench {
@@ -41,7 +41,7 @@ fn ring_of_actions() -> learnpnp::plan::Plan {
         from = b.action(from, &format!("work_{i}")).done;
     }
     b.action_into(from, "work_49", first);
-    b.build(Vocabulary::Open).expect("valid plan")
+    b.build(AllowedAtoms::Open).expect("valid plan")
 }
 
 /// A ring of 100 places joined by unguarded transitions: every step fires one.
@@ -55,7 +55,7 @@ fn ring_of_transitions() -> learnpnp::plan::Plan {
         from = next;
     }
     b.transition("t0", &[(from, 1)], &[(first, 1)]);
-    b.build(Vocabulary::Open).expect("valid plan")
+    b.build(AllowedAtoms::Open).expect("valid plan")
 }
 
 fn bench(c: &mut Criterion) {

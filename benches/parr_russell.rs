@@ -14,7 +14,7 @@ use learnpnp::experiment::defaults::default_learner;
 use learnpnp::experiment::spec::{Algorithm, DomainSpec};
 use learnpnp::learning::EpisodeMode;
 use learnpnp::named::Named;
-use learnpnp::plan::Vocabulary;
+use learnpnp::plan::AllowedAtoms;
 use learnpnp::plan_file::load_plan;
 use learnpnp::rng::seeded;
 
@@ -25,7 +25,7 @@ fn bench(c: &mut Criterion) {
     };
     let net = Arc::new(parr_russell::default_plan().expect("plan"));
     let schema_file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("plans/parr_russell.schema");
-    let schema = Arc::new(load_plan(&schema_file, Vocabulary::Closed(&parr_russell::atoms())).expect("schema"));
+    let schema = Arc::new(load_plan(&schema_file, AllowedAtoms::Closed(&parr_russell::atoms())).expect("schema"));
     let mut group = c.benchmark_group("parr_russell_episode");
     let runs = [
         (Algorithm::EpsSosmc, &net, ""),

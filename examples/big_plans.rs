@@ -139,11 +139,11 @@ fn run(arg: Option<String>) -> Result<(), Box<dyn std::error::Error>> {
 mod tests {
     use super::*;
     use learnpnp::analysis::{DEFAULT_LIMIT, check};
-    use learnpnp::plan::Vocabulary;
+    use learnpnp::plan::AllowedAtoms;
 
     #[test]
     fn a_generated_grid_of_thousands_of_places_is_checked_conclusively() {
-        let plan = grid(20, false).build(Vocabulary::Open).expect("a plan");
+        let plan = grid(20, false).build(AllowedAtoms::Open).expect("a plan");
         assert_eq!(plan.net().places().len(), 2 + 399 * 5);
         let report = check(&plan, DEFAULT_LIMIT);
         assert!(report.complete && report.passed(), "{}", report.summary(4));
@@ -154,7 +154,7 @@ mod tests {
 
     #[test]
     fn trackers_of_every_cell_do_not_multiply_what_is_stored() {
-        let plan = grid(10, true).build(Vocabulary::Open).expect("a plan");
+        let plan = grid(10, true).build(AllowedAtoms::Open).expect("a plan");
         let report = check(&plan, DEFAULT_LIMIT);
         assert!(report.complete && report.passed(), "{}", report.summary(4));
         // 2^100 combinations of trackers: counted (saturated), not stored.
@@ -169,7 +169,7 @@ mod tests {
 
     #[test]
     fn a_generated_conditional_plan_of_thousands_of_places_is_checked_conclusively() {
-        let plan = conditional(8).build(Vocabulary::Open).expect("a plan");
+        let plan = conditional(8).build(AllowedAtoms::Open).expect("a plan");
         assert_eq!(plan.net().places().len(), 2_555);
         let report = check(&plan, DEFAULT_LIMIT);
         assert!(report.complete && report.passed(), "{}", report.summary(4));

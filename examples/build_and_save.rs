@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 
 use learnpnp::analysis::{DEFAULT_LIMIT, check};
-use learnpnp::plan::{PlanBuilder, Vocabulary};
+use learnpnp::plan::{AllowedAtoms, PlanBuilder};
 use learnpnp::plan_file::load_plan;
 use learnpnp::pnml::{self, Dialect};
 
@@ -31,7 +31,7 @@ fn run(arg: Option<String>) -> Result<(), Box<dyn std::error::Error>> {
 
     // The net as the file will hold it, then the plan it means.
     let net = b.build_net()?;
-    let plan = learnpnp::plan::Plan::from_net(net.clone(), Vocabulary::Open)?;
+    let plan = learnpnp::plan::Plan::from_net(net.clone(), AllowedAtoms::Open)?;
     let report = check(&plan, DEFAULT_LIMIT);
     print!("{report}");
     assert!(report.passed(), "the plan passes every check");
@@ -43,7 +43,7 @@ fn run(arg: Option<String>) -> Result<(), Box<dyn std::error::Error>> {
 
     // Both files load back as the same plan.
     for file in [&jarp, &standard] {
-        let back = load_plan(file, Vocabulary::Open)?;
+        let back = load_plan(file, AllowedAtoms::Open)?;
         assert_eq!(back.net().places().len(), plan.net().places().len());
         assert_eq!(back.actions().len(), 3);
         println!(

@@ -11,7 +11,7 @@ mod courier;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use learnpnp::domains::PlanAgent;
+use learnpnp::PlanAgent;
 use learnpnp::learning::EpisodeMode;
 use learnpnp::learning::persist::{self, PlanLabels, SavedValues};
 

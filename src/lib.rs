@@ -12,7 +12,7 @@
 //!    standard PNML, or a plan schema, thesis chapter 3), or build one with
 //!    [`PlanBuilder`] and the thesis's operators (sequence, sensing, fork and
 //!    join, interrupts, non-deterministic choice). Guards name atoms; a
-//!    [`Vocabulary`] says which atoms the world has. [`analysis::check`] verifies
+//!    [`AllowedAtoms`] says which atoms the world has. [`analysis::check`] verifies
 //!    safety, minimality and effectiveness.
 //! 2. **A world and its actions**: the world answers the atoms
 //!    ([`KnowledgeBase`]) and pays rewards ([`World`]); each action the plan
@@ -44,7 +44,7 @@
 //! use learnpnp::rng::seeded;
 //! use learnpnp::{
 //!     Action, AtomId, AtomTable, EpisodeMode, EpisodeStart, KnowledgeBase, Learner, PlanAgent, PlanBuilder,
-//!     Registry, SavedValues, SoSmc, SoSmcConfig, TaskError, Vocabulary, World, persist,
+//!     Registry, SavedValues, SoSmc, SoSmcConfig, TaskError, AllowedAtoms, World, persist,
 //! };
 //!
 //! /// The world: whether a door is open, what it paid, and the reward the
@@ -90,7 +90,7 @@
 //! builder.action_into(start, "Left", goal);
 //! builder.action_into(start, "Right", goal);
 //! let atoms: AtomTable = ["Open"].into_iter().collect();
-//! let plan = Arc::new(builder.build(Vocabulary::Closed(&atoms))?);
+//! let plan = Arc::new(builder.build(AllowedAtoms::Closed(&atoms))?);
 //!
 //! // 2. The actions, by the names the plan uses.
 //! let mut registry = Registry::new();
@@ -139,14 +139,14 @@
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
 
+pub mod agent;
 pub mod analysis;
-pub mod atomic_file;
 pub mod condition;
 pub mod domains;
 pub mod dot;
 pub mod executor;
 pub mod experiment;
-pub mod json_float;
+pub(crate) mod json_float;
 pub mod keepaway_sim;
 pub mod learning;
 pub mod named;
@@ -154,16 +154,15 @@ pub mod net;
 pub mod plan;
 pub mod plan_file;
 pub mod pnml;
-pub mod result_dir;
 pub mod rng;
 pub mod schema;
-pub mod stepwise;
 
+pub use agent::PlanAgent;
 pub use condition::{AtomId, AtomTable, KnowledgeBase};
-pub use domains::{PlanAgent, TaskError};
+pub use domains::TaskError;
 pub use executor::{Action, Chooser, Executor, Registry, Status, World};
 pub use learning::persist::{self, SavedValues};
 pub use learning::{EpisodeMode, EpisodeStart, Learner, SoSmc, SoSmcConfig};
 pub use named::Named;
-pub use plan::{Plan, PlanBuilder, PlanError, Vocabulary};
+pub use plan::{AllowedAtoms, Plan, PlanBuilder, PlanError};
 pub use plan_file::{LoadError, load_plan};

@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::plan::{Plan, PlanError, Vocabulary};
+use crate::plan::{AllowedAtoms, Plan, PlanError};
 use crate::pnml::{self, PnmlError, PnmlFileError};
 use crate::schema::{self, SchemaFileError};
 
@@ -80,7 +80,7 @@ impl LoadError {
 
 /// Reads and interprets the plan in `path` (JARP or standard PNML), or the
 /// plan schema in `path` if its extension is `.schema`.
-pub fn load_plan(path: &Path, vocabulary: Vocabulary<'_>) -> Result<Plan, LoadError> {
+pub fn load_plan(path: &Path, vocabulary: AllowedAtoms<'_>) -> Result<Plan, LoadError> {
     if schema::is_schema_path(path) {
         return Ok(schema::load_schema_plan(path, vocabulary)?);
     }

@@ -6,12 +6,12 @@ use learnpnp::analysis::{
     CheckReport, Count, Failure, Limits, Note, Outcome, Property, Stop, Verdict, check, check_within, explore,
 };
 use learnpnp::net::{PetriNet, PlaceId, TransitionId};
-use learnpnp::plan::{Plan, PlanBuilder, Vocabulary};
+use learnpnp::plan::{AllowedAtoms, Plan, PlanBuilder};
 
 const LIMIT: usize = 10_000;
 
 fn build(b: PlanBuilder) -> Plan {
-    b.build(Vocabulary::Open).expect("test plan builds")
+    b.build(AllowedAtoms::Open).expect("test plan builds")
 }
 
 fn verdict(report: &CheckReport, property: Property) -> &Verdict {
@@ -24,7 +24,7 @@ fn failures_of(report: &CheckReport, property: Property) -> Vec<&Failure> {
 
 /// A raw net: places `(id, label, initial)`, transitions `(id, label)`, arcs `(source, target, weight)`.
 fn raw_plan(places: &[(&str, &str, u8)], transitions: &[(&str, &str)], arcs: &[(&str, &str, u8)]) -> Plan {
-    Plan::from_net(net(places, transitions, arcs), Vocabulary::Open).expect("raw net is a plan")
+    Plan::from_net(net(places, transitions, arcs), AllowedAtoms::Open).expect("raw net is a plan")
 }
 
 /// init -> A -> B -> goal.
@@ -398,7 +398,7 @@ fn overflow_beyond_255_tokens_counts_as_unbounded_without_panicking() {
 #[test]
 fn an_empty_net_is_no_plan() {
     let net = PetriNet::new("empty", Vec::new(), Vec::new(), &[]).expect("a net");
-    let err = Plan::from_net(net, Vocabulary::Open).expect_err("nothing to run");
+    let err = Plan::from_net(net, AllowedAtoms::Open).expect_err("nothing to run");
     assert!(err.to_string().contains("no places"), "{err}");
 }
 

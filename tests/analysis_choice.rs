@@ -2,10 +2,10 @@
 
 use learnpnp::analysis::{ChoicePoint, choice_points, explore, structural_choice_points};
 use learnpnp::net::{PlaceId, TransitionId};
-use learnpnp::plan::{Plan, PlanBuilder, Vocabulary};
+use learnpnp::plan::{AllowedAtoms, Plan, PlanBuilder};
 
 fn build(b: PlanBuilder) -> Plan {
-    b.build(Vocabulary::Open).expect("test plan builds")
+    b.build(AllowedAtoms::Open).expect("test plan builds")
 }
 
 fn reachable(plan: &Plan) -> Vec<ChoicePoint> {

@@ -3,7 +3,7 @@
 //! that points at a real token of it and shows how conditions are written.
 
 use learnpnp::condition::{Expr, PREFIX_FORM, parse_condition};
-use learnpnp::plan::Vocabulary;
+use learnpnp::plan::AllowedAtoms;
 use learnpnp::plan_file::load_plan;
 use proptest::prelude::*;
 
@@ -139,7 +139,7 @@ fn a_plan_file_with_an_infix_guard_names_the_file_transition_and_token() {
          </net></pnml>",
     )
     .expect("write");
-    let err = load_plan(&path, Vocabulary::Open).expect_err("an infix guard");
+    let err = load_plan(&path, AllowedAtoms::Open).expect_err("an infix guard");
     assert_eq!(err.element().as_deref(), Some("t1"));
     assert_eq!(err.token().as_deref(), Some("and"));
     let text = err.to_string();

@@ -1,7 +1,7 @@
 //! Graphviz DOT export: node shapes, colours, weights and escaping.
 
 use learnpnp::dot::to_dot;
-use learnpnp::plan::{Plan, PlanBuilder, Vocabulary};
+use learnpnp::plan::{AllowedAtoms, Plan, PlanBuilder};
 
 /// A choice among A, B and giving up (into a fail place), with awkward labels.
 fn demo() -> Plan {
@@ -14,7 +14,7 @@ fn demo() -> Plan {
     b.transition(r#"give up [quote"d]"#, &[(init, 1)], &[(fail, 1)]);
     let pile = b.place("");
     b.transition("spill", &[(fail, 1)], &[(pile, 2)]);
-    b.build(Vocabulary::Open).expect("demo plan builds")
+    b.build(AllowedAtoms::Open).expect("demo plan builds")
 }
 
 /// Every line has an even number of unescaped double quotes.
@@ -99,7 +99,7 @@ fn complementary_sensing_outcomes_are_no_choice_point() {
     let goal = b.goal_place();
     b.transition("look.end [seen]", &[(exec, 1)], &[(goal, 1)]);
     b.transition("look.end [not seen]", &[(exec, 1)], &[(goal, 1)]);
-    let dot = to_dot(&b.build(Vocabulary::Open).expect("plan builds"));
+    let dot = to_dot(&b.build(AllowedAtoms::Open).expect("plan builds"));
     let nodes: Vec<&str> = dot.lines().filter(|l| l.contains("shape=")).collect();
     assert!(nodes.iter().all(|l| !l.contains("doublecircle")), "{dot}");
     assert_eq!(nodes.iter().filter(|l| l.contains("shape=circle")).count(), 3);
@@ -126,7 +126,7 @@ fn dot_draws_the_choice_points_check_reports() {
     files.sort();
     assert!(files.len() >= 10);
     for file in files {
-        let plan = learnpnp::plan_file::load_plan(&file, Vocabulary::Open).expect("a shipped plan loads");
+        let plan = learnpnp::plan_file::load_plan(&file, AllowedAtoms::Open).expect("a shipped plan loads");
         let report = learnpnp::analysis::check(&plan, learnpnp::analysis::DEFAULT_LIMIT);
         let mut reported: Vec<String> = report.choice_points.iter().map(|c| c.element.id.clone()).collect();
         reported.sort();

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use learnpnp::condition::{AtomId, AtomTable, BitKnowledgeBase};
 use learnpnp::executor::{Chooser, ExecError, Executor, PlanKey, RandomChooser, Registry, Status};
 use learnpnp::net::Marking;
-use learnpnp::plan::{Plan, PlanBuilder, Vocabulary};
+use learnpnp::plan::{AllowedAtoms, Plan, PlanBuilder};
 use learnpnp::rng::seeded;
 
 fn registry() -> Registry<Log> {
@@ -51,7 +51,7 @@ fn sequence_runs_actions_in_order_and_reaches_the_goal() {
     let a = b.action(init, "act_a_2");
     let goal = b.goal_place();
     b.action_into(a.done, "act_b_1", goal);
-    let plan = Arc::new(b.build(Vocabulary::Open).unwrap());
+    let plan = Arc::new(b.build(AllowedAtoms::Open).unwrap());
     let mut exec = Executor::new(plan, &registry()).unwrap();
     let mut world = Log::default();
     let mut rec = Recorder::default();
@@ -85,7 +85,7 @@ fn choice_offers_the_next_markings_and_follows_the_pick() {
     let mut b = PlanBuilder::new("choice");
     let init = b.initial_place("init");
     let options = b.choice_of_actions(init, &["act_left_1", "act_right_1"]);
-    let plan = Arc::new(b.build(Vocabulary::Open).unwrap());
+    let plan = Arc::new(b.build(AllowedAtoms::Open).unwrap());
     for pick in 0..2 {
         let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();
         let mut world = Log::default();
@@ -125,7 +125,7 @@ fn transitions_enabled_by_this_step_wait_for_the_next() {
     let goal = b.goal_place();
     b.transition("t1", &[(init, 1)], &[(mid, 1)]);
     b.transition("t2", &[(mid, 1)], &[(goal, 1)]);
-    let plan = Arc::new(b.build(Vocabulary::Open).unwrap());
+    let plan = Arc::new(b.build(AllowedAtoms::Open).unwrap());
     let mut exec = Executor::new(plan, &registry()).unwrap();
     let (status, steps) = run(&mut exec, &mut Log::default(), &mut RandomChooser::new(seeded(1)), 10);
     assert_eq!((status, steps), (Status::Goal, 2));
@@ -140,7 +140,7 @@ fn non_conflicting_transitions_fire_together_and_appear_in_every_option() {
     let c = b.initial_place("c");
     b.choice(c, 3);
     let tracker = b.tracker("wall");
-    let plan = Arc::new(b.build(Vocabulary::Closed(&atoms)).unwrap());
+    let plan = Arc::new(b.build(AllowedAtoms::Closed(&atoms)).unwrap());
     let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();
     let mut world = Log {
         kb: BitKnowledgeBase::new(1),
@@ -171,7 +171,7 @@ fn guards_read_the_knowledge_base_and_sensing_takes_the_true_branch() {
     let unseen = b.place("unseen fail");
     b.transition("", &[(sensing.outcomes[0], 1)], &[(seen, 1)]);
     b.transition("", &[(sensing.outcomes[1], 1)], &[(unseen, 1)]);
-    let plan = Arc::new(b.build(Vocabulary::Closed(&atoms)).unwrap());
+    let plan = Arc::new(b.build(AllowedAtoms::Closed(&atoms)).unwrap());
     for (truth, expected) in [(true, Status::Goal), (false, Status::Failed)] {
         let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();
         let mut world = Log {
@@ -192,7 +192,7 @@ fn interrupt_preempts_the_normal_end() {
     let go = b.action(init, "act_go_5");
     let recover = b.place("recover");
     b.interrupt(&go, "obstacle", recover);
-    let plan = Arc::new(b.build(Vocabulary::Closed(&atoms)).unwrap());
+    let plan = Arc::new(b.build(AllowedAtoms::Closed(&atoms)).unwrap());
     let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();
     let mut world = Log {
         kb: BitKnowledgeBase::new(1),
@@ -218,7 +218,7 @@ fn declared_internal_conditions_are_bound_and_checked() {
     let go = b.action(init, "act_go_5");
     let early = b.place("early goal");
     b.transition("act_go_5.end [act_go_5.begun]", &[(go.exec, 1)], &[(early, 1)]);
-    let plan = Arc::new(b.build(Vocabulary::Open).unwrap());
+    let plan = Arc::new(b.build(AllowedAtoms::Open).unwrap());
     let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();
     let (status, steps) = run(&mut exec, &mut Log::default(), &mut RandomChooser::new(seeded(0)), 20);
     assert_eq!((status, steps), (Status::Goal, 2));
@@ -228,7 +228,7 @@ fn declared_internal_conditions_are_bound_and_checked() {
     let go = b.action(init, "act_go_5");
     let out = b.place("");
     b.transition("[act_go_5.blocked]", &[(go.exec, 1)], &[(out, 1)]);
-    let plan = Arc::new(b.build(Vocabulary::Open).unwrap());
+    let plan = Arc::new(b.build(AllowedAtoms::Open).unwrap());
     let err = Executor::new(plan, &registry()).err().unwrap();
     assert!(
         matches!(err, ExecError::UndeclaredCondition { ref condition, .. } if condition == "blocked"),
@@ -242,7 +242,7 @@ fn unknown_actions_are_refused() {
     let mut b = PlanBuilder::new("unknown");
     let init = b.initial_place("init");
     b.action(init, "fly");
-    let plan = Arc::new(b.build(Vocabulary::Open).unwrap());
+    let plan = Arc::new(b.build(AllowedAtoms::Open).unwrap());
     let err = Executor::new(plan, &registry()).err().unwrap();
     assert!(err.to_string().contains("'fly'"), "{err}");
 }
@@ -252,7 +252,7 @@ fn sub_plan(name: &str, inner: &str) -> Plan {
     let init = b.initial_place("init");
     let goal = b.goal_place();
     b.action_into(init, inner, goal);
-    b.build(Vocabulary::Open).unwrap()
+    b.build(AllowedAtoms::Open).unwrap()
 }
 
 #[test]
@@ -263,7 +263,7 @@ fn sub_plans_run_as_actions_and_report_under_their_own_key() {
     let init = b.initial_place("init");
     let goal = b.goal_place();
     b.action_into(init, "fetch", goal);
-    let plan = Arc::new(b.build(Vocabulary::Open).unwrap());
+    let plan = Arc::new(b.build(AllowedAtoms::Open).unwrap());
     let mut exec = Executor::new(plan, &reg).unwrap();
     let mut world = Log {
         reward_per_step: 1.0,
@@ -306,7 +306,7 @@ fn a_higher_interrupt_preempts_the_sub_plan_and_ends_its_subtree() {
     let patrol = b.call(init, "patrol");
     let safe = b.place("safe goal");
     b.interrupt(&patrol, "alarm", safe);
-    let plan = Arc::new(b.build(Vocabulary::Closed(&atoms)).unwrap());
+    let plan = Arc::new(b.build(AllowedAtoms::Closed(&atoms)).unwrap());
     let mut exec = Executor::new(plan, &reg).unwrap();
     let mut world = Log {
         kb: BitKnowledgeBase::new(1),
@@ -354,7 +354,7 @@ fn memory_place_makes_the_markings_after_a_choice_differ() {
     let kick = b.action(kick_from, "act_kick_1");
     let goal = b.goal_place();
     b.transition("", &[(kick.done, 1)], &[(goal, 1)]);
-    let plan = Arc::new(b.build(Vocabulary::Open).unwrap());
+    let plan = Arc::new(b.build(AllowedAtoms::Open).unwrap());
     let mut kick_markings = Vec::new();
     for pick in 0..2 {
         let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();

@@ -12,7 +12,7 @@ use learnpnp::experiment::defaults::default_learner;
 use learnpnp::experiment::spec::{Algorithm, DomainSpec};
 use learnpnp::learning::{EpisodeMode, EpisodeStart, Learner, RandomLearner, ValueTable};
 use learnpnp::net::Marking;
-use learnpnp::plan::{Plan, Vocabulary, catalog};
+use learnpnp::plan::{AllowedAtoms, Plan, catalog};
 use learnpnp::rng::{derive_seed, seeded};
 
 fn plan(mode: KeepawayMode) -> Arc<Plan> {
@@ -27,7 +27,7 @@ fn plan(mode: KeepawayMode) -> Arc<Plan> {
 #[test]
 fn the_keepaway_plans_pass_the_structural_checks() {
     for net in [catalog::keepaway_pass().unwrap(), catalog::keepaway_position().unwrap()] {
-        let plan = Plan::from_net(net, Vocabulary::Closed(&atoms())).unwrap();
+        let plan = Plan::from_net(net, AllowedAtoms::Closed(&atoms())).unwrap();
         let report = analysis::check(&plan, 100_000);
         assert!(report.passed(), "{report}");
     }

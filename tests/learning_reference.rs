@@ -12,7 +12,7 @@ use learnpnp::learning::{
     EpisodeStart, Exploration, Learner, MonteCarlo, MonteCarloConfig, Schedule, Scope, Target, TdConfig, TdLearner,
 };
 use learnpnp::net::{Marking, PetriNet, PlaceNode, TransitionNode};
-use learnpnp::plan::{Plan, Vocabulary};
+use learnpnp::plan::{AllowedAtoms, Plan};
 use learnpnp::rng::seeded;
 
 #[derive(Default)]
@@ -96,7 +96,7 @@ fn env1() -> Plan {
         ],
     )
     .expect("valid net");
-    Plan::from_net(net, Vocabulary::Open).expect("valid plan")
+    Plan::from_net(net, AllowedAtoms::Open).expect("valid plan")
 }
 
 fn train(learner: &mut dyn Learner) {

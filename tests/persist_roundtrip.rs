@@ -9,7 +9,7 @@ use learnpnp::learning::persist::{
 };
 use learnpnp::learning::{StateKey, ValueTable};
 use learnpnp::net::{Marking, PetriNet, PlaceNode};
-use learnpnp::plan::{Plan, Vocabulary};
+use learnpnp::plan::{AllowedAtoms, Plan};
 
 /// A fresh, empty directory for one test.
 fn scratch(test: &str) -> PathBuf {
@@ -31,7 +31,7 @@ fn plan(name: &str, places: &[(&str, &str)]) -> Plan {
         })
         .collect();
     let net = PetriNet::new(name, places, Vec::new(), &[]).expect("valid net");
-    Plan::from_net(net, Vocabulary::Open).expect("valid plan")
+    Plan::from_net(net, AllowedAtoms::Open).expect("valid plan")
 }
 
 fn root_plan() -> Plan {

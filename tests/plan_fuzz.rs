@@ -2,7 +2,7 @@
 
 use learnpnp::condition::parse_condition;
 use learnpnp::net::{PetriNet, PlaceNode, TransitionNode};
-use learnpnp::plan::{Plan, Vocabulary, catalog};
+use learnpnp::plan::{AllowedAtoms, Plan, catalog};
 use learnpnp::pnml::{self, Dialect};
 use proptest::prelude::*;
 
@@ -61,7 +61,7 @@ proptest! {
             .collect();
         let specs: Vec<(&str, &str, &str, u8)> = arcs.iter().map(|(a, s, t, w)| (a.as_str(), s.as_str(), t.as_str(), *w)).collect();
         let mutated = PetriNet::new("m", places, transitions, &specs).expect("same structure");
-        if let Err(e) = Plan::from_net(mutated, Vocabulary::Open) {
+        if let Err(e) = Plan::from_net(mutated, AllowedAtoms::Open) {
             prop_assert!(!e.to_string().is_empty());
         }
     }
@@ -76,7 +76,7 @@ proptest! {
         }
         let mutated = String::from_utf8_lossy(&bytes);
         if let Ok(net) = pnml::parse(&mutated, "fuzz") {
-            let _ = Plan::from_net(net, Vocabulary::Open);
+            let _ = Plan::from_net(net, AllowedAtoms::Open);
         }
     }
 }

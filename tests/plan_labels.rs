@@ -2,7 +2,7 @@
 
 use learnpnp::condition::{AtomRef, AtomTable, Condition};
 use learnpnp::net::PetriNet;
-use learnpnp::plan::{Function, InternalKind, Plan, PlanError, Vocabulary, catalog};
+use learnpnp::plan::{AllowedAtoms, Function, InternalKind, Plan, PlanError, catalog};
 
 /// A net whose arcs all weigh 1.
 fn net(places: &[(&str, &str, u8)], transitions: &[(&str, &str)], arcs: &[(&str, &str)]) -> PetriNet {
@@ -20,7 +20,7 @@ fn action_net(start_label: &str, end_label: &str) -> PetriNet {
 }
 
 fn load(n: PetriNet) -> Result<Plan, PlanError> {
-    Plan::from_net(n, Vocabulary::Open)
+    Plan::from_net(n, AllowedAtoms::Open)
 }
 
 #[test]
@@ -146,7 +146,7 @@ fn unknown_atoms_are_refused_against_a_domain() {
     let atoms: AtomTable = ["arrived", "blocked"].into_iter().collect();
     let err = Plan::from_net(
         action_net("goto.start", "goto.end [or arrived lost]"),
-        Vocabulary::Closed(&atoms),
+        AllowedAtoms::Closed(&atoms),
     )
     .unwrap_err();
     let msg = err.to_string();
@@ -157,7 +157,7 @@ fn unknown_atoms_are_refused_against_a_domain() {
     // Known atoms resolve to the domain's ids.
     let plan = Plan::from_net(
         action_net("goto.start", "goto.end [blocked]"),
-        Vocabulary::Closed(&atoms),
+        AllowedAtoms::Closed(&atoms),
     )
     .unwrap();
     let t = plan.transition(learnpnp::net::TransitionId::new(1));
@@ -180,7 +180,7 @@ fn agent_prefix_and_parameters_stay_in_the_action_name() {
 
 #[test]
 fn places_sharing_an_exec_label_share_one_action() {
-    let plan = Plan::from_net(catalog::penalty_kick_tree().unwrap(), Vocabulary::Open).unwrap();
+    let plan = Plan::from_net(catalog::penalty_kick_tree().unwrap(), AllowedAtoms::Open).unwrap();
     let kick = plan.action_named("Kick").unwrap();
     assert_eq!(plan.action(kick).exec_places.len(), 2);
 }
@@ -188,7 +188,7 @@ fn places_sharing_an_exec_label_share_one_action() {
 #[test]
 fn every_catalog_plan_loads() {
     for (name, n) in catalog::all().unwrap() {
-        let plan = Plan::from_net(n, Vocabulary::Open).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let plan = Plan::from_net(n, AllowedAtoms::Open).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(plan.name(), name);
     }
 }

@@ -5,10 +5,11 @@
 use crate::util::SHIPPED_SCHEMAS;
 use crate::util::shipped;
 
-use learnpnp::plan::Vocabulary;
+use learnpnp::plan::AllowedAtoms;
 use learnpnp::plan_file::load_plan;
 use learnpnp::schema::{
-    Process, SchemaBuilder, SchemaFileError, StateKind, load_schema_plan, parse_schema, read_schema, write_schema,
+    DecisionProcess, SchemaBuilder, SchemaFileError, StateKind, load_schema_plan, parse_schema, read_schema,
+    write_schema,
 };
 use proptest::prelude::*;
 
@@ -30,7 +31,7 @@ fn shipped_schemas_round_trip_through_the_writer() {
 #[test]
 fn shipped_schemas_load_as_plans() {
     for name in SHIPPED_SCHEMAS {
-        let plan = load_plan(&shipped(&format!("{name}.schema")), Vocabulary::Open).unwrap_or_else(|e| panic!("{e}"));
+        let plan = load_plan(&shipped(&format!("{name}.schema")), AllowedAtoms::Open).unwrap_or_else(|e| panic!("{e}"));
         assert!(plan.schema_process().is_some(), "{name}");
         assert_eq!(
             plan.activation_plans().len(),
@@ -201,14 +202,14 @@ fn file_errors_name_the_path_and_line() {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("bad.schema");
     std::fs::write(&path, "machine m\n  initial s\n  s -> nowhere\n").unwrap();
-    let e = load_schema_plan(&path, Vocabulary::Open).unwrap_err();
+    let e = load_schema_plan(&path, AllowedAtoms::Open).unwrap_err();
     assert!(matches!(e, SchemaFileError::Schema { .. }));
     let text = e.to_string();
     assert!(
         text.contains("bad.schema: line 3: ") && text.contains("'nowhere'"),
         "{text}"
     );
-    let missing = load_schema_plan(&dir.join("missing.schema"), Vocabulary::Open).unwrap_err();
+    let missing = load_schema_plan(&dir.join("missing.schema"), AllowedAtoms::Open).unwrap_err();
     assert!(matches!(missing, SchemaFileError::Io { .. }), "{missing}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -219,7 +220,7 @@ fn atoms_unknown_to_the_domain_are_refused_with_the_line() {
         parse_schema("machine m\n  initial s {MoveNorth}\n  final f\n  s -> f on MoveNorth.finished [Walll]\n")
             .unwrap();
     let atoms = learnpnp::domains::parr_russell::atoms();
-    let e = Process::new(&schema, Vocabulary::Closed(&atoms)).unwrap_err();
+    let e = DecisionProcess::new(&schema, AllowedAtoms::Closed(&atoms)).unwrap_err();
     assert_eq!(e.line, Some(4));
     assert_eq!(e.token, "Walll");
     assert!(e.message.contains("WallLeft"), "{e}");
@@ -232,7 +233,7 @@ fn too_many_overlapping_conditions_are_refused() {
         text.push_str(&format!("  s -> t [c{i}]\n"));
     }
     let schema = parse_schema(&text).unwrap();
-    let e = Process::new(&schema, Vocabulary::Open).unwrap_err();
+    let e = DecisionProcess::new(&schema, AllowedAtoms::Open).unwrap_err();
     assert_eq!(e.line, Some(4));
     assert!(e.message.contains("at most 12"), "{e}");
 }
@@ -249,7 +250,7 @@ proptest! {
         broken.insert_str(at, &insert);
         match parse_schema(&broken) {
             Ok(schema) => {
-                let _ = Process::new(&schema, Vocabulary::Open);
+                let _ = DecisionProcess::new(&schema, AllowedAtoms::Open);
             }
             Err(e) => {
                 if let Some(line) = e.line {

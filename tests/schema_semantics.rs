@@ -13,9 +13,9 @@ use learnpnp::learning::{
     Assessment, EpisodeStart, ExploitPolicy, Learner, Schedule, Sigma, SoSmc, SoSmcConfig, StepSize, Unestimated,
 };
 use learnpnp::net::Marking;
-use learnpnp::plan::{Plan, Vocabulary};
+use learnpnp::plan::{AllowedAtoms, Plan};
 use learnpnp::rng::seeded;
-use learnpnp::schema::{Process, parse_schema};
+use learnpnp::schema::{DecisionProcess, parse_schema};
 
 const ATOMS: [&str; 8] = ["go", "tick", "stop", "close", "facing", "far", "e1", "e2"];
 
@@ -49,7 +49,11 @@ fn registry() -> Registry<Log> {
 fn plan(text: &str) -> Arc<Plan> {
     let atoms: AtomTable = ATOMS.into_iter().collect();
     let schema = parse_schema(text).unwrap_or_else(|e| panic!("{e}"));
-    Arc::new(Process::new(&schema, Vocabulary::Closed(&atoms)).unwrap().into_plan())
+    Arc::new(
+        DecisionProcess::new(&schema, AllowedAtoms::Closed(&atoms))
+            .unwrap()
+            .into_plan(),
+    )
 }
 
 /// A chooser that records what it is told and picks the options it is given.
@@ -305,7 +309,7 @@ fn football_an_event_whose_guards_fail_does_not_block_ball_lost() {
     let plan = Arc::new(
         learnpnp::load_plan(
             &crate::util::shipped("football_choice.schema"),
-            Vocabulary::Closed(&atoms),
+            AllowedAtoms::Closed(&atoms),
         )
         .unwrap(),
     );

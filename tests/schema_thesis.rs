@@ -17,17 +17,18 @@ use learnpnp::learning::{
     Target, TdConfig, TdLearner, Unestimated,
 };
 use learnpnp::net::{Marking, PlaceId};
-use learnpnp::plan::{Plan, Vocabulary};
+use learnpnp::plan::{AllowedAtoms, Plan};
 use learnpnp::plan_file::load_plan;
 use learnpnp::rng::{derive_seed, seeded};
 use learnpnp::schema::{
-    MachineProcess, Process, ProcessState, ProcessTransition, condition_constituents, parse_schema, read_schema,
+    DecisionProcess, DecisionState, MachineProcess, ProcessTransition, condition_constituents, parse_schema,
+    read_schema,
 };
 
-fn process(name: &str) -> Process {
-    Process::new(
+fn process(name: &str) -> DecisionProcess {
+    DecisionProcess::new(
         &read_schema(&shipped(&format!("{name}.schema"))).unwrap(),
-        Vocabulary::Open,
+        AllowedAtoms::Open,
     )
     .unwrap()
 }
@@ -85,7 +86,7 @@ fn figure_3_5_the_choice_point_as_a_process() {
            approach -> side on closeToBall [FarFromGoal]",
     )
     .unwrap();
-    let p = Process::new(&schema, Vocabulary::Open).unwrap();
+    let p = DecisionProcess::new(&schema, AllowedAtoms::Open).unwrap();
     let mp = &p.machines()[0];
     let (approach, punt, side) = (0, 1, 2);
     let fg = state(mp, "[approach, closeToBall, {FacingGoal}]");
@@ -95,11 +96,11 @@ fn figure_3_5_the_choice_point_as_a_process() {
     // The states of Figure 3.5 (b): three action states (first and last
     // layer) and three constituent states (the middle layer).
     let action_states: Vec<usize> = (0..mp.states().len())
-        .filter(|&i| matches!(mp.states()[i], ProcessState::Action { .. }))
+        .filter(|&i| matches!(mp.states()[i], DecisionState::Action { .. }))
         .collect();
     assert_eq!(action_states, [approach, punt, side]);
     let mut constituents: Vec<usize> = (0..mp.states().len())
-        .filter(|&i| matches!(mp.states()[i], ProcessState::Constituent { .. }))
+        .filter(|&i| matches!(mp.states()[i], DecisionState::Constituent { .. }))
         .collect();
     constituents.sort_unstable();
     assert_eq!(constituents, [fg, ffg, both]);
@@ -187,7 +188,7 @@ fn figure_3_3_kick_is_a_machine_with_the_choice() {
 /// A penalty-kick run of `schema` with `learner`, after `episodes` learning
 /// episodes: the values of the two options of the first choice and the greedy return.
 fn kick(schema: &str, learner: Box<dyn Learner>, episodes: usize) -> (f64, f64, f64) {
-    let plan = Arc::new(load_plan(&shipped(&format!("{schema}.schema")), Vocabulary::Open).unwrap());
+    let plan = Arc::new(load_plan(&shipped(&format!("{schema}.schema")), AllowedAtoms::Open).unwrap());
     let mut task = PenaltyKick::new(PenaltyKickConfig::default(), Arc::clone(&plan), learner).unwrap();
     for _ in 0..episodes {
         task.episode(EpisodeMode::Learn).unwrap();
@@ -344,7 +345,7 @@ fn a_schema_and_the_equivalent_plan_learn_the_same_policy_with_the_same_seed() {
             .collect()
     };
     let atoms = parr_russell::atoms();
-    let schema_plan = || load_plan(&shipped("parr_russell.schema"), Vocabulary::Closed(&atoms)).unwrap();
+    let schema_plan = || load_plan(&shipped("parr_russell.schema"), AllowedAtoms::Closed(&atoms)).unwrap();
     let schema_options = |west: bool, east: bool| -> Vec<Marking> {
         let plan = schema_plan();
         let observation = format!(
@@ -391,7 +392,7 @@ fn the_kick_schema_variants_are_the_shipped_files() {
         (Variant::SchemaRestructured, "penalty_kick_restructured.schema"),
     ] {
         let built = penalty_kick::plan(variant).unwrap();
-        let shipped = learnpnp::load_plan(&crate::util::shipped(file), learnpnp::Vocabulary::Open).unwrap();
+        let shipped = learnpnp::load_plan(&crate::util::shipped(file), learnpnp::AllowedAtoms::Open).unwrap();
         assert!(built.schema_process().is_some(), "{file}: a schema's process");
         assert_eq!(PlanLabels::of(&built), PlanLabels::of(&shipped), "{file}");
     }

@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use learnpnp::plan::{Vocabulary, catalog};
+use learnpnp::plan::{AllowedAtoms, catalog};
 use learnpnp::plan_file::load_plan;
 use learnpnp::pnml::{self, Dialect};
 
@@ -35,7 +35,7 @@ fn shipped_files_match_the_catalog() {
 fn shipped_files_load_and_pass_the_checks() {
     for (stem, _) in catalog::all().expect("catalog builds") {
         let path = plans_dir().join(format!("{stem}.pnml"));
-        let plan = load_plan(&path, Vocabulary::Open).unwrap_or_else(|e| panic!("{e}"));
+        let plan = load_plan(&path, AllowedAtoms::Open).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(plan.name(), stem);
         let report = learnpnp::analysis::check(&plan, learnpnp::analysis::DEFAULT_LIMIT);
         assert!(report.passed(), "{}: {report}", path.display());

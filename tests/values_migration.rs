@@ -8,11 +8,12 @@ use std::path::PathBuf;
 use learnpnp::analysis::{choices_at, transition_name};
 use learnpnp::executor::PlanKey;
 use learnpnp::learning::by_choice::group_by_choice;
-use learnpnp::learning::migrate::{migrate, place_keys};
+use learnpnp::learning::migrate::migrate;
+use learnpnp::learning::persist::place_keys;
 use learnpnp::learning::persist::{self, FORMAT_VERSION, HEADER_LEN, MAGIC, SavedValues};
 use learnpnp::learning::{StateKey, ValueTable};
 use learnpnp::net::Marking;
-use learnpnp::plan::{Plan, PlanBuilder, Vocabulary};
+use learnpnp::plan::{AllowedAtoms, Plan, PlanBuilder};
 
 const CELLS: usize = 3;
 
@@ -31,7 +32,7 @@ fn grid(name: &str, moves: &[&str]) -> Plan {
         }
         b.action_into(cell, "stop", goal);
     }
-    b.build(Vocabulary::Open).expect("a plan")
+    b.build(AllowedAtoms::Open).expect("a plan")
 }
 
 /// The marking where cell `c` chooses.
@@ -181,7 +182,7 @@ fn an_edit_elsewhere_keeps_every_value_and_every_count() {
         }
         b.action_into(cell, "stop", goal);
     }
-    let new = b.build(Vocabulary::Open).expect("a plan");
+    let new = b.build(AllowedAtoms::Open).expect("a plan");
     let (migrated, report) = migrate(&saved, &[&new]).expect("migrated");
     assert_eq!(report.kept, saved.entries.len(), "{report}");
     assert!(
@@ -270,7 +271,7 @@ fn a_plan_that_shares_nothing_is_refused_with_what_differs() {
     let goal = b.goal_place();
     b.action_into(start, "walk", goal);
     b.action_into(start, "turn", goal);
-    let other = b.build(Vocabulary::Open).expect("a plan");
+    let other = b.build(AllowedAtoms::Open).expect("a plan");
     let err = migrate(&saved, &[&other]).expect_err("nothing shared");
     let text = err.to_string();
     assert!(

@@ -8,10 +8,10 @@ use learnpnp::experiment::checkpoint::{ResumePoint, resume_point};
 use learnpnp::experiment::options::DomainName;
 use learnpnp::experiment::output::{SummaryFile, final_score_text, greedy_text, replay_name, write_shard_results_with};
 use learnpnp::experiment::ranges;
+use learnpnp::experiment::result_dir::{Contents, ResultDir};
 use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
 use learnpnp::experiment::shard::{Shard, ShardRecord};
 use learnpnp::experiment::spec::ExperimentSpec;
-use learnpnp::result_dir::{Contents, ResultDir};
 use learnpnp_cli::args::{ExperimentFlags, named};
 use learnpnp_cli::interrupt::Interrupt;
 

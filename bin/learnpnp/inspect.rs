@@ -12,14 +12,14 @@ use learnpnp::dot::to_dot_with_values;
 use learnpnp::experiment::output::score_axis;
 use learnpnp::experiment::plot::{Reference, Series, plot_curves, read_curve_csv};
 use learnpnp::experiment::ranges::CountRange;
+use learnpnp::experiment::result_dir::{self, Contents};
 use learnpnp::experiment::spec::{DomainSpec, ExperimentSpec};
 use learnpnp::learning::by_choice::{self, group_by_choice};
 use learnpnp::learning::migrate;
 use learnpnp::learning::persist::{self, SavedValues};
-use learnpnp::plan::{Plan, Vocabulary};
+use learnpnp::plan::{AllowedAtoms, Plan};
 use learnpnp::plan_file::load_plan;
 use learnpnp::pnml::{self, Dialect};
-use learnpnp::result_dir::{self, Contents};
 use learnpnp::schema;
 
 #[derive(Args, Debug)]
@@ -61,7 +61,7 @@ pub fn check(args: &CheckArgs) -> ExitCode {
     if schema::is_schema_path(&args.plan) {
         return check_schema(args);
     }
-    let plan = match load_plan(&args.plan, Vocabulary::Open) {
+    let plan = match load_plan(&args.plan, AllowedAtoms::Open) {
         Ok(plan) => plan,
         Err(e) => {
             eprintln!("error: {e}");
@@ -108,7 +108,7 @@ fn print_report(report: &dyn std::fmt::Display, status: u8) -> ExitCode {
 /// `--verbose` changes nothing; as JSON: `plan`, `result`, `passed`,
 /// `failures` and `text`.
 fn check_schema(args: &CheckArgs) -> ExitCode {
-    let process = match schema::load_process(&args.plan, Vocabulary::Open) {
+    let process = match schema::load_process(&args.plan, AllowedAtoms::Open) {
         Ok(process) => process,
         Err(e) => {
             eprintln!("error: {e}");
@@ -158,11 +158,11 @@ pub fn dot(args: &DotArgs) -> Result<()> {
         if args.values.is_some() {
             anyhow::bail!("--values labels the choice points of a Petri Net Plan; give the plan, not a schema");
         }
-        let dot = schema::to_dot(&schema::load_process(&args.plan, Vocabulary::Open)?);
+        let dot = schema::to_dot(&schema::load_process(&args.plan, AllowedAtoms::Open)?);
         write!(std::io::stdout().lock(), "{dot}")?;
         return Ok(());
     }
-    let plan = load_plan(&args.plan, Vocabulary::Open)?;
+    let plan = load_plan(&args.plan, AllowedAtoms::Open)?;
     for w in plan.warnings() {
         eprintln!("warning: {w}");
     }
@@ -199,7 +199,7 @@ pub struct ConvertArgs {
 pub fn convert(args: &ConvertArgs) -> Result<()> {
     let net = pnml::read_file(&args.plan)?;
     // Refuse to convert something that is not a valid plan.
-    learnpnp::plan::Plan::from_net(net.clone(), Vocabulary::Open)
+    learnpnp::plan::Plan::from_net(net.clone(), AllowedAtoms::Open)
         .with_context(|| format!("{} is not a valid plan", args.plan.display()))?;
     pnml::write_file(&net, args.to, &args.output)?;
     Ok(())
@@ -314,7 +314,7 @@ fn experiment_plan(values: &Path) -> Result<Option<Plan>> {
 pub fn values(args: &ValuesArgs) -> Result<()> {
     let saved = load_values(&args.file)?;
     let plan = match &args.plan {
-        Some(path) => Some(load_plan(path, Vocabulary::Open)?),
+        Some(path) => Some(load_plan(path, AllowedAtoms::Open)?),
         None => experiment_plan(&args.file)?,
     };
     let mut text = Vec::new();

@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use learnpnp::experiment::output::write_results;
+use learnpnp::experiment::result_dir::ResultDir;
 use learnpnp::experiment::shard::{SHARD_FILE, merge};
-use learnpnp::result_dir::ResultDir;
 
 use super::reproduce::{self, REPRODUCE_SHARD_FILE, ReproduceArgs, ReproduceShard};
 

@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
+use atomic_file::write_atomic;
 use clap::Args;
-use learnpnp::atomic_file::write_atomic;
 use learnpnp::keepaway_sim::rcg::GameLog;
 use learnpnp::keepaway_sim::replay::replay_page;
 

@@ -4,8 +4,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
+use atomic_file::write_atomic;
 use clap::Args;
-use learnpnp::atomic_file::write_atomic;
 use learnpnp::experiment::output::{
     SummaryFile, bar_axis, bar_of, final_score_text, greedy_text, score_axis, series, unit_suffix,
 };
@@ -14,9 +14,9 @@ use learnpnp::experiment::presets::{self, Figure, FigureKind};
 use learnpnp::experiment::progress::{Rates, clock};
 use learnpnp::experiment::ranges;
 use learnpnp::experiment::report::summary_markdown;
+use learnpnp::experiment::result_dir::ResultDir;
 use learnpnp::experiment::shard::Shard;
 use learnpnp::experiment::spec::ExperimentSpec;
-use learnpnp::result_dir::ResultDir;
 use learnpnp_cli::interrupt::Interrupt;
 use serde::{Deserialize, Serialize};
 

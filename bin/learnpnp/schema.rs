@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
-use learnpnp::plan::Vocabulary;
+use learnpnp::plan::AllowedAtoms;
 use learnpnp::schema;
 
 #[derive(Args, Debug)]
@@ -18,7 +18,7 @@ pub struct SchemaArgs {
 }
 
 pub fn run(args: &SchemaArgs) -> Result<()> {
-    let process = schema::load_process(&args.schema, Vocabulary::Open)?;
+    let process = schema::load_process(&args.schema, AllowedAtoms::Open)?;
     let text = if args.dot {
         schema::to_dot(&process)
     } else {

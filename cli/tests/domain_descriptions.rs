@@ -5,7 +5,7 @@
 use crate::learnpnp;
 
 use learnpnp::domains::describe::{domain, domains};
-use learnpnp::plan::{PlanBuilder, Vocabulary};
+use learnpnp::plan::{AllowedAtoms, PlanBuilder};
 use learnpnp::plan_file::load_plan;
 use learnpnp::pnml::{self, Dialect};
 
@@ -32,7 +32,7 @@ fn every_domain_is_described_and_its_plan_uses_only_what_is_listed() {
         ("keepaway-position", "keepaway_position.pnml"),
     ] {
         let d = domain(name).expect("a domain");
-        let plan = load_plan(&plans.join(file), Vocabulary::Open).expect("the plan loads");
+        let plan = load_plan(&plans.join(file), AllowedAtoms::Open).expect("the plan loads");
         let listed: Vec<String> = d.actions.iter().map(|a| a.pattern()).collect();
         for action in plan.actions() {
             assert!(

@@ -9,9 +9,9 @@ use learnpnp::experiment::checkpoint::{CHECKPOINT, ResumePoint, resume_point};
 use learnpnp::experiment::options::DomainName;
 use learnpnp::experiment::output::write_results;
 use learnpnp::experiment::presets;
+use learnpnp::experiment::result_dir::{Contents, ResultDir};
 use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
 use learnpnp::experiment::spec::ExperimentSpec;
-use learnpnp::result_dir::{Contents, ResultDir};
 
 fn spec(args: &[&str]) -> ExperimentSpec {
     learnpnp_cli::args::parse_experiment_flags(args)

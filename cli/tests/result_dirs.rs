@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use learnpnp::result_dir::{Contents, ResultDir};
+use learnpnp::experiment::result_dir::{Contents, ResultDir};
 
 fn spawn(args: &[&str]) -> Child {
     Command::new(env!("CARGO_BIN_EXE_learnpnp"))

@@ -8,9 +8,9 @@ use std::path::Path;
 use crate::learnpnp;
 use crate::util::{temp_dir, text};
 use learnpnp::experiment::output::write_shard_results;
+use learnpnp::experiment::result_dir::ResultDir;
 use learnpnp::experiment::runner::{ExperimentOutput, RunOptions, run_experiment};
 use learnpnp::experiment::shard::{Shard, ShardRecord, merge};
-use learnpnp::result_dir::ResultDir;
 
 const EXPERIMENT: [&str; 10] = [
     "experiment",

@@ -10,14 +10,15 @@
 
 use std::sync::Arc;
 
+use learnpnp::PlanAgent;
 use learnpnp::condition::{AtomId, AtomTable, KnowledgeBase};
-use learnpnp::domains::{PlanAgent, TaskError};
+use learnpnp::domains::TaskError;
 use learnpnp::executor::{Action, Registry, World};
 use learnpnp::learning::{
     Assessment, EpisodeMode, EpisodeStart, ExploitPolicy, Learner, Schedule, Sigma, SoSmc, SoSmcConfig, StepSize,
     Unestimated,
 };
-use learnpnp::plan::{Plan, PlanBuilder, PlanError, Vocabulary};
+use learnpnp::plan::{AllowedAtoms, Plan, PlanBuilder, PlanError};
 use learnpnp::rng::{SimRng, seeded};
 use rand::RngExt;
 
@@ -200,7 +201,7 @@ pub fn plan() -> Result<Plan, PlanError> {
     b.transition("[Delivered]", &[(delivered, 1)], &[(goal, 1)]);
     b.transition("[not Delivered]", &[(delivered, 1)], &[(look, 1)]);
     let atoms: AtomTable = ATOMS.into_iter().collect();
-    b.build(Vocabulary::Closed(&atoms))
+    b.build(AllowedAtoms::Closed(&atoms))
 }
 
 /// epsilon-SoSMC (thesis chapter 4): 100 exploratory episodes, then every 20th.

@@ -3,12 +3,12 @@
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex, MutexGuard};
 
+use learnpnp::agent::stepwise::{ActionOutcome, StepError, StepwiseAgent};
 use learnpnp::experiment::defaults::{Overrides, plan_learner};
 use learnpnp::experiment::spec::Algorithm;
 use learnpnp::learning::migrate;
 use learnpnp::learning::persist::{self, SavedValues};
 use learnpnp::rng::seeded;
-use learnpnp::stepwise::{ActionOutcome, StepError, StepwiseAgent};
 use learnpnp::{AtomId, EpisodeMode, Named, Status};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;

@@ -5,7 +5,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use learnpnp::plan::{ActionNet, PlaceRef, SensingNet, Tracker, TransitionRef};
-use learnpnp::{AtomTable, PlanBuilder, Vocabulary};
+use learnpnp::{AllowedAtoms, AtomTable, PlanBuilder};
 use pyo3::prelude::*;
 
 use crate::errors::value_error;
@@ -300,8 +300,8 @@ impl PyPlanBuilder {
             .ok_or_else(|| value_error("this PlanBuilder has already built its plan"))?;
         let table: Option<AtomTable> = atoms.map(|a| a.iter().map(String::as_str).collect());
         let vocabulary = match &table {
-            Some(t) => Vocabulary::Closed(t),
-            None => Vocabulary::Open,
+            Some(t) => AllowedAtoms::Closed(t),
+            None => AllowedAtoms::Open,
         };
         let plan = builder.build(vocabulary).map_err(value_error)?;
         Ok(PyPlan { inner: Arc::new(plan) })

@@ -3,10 +3,11 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use learnpnp::agent::stepwise;
 use learnpnp::analysis::{self, CheckReport};
 use learnpnp::learning::by_choice::group_by_choice;
 use learnpnp::pnml::{self, Dialect};
-use learnpnp::{Plan, Vocabulary, dot, load_plan, persist, schema, stepwise};
+use learnpnp::{AllowedAtoms, Plan, dot, load_plan, persist, schema};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -50,7 +51,7 @@ impl PyPlan {
     /// when it cannot be loaded.
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
-        let plan = load_plan(&path, Vocabulary::Open).map_err(|e| load_error(py, &e))?;
+        let plan = load_plan(&path, AllowedAtoms::Open).map_err(|e| load_error(py, &e))?;
         Ok(PyPlan { inner: Arc::new(plan) })
     }
 

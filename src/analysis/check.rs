@@ -17,10 +17,11 @@
 //! never read (counters only written), otherwise a pass is inconclusive.
 
 use super::choice::choice_points;
-use super::count::{self, Count, Tri};
+use super::count::{Count, Tri};
 use super::diagnosis;
 use super::exploration::{Exploration, explore_within, product};
 use super::limits::Limits;
+use super::markings;
 use super::reachability::{Reachability, StateId};
 use super::report::{CheckReport, Element, Example, Failure, Note, PlaceBound, Property, ReportedChoice, Verdict};
 use crate::net::{PlaceId, TransitionId};
@@ -140,11 +141,11 @@ impl Checker<'_> {
     }
 
     fn goal(&self, graph: &Reachability, s: StateId) -> Tri {
-        count::matches(self.plan.goal(), graph.entries(s))
+        markings::matches(self.plan.goal(), graph.entries(s))
     }
 
     fn fail(&self, graph: &Reachability, s: StateId) -> Tri {
-        count::matches(self.plan.fail(), graph.entries(s))
+        markings::matches(self.plan.fail(), graph.entries(s))
     }
 
     /// Passed when nothing was found and the exploration is complete.
@@ -380,7 +381,7 @@ mod tests {
     use super::super::exploration::explore_whole;
     use super::*;
     use crate::net::{PetriNet, PlaceNode, TransitionNode};
-    use crate::plan::{PlanBuilder, Vocabulary, catalog};
+    use crate::plan::{AllowedAtoms, PlanBuilder, catalog};
 
     /// What a report decides, examples and traces aside (they may differ in
     /// the order the parts' transitions fire).
@@ -425,7 +426,7 @@ mod tests {
     #[test]
     fn the_thesis_plans_decide_the_same_part_by_part() {
         for (name, net) in catalog::all().expect("the catalogue builds") {
-            let plan = Plan::from_net(net, Vocabulary::Open).expect("a plan");
+            let plan = Plan::from_net(net, AllowedAtoms::Open).expect("a plan");
             same_as_whole(&plan).unwrap_or_else(|e| panic!("{name}: {e}"));
         }
     }
@@ -441,7 +442,7 @@ mod tests {
         b.action_into(start, "A", there);
         let goal = b.goal_place();
         b.transition("finish", &[(there, 1), (never, 1)], &[(goal, 1)]);
-        let plan = b.build(Vocabulary::Open).expect("a plan");
+        let plan = b.build(AllowedAtoms::Open).expect("a plan");
         same_as_whole(&plan).expect("the same decisions");
         let text = check(&plan, 100).to_string();
         assert!(text.contains("effectiveness  FAILED"), "{text}");
@@ -501,7 +502,7 @@ mod tests {
             .map(|(id, s, t, w)| (id.as_str(), s.as_str(), t.as_str(), *w))
             .collect();
         let net = PetriNet::new("random", places, transitions, &arcs).ok()?;
-        Plan::from_net(net, Vocabulary::Open).ok()
+        Plan::from_net(net, AllowedAtoms::Open).ok()
     }
 
     proptest! {
@@ -537,7 +538,7 @@ mod tests {
         let end = b.place("end");
         b.transition("a", &[(start, 1)], &[(mid, 1)]);
         b.transition("b", &[(mid, 1)], &[(end, 1)]);
-        let plan = b.build(Vocabulary::Open).expect("plan builds");
+        let plan = b.build(AllowedAtoms::Open).expect("plan builds");
         let report = check(&plan, 100);
         let bounds: Vec<Count> = report.bounds.iter().map(|b| b.bound).collect();
         assert_eq!(bounds, [Count::Finite(2); 3]);

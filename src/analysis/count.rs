@@ -7,9 +7,6 @@
 
 use std::fmt;
 
-use super::markings::{self, Entry};
-use crate::net::PlaceId;
-
 /// The internal representation of ω.
 pub(super) const OMEGA: u16 = u16::MAX;
 
@@ -73,23 +70,6 @@ pub(super) enum Tri {
     No,
 }
 
-/// Whether the sparse `marking` has exactly the required count on every
-/// listed place (the goal or fail test); a plan with no such places never matches.
-pub(super) fn matches(required: &[(PlaceId, u8)], marking: &[Entry]) -> Tri {
-    if required.is_empty() {
-        return Tri::No;
-    }
-    let mut answer = Tri::Yes;
-    for &(p, n) in required {
-        match markings::count(marking, p) {
-            OMEGA => answer = Tri::Maybe,
-            raw if raw == u16::from(n) => {}
-            _ => return Tri::No,
-        }
-    }
-    answer
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -105,15 +85,5 @@ mod tests {
         assert_eq!(Count::from_raw(7), Count::Finite(7));
         assert!(Count::Unbounded > Count::Finite(255));
         assert!(Count::Finite(2).exceeds_one() && !Count::Finite(1).exceeds_one());
-    }
-
-    #[test]
-    fn goal_test_is_three_valued() {
-        let req = [(PlaceId::new(0), 1), (PlaceId::new(1), 2)];
-        let marking = |a, b| [(PlaceId::new(0), a), (PlaceId::new(1), b)];
-        assert_eq!(matches(&req, &marking(1, 2)), Tri::Yes);
-        assert_eq!(matches(&req, &marking(1, OMEGA)), Tri::Maybe);
-        assert_eq!(matches(&req, &[(PlaceId::new(1), OMEGA)]), Tri::No);
-        assert_eq!(matches(&[], &marking(1, 2)), Tri::No);
     }
 }

@@ -151,7 +151,7 @@ pub(super) fn no_goal(
         let shown: Vec<String> = transitions
             .iter()
             .take(SHOWN_LOOP)
-            .map(|&t| super::options::transition_name(plan, t).to_string())
+            .map(|&t| super::choice_options::transition_name(plan, t).to_string())
             .collect();
         let more = if transitions.len() > SHOWN_LOOP { " → …" } else { "" };
         why.push(format!(

@@ -11,7 +11,7 @@ use std::hash::Hasher as _;
 
 use rustc_hash::FxHasher;
 
-use super::count::OMEGA;
+use super::count::{OMEGA, Tri};
 use crate::net::PlaceId;
 
 /// A marked place and its count (never 0; [`OMEGA`] for unboundedly many).
@@ -127,6 +127,23 @@ impl Markings {
     }
 }
 
+/// Whether the sparse `marking` has exactly the required count on every
+/// listed place (the goal or fail test); a plan with no such places never matches.
+pub(super) fn matches(required: &[(PlaceId, u8)], marking: &[Entry]) -> Tri {
+    if required.is_empty() {
+        return Tri::No;
+    }
+    let mut answer = Tri::Yes;
+    for &(p, n) in required {
+        match count(marking, p) {
+            OMEGA => answer = Tri::Maybe,
+            raw if raw == u16::from(n) => {}
+            _ => return Tri::No,
+        }
+    }
+    answer
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -160,5 +177,15 @@ mod tests {
         assert_eq!(count(&marking, PlaceId::new(5)), OMEGA);
         assert_eq!(count(&marking, PlaceId::new(4)), 0);
         assert_eq!(weighted_total(&marking), 260);
+    }
+
+    #[test]
+    fn goal_test_is_three_valued() {
+        let req = [(PlaceId::new(0), 1), (PlaceId::new(1), 2)];
+        let marking = |a, b| [(PlaceId::new(0), a), (PlaceId::new(1), b)];
+        assert_eq!(matches(&req, &marking(1, 2)), Tri::Yes);
+        assert_eq!(matches(&req, &marking(1, OMEGA)), Tri::Maybe);
+        assert_eq!(matches(&req, &[(PlaceId::new(1), OMEGA)]), Tri::No);
+        assert_eq!(matches(&[], &marking(1, 2)), Tri::No);
     }
 }

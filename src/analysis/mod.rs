@@ -16,24 +16,26 @@
 
 mod check;
 mod choice;
+mod choice_options;
 mod count;
 mod diagnosis;
 mod exploration;
 mod guards;
 mod limits;
 mod markings;
-mod options;
 mod parts;
 mod reachability;
 mod report;
 
 pub use check::{check, check_within};
 pub use choice::{ChoicePoint, choice_points, structural_choice_points};
+pub use choice_options::{
+    ChoiceAt, before, choices_among, choices_at, option_label, option_transitions, transition_name,
+};
 pub use count::Count;
 pub use exploration::{Exploration, explore, explore_within};
 pub use guards::{MAX_GUARD_ATOMS, jointly_satisfiable};
 pub use limits::{DEFAULT_LIMIT, Limits, MEMORY_LIMIT, Stop};
-pub use options::{ChoiceAt, before, choices_among, choices_at, option_label, option_transitions, transition_name};
 pub use reachability::{Reachability, StateId};
 pub use report::{
     CheckReport, Element, Example, Failure, Note, Outcome, PlaceBound, Property, ReportedChoice, Verdict,

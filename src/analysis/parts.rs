@@ -27,8 +27,8 @@
 //! dead when each part's marking is, and a goal is reachable from a combined
 //! marking when it is from its ending part's marking.
 
-use super::count::{self, Tri};
-use super::markings::Entry;
+use super::count::Tri;
+use super::markings::{self, Entry};
 use crate::net::{PlaceId, TransitionId};
 use crate::plan::Plan;
 
@@ -53,7 +53,7 @@ pub(super) fn initial(plan: &Plan) -> Vec<Entry> {
 
 /// Whether `marking` is a goal or fail marking of `plan` for certain.
 pub(super) fn is_terminal(plan: &Plan, marking: &[Entry]) -> bool {
-    count::matches(plan.goal(), marking) == Tri::Yes || count::matches(plan.fail(), marking) == Tri::Yes
+    markings::matches(plan.goal(), marking) == Tri::Yes || markings::matches(plan.fail(), marking) == Tri::Yes
 }
 
 /// The whole plan as one part.
@@ -146,7 +146,7 @@ pub(super) fn parts(plan: &Plan) -> Vec<Part> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plan::{PlanBuilder, Vocabulary};
+    use crate::plan::{AllowedAtoms, PlanBuilder};
 
     fn ids(part: &Part) -> (Vec<usize>, Vec<usize>, bool) {
         (
@@ -164,7 +164,7 @@ mod tests {
         let goal = b.goal_place();
         b.action_into(start, "A", goal);
         b.tracker("y");
-        let plan = b.build(Vocabulary::Open).expect("a plan");
+        let plan = b.build(AllowedAtoms::Open).expect("a plan");
         let found: Vec<_> = parts(&plan).iter().map(ids).collect();
         // Places: x 0, not_x 1, start 2, goal 3, A.exec 4, y 5, not_y 6.
         assert_eq!(
@@ -183,7 +183,7 @@ mod tests {
         b.tracker("x");
         let goal = b.goal_place();
         b.set_tokens(goal, 1);
-        let plan = b.build(Vocabulary::Open).expect("a plan");
+        let plan = b.build(AllowedAtoms::Open).expect("a plan");
         let found = parts(&plan);
         assert_eq!(found.len(), 1);
         assert_eq!(ids(&found[0]), (vec![0, 1, 2], vec![0, 1], true));

@@ -244,7 +244,7 @@ impl Reachability {
     }
 
     /// Number of edges stored.
-    pub fn edge_count(&self) -> usize {
+    pub(crate) fn edge_count(&self) -> usize {
         self.edges.len()
     }
 

@@ -5,15 +5,15 @@
 //! its choice points, and reports what each episode earned.
 
 pub mod describe;
-mod driver;
 pub mod grid;
 pub mod keepaway;
 pub mod nmdp;
 pub mod parr_russell;
 pub mod penalty_kick;
 pub mod sutton;
+mod task;
 
-pub use driver::{EpisodeOutcome, PlanAgent, TaskError};
+pub use task::{EpisodeOutcome, TaskError};
 
 use crate::learning::{EpisodeMode, Learner};
 

@@ -15,11 +15,12 @@ use std::sync::Arc;
 use rand_distr::{Distribution, Normal};
 
 use super::Task;
-use super::driver::{EpisodeOutcome, PlanAgent, TaskError, root_key, traced};
+use super::task::{EpisodeOutcome, TaskError, root_key, traced};
+use crate::agent::PlanAgent;
 use crate::condition::{AtomId, KnowledgeBase};
 use crate::executor::{Action, Registry, World};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};
-use crate::plan::{Plan, PlanBuilder, Vocabulary};
+use crate::plan::{AllowedAtoms, Plan, PlanBuilder};
 use crate::rng::SimRng;
 
 /// The actions, in the order of [`NmdpConfig::returns`]'s indices: the first
@@ -127,7 +128,7 @@ pub fn plan() -> Result<Plan, TaskError> {
     b.action_into(s1, "B1", s2);
     b.action_into(s2, "A2", s3);
     b.action_into(s2, "B2", s3);
-    Ok(b.build(Vocabulary::Open)?)
+    Ok(b.build(AllowedAtoms::Open)?)
 }
 
 /// Learning runs in the N-MDP; the traced values are the four actions',

@@ -13,12 +13,13 @@ use std::sync::Arc;
 use rand::RngExt;
 
 use super::Task;
-use super::driver::{EpisodeOutcome, PlanAgent, TaskError, root_key, traced};
 use super::grid::{Direction, Mover};
+use super::task::{EpisodeOutcome, TaskError, root_key, traced};
+use crate::agent::PlanAgent;
 use crate::condition::{AtomId, AtomTable, KnowledgeBase};
 use crate::executor::{Registry, World};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};
-use crate::plan::{Plan, Vocabulary, catalog};
+use crate::plan::{AllowedAtoms, Plan, catalog};
 use crate::rng::SimRng;
 
 /// The atoms the grid's knowledge base answers.
@@ -163,7 +164,7 @@ pub fn atoms() -> AtomTable {
 /// The thesis's plan (Figure 6.2), loaded against the domain's atoms.
 pub fn default_plan() -> Result<Plan, TaskError> {
     let net = catalog::parr_russell().map_err(crate::plan::PlanError::from)?;
-    Ok(Plan::from_net(net, Vocabulary::Closed(&atoms()))?)
+    Ok(Plan::from_net(net, AllowedAtoms::Closed(&atoms()))?)
 }
 
 /// The actions the grid provides.

@@ -9,13 +9,14 @@
 use std::sync::Arc;
 
 use super::Task;
-use super::driver::{EpisodeOutcome, PlanAgent, TaskError, root_key, traced};
+use super::task::{EpisodeOutcome, TaskError, root_key, traced};
+use crate::agent::PlanAgent;
 use crate::condition::{AtomId, KnowledgeBase};
 use crate::executor::{Action, Registry, World};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};
 use crate::named::Named;
 use crate::net::{NetError, PetriNet};
-use crate::plan::{Plan, Vocabulary, catalog};
+use crate::plan::{AllowedAtoms, Plan, catalog};
 
 /// Which plan drives the kick.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -211,14 +212,14 @@ pub fn plan(variant: Variant) -> Result<Plan, TaskError> {
     let schema_text = match variant.net() {
         Some(net) => {
             let net = net.map_err(crate::plan::PlanError::from)?;
-            return Ok(Plan::from_net(net, Vocabulary::Open)?);
+            return Ok(Plan::from_net(net, AllowedAtoms::Open)?);
         }
         None if variant == Variant::Schema => SCHEMA,
         None => SCHEMA_RESTRUCTURED,
     };
     let invalid = |e: crate::schema::SchemaError| TaskError::Invalid(format!("the shipped schema: {e}"));
     let schema = crate::schema::parse_schema(schema_text).map_err(invalid)?;
-    Ok(crate::schema::Process::new(&schema, Vocabulary::Open)
+    Ok(crate::schema::DecisionProcess::new(&schema, AllowedAtoms::Open)
         .map_err(invalid)?
         .into_plan())
 }

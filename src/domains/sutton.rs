@@ -11,12 +11,13 @@ use std::sync::Arc;
 use rand::RngExt;
 
 use super::Task;
-use super::driver::{EpisodeOutcome, PlanAgent, TaskError};
 use super::grid::{Direction, Mover};
+use super::task::{EpisodeOutcome, TaskError};
+use crate::agent::PlanAgent;
 use crate::condition::{AtomId, AtomTable, KnowledgeBase};
 use crate::executor::{Registry, World};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner};
-use crate::plan::{Plan, Vocabulary, catalog};
+use crate::plan::{AllowedAtoms, Plan, catalog};
 use crate::rng::SimRng;
 
 /// Rows of the grid.
@@ -141,7 +142,7 @@ pub fn atoms() -> AtomTable {
 /// The plan of thesis 6.4, loaded against the domain's atoms.
 pub fn default_plan() -> Result<Plan, TaskError> {
     let net = catalog::sutton().map_err(crate::plan::PlanError::from)?;
-    Ok(Plan::from_net(net, Vocabulary::Closed(&atoms()))?)
+    Ok(Plan::from_net(net, AllowedAtoms::Closed(&atoms()))?)
 }
 
 /// The actions the grid provides.

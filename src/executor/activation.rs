@@ -1,7 +1,43 @@
-//! What every node of the activation tree does, whichever semantics runs it.
+//! What every node of the activation tree does, whichever semantics runs it,
+//! and what it reports: its [`Status`] and the [`PendingReward`] of its steps.
 
-use super::{Chooser, ExecError, PendingReward, Status, World};
+use super::{Chooser, ExecError, World};
 use crate::net::Marking;
+
+/// Where a plan's execution stands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Status {
+    /// Neither in a goal nor in a fail marking.
+    Running,
+    /// In a goal marking: the plan has finished.
+    Goal,
+    /// In a fail marking: the plan has failed.
+    Failed,
+}
+
+/// Reward and steps since the last marking change that no transition has reported yet.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PendingReward {
+    /// Reward collected.
+    pub reward: f64,
+    /// Steps elapsed.
+    pub elapsed: u32,
+}
+
+impl PendingReward {
+    /// Adds one step that collected `reward`.
+    #[inline]
+    pub(crate) fn add(&mut self, reward: f64) {
+        self.reward += reward;
+        self.elapsed += 1;
+    }
+
+    /// Takes the reward and steps, leaving none.
+    #[inline]
+    pub(crate) fn take(&mut self) -> Self {
+        std::mem::take(self)
+    }
+}
 
 /// A running plan, a node of the activation tree: a Petri Net Plan instance
 /// (thesis 5.3, `instance`) or a schema machine's run (thesis 3.1.1,

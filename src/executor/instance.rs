@@ -3,29 +3,18 @@
 
 use std::sync::Arc;
 
-use super::activation::Activation;
+use super::activation::{Activation, PendingReward, Status};
 use super::bits::BitSet;
 use super::bound::{Binder, BoundActions, Executable};
 use super::conflict::{self, ConflictScratch};
 use super::registry::{Entry, Registry};
-use super::{Chooser, ExecError, PendingReward, PlanKey, World};
+use super::{Chooser, ExecError, PlanKey, World};
 use crate::condition::AtomRef;
 use crate::net::{Marking, PlaceId, TransitionId};
 use crate::plan::{ActionId, Call, Function, Plan};
 
 /// Most alternative firing sets one conflict may offer.
 pub(crate) const MAX_OPTIONS: usize = 4096;
-
-/// Where a plan's execution stands.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Status {
-    /// Neither in a goal nor in a fail marking.
-    Running,
-    /// In a goal marking: the plan has finished.
-    Goal,
-    /// In a fail marking: the plan has failed.
-    Failed,
-}
 
 /// A plan being executed.
 pub(crate) struct PlanInstance<W> {

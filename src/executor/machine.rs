@@ -39,15 +39,15 @@ use super::registry::{Entry, Registry};
 use super::{Chooser, ExecError, PendingReward, PlanKey, Status, World};
 use crate::condition::{AtomRef, Condition};
 use crate::net::{Marking, PlaceId};
-use crate::schema::{MachineProcess, Process, ProcessStateId, StateKind};
+use crate::schema::{DecisionProcess, DecisionStateId, MachineProcess, StateKind};
 
 /// One running machine (a node of the activation tree).
 pub(crate) struct MachineRun<W> {
-    process: Arc<Process>,
+    process: Arc<DecisionProcess>,
     machine: usize,
     key: PlanKey,
     state: usize,
-    place: ProcessStateId,
+    place: DecisionStateId,
     marking: Marking,
     actions: BoundActions<W, MachineRun<W>>,
     status: Status,
@@ -63,7 +63,11 @@ pub(crate) struct MachineRun<W> {
 impl<W: World> MachineRun<W> {
     /// Instantiates machine `machine` of `process` and, recursively, the
     /// machines it calls; primitive actions come from `registry`.
-    pub(crate) fn new(process: Arc<Process>, machine: usize, registry: &Registry<W>) -> Result<Self, ExecError> {
+    pub(crate) fn new(
+        process: Arc<DecisionProcess>,
+        machine: usize,
+        registry: &Registry<W>,
+    ) -> Result<Self, ExecError> {
         let mp = &process.machines()[machine];
         let mut binder = Binder::with_capacity(mp.actions().len());
         for action in mp.actions() {
@@ -119,7 +123,7 @@ impl<W: World> MachineRun<W> {
             }));
     }
 
-    fn set_place(&mut self, place: ProcessStateId) {
+    fn set_place(&mut self, place: DecisionStateId) {
         self.marking.set(PlaceId::new(self.place), 0);
         self.marking.set(PlaceId::new(place), 1);
         self.place = place;

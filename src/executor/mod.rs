@@ -33,9 +33,9 @@ mod registry;
 use std::sync::Arc;
 
 pub use action::{Action, World};
+pub use activation::{PendingReward, Status};
 pub use chooser::{Chooser, PlanKey, RandomChooser};
 pub use error::ExecError;
-pub use instance::Status;
 pub use registry::{Registered, RegisteredKind, Registry};
 
 use activation::Activation;
@@ -44,30 +44,6 @@ use machine::MachineRun;
 
 use crate::net::Marking;
 use crate::plan::Plan;
-
-/// Reward and steps since the last marking change that no transition has reported yet.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct PendingReward {
-    /// Reward collected.
-    pub reward: f64,
-    /// Steps elapsed.
-    pub elapsed: u32,
-}
-
-impl PendingReward {
-    /// Adds one step that collected `reward`.
-    #[inline]
-    pub(crate) fn add(&mut self, reward: f64) {
-        self.reward += reward;
-        self.elapsed += 1;
-    }
-
-    /// Takes the reward and steps, leaving none.
-    #[inline]
-    pub(crate) fn take(&mut self) -> Self {
-        std::mem::take(self)
-    }
-}
 
 /// Executes a plan and its sub-plans in a world `W`.
 pub struct Executor<W> {

@@ -16,8 +16,8 @@ use serde::{Deserialize, Serialize};
 
 use super::runner::{Completed, ExperimentOutput, RunOutput};
 use super::spec::{ExperimentError, ExperimentSpec};
+use crate::experiment::result_dir::{Contents, ResultDir};
 use crate::learning::persist::{decode_bounded, describe_decode_error};
-use crate::result_dir::{Contents, ResultDir};
 
 /// The file of a partial result that holds its completed runs.
 pub const CHECKPOINT: &str = "completed-runs.bin";

@@ -13,8 +13,8 @@ use super::runner::ExperimentOutput;
 use super::shard;
 use super::spec::{ExperimentError, ExperimentSpec};
 use super::stats::{Summary, summarize};
+use crate::experiment::result_dir::{Progress, ResultDir, ResultWriter};
 use crate::learning::persist;
-use crate::result_dir::{Progress, ResultDir, ResultWriter};
 
 /// One named series of (episode, value) points.
 type Scatter = (String, Vec<(f64, f64)>);
@@ -84,7 +84,7 @@ pub(crate) fn greedy_not_applicable(spec: &ExperimentSpec) -> Option<&'static st
 }
 
 /// A score with its unit, e.g. `16.2 s` (four decimals without a unit).
-pub fn with_unit(value: f64, unit: &str) -> String {
+pub(crate) fn with_unit(value: f64, unit: &str) -> String {
     if unit.is_empty() {
         format!("{value:.4}")
     } else {
@@ -123,7 +123,7 @@ fn interval(summary: &SummaryFile) -> Option<String> {
 /// The final score's 95% confidence interval as text, with its unit, or why
 /// there is none: `0.2400 .. 0.2860`, `one run: no interval` or `no evaluation
 /// episodes` (a table cell; [`final_score_text`] is the whole phrase).
-pub fn ci_text(summary: &SummaryFile) -> String {
+pub(crate) fn ci_text(summary: &SummaryFile) -> String {
     if evaluated(&summary.spec) {
         interval(summary).unwrap_or_else(|| ONE_RUN.to_string())
     } else {
@@ -133,7 +133,7 @@ pub fn ci_text(summary: &SummaryFile) -> String {
 
 /// The mean final score with its unit, or `no evaluation episodes` when no
 /// evaluation measured one (a table cell).
-pub fn mean_text(summary: &SummaryFile) -> String {
+pub(crate) fn mean_text(summary: &SummaryFile) -> String {
     if evaluated(&summary.spec) {
         with_unit(summary.final_mean, summary.spec.domain.score_unit())
     } else {
@@ -226,7 +226,7 @@ pub fn series(output: &ExperimentOutput) -> Series {
 }
 
 /// Writes every result file of `output` into `dir` as one set (see
-/// [`crate::result_dir`]: the previous set is replaced whole) and returns the
+/// [`crate::experiment::result_dir`]: the previous set is replaced whole) and returns the
 /// summary. The output of an interrupted experiment is written as a partial
 /// result: its figures are over the completed runs, `summary.json` says
 /// `"complete": false`, and [`checkpoint::CHECKPOINT`] keeps the runs for `--resume`.

@@ -16,7 +16,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use crate::atomic_file::write_atomic;
+use atomic_file::write_atomic;
 
 /// Width of every plot, and its height with a one-line title and one row of
 /// legend (longer titles and legends add rows), in pixels.

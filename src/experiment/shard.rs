@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 use super::checkpoint::read_completed;
 use super::runner::ExperimentOutput;
 use super::spec::{ExperimentError, ExperimentSpec};
-use crate::result_dir::{Contents, ResultDir};
+use crate::experiment::result_dir::{Contents, ResultDir};
 
 /// The file of a shard's result naming the shard.
 pub const SHARD_FILE: &str = "shard.json";

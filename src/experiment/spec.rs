@@ -14,6 +14,7 @@ use crate::domains::parr_russell::{self, ParrRussell, ParrRussellConfig};
 use crate::domains::penalty_kick::{self, PenaltyKick, PenaltyKickConfig};
 use crate::domains::sutton::{self, Sutton, SuttonConfig};
 use crate::domains::{Task, TaskError};
+use crate::experiment::result_dir::ResultDirError;
 use crate::learning::migrate::{self, MigrationReport};
 use crate::learning::persist::{self, PlanLabels, SavedValues};
 use crate::learning::{
@@ -21,9 +22,8 @@ use crate::learning::{
     TdLearner,
 };
 use crate::named::Named;
-use crate::plan::{Plan, Vocabulary};
+use crate::plan::{AllowedAtoms, Plan};
 use crate::plan_file::{LoadError, load_plan};
-use crate::result_dir::ResultDirError;
 use crate::rng::SimRng;
 use crate::schema;
 
@@ -77,7 +77,7 @@ pub enum DomainSpec {
 }
 
 /// The most agents a world serves (as `shm_layouts::MAX_AGENTS`).
-pub const MAX_WORLD_AGENTS: usize = 16;
+pub(crate) const MAX_WORLD_AGENTS: usize = 16;
 
 /// Why an experiment cannot be set up or run.
 #[derive(Debug, thiserror::Error)]
@@ -245,21 +245,23 @@ impl DomainSpec {
     /// Loads the plan once for every run (none for fixed Keepaway policies).
     pub fn load_plan(&self) -> Result<Option<Arc<Plan>>, ExperimentError> {
         let plan = match self {
-            DomainSpec::Keepaway { plan: Some(p), .. } => load_plan(p, Vocabulary::Closed(&keepaway::atoms()))?,
+            DomainSpec::Keepaway { plan: Some(p), .. } => load_plan(p, AllowedAtoms::Closed(&keepaway::atoms()))?,
             DomainSpec::Keepaway { config, plan: None } => match config.default_plan()? {
                 Some(plan) => plan,
                 None => return Ok(None),
             },
-            DomainSpec::ParrRussell { plan: Some(p), .. } => load_plan(p, Vocabulary::Closed(&parr_russell::atoms()))?,
+            DomainSpec::ParrRussell { plan: Some(p), .. } => {
+                load_plan(p, AllowedAtoms::Closed(&parr_russell::atoms()))?
+            }
             DomainSpec::ParrRussell { plan: None, .. } => parr_russell::default_plan()?,
-            DomainSpec::Sutton { plan: Some(p), .. } => load_plan(p, Vocabulary::Closed(&sutton::atoms()))?,
+            DomainSpec::Sutton { plan: Some(p), .. } => load_plan(p, AllowedAtoms::Closed(&sutton::atoms()))?,
             DomainSpec::Sutton { plan: None, .. } => sutton::default_plan()?,
-            DomainSpec::PenaltyKick { plan: Some(p), .. } => load_plan(p, Vocabulary::Open)?,
+            DomainSpec::PenaltyKick { plan: Some(p), .. } => load_plan(p, AllowedAtoms::Open)?,
             DomainSpec::PenaltyKick { config, plan: None } => penalty_kick::plan(config.variant)?,
-            DomainSpec::Nmdp { plan: Some(p), .. } => load_plan(p, Vocabulary::Open)?,
+            DomainSpec::Nmdp { plan: Some(p), .. } => load_plan(p, AllowedAtoms::Open)?,
             DomainSpec::Nmdp { plan: None, .. } => nmdp::plan()?,
             DomainSpec::World { plans, .. } => match plans.first() {
-                Some(plan) => load_plan(plan, Vocabulary::Open)?,
+                Some(plan) => load_plan(plan, AllowedAtoms::Open)?,
                 None => return Ok(None),
             },
         };
@@ -571,7 +573,7 @@ impl ExperimentSpec {
     pub(crate) fn check_plan(&self) -> Result<(), ExperimentError> {
         if let DomainSpec::World { plans, .. } = &self.domain {
             for path in plans {
-                check_plan_file(path, &load_plan(path, Vocabulary::Open)?)?;
+                check_plan_file(path, &load_plan(path, AllowedAtoms::Open)?)?;
             }
             return Ok(());
         }
@@ -591,7 +593,7 @@ fn check_plan_file(path: &Path, plan: &Plan) -> Result<(), ExperimentError> {
     let failures: Vec<String> = if schema::is_schema_path(path) {
         // A schema's process has checks of its own (`learnpnp check x.schema`).
         let process =
-            schema::load_process(path, Vocabulary::Open).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
+            schema::load_process(path, AllowedAtoms::Open).map_err(|e| ExperimentError::Invalid(e.to_string()))?;
         let (report, passed) = schema::check_report(&process);
         if passed {
             Vec::new()

@@ -305,12 +305,12 @@ mod tests {
     use super::*;
     use crate::executor::PlanKey;
     use crate::learning::{StateKey, ValueTable};
-    use crate::plan::{PlanBuilder, Vocabulary, catalog};
+    use crate::plan::{AllowedAtoms, PlanBuilder, catalog};
 
     #[test]
     fn options_are_grouped_under_their_choice_with_the_greedy_one_marked() {
         let net = catalog::penalty_kick_plain().expect("the kick of Figure 3.6");
-        let plan = Plan::from_net(net, Vocabulary::Open).expect("a plan");
+        let plan = Plan::from_net(net, AllowedAtoms::Open).expect("a plan");
         let options = crate::analysis::choices_at(&plan, &plan.initial_marking())
             .pop()
             .expect("a choice")
@@ -363,7 +363,7 @@ mod tests {
 
         let mut other = PlanBuilder::new("other");
         other.initial_place("x");
-        let other = other.build(Vocabulary::Open).expect("a plan");
+        let other = other.build(AllowedAtoms::Open).expect("a plan");
         assert!(group_by_choice(&[&other], &saved).is_err());
     }
 }

@@ -1,11 +1,11 @@
 //! Values carried into a revised plan: saved entries named by what they mean,
 //! mapped onto the places of the new plan, with a report of what was kept.
 //!
-//! **Identity.** Every place has a *key* ([`place_keys`]): its name (label, or
+//! **Identity.** Every place has a *key* ([`place_keys`](super::persist::place_keys)): its name (label, or
 //! id when blank) when no other place of the plan has that name; otherwise its
 //! name qualified by the keys of the places leading to it (the input places of
 //! the transitions that put tokens into it), `name<pred1,pred2>`, refined for
-//! up to [`REFINE_ROUNDS`] rounds while keys still repeat. The builder's
+//! up to [`REFINE_ROUNDS`](super::persist::REFINE_ROUNDS) rounds while keys still repeat. The builder's
 //! `south.exec` of cell `nav_2_3` is `south.exec<nav_2_3>`. A saved entry (an
 //! afterstate) is the multiset of the keys of its marked places; a choice
 //! point is its place's key, an option the name of its transition. Keys that
@@ -37,88 +37,13 @@ use std::fmt;
 use serde::Serialize;
 
 use super::by_choice::ChoiceFinder;
-use super::persist::{PlanIdentity, PlanLabels, SavedChoice, SavedEntry, SavedValues};
-use crate::analysis::{structural_choice_points, transition_name};
+use super::persist::{PlanIdentity, PlanLabels, SavedChoice, SavedEntry, SavedValues, counts, identity_of};
+use crate::analysis::transition_name;
 use crate::net::{Marking, PlaceId};
 use crate::plan::Plan;
 
-/// Rounds of qualification by predecessors while keys repeat.
-pub const REFINE_ROUNDS: usize = 4;
-
 /// How many items of each list the report's text shows.
 const SHOWN: usize = 5;
-
-/// The key of every place of `plan`, in place order (see the module's rule).
-pub fn place_keys(plan: &Plan) -> Vec<String> {
-    let names = PlanLabels::of(plan).places;
-    let incidence = plan.incidence();
-    let mut preds: Vec<Vec<usize>> = vec![Vec::new(); names.len()];
-    for t in incidence.transition_ids() {
-        for out in incidence.outputs(t) {
-            for input in incidence.inputs(t) {
-                preds[out.place.index()].push(input.place.index());
-            }
-        }
-    }
-    for p in &mut preds {
-        p.sort_unstable();
-        p.dedup();
-    }
-    let mut keys = names.clone();
-    for _ in 0..REFINE_ROUNDS {
-        let counts = counts(&keys);
-        if counts.values().all(|&n| n == 1) {
-            break;
-        }
-        let next: Vec<String> = keys
-            .iter()
-            .enumerate()
-            .map(|(p, key)| {
-                if counts[key.as_str()] == 1 {
-                    return key.clone();
-                }
-                let context: BTreeSet<&str> = preds[p].iter().map(|&q| keys[q].as_str()).collect();
-                format!("{}<{}>", names[p], context.into_iter().collect::<Vec<_>>().join(","))
-            })
-            .collect();
-        if next == keys {
-            break;
-        }
-        keys = next;
-    }
-    keys
-}
-
-/// How often each key occurs.
-fn counts(keys: &[String]) -> HashMap<&str, usize> {
-    let mut counts = HashMap::with_capacity(keys.len());
-    for k in keys {
-        *counts.entry(k.as_str()).or_insert(0) += 1;
-    }
-    counts
-}
-
-/// The identity of `plan` as a value file stores it: the place keys and the
-/// choice points with their options' names.
-pub fn identity_of(plan: &Plan) -> PlanIdentity {
-    let keys = place_keys(plan);
-    let choices = structural_choice_points(plan)
-        .into_iter()
-        .map(|c| {
-            let mut options: Vec<String> = c
-                .options
-                .iter()
-                .map(|&t| transition_name(plan, t).to_string())
-                .collect();
-            options.sort();
-            SavedChoice {
-                place: keys[c.place.index()].clone(),
-                options,
-            }
-        })
-        .collect();
-    PlanIdentity { keys, choices }
-}
 
 /// A saved entry named by its plan and the keys of its marked places.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]

@@ -12,7 +12,7 @@ pub mod migrate;
 mod monte_carlo;
 pub mod persist;
 mod random;
-pub mod selection;
+pub(crate) mod selection;
 mod sosmc;
 mod td;
 mod trajectory;

@@ -28,7 +28,7 @@
 //! [`load`] never modifies anything, and [`load_latest`] falls back to the
 //! `.prev` copy when the main file is unusable.
 
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 use std::ffi::OsString;
 use std::fs;
 use std::io::{self, Write};
@@ -37,6 +37,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::{StateKey, ValueTable};
+use crate::analysis::{structural_choice_points, transition_name};
 use crate::executor::PlanKey;
 use crate::net::Marking;
 use crate::plan::Plan;
@@ -48,7 +49,7 @@ pub const MAGIC: [u8; 8] = *b"LPNPVAL\0";
 pub const FORMAT_VERSION: u32 = 2;
 
 /// The oldest format version this build reads (version 1: no place identities).
-pub const OLDEST_VERSION: u32 = 1;
+pub(crate) const OLDEST_VERSION: u32 = 1;
 
 /// Bytes before the payload: magic, version, payload length, checksum.
 pub const HEADER_LEN: usize = 24;
@@ -70,7 +71,7 @@ pub struct SavedValues {
 }
 
 /// What a plan's places and choices are, by names a designer controls (see
-/// [`super::migrate::place_keys`]).
+/// [`place_keys`]).
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct PlanIdentity {
     /// One key per place, in place order: its name, qualified by the places
@@ -320,7 +321,7 @@ impl SavedValues {
         SavedValues {
             algorithm: algorithm.into(),
             plans: plans.iter().map(|p| PlanLabels::of(p)).collect(),
-            identities: plans.iter().map(|p| super::migrate::identity_of(p)).collect(),
+            identities: plans.iter().map(|p| identity_of(p)).collect(),
             entries: table
                 .entries()
                 .map(|(key, value, visits)| SavedEntry {
@@ -427,9 +428,9 @@ pub fn save(path: &Path, values: &SavedValues) -> Result<(), PersistError> {
     let previous = fs::read(path).ok().filter(|old| parse(path, old).is_ok());
     if let Some(old) = previous {
         let prev = prev_path(path);
-        crate::atomic_file::write_atomic(&prev, &old).map_err(|source| PersistError::Io { path: prev, source })?;
+        atomic_file::write_atomic(&prev, &old).map_err(|source| PersistError::Io { path: prev, source })?;
     }
-    crate::atomic_file::write_atomic(path, &bytes).map_err(|source| PersistError::Io {
+    atomic_file::write_atomic(path, &bytes).map_err(|source| PersistError::Io {
         path: path.to_path_buf(),
         source,
     })
@@ -694,4 +695,78 @@ fn csv_field(text: &str) -> std::borrow::Cow<'_, str> {
     } else {
         text.into()
     }
+}
+/// Rounds of qualification by predecessors while keys repeat.
+pub const REFINE_ROUNDS: usize = 4;
+
+/// The key of every place of `plan`, in place order (the rule in [`super::migrate`]).
+pub fn place_keys(plan: &Plan) -> Vec<String> {
+    let names = PlanLabels::of(plan).places;
+    let incidence = plan.incidence();
+    let mut preds: Vec<Vec<usize>> = vec![Vec::new(); names.len()];
+    for t in incidence.transition_ids() {
+        for out in incidence.outputs(t) {
+            for input in incidence.inputs(t) {
+                preds[out.place.index()].push(input.place.index());
+            }
+        }
+    }
+    for p in &mut preds {
+        p.sort_unstable();
+        p.dedup();
+    }
+    let mut keys = names.clone();
+    for _ in 0..REFINE_ROUNDS {
+        let counts = counts(&keys);
+        if counts.values().all(|&n| n == 1) {
+            break;
+        }
+        let next: Vec<String> = keys
+            .iter()
+            .enumerate()
+            .map(|(p, key)| {
+                if counts[key.as_str()] == 1 {
+                    return key.clone();
+                }
+                let context: BTreeSet<&str> = preds[p].iter().map(|&q| keys[q].as_str()).collect();
+                format!("{}<{}>", names[p], context.into_iter().collect::<Vec<_>>().join(","))
+            })
+            .collect();
+        if next == keys {
+            break;
+        }
+        keys = next;
+    }
+    keys
+}
+
+/// How often each key occurs.
+pub(super) fn counts(keys: &[String]) -> HashMap<&str, usize> {
+    let mut counts = HashMap::with_capacity(keys.len());
+    for k in keys {
+        *counts.entry(k.as_str()).or_insert(0) += 1;
+    }
+    counts
+}
+
+/// The identity of `plan` as a value file stores it: the place keys and the
+/// choice points with their options' names.
+pub(crate) fn identity_of(plan: &Plan) -> PlanIdentity {
+    let keys = place_keys(plan);
+    let choices = structural_choice_points(plan)
+        .into_iter()
+        .map(|c| {
+            let mut options: Vec<String> = c
+                .options
+                .iter()
+                .map(|&t| transition_name(plan, t).to_string())
+                .collect();
+            options.sort();
+            SavedChoice {
+                place: keys[c.place.index()].clone(),
+                options,
+            }
+        })
+        .collect();
+    PlanIdentity { keys, choices }
 }

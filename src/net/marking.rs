@@ -4,7 +4,7 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
-use super::PlaceId;
+use super::ids::PlaceId;
 
 /// A place would exceed the largest token count a marking stores (255).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]

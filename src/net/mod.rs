@@ -4,10 +4,12 @@
 //! initial marking); [`Incidence`] is its compiled form for firing; [`Marking`]
 //! is the token count of every place, the state key of every value table.
 
+mod ids;
 mod incidence;
 mod marking;
 mod petri_net;
 
+pub use ids::{PlaceId, TransitionId};
 pub use incidence::{Arc, Incidence};
 pub use marking::{Marking, TokenOverflow};
-pub use petri_net::{ArcNode, NetError, NodeRef, PetriNet, PlaceId, PlaceNode, Position, TransitionId, TransitionNode};
+pub use petri_net::{ArcNode, NetError, NodeRef, PetriNet, PlaceNode, Position, TransitionNode};

@@ -6,7 +6,7 @@
 
 use crate::net::{NetError, PetriNet, PlaceNode, Position, TransitionNode};
 
-use super::{Plan, PlanError, Vocabulary};
+use super::{AllowedAtoms, Plan, PlanError};
 
 /// A place added by a [`PlanBuilder`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -311,7 +311,7 @@ impl PlanBuilder {
     }
 
     /// The plan as built, atoms resolved against `vocabulary`.
-    pub fn build(self, vocabulary: Vocabulary<'_>) -> Result<Plan, PlanError> {
+    pub fn build(self, vocabulary: AllowedAtoms<'_>) -> Result<Plan, PlanError> {
         Plan::from_net(self.build_net()?, vocabulary)
     }
 }

@@ -85,7 +85,7 @@ pub struct InternalCondition {
 
 /// Which atoms a plan may use.
 #[derive(Debug, Clone, Copy)]
-pub enum Vocabulary<'a> {
+pub enum AllowedAtoms<'a> {
     /// Any atom: the plan collects its own table (for inspection tools).
     Open,
     /// Only the atoms a domain declares; any other is refused at load.
@@ -120,7 +120,7 @@ pub(crate) trait PlanOrigin: Any + Send + Sync + fmt::Debug {
 impl Plan {
     /// Interprets `net` as a plan, resolving atoms against `vocabulary`. A net
     /// without places is refused ([`PlanError::Empty`]).
-    pub fn from_net(net: PetriNet, vocabulary: Vocabulary<'_>) -> Result<Self, PlanError> {
+    pub fn from_net(net: PetriNet, vocabulary: AllowedAtoms<'_>) -> Result<Self, PlanError> {
         if net.places().is_empty() {
             return Err(PlanError::Empty);
         }
@@ -372,7 +372,7 @@ fn read_places(net: &PetriNet) -> Result<Places, PlanError> {
 /// extended by actions only calls and guards name, and what the labels add.
 struct Labels<'a> {
     incidence: &'a Incidence,
-    vocabulary: Vocabulary<'a>,
+    vocabulary: AllowedAtoms<'a>,
     places: Places,
     atoms: AtomTable,
     internal: Vec<InternalCondition>,
@@ -380,10 +380,10 @@ struct Labels<'a> {
 }
 
 impl<'a> Labels<'a> {
-    fn new(incidence: &'a Incidence, places: Places, vocabulary: Vocabulary<'a>) -> Self {
+    fn new(incidence: &'a Incidence, places: Places, vocabulary: AllowedAtoms<'a>) -> Self {
         let atoms = match vocabulary {
-            Vocabulary::Open => AtomTable::new(),
-            Vocabulary::Closed(table) => table.clone(),
+            AllowedAtoms::Open => AtomTable::new(),
+            AllowedAtoms::Closed(table) => table.clone(),
         };
         Labels {
             incidence,
@@ -597,7 +597,7 @@ fn resolve_atom(
     atom: &str,
     actions: &HashMap<String, ActionId>,
     atoms: &mut AtomTable,
-    vocabulary: Vocabulary<'_>,
+    vocabulary: AllowedAtoms<'_>,
     internal: &mut Vec<InternalCondition>,
 ) -> Result<AtomRef, String> {
     if atom.matches('.').count() == 1 {
@@ -614,8 +614,8 @@ fn resolve_atom(
         return Ok(intern_internal(internal, InternalCondition { action, kind }));
     }
     match vocabulary {
-        Vocabulary::Open => Ok(AtomRef::Fact(atoms.intern(atom))),
-        Vocabulary::Closed(_) => atoms.get(atom).map(AtomRef::Fact).ok_or_else(|| {
+        AllowedAtoms::Open => Ok(AtomRef::Fact(atoms.intern(atom))),
+        AllowedAtoms::Closed(_) => atoms.get(atom).map(AtomRef::Fact).ok_or_else(|| {
             let known: Vec<&str> = atoms.names().collect();
             format!("unknown atom (the domain declares: {})", known.join(", "))
         }),

@@ -5,10 +5,10 @@ mod builder;
 pub mod catalog;
 mod definition;
 mod error;
-pub mod labels;
+pub(crate) mod labels;
 
 pub use builder::{ActionNet, PlaceRef, PlanBuilder, SensingNet, Tracker, TransitionRef};
 pub(crate) use definition::PlanOrigin;
-pub use definition::{ActionId, ActionInfo, Call, InternalCondition, InternalKind, Plan, TransitionInfo, Vocabulary};
+pub use definition::{ActionId, ActionInfo, AllowedAtoms, Call, InternalCondition, InternalKind, Plan, TransitionInfo};
 pub use error::{PlanError, PlanWarning};
 pub use labels::Function;

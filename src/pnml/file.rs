@@ -29,7 +29,7 @@ pub fn read_file(path: &Path) -> Result<PetriNet, PnmlFileError> {
 /// goes to a temporary file in the same directory, which then replaces `path`.
 /// An error message names the path.
 pub fn write_file(net: &PetriNet, dialect: Dialect, path: &Path) -> io::Result<()> {
-    crate::atomic_file::write_atomic(path, write(net, dialect).as_bytes())
+    atomic_file::write_atomic(path, write(net, dialect).as_bytes())
         .map_err(|e| io::Error::new(e.kind(), format!("{}: {e}", path.display())))
 }
 

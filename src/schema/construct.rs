@@ -29,7 +29,7 @@ use super::SchemaError;
 use super::model::{Machine, Schema, StateKind, internal_action};
 use crate::condition::{AtomRef, AtomTable, Condition, Expr};
 use crate::net::{NetError, PetriNet, PlaceNode, TransitionNode};
-use crate::plan::{InternalKind, Plan, PlanError, PlanOrigin, Vocabulary};
+use crate::plan::{AllowedAtoms, InternalKind, Plan, PlanError, PlanOrigin};
 
 /// Most distinct conditions on the edges sharing one plan state and event.
 pub const MAX_CONDITIONS: usize = 12;
@@ -37,11 +37,11 @@ pub const MAX_CONDITIONS: usize = 12;
 pub const MAX_ATOMS: usize = 16;
 
 /// Index of a state of a machine's process; it is also the place of that state in [`MachineProcess::plan`].
-pub type ProcessStateId = usize;
+pub type DecisionStateId = usize;
 
 /// A state of the constructed process (S_sp = S u S_c, plus the afterstates of choices).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ProcessState {
+pub enum DecisionState {
     /// An action state: plan state `state` (index in the machine), its actions running.
     Action {
         /// The plan state.
@@ -60,7 +60,7 @@ pub enum ProcessState {
     /// `choice`: the option a learner values.
     Afterstate {
         /// The constituent state where the choice was made.
-        choice: ProcessStateId,
+        choice: DecisionStateId,
         /// The plan state entered.
         target: usize,
     },
@@ -73,7 +73,7 @@ pub struct PlanAction {
     pub target: usize,
     /// The process state it enters: the target's action state, or the
     /// afterstate of this option when the constituent is a choice state.
-    pub enters: ProcessStateId,
+    pub enters: DecisionStateId,
 }
 
 /// One constituent <s, e, C> of an event group.
@@ -82,7 +82,7 @@ pub struct Constituent {
     /// C: bit i set when condition i of the group holds, the others not.
     pub conditions: u32,
     /// Its process state.
-    pub state: ProcessStateId,
+    pub state: DecisionStateId,
     /// Its plan-actions, in edge order; more than one makes it a choice state.
     pub plan_actions: Vec<PlanAction>,
 }
@@ -133,7 +133,7 @@ pub enum ProcessTransition {
         /// Its event group.
         group: usize,
         /// The constituent state.
-        to: ProcessStateId,
+        to: DecisionStateId,
     },
     /// The event happened and no condition holds: back to the plan state.
     Loop {
@@ -145,7 +145,7 @@ pub enum ProcessTransition {
     /// A plan-action of constituent state `from`.
     PlanAction {
         /// The constituent state.
-        from: ProcessStateId,
+        from: DecisionStateId,
         /// The action.
         action: PlanAction,
     },
@@ -177,7 +177,7 @@ pub struct MachineProcess {
     pub(crate) actions: Vec<ProcessAction>,
     pub(crate) state_actions: Vec<Vec<usize>>,
     pub(crate) groups: Vec<Vec<EventGroup>>,
-    states: Vec<ProcessState>,
+    states: Vec<DecisionState>,
     pub(crate) internal: Vec<(usize, InternalKind)>,
     plan: Plan,
 }
@@ -211,12 +211,12 @@ impl MachineProcess {
 
     /// Every process state; the index is its id. Action states come first, in
     /// plan state order (so the action state of plan state `s` is `s`).
-    pub fn states(&self) -> &[ProcessState] {
+    pub fn states(&self) -> &[DecisionState] {
         &self.states
     }
 
     /// The readable name of process state `id` (its place label).
-    pub fn label(&self, id: ProcessStateId) -> &str {
+    pub fn label(&self, id: DecisionStateId) -> &str {
         &self.plan.net().places()[id].label
     }
 
@@ -288,27 +288,28 @@ impl MachineProcess {
     }
 }
 
-/// The process of a whole schema: one per machine, the root first.
+/// The controllable process a whole schema becomes (thesis 3.2.1, a Timed
+/// Non-Markovian Decision Process): one per machine, the root first.
 #[derive(Debug, Clone)]
-pub struct Process {
+pub struct DecisionProcess {
     machines: Vec<MachineProcess>,
     atoms: AtomTable,
 }
 
-impl Process {
+impl DecisionProcess {
     /// Constructs the process of every machine of `schema`, resolving the
     /// atoms of events and conditions against `vocabulary`.
-    pub fn new(schema: &Schema, vocabulary: Vocabulary<'_>) -> Result<Self, SchemaError> {
+    pub fn new(schema: &Schema, vocabulary: AllowedAtoms<'_>) -> Result<Self, SchemaError> {
         let mut atoms = match vocabulary {
-            Vocabulary::Open => AtomTable::new(),
-            Vocabulary::Closed(t) => t.clone(),
+            AllowedAtoms::Open => AtomTable::new(),
+            AllowedAtoms::Closed(t) => t.clone(),
         };
         let machines = schema
             .machines()
             .iter()
             .map(|m| build_machine(schema, m, vocabulary, &mut atoms))
             .collect::<Result<_, _>>()?;
-        Ok(Process { machines, atoms })
+        Ok(DecisionProcess { machines, atoms })
     }
 
     /// Every machine's process; index i is the machine's plan key.
@@ -329,7 +330,7 @@ impl Process {
     }
 }
 
-impl PlanOrigin for Process {
+impl PlanOrigin for DecisionProcess {
     fn called_plans(&self) -> Vec<&Plan> {
         self.machines.iter().skip(1).map(MachineProcess::plan).collect()
     }
@@ -337,9 +338,9 @@ impl PlanOrigin for Process {
 
 impl Plan {
     /// The process of the plan schema this plan was constructed from
-    /// ([`Process::into_plan`]), if any; the executor then follows the
+    /// ([`DecisionProcess::into_plan`]), if any; the executor then follows the
     /// schema's semantics (thesis 3.1.1).
-    pub fn schema_process(&self) -> Option<Arc<Process>> {
+    pub fn schema_process(&self) -> Option<Arc<DecisionProcess>> {
         let origin: Arc<dyn PlanOrigin> = Arc::clone(self.origin()?);
         let origin: Arc<dyn Any + Send + Sync> = origin;
         origin.downcast().ok()
@@ -410,7 +411,7 @@ pub(crate) fn condition_text(c: &Expr) -> String {
 fn build_machine(
     schema: &Schema,
     machine: &Machine,
-    vocabulary: Vocabulary<'_>,
+    vocabulary: AllowedAtoms<'_>,
     atoms: &mut AtomTable,
 ) -> Result<MachineProcess, SchemaError> {
     let actions: Vec<ProcessAction> = machine
@@ -452,8 +453,8 @@ fn build_machine(
             return Ok(AtomRef::Internal(index as u32));
         }
         match vocabulary {
-            Vocabulary::Open => Ok(AtomRef::Fact(atoms.intern(atom))),
-            Vocabulary::Closed(_) => atoms.get(atom).map(AtomRef::Fact).ok_or_else(|| {
+            AllowedAtoms::Open => Ok(AtomRef::Fact(atoms.intern(atom))),
+            AllowedAtoms::Closed(_) => atoms.get(atom).map(AtomRef::Fact).ok_or_else(|| {
                 let known: Vec<&str> = atoms.names().collect();
                 SchemaError::new(
                     line,
@@ -465,7 +466,7 @@ fn build_machine(
     };
 
     let n = machine.states().len();
-    let mut states: Vec<ProcessState> = (0..n).map(|state| ProcessState::Action { state }).collect();
+    let mut states: Vec<DecisionState> = (0..n).map(|state| DecisionState::Action { state }).collect();
     let mut groups: Vec<Vec<EventGroup>> = Vec::with_capacity(n);
     for s in 0..n {
         let outgoing: Vec<_> = machine.edges().iter().filter(|e| e.from == s).collect();
@@ -495,7 +496,7 @@ fn build_machine(
             let mut constituents = Vec::with_capacity(masks.len());
             for mask in masks {
                 let id = states.len();
-                states.push(ProcessState::Constituent {
+                states.push(DecisionState::Constituent {
                     state: s,
                     group: group_index,
                     conditions: mask,
@@ -539,7 +540,7 @@ fn build_machine(
             if c.plan_actions.len() > 1 {
                 for action in &mut c.plan_actions {
                     action.enters = states.len();
-                    states.push(ProcessState::Afterstate {
+                    states.push(DecisionState::Afterstate {
                         choice: c.state,
                         target: action.target,
                     });
@@ -573,7 +574,7 @@ fn build_machine(
 }
 
 /// The readable name of a process state, bracketed so that plan label parsing reads nothing into it.
-fn state_label(machine: &Machine, groups: &[Vec<EventGroup>], states: &[ProcessState], id: ProcessStateId) -> String {
+fn state_label(machine: &Machine, groups: &[Vec<EventGroup>], states: &[DecisionState], id: DecisionStateId) -> String {
     let constituent = |state: usize, group: usize, mask: u32| {
         let g = &groups[state][group];
         let conds: Vec<String> = g
@@ -591,14 +592,14 @@ fn state_label(machine: &Machine, groups: &[Vec<EventGroup>], states: &[ProcessS
         )
     };
     match states[id] {
-        ProcessState::Action { state } => format!("[{}]", machine.states()[state].name),
-        ProcessState::Constituent {
+        DecisionState::Action { state } => format!("[{}]", machine.states()[state].name),
+        DecisionState::Constituent {
             state,
             group,
             conditions,
         } => format!("[{}]", constituent(state, group, conditions)),
-        ProcessState::Afterstate { choice, target } => match states[choice] {
-            ProcessState::Constituent {
+        DecisionState::Afterstate { choice, target } => match states[choice] {
+            DecisionState::Constituent {
                 state,
                 group,
                 conditions,
@@ -615,7 +616,7 @@ fn state_label(machine: &Machine, groups: &[Vec<EventGroup>], states: &[ProcessS
 /// The process as a state-machine net: a place per process state, a transition
 /// per event, loop and plan-action (events and loops also leave every afterstate
 /// of a plan state, which behaves as that plan state).
-fn process_net(machine: &Machine, groups: &[Vec<EventGroup>], states: &[ProcessState]) -> Result<PetriNet, NetError> {
+fn process_net(machine: &Machine, groups: &[Vec<EventGroup>], states: &[DecisionState]) -> Result<PetriNet, NetError> {
     let places: Vec<PlaceNode> = (0..states.len())
         .map(|id| PlaceNode {
             id: format!("p{}", id + 1),
@@ -626,7 +627,7 @@ fn process_net(machine: &Machine, groups: &[Vec<EventGroup>], states: &[ProcessS
         .collect();
     let mut transitions: Vec<TransitionNode> = Vec::new();
     let mut arcs: Vec<(String, String, String)> = Vec::new();
-    let mut connect = |from: ProcessStateId, to: ProcessStateId| {
+    let mut connect = |from: DecisionStateId, to: DecisionStateId| {
         let t = format!("t{}", transitions.len() + 1);
         transitions.push(TransitionNode {
             id: t.clone(),
@@ -638,9 +639,9 @@ fn process_net(machine: &Machine, groups: &[Vec<EventGroup>], states: &[ProcessS
     };
     for (id, st) in states.iter().enumerate() {
         let s = match *st {
-            ProcessState::Action { state } => state,
-            ProcessState::Afterstate { target, .. } => target,
-            ProcessState::Constituent { .. } => continue,
+            DecisionState::Action { state } => state,
+            DecisionState::Afterstate { target, .. } => target,
+            DecisionState::Constituent { .. } => continue,
         };
         for group in &groups[s] {
             for c in &group.constituents {

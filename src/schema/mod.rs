@@ -8,7 +8,7 @@
 //!   It is read from a file ([`parse_schema`], [`read_schema`]; the format is
 //!   documented in `docs/SCHEMAS.md`), written back ([`write_schema`]) or built
 //!   in code ([`SchemaBuilder`]).
-//! - [`Process`] is the construction of section 3.2.1 for every machine:
+//! - [`DecisionProcess`] is the construction of section 3.2.1 for every machine:
 //!   action states, condition constituents, zero-time plan-actions and
 //!   time-extended events ([`condition_constituents`] is C_cnd).
 //! - [`load_schema_plan`] gives the root machine's process as a [`Plan`], so
@@ -29,15 +29,15 @@ use std::path::Path;
 
 pub use builder::{MachineBuilder, SchemaBuilder};
 pub use construct::{
-    Constituent, Counts, EventGroup, MAX_ATOMS, MAX_CONDITIONS, MachineProcess, PlanAction, Process, ProcessAction,
-    ProcessState, ProcessStateId, ProcessTransition, condition_constituents,
+    Constituent, Counts, DecisionProcess, DecisionState, DecisionStateId, EventGroup, MAX_ATOMS, MAX_CONDITIONS,
+    MachineProcess, PlanAction, ProcessAction, ProcessTransition, condition_constituents,
 };
 pub use error::{SchemaError, SchemaFileError};
 pub use model::{Edge, KEYWORDS, Machine, PlanState, Schema, StateKind};
 pub use report::{check_failures, check_report, describe, to_dot};
 pub use text::{parse_schema, write_schema};
 
-use crate::plan::{Plan, Vocabulary};
+use crate::plan::{AllowedAtoms, Plan};
 
 /// The extension of schema files.
 pub(crate) const EXTENSION: &str = "schema";
@@ -60,9 +60,9 @@ pub fn read_schema(path: &Path) -> Result<Schema, SchemaFileError> {
 }
 
 /// Reads the schema in `path` and constructs its process, resolving atoms against `vocabulary`.
-pub fn load_process(path: &Path, vocabulary: Vocabulary<'_>) -> Result<Process, SchemaFileError> {
+pub fn load_process(path: &Path, vocabulary: AllowedAtoms<'_>) -> Result<DecisionProcess, SchemaFileError> {
     let schema = read_schema(path)?;
-    Process::new(&schema, vocabulary).map_err(|source| SchemaFileError::Schema {
+    DecisionProcess::new(&schema, vocabulary).map_err(|source| SchemaFileError::Schema {
         path: path.to_path_buf(),
         source,
     })
@@ -70,6 +70,6 @@ pub fn load_process(path: &Path, vocabulary: Vocabulary<'_>) -> Result<Process, 
 
 /// The schema in `path` as a plan: its root machine's process, executed with
 /// the schema's semantics.
-pub fn load_schema_plan(path: &Path, vocabulary: Vocabulary<'_>) -> Result<Plan, SchemaFileError> {
+pub fn load_schema_plan(path: &Path, vocabulary: AllowedAtoms<'_>) -> Result<Plan, SchemaFileError> {
     Ok(load_process(path, vocabulary)?.into_plan())
 }

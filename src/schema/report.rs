@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use super::construct::{MachineProcess, Process, ProcessTransition};
+use super::construct::{DecisionProcess, MachineProcess, ProcessTransition};
 
 /// A plan state with its actions, as the thesis names action states: `approach {GoToBall, TrackBall}`.
 fn action_state(mp: &MachineProcess, state: usize) -> String {
@@ -53,7 +53,7 @@ fn machine_summary(out: &mut String, index: usize, mp: &MachineProcess) {
 }
 
 /// The constructed process of every machine: states, transitions, choice states and counts.
-pub fn describe(process: &Process) -> String {
+pub fn describe(process: &DecisionProcess) -> String {
     let mut out = String::new();
     let machines = process.machines();
     let _ = writeln!(
@@ -121,7 +121,7 @@ fn dot_escape(s: &str) -> String {
 /// The process as Graphviz DOT: action states as boxes (final ones doubled),
 /// constituent states as ellipses (choice states filled), events as solid
 /// edges, plan-actions as dashed ones.
-pub fn to_dot(process: &Process) -> String {
+pub fn to_dot(process: &DecisionProcess) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -257,7 +257,7 @@ fn can_finish(mp: &MachineProcess) -> Vec<bool> {
 /// nothing and has no edge (it would never be left); where a machine has final states,
 /// one can be reached from every reachable state. Returns the report and
 /// whether every check passed. A machine no other machine calls is noted.
-pub fn check_report(process: &Process) -> (String, bool) {
+pub fn check_report(process: &DecisionProcess) -> (String, bool) {
     fn verdict(out: &mut String, passed: &mut bool, name: &str, bad: &[&str], what: &str) {
         if bad.is_empty() {
             let _ = writeln!(out, "  PASS {name}");

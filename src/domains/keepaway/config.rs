@@ -10,7 +10,7 @@ use crate::keepaway_sim::params::{KeepawayConfig, RefereeRule, ServerTimer, Visi
 use crate::keepaway_sim::policies::{BaselinePolicy, DEFAULT_HOLD_THRESHOLD};
 use crate::keepaway_sim::world::NUM_KEEPERS;
 use crate::named::Named;
-use crate::plan::{Plan, Vocabulary, catalog};
+use crate::plan::{AllowedAtoms, Plan, catalog};
 
 /// The keepers' fixed decision policies (`keepaway-fixed --policy`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -127,7 +127,7 @@ impl KeepawayDomainConfig {
             KeepawayMode::Fixed(_) => return Ok(None),
         }
         .map_err(crate::plan::PlanError::from)?;
-        Ok(Some(Plan::from_net(net, Vocabulary::Closed(&atoms()))?))
+        Ok(Some(Plan::from_net(net, AllowedAtoms::Closed(&atoms()))?))
     }
 
     /// The fixed keepers' policy, drawing from `seed` where it is random.

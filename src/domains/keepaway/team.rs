@@ -126,7 +126,7 @@ impl LocalTeam {
 fn position_traces(plan: &Plan, k: usize) -> impl Iterator<Item = (String, usize, StateKey)> + '_ {
     catalog::POSITIONS.iter().filter_map(move |point| {
         let at = format!("at{point}");
-        crate::domains::driver::root_key(plan, &[&at, "decide"]).map(|key| (format!("keeper{}/{point}", k + 1), k, key))
+        crate::domains::task::root_key(plan, &[&at, "decide"]).map(|key| (format!("keeper{}/{point}", k + 1), k, key))
     })
 }
 

@@ -101,7 +101,7 @@ impl LinkReport {
     /// Writes it into `dir` (atomically).
     pub fn write(&self, dir: &Path) -> std::io::Result<()> {
         let json = serde_json::to_vec_pretty(self).map_err(std::io::Error::other)?;
-        learnpnp::atomic_file::write_atomic(&dir.join(LINK_REPORT_FILE), &json)
+        atomic_file::write_atomic(&dir.join(LINK_REPORT_FILE), &json)
     }
 }
 

@@ -63,7 +63,7 @@ impl RunInfo {
     /// Writes it to `path` (atomically).
     pub fn write(&self, path: &Path) -> Result<(), BridgeError> {
         let json = serde_json::to_vec_pretty(self).map_err(|e| BridgeError::RunInfo(e.to_string()))?;
-        learnpnp::atomic_file::write_atomic(path, &json).map_err(|source| BridgeError::Io {
+        atomic_file::write_atomic(path, &json).map_err(|source| BridgeError::Io {
             path: path.to_path_buf(),
             source,
         })
@@ -324,7 +324,7 @@ impl FileShipping {
                         continue;
                     }
                     let path = work_dir.join(&name);
-                    learnpnp::atomic_file::write_atomic(&path, &bytes).map_err(io(&path))?;
+                    atomic_file::write_atomic(&path, &bytes).map_err(io(&path))?;
                     session
                         .put(ack_key(prefix, &name), Vec::<u8>::new())
                         .wait()

@@ -198,7 +198,7 @@ fn write(shared: &Shared, checkpoint: &Checkpoint) {
         }
     }
     for (path, bytes) in &checkpoint.files {
-        if let Err(e) = learnpnp::atomic_file::write_atomic(path, bytes) {
+        if let Err(e) = atomic_file::write_atomic(path, bytes) {
             report(&format!("error: {}: {e}", path.display()));
         }
     }

@@ -23,7 +23,7 @@ use super::supervisor::{
 use crate::ipc::wait::WaitStrategy;
 use crate::latency::plot::{ReferenceLine, percentile_plot};
 use crate::latency::{Latency, Percentiles};
-use learnpnp::result_dir::{Progress, ResultDir};
+use learnpnp::experiment::result_dir::{Progress, ResultDir};
 
 /// One configuration of the benchmark.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -17,8 +17,8 @@ use serde::Serialize;
 use super::supervisor::{Progress, SupervisorConfig, SupervisorError, supervise};
 use crate::latency::plot::PlotFailure;
 use learnpnp::experiment::plot::{FONT, PLOT_SIZE, colour};
+use learnpnp::experiment::result_dir::ResultDir;
 use learnpnp::experiment::spec::DomainSpec;
-use learnpnp::result_dir::ResultDir;
 
 /// One run of the benchmark.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -126,7 +126,7 @@ pub fn bench_world(
     csv.push('\n');
     let write = |name: &str, bytes: &[u8]| {
         let path = out.join(name);
-        learnpnp::atomic_file::write_atomic(&path, bytes).map_err(|source| SupervisorError::Io { path, source })
+        atomic_file::write_atomic(&path, bytes).map_err(|source| SupervisorError::Io { path, source })
     };
     write("bench-world.csv", csv.as_bytes())?;
     write("bench-world.svg", plot(&figures)?.as_bytes())?;

@@ -227,7 +227,7 @@ impl<F: FloorPayload> FloorProbe<F> {
     pub fn save(&self) -> Result<(), SupervisorError> {
         let path = histogram_file(&self.work_dir, self.histogram.name());
         let bytes = self.histogram.to_bytes()?;
-        learnpnp::atomic_file::write_atomic(&path, &bytes).map_err(|source| SupervisorError::Io { path, source })
+        atomic_file::write_atomic(&path, &bytes).map_err(|source| SupervisorError::Io { path, source })
     }
 }
 

@@ -365,7 +365,7 @@ impl Host<'_> {
             let from = self.work_dir.join(&name);
             if let Ok(bytes) = fs::read(&from) {
                 let to = outbox.join(&name);
-                learnpnp::atomic_file::write_atomic(&to, &bytes).map_err(io_error(&to))?;
+                atomic_file::write_atomic(&to, &bytes).map_err(io_error(&to))?;
             }
         }
         let deadline = Instant::now() + SHIPPING_TIMEOUT;
@@ -448,7 +448,7 @@ pub fn join(config: &RemoteConfig, work_dir: &Path, stop: &AtomicBool) -> Result
     summary.leftover_shm_files = namespace.files().len();
     let path = work_dir.join("summary.json");
     let json = serde_json::to_vec_pretty(&summary).map_err(json_error("summary.json"))?;
-    learnpnp::atomic_file::write_atomic(&path, &json).map_err(io_error(&path))?;
+    atomic_file::write_atomic(&path, &json).map_err(io_error(&path))?;
     shipped?;
     outcome?;
     Ok(summary)
@@ -472,7 +472,7 @@ fn run_here(host: &mut Host<'_>, stop: &AtomicBool) -> Result<bool, SupervisorEr
         serde_json::from_value(info.spec.clone()).map_err(json_error("the run's experiment spec"))?;
     let spec_path = host.work_dir.join("spec.json");
     let json = serde_json::to_vec_pretty(&spec).map_err(json_error("the experiment spec"))?;
-    learnpnp::atomic_file::write_atomic(&spec_path, &json).map_err(io_error(&spec_path))?;
+    atomic_file::write_atomic(&spec_path, &json).map_err(io_error(&spec_path))?;
     let node = node(host.namespace, "supervisor")?;
     let _services = RunServices::create(&node, info.roster)?;
     let ports = SupervisorPorts::open(&node, info.wait, info.roster)?;

@@ -22,8 +22,8 @@ use crate::ipc::wait::WaitStrategy;
 use crate::latency::plot::{ReferenceLine, percentile_plot};
 use crate::latency::{Latency, Percentiles};
 use learnpnp::experiment::output::{SummaryFile, stage_results};
+use learnpnp::experiment::result_dir::{Progress, ResultWriter};
 use learnpnp::experiment::runner::ExperimentOutput;
-use learnpnp::result_dir::{Progress, ResultWriter};
 
 /// The name of the merged compute time of every keeper.
 const ALL_COMPUTE: &str = "compute";

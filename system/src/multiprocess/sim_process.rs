@@ -22,7 +22,7 @@ use crate::ipc::convert::{
     Rejection, Rejections, command_message, episode_event, read_agent_report, read_command, read_control, snapshot,
 };
 use crate::ipc::protocol::{AgentNews, CommandReading, EpisodeNews, Order, ProcessState, Role, SnapshotMeta};
-use crate::ipc::services::{IpcError, SimPorts, node, receive};
+use crate::ipc::services::{SimPorts, node, receive};
 use crate::ipc::wait::{Idle, MAX_BLOCK};
 use crate::latency::Latency;
 use learnpnp::domains::keepaway::{KeepawayDomainConfig, KeepawayTask, KeeperTeam, RunSeeds, TeamStep};
@@ -213,7 +213,7 @@ impl Link {
                     .filter(|&k| self.awaiting[k])
                     .map(|k| format!("keeper {}", k + 1))
                     .collect();
-                return Err(TaskError::Remote(format!(
+                return Err(remote(format!(
                     "{} did not connect within {} s",
                     missing.join(", "),
                     CONNECT_TIMEOUT.as_secs()
@@ -224,8 +224,9 @@ impl Link {
     }
 }
 
-fn remote(e: IpcError) -> TaskError {
-    TaskError::Remote(e.to_string())
+/// A failure of the keeper processes, as the task reports it.
+fn remote(e: impl std::fmt::Display) -> TaskError {
+    TaskError::External(format!("keeper processes: {e}").into())
 }
 
 /// Keepers in agent processes, as the episode loop sees them.
@@ -625,11 +626,9 @@ impl Task for JournaledTask {
             rng: self.task.simulator_rng().clone(),
             totals: link.totals.clone(),
         };
-        self.journal
-            .append(&entry)
-            .map_err(|e| TaskError::Remote(e.to_string()))?;
+        self.journal.append(&entry).map_err(remote)?;
         if self.saved.elapsed() >= SAVE_HISTOGRAMS_EVERY {
-            save_histograms(&self.work_dir, &link).map_err(|e| TaskError::Remote(e.to_string()))?;
+            save_histograms(&self.work_dir, &link).map_err(remote)?;
             self.saved = Instant::now();
         }
         Ok(outcome)
@@ -697,7 +696,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
                 // is measured, and the supervisor's stall watch waits.
                 link.pacemaker.pulse.state = ProcessState::Ready;
                 measure_floor(&mut link, floor_round_trips)?;
-                save_histograms(&context.work_dir, &link).map_err(|e| TaskError::Remote(e.to_string()))?;
+                save_histograms(&context.work_dir, &link).map_err(remote)?;
             }
             link.pacemaker.pulse.state = ProcessState::Running;
         }
@@ -718,7 +717,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
         link.borrow_mut().totals.seconds = task.loop_seconds();
         played.map(drop).map_err(|e| match e {
             learnpnp::experiment::spec::ExperimentError::Task(t) => t,
-            other => TaskError::Remote(other.to_string()),
+            other => remote(other),
         })
     })();
     if context.run == 0 {
@@ -737,7 +736,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
     save_histograms(&context.work_dir, link)?;
     let json = serde_json::to_vec_pretty(&result)?;
     let path = context.work_dir.join(RESULT_FILE);
-    learnpnp::atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })?;
+    atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })?;
     Ok(result)
 }
 
@@ -770,7 +769,7 @@ fn save_histograms(dir: &Path, link: &Link) -> Result<(), ProcessError> {
     for histogram in [&round_trip, &link.floor].into_iter().chain(&link.keeper_round_trips) {
         let bytes = histogram.to_bytes()?;
         let path = histogram_file(dir, histogram.name());
-        learnpnp::atomic_file::write_atomic(&path, &bytes).map_err(|source| ProcessError::Io { path, source })?;
+        atomic_file::write_atomic(&path, &bytes).map_err(|source| ProcessError::Io { path, source })?;
     }
     Ok(())
 }

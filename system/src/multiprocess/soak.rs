@@ -24,7 +24,7 @@ use super::supervisor::{Fault, Request, RunObserver, RunRecord, RunView, Supervi
 use crate::ipc::namespace::SHM_DIR;
 use crate::latency::plot::PlotFailure;
 use learnpnp::experiment::plot::{FONT, PLOT_SIZE, colour};
-use learnpnp::result_dir::ResultWriter;
+use learnpnp::experiment::result_dir::ResultWriter;
 
 /// Share of each process's life treated as warm-up.
 const WARM_UP_SHARE: f64 = 0.2;

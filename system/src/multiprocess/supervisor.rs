@@ -6,7 +6,7 @@
 //! episode in flight) and a world that dies, stops everything on request with
 //! a final checkpoint, and removes every shared-memory file of the run.
 
-use learnpnp::result_dir::{self, ResultDir, ResultDirError};
+use learnpnp::experiment::result_dir::{self, ResultDir, ResultDirError};
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -434,14 +434,17 @@ pub trait RunObserver {
 
     /// Called once before the first run, with the result set the observer may
     /// claim files in (to write them as it goes).
-    fn start(&mut self, _files: &mut learnpnp::result_dir::ResultWriter<'_>) -> Result<(), SupervisorError> {
+    fn start(
+        &mut self,
+        _files: &mut learnpnp::experiment::result_dir::ResultWriter<'_>,
+    ) -> Result<(), SupervisorError> {
         Ok(())
     }
 
     /// Adds the observer's files to the result set before it is published.
     fn finish(
         &mut self,
-        _files: &mut learnpnp::result_dir::ResultWriter<'_>,
+        _files: &mut learnpnp::experiment::result_dir::ResultWriter<'_>,
         _records: &[RunRecord],
     ) -> Result<(), SupervisorError> {
         Ok(())
@@ -1184,7 +1187,7 @@ pub fn supervise_run(
     fs::create_dir_all(work_dir).map_err(io_error(work_dir))?;
     let spec_path = work_dir.join("spec.json");
     let spec_json = serde_json::to_vec_pretty(&config.spec).map_err(json_error("the experiment spec"))?;
-    learnpnp::atomic_file::write_atomic(&spec_path, &spec_json).map_err(io_error(&spec_path))?;
+    atomic_file::write_atomic(&spec_path, &spec_json).map_err(io_error(&spec_path))?;
     let owner = Namespace::claim_unique()?;
     let outcome = run_in(config, run, work_dir, &spec_path, &owner, stop, observer);
     let prefix = owner.namespace().prefix().to_string();
@@ -1239,8 +1242,7 @@ impl<'a> Watch<'a> {
         };
         let identity = serde_json::json!({ "ipc_prefix": context.ipc_prefix, "run_id": context.run_id });
         let identity_path = work_dir.join(IDENTITY_FILE);
-        learnpnp::atomic_file::write_atomic(&identity_path, identity.to_string().as_bytes())
-            .map_err(io_error(&identity_path))?;
+        atomic_file::write_atomic(&identity_path, identity.to_string().as_bytes()).map_err(io_error(&identity_path))?;
         let mut watch = Watch {
             config,
             namespace,
@@ -1456,7 +1458,7 @@ impl Watch<'_> {
 
 /// Where run `run`'s working files (checkpoints, logs, histograms) of the
 /// output directory `out` are: in the `runs` directory of the result set being
-/// written (inside its hidden staging directory, see [`learnpnp::result_dir`])
+/// written (inside its hidden staging directory, see [`learnpnp::experiment::result_dir`])
 /// while the supervisor works, under `out/runs/` once the set is published.
 pub fn run_work_dir(out: &Path, run: usize) -> PathBuf {
     let name = format!("run-{run}");

@@ -33,6 +33,7 @@ use crate::ipc::world::{
     world_command,
 };
 use crate::latency::Latency;
+use learnpnp::agent::stepwise::{ActionOutcome, StepError, StepwiseAgent, action_names, atom_table};
 use learnpnp::domains::{EpisodeOutcome, Task, TaskError};
 use learnpnp::experiment::runner::{RunOutput, learner_for, run_protocol};
 use learnpnp::experiment::spec::{DomainSpec, ExperimentError};
@@ -40,7 +41,6 @@ use learnpnp::learning::persist::{self, SavedValues};
 use learnpnp::learning::{EpisodeMode, Learner};
 use learnpnp::named::Named;
 use learnpnp::plan_file::load_plan;
-use learnpnp::stepwise::{ActionOutcome, StepError, StepwiseAgent, action_names, atom_table};
 
 /// The exit code of an agent whose plan does not fit the world's
 /// vocabulary: it is not restarted, and the run stops.
@@ -538,7 +538,7 @@ impl Task for WorldAgent {
         }
         let outcome = self.play(mode).map_err(|e| match e {
             ProcessError::Stopped => TaskError::Stopped,
-            other => TaskError::Remote(other.to_string()),
+            other => TaskError::External(Box::new(other)),
         })?;
         self.record(mode, outcome);
         Ok(outcome)
@@ -615,7 +615,7 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
     };
     let (a, agents) = (settings.agent, plans.len());
     let path = plans.get(a).ok_or(ProcessError::NoAgent(a + 1))?;
-    let plan = Arc::new(load_plan(path, learnpnp::Vocabulary::Open).map_err(ExperimentError::from)?);
+    let plan = Arc::new(load_plan(path, learnpnp::AllowedAtoms::Open).map_err(ExperimentError::from)?);
     let checkpoint = context.work_dir.join(checkpoint_name(a));
     let start = if settings.resume {
         Some(load_checkpoint(&checkpoint, &plan)?)
@@ -623,7 +623,7 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
         spec.load_initial_values(Some(&plan))?.into_iter().nth(a)
     };
     let learner = learner_for(&spec, context.run, a, start.as_ref());
-    let stepwise = StepwiseAgent::new(Arc::clone(&plan), learner).map_err(ProcessError::Task)?;
+    let stepwise = StepwiseAgent::new(Arc::clone(&plan), learner).map_err(|e| ProcessError::Task(e.into()))?;
     let namespace = context.namespace()?;
     let node = node(&namespace, &format!("agent-{a}"))?;
     let ports = WorldAgentPorts::open(&node, a, context.wait)?;
@@ -701,7 +701,7 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
     };
     let json = serde_json::to_vec_pretty(&result)?;
     let path = context.work_dir.join(agent_result_file(a));
-    learnpnp::atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })?;
+    atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })?;
     // The last heartbeat says the agent is done (a supervisor on another
     // host learns it so); a sample its publisher outlives is lost, so the
     // ports stay a moment for it to be read.

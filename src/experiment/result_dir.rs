@@ -39,7 +39,7 @@
 //!   if the work never completes.
 //!
 //! ```no_run
-//! use learnpnp::result_dir::{Progress, ResultDir};
+//! use learnpnp::experiment::result_dir::{Progress, ResultDir};
 //!
 //! let mut dir = ResultDir::open("out/run")?;          // checked and locked
 //! let mut files = dir.writer()?;                      // a fresh staging directory

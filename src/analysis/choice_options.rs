@@ -159,11 +159,11 @@ pub fn before(plan: &Plan, after: &Marking, t: TransitionId) -> Option<Marking> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plan::{Vocabulary, catalog};
+    use crate::plan::{AllowedAtoms, catalog};
 
     /// The penalty kick of Figure 3.6: walk straight or turn, then kick.
     fn kick() -> Plan {
-        Plan::from_net(catalog::penalty_kick_plain().expect("a net"), Vocabulary::Open).expect("a plan")
+        Plan::from_net(catalog::penalty_kick_plain().expect("a net"), AllowedAtoms::Open).expect("a plan")
     }
 
     #[test]

@@ -1,5 +1,7 @@
 //! Writing files atomically: a reader sees the old file or the new one, never half of one.
 
+#![deny(missing_docs)]
+
 use std::fs::{self, OpenOptions};
 use std::io::{self, Write};
 use std::path::Path;

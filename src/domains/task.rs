@@ -1,9 +1,8 @@
-//! Running one episode of a plan with a learner.
+//! What a domain's task reports: why it cannot run ([`TaskError`]), what an
+//! episode earned ([`EpisodeOutcome`]), and the values of named markings it traces.
 
-use std::sync::Arc;
-
-use crate::executor::{ExecError, Executor, Registry, Status, World};
-use crate::learning::{EpisodeStart, Learner, StateKey};
+use crate::executor::ExecError;
+use crate::learning::{Learner, StateKey};
 use crate::net::Marking;
 use crate::plan::{Plan, PlanError};
 
@@ -30,9 +29,10 @@ pub enum TaskError {
     /// The run was asked to stop before it ended.
     #[error("the run was stopped before it ended")]
     Stopped,
-    /// Keepers in other processes cannot be reached.
-    #[error("keeper processes: {0}")]
-    Remote(String),
+    /// Something the task depends on outside this library failed (another
+    /// process, a link, a device): its own error, which says what.
+    #[error(transparent)]
+    External(Box<dyn std::error::Error + Send + Sync>),
 }
 
 /// What one episode earned.
@@ -46,56 +46,6 @@ pub struct EpisodeOutcome {
     pub steps: u32,
     /// Whether the learner treated it as exploratory.
     pub exploratory: bool,
-}
-
-/// An executor with the learner choosing at its choice points.
-pub struct PlanAgent<W> {
-    executor: Executor<W>,
-    learner: Box<dyn Learner>,
-}
-
-impl<W: World> PlanAgent<W> {
-    /// Instantiates `plan` from `registry` with `learner` choosing.
-    pub fn new(plan: Arc<Plan>, registry: &Registry<W>, learner: Box<dyn Learner>) -> Result<Self, TaskError> {
-        Ok(PlanAgent {
-            executor: Executor::new(plan, registry)?,
-            learner,
-        })
-    }
-
-    /// Runs an episode until the plan ends, `over` says the world has ended it,
-    /// or `step_limit` steps pass; returns the steps taken.
-    pub fn run(
-        &mut self,
-        world: &mut W,
-        start: EpisodeStart,
-        step_limit: u32,
-        mut over: impl FnMut(&W) -> bool,
-    ) -> Result<u32, TaskError> {
-        let learner = self.learner.as_mut();
-        learner.begin_episode(start);
-        self.executor.reset(world, learner);
-        let mut steps = 0;
-        while steps < step_limit {
-            let status = self.executor.step(world, learner)?;
-            steps += 1;
-            if status != Status::Running || over(world) {
-                break;
-            }
-        }
-        learner.end_episode(self.executor.take_pending());
-        Ok(steps)
-    }
-
-    /// The learner.
-    pub fn learner(&self) -> &dyn Learner {
-        self.learner.as_ref()
-    }
-
-    /// The plan.
-    pub fn plan(&self) -> &Plan {
-        self.executor.plan()
-    }
 }
 
 /// The root plan's marking with one token in the first place carrying each

@@ -23,15 +23,14 @@
 use std::sync::Arc;
 
 use crate::condition::{AtomId, AtomTable, BitKnowledgeBase, KnowledgeBase};
-use crate::domains::TaskError;
-use crate::executor::{Action, Executor, PendingReward, Registry, Status, World};
+use crate::executor::{Action, ExecError, Executor, PendingReward, Registry, Status, World};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner};
 use crate::plan::Plan;
 
 /// Executor steps one [`StepwiseAgent::act`] may take without an action
 /// starting before the plan counts as stalled (waiting on atoms that never
 /// change while no action runs).
-pub const STALL_STEPS: u32 = 1000;
+pub(crate) const STALL_STEPS: u32 = 1000;
 
 /// The names of the primitive actions `plan` runs, in order of appearance: a
 /// Petri Net Plan's, or those of every machine of a plan schema (a machine
@@ -187,7 +186,7 @@ pub struct StepwiseAgent {
 impl StepwiseAgent {
     /// Binds every action of `plan` (and of a schema's machines) to an action
     /// whose outcome the caller reports, with `learner` at the choice points.
-    pub fn new(plan: Arc<Plan>, learner: Box<dyn Learner>) -> Result<Self, TaskError> {
+    pub fn new(plan: Arc<Plan>, learner: Box<dyn Learner>) -> Result<Self, ExecError> {
         let actions = action_names(&plan);
         let atoms = atom_table(&plan);
         let mut registry = Registry::new();
