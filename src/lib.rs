@@ -147,15 +147,18 @@ pub mod dot;
 pub mod executor;
 pub mod experiment;
 pub mod json_float;
-pub mod keepaway_sim;
+/// The Keepaway simulator (the `learnpnp-keepaway` crate), under its former path.
+pub use learnpnp_keepaway as keepaway_sim;
 pub mod learning;
-pub mod named;
+/// Enumerations picked by name (from the `learnpnp-common` crate).
+pub use learnpnp_common::named;
 pub mod net;
 pub mod plan;
 pub mod plan_file;
 pub mod pnml;
 pub mod result_dir;
-pub mod rng;
+/// Seeded, reproducible random numbers (from the `learnpnp-common` crate).
+pub use learnpnp_common::rng;
 pub mod schema;
 pub mod stepwise;
 

@@ -68,7 +68,7 @@ proptest! {
             if sim.step(c).is_some() {
                 sim.reset();
             }
-            let w = sim.world();
+            let w = sim.field();
             prop_assert!(w.ball.pos.is_finite() && w.ball.vel.is_finite());
             for p in &w.players {
                 prop_assert!(p.pos.is_finite() && p.vel.is_finite() && p.body.is_finite());
