@@ -4,7 +4,5 @@
 
 #![deny(missing_docs)]
 
-/// Enumerations a user picks by name.
 pub mod named;
-/// Seeded, reproducible random numbers.
 pub mod rng;

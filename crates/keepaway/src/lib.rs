@@ -24,51 +24,29 @@
 
 use learnpnp_common::{named, rng};
 
-/// The server's primitive body commands.
 pub mod command;
-/// Running episodes in this process: the game's cycle with keepers deciding by a policy.
 pub mod episode;
-/// The thesis's abstraction for the keeper with the ball: three distances, three thresholds.
 pub mod features;
-/// One Keepaway cycle in named stages: views, takers, keepers' commands in, step and referee out.
 pub mod game;
-/// Plane geometry: vectors and angles in degrees.
 pub mod geometry;
-/// The keepers' fixed procedure around a pluggable decision.
 pub mod keeper;
-/// Parameters: the soccer server's physics, the keepaway task, the skills.
 pub mod params;
-/// What the players perceive each cycle: the pipeline making their views.
 pub mod perception;
 #[cfg(test)]
 mod played_views;
-/// Baseline decisions for the keeper with the ball.
 pub mod policies;
-/// The nine positioning points of the thesis's multi-agent experiment.
 pub mod positions;
-/// RoboCup game logs (`.rcg`): writing and reading them.
 pub mod rcg;
-/// The keepaway referee: episode end conditions and the field reset.
 pub mod referee;
-/// A game log as one self-contained HTML page.
 pub mod replay;
-/// What the soccer server tells each player (see and sense-body messages).
 pub mod see;
-/// The simulator: the field, the referee and the random generator behind one step.
 pub mod simulator;
-/// The keepaway framework's skills, as pure functions of a view.
 pub mod skills;
-/// The 13 state variables of the original keepaway benchmark.
 pub mod state_vars;
-/// The takers' fixed policy.
 pub mod taker;
-/// When the players' see messages arrive and when the players act.
 pub mod timing;
-/// What one player perceives, as plain data (the view types).
 pub mod view;
-/// The field's state and the server's physics step.
 pub mod world;
-/// What a framework player believes: the keepaway framework's world model.
 pub mod world_model;
 
 pub use command::Command;

@@ -294,7 +294,7 @@ impl WorldModel {
     ///   to the ball moves 0.3 m towards it; any other opponent moves 0.25 m
     ///   (0.5 m if the ball is faster than 1 m/cycle along x) along one's own x
     ///   axis, forwards if the ball moves forwards, otherwise backwards.
-    pub(crate) fn after_sense(&mut self, sense: &SenseBody, sent: Command, now: u32, cfg: &KeepawayConfig) {
+    pub fn after_sense(&mut self, sense: &SenseBody, sent: Command, now: u32, cfg: &KeepawayConfig) {
         let sp = &cfg.server;
         let start = Kinematics {
             pos: self.own.pos,
@@ -447,7 +447,7 @@ impl WorldModel {
     /// age and moves more than 0.3 m/cycle differently; then
     /// (`processPerfectHearInfoBall`) if the belief's confidence is below the
     /// message's or the velocities differ by more than 0.3 m/cycle.
-    pub(crate) fn hear(&mut self, ball: &SaidBall, now: u32) {
+    pub fn hear(&mut self, ball: &SaidBall, now: u32) {
         let (mut pos, mut vel) = (ball.pos, ball.vel);
         for _ in 0..ball.cycles {
             pos += vel;
@@ -493,7 +493,7 @@ impl WorldModel {
     ///   without, the predicted velocity; then stopped if a known opponent has it
     ///   within the kickable distance (strictly) while one does not, or else
     ///   capped at `ball_speed_max` above `(1 + ball_rand) x ball_speed_max`.
-    pub(crate) fn after_see(
+    pub fn after_see(
         &mut self,
         see: &SeeMessage,
         own: &SeenPlayer,

@@ -8,21 +8,13 @@
 //! `BasicPlayer`), collected in [`crate::params::SkillParams`]; each skill
 //! documents where it deviates.
 
-/// Who gets to the ball first, as the framework's world model decides it.
 pub mod fastest;
-/// Getting open for a pass.
 pub mod get_open;
-/// Holding the ball.
 pub mod hold;
-/// Intercepting the ball.
 pub mod intercept;
-/// Ball-kicking skills.
 pub mod kick;
-/// Turning and moving.
 pub mod movement;
-/// Passing: a multi-cycle skill with a small explicit state.
 pub mod pass;
-/// The framework's world-model predictions.
 pub mod predict;
 
 pub use get_open::{get_open, get_open_from, go_to_support_point};
