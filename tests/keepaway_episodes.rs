@@ -1,7 +1,7 @@
 //! Whole episodes: determinism, baselines, custom policies.
 
-use learnpnp::keepaway_sim::perception::PlayerId;
 use learnpnp::keepaway_sim::positions::PositioningPoint;
+use learnpnp::keepaway_sim::view::PlayerId;
 use learnpnp::keepaway_sim::world::Side;
 use learnpnp::keepaway_sim::{
     BaselinePolicy, EndReason, EpisodeSummary, FieldState, Keepaway, KeepawayConfig, KeeperAction, KeeperPolicy,

@@ -5,11 +5,11 @@
 use crate::util::{noiseless, player};
 use learnpnp::keepaway_sim::geometry::normalize_deg;
 use learnpnp::keepaway_sim::keeper::{KeeperMemory, keeper_command};
-use learnpnp::keepaway_sim::perception::PlayerId;
 use learnpnp::keepaway_sim::policies::BaselinePolicy;
 use learnpnp::keepaway_sim::skills::fastest::{fastest_teammate, pass_origin};
 use learnpnp::keepaway_sim::skills::intercept::{InterceptMemory, intercept, intercept_close};
 use learnpnp::keepaway_sim::taker::{TakerMemory, taker_command};
+use learnpnp::keepaway_sim::view::PlayerId;
 use learnpnp::keepaway_sim::world::{Ball, NUM_PLAYERS};
 use learnpnp::keepaway_sim::{
     Command, EndReason, FieldState, KeepawayConfig, PlayerView, Simulator, Vec2, VisionMode, perceive, run_episode,

@@ -493,14 +493,7 @@ impl WorldModel {
     ///   without, the predicted velocity; then stopped if a known opponent has it
     ///   within the kickable distance (strictly) while one does not, or else
     ///   capped at `ball_speed_max` above `(1 + ball_rand) x ball_speed_max`.
-    pub fn after_see(
-        &mut self,
-        see: &SeeMessage,
-        own: &SeenPlayer,
-        sense: &SenseBody,
-        now: u32,
-        cfg: &KeepawayConfig,
-    ) {
+    pub fn after_see(&mut self, see: &SeeMessage, own: &SeenPlayer, sense: &SenseBody, now: u32, cfg: &KeepawayConfig) {
         let sp = &cfg.server;
         self.last_see = Some(now);
         self.own = SeenPlayer {
