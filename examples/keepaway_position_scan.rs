@@ -14,13 +14,13 @@
 use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
-use learnpnp::keepaway_sim::features::PassLineDistances;
+use learnpnp::keepaway_sim::features::{DEFAULT_HOLD_THRESHOLD, PassLineDistances};
 use learnpnp::keepaway_sim::keeper::{KeeperAction, KeeperPolicy, SupportAction};
 use learnpnp::keepaway_sim::params::KeepawayConfig;
-use learnpnp::keepaway_sim::perception::PlayerView;
-use learnpnp::keepaway_sim::policies::{DEFAULT_HOLD_THRESHOLD, threshold_policy};
+use learnpnp::keepaway_sim::policies::threshold_policy;
 use learnpnp::keepaway_sim::positions::PositioningPoint;
 use learnpnp::keepaway_sim::run_episode;
+use learnpnp::keepaway_sim::view::PlayerView;
 
 /// The threshold policy with the ball; a fixed point per keeper (or get-open) otherwise.
 struct Static {

@@ -147,14 +147,17 @@ pub mod dot;
 pub mod executor;
 pub mod experiment;
 pub(crate) mod json_float;
-pub mod keepaway_sim;
+/// The Keepaway simulator (the `learnpnp-keepaway` crate), under its former path.
+pub use learnpnp_keepaway as keepaway_sim;
 pub mod learning;
-pub mod named;
+/// Enumerations picked by name (from the `learnpnp-common` crate).
+pub use learnpnp_common::named;
 pub mod net;
 pub mod plan;
 pub mod plan_file;
 pub mod pnml;
-pub mod rng;
+/// Seeded, reproducible random numbers (from the `learnpnp-common` crate).
+pub use learnpnp_common::rng;
 pub mod schema;
 
 pub use agent::PlanAgent;

@@ -1,22 +1,22 @@
 //! Whole episodes: determinism, baselines, custom policies.
 
-use learnpnp::keepaway_sim::perception::PlayerId;
 use learnpnp::keepaway_sim::positions::PositioningPoint;
+use learnpnp::keepaway_sim::view::PlayerId;
 use learnpnp::keepaway_sim::world::Side;
 use learnpnp::keepaway_sim::{
-    BaselinePolicy, EndReason, EpisodeOutcome, FieldState, Keepaway, KeepawayConfig, KeeperAction, KeeperPolicy,
+    BaselinePolicy, EndReason, EpisodeSummary, FieldState, Keepaway, KeepawayConfig, KeeperAction, KeeperPolicy,
     PlayerView, SupportAction, VisionMode, run_episode,
 };
 
-fn trace(seed: u64, cfg: KeepawayConfig) -> (Vec<FieldState>, EpisodeOutcome) {
+fn trace(seed: u64, cfg: KeepawayConfig) -> (Vec<FieldState>, EpisodeSummary) {
     let mut game = Keepaway::new(cfg, seed).expect("valid config");
     let mut policy = BaselinePolicy::random(seed);
-    let mut worlds = vec![*game.simulator().world()];
+    let mut worlds = vec![*game.simulator().field()];
     while game.step(&mut policy).is_none() {
-        worlds.push(*game.simulator().world());
+        worlds.push(*game.simulator().field());
     }
-    worlds.push(*game.simulator().world());
-    let outcome = game.outcome().expect("ended");
+    worlds.push(*game.simulator().field());
+    let outcome = game.summary().expect("ended");
     (worlds, outcome)
 }
 
@@ -112,7 +112,7 @@ impl KeeperPolicy for Recorder {
         SupportAction::GoTo(point.point(&cfg.region))
     }
 
-    fn end_episode(&mut self, _outcome: &EpisodeOutcome) {
+    fn end_episode(&mut self, _outcome: &EpisodeSummary) {
         self.ends += 1;
     }
 }
@@ -161,7 +161,7 @@ fn supporters_reach_their_points() {
     game.reset();
     let mut near = false;
     for _ in 0..60 {
-        let w = *game.simulator().world();
+        let w = *game.simulator().field();
         near |= (0..3).any(|k| w.players[k].pos.norm() < 1.6 && w.players[k].pos.dist(w.ball.pos) > 3.0);
         if game.step(&mut Park).is_some() {
             break;

@@ -5,11 +5,11 @@
 use crate::util::{noiseless, player};
 use learnpnp::keepaway_sim::geometry::normalize_deg;
 use learnpnp::keepaway_sim::keeper::{KeeperMemory, keeper_command};
-use learnpnp::keepaway_sim::perception::PlayerId;
 use learnpnp::keepaway_sim::policies::BaselinePolicy;
 use learnpnp::keepaway_sim::skills::fastest::{fastest_teammate, pass_origin};
 use learnpnp::keepaway_sim::skills::intercept::{InterceptMemory, intercept, intercept_close};
 use learnpnp::keepaway_sim::taker::{TakerMemory, taker_command};
+use learnpnp::keepaway_sim::view::PlayerId;
 use learnpnp::keepaway_sim::world::{Ball, NUM_PLAYERS};
 use learnpnp::keepaway_sim::{
     Command, EndReason, FieldState, KeepawayConfig, PlayerView, Simulator, Vec2, VisionMode, perceive, run_episode,
@@ -42,16 +42,16 @@ fn view(w: &FieldState, i: usize, cfg: &KeepawayConfig) -> PlayerView {
 fn run_intercept(w: FieldState, me: usize, cycles: usize) -> (Vec<Command>, FieldState) {
     let cfg = noiseless();
     let mut sim = Simulator::new(cfg, 1).expect("valid config");
-    sim.set_world(w);
+    sim.set_field(w);
     let mut memory = InterceptMemory::default();
     let mut sent = Vec::new();
     for _ in 0..cycles {
         let mut cmds = [Command::None; NUM_PLAYERS];
-        cmds[me] = intercept(&view(sim.world(), me, &cfg), &cfg, &mut memory);
+        cmds[me] = intercept(&view(sim.field(), me, &cfg), &cfg, &mut memory);
         sent.push(cmds[me]);
         sim.step(&cmds);
     }
-    (sent, *sim.world())
+    (sent, *sim.field())
 }
 
 #[test]
@@ -97,10 +97,10 @@ fn a_far_rolling_ball_is_run_down() {
     let cfg = noiseless();
     let w = alone(0, 90.0, Vec2::new(-6.0, 2.0), Vec2::new(0.8, -0.2));
     let mut sim = Simulator::new(cfg, 1).expect("valid config");
-    sim.set_world(w);
+    sim.set_field(w);
     let mut memory = InterceptMemory::default();
     for t in 0..40 {
-        let v = view(sim.world(), 0, &cfg);
+        let v = view(sim.field(), 0, &cfg);
         if v.ball_kickable(&cfg) {
             assert!(t > 2);
             return;
@@ -196,12 +196,12 @@ fn takers_close_in_and_win_the_ball_from_a_holding_keeper() {
         };
         // Motion noise on: each seed is a different struggle.
         let mut sim = Simulator::new(cfg, seed).expect("valid config");
-        sim.set_world(w);
+        sim.set_field(w);
         let mut keeper_memory = KeeperMemory::default();
         let mut takers = [TakerMemory::default(); 2];
         let mut touched = false;
         let end = loop {
-            let w = *sim.world();
+            let w = *sim.field();
             touched |= (3..5).any(|t| w.players[t].pos.dist(w.ball.pos) < cfg.server.kickable_distance());
             let mut cmds = [Command::None; NUM_PLAYERS];
             cmds[0] = keeper_command(
@@ -218,7 +218,7 @@ fn takers_close_in_and_win_the_ball_from_a_holding_keeper() {
             }
         };
         // The ball may also leave the region in the struggle: the keeper lost it.
-        assert_ne!(end, EndReason::CycleLimit, "seed {seed}: {:?}", sim.world());
+        assert_ne!(end, EndReason::CycleLimit, "seed {seed}: {:?}", sim.field());
         assert!(touched, "seed {seed}: no taker reached the ball");
         taken += usize::from(end == EndReason::Taken);
     }

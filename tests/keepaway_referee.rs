@@ -32,7 +32,7 @@ fn ball_out_in_x_and_in_y() {
         let mut w = quiet_world();
         w.ball.pos = vel.with_norm(9.8);
         w.ball.vel = vel;
-        sim.set_world(w);
+        sim.set_field(w);
         assert_eq!(sim.step(&NONE), Some(EndReason::Out), "ball moving {vel:?}");
         assert_eq!(sim.episode_cycles(), 1);
         assert!((sim.episode_seconds() - 0.1).abs() < 1e-12);
@@ -67,7 +67,7 @@ fn taken_after_four_cycles_of_taker_possession() {
 
     // Through the simulator: a taker standing by a resting ball.
     let mut sim = Simulator::new(c, 2).expect("valid config");
-    sim.set_world(w);
+    sim.set_field(w);
     let mut ends = Vec::new();
     for _ in 0..6 {
         ends.push(sim.step(&NONE));
@@ -138,7 +138,7 @@ fn cycle_limit() {
         ..noiseless()
     };
     let mut sim = Simulator::new(c, 3).expect("valid config");
-    sim.set_world(quiet_world());
+    sim.set_field(quiet_world());
     assert_eq!(sim.step(&NONE), None);
     assert_eq!(sim.step(&NONE), None);
     assert_eq!(sim.step(&NONE), Some(EndReason::CycleLimit));
@@ -166,7 +166,7 @@ fn reset_distribution() {
     let mut rotations = [0usize; 3];
     for _ in 0..300 {
         sim.reset();
-        let w = sim.world();
+        let w = sim.field();
         assert_eq!(w.cycle, 0);
         assert_eq!(w.ball.pos, Vec2::new(-6.0, -6.0));
         assert_eq!(w.ball.vel, Vec2::ZERO);

@@ -2,10 +2,10 @@
 
 use learnpnp::keepaway_sim::features::{FeatureThresholds, observe};
 use learnpnp::keepaway_sim::keeper::{KeeperMemory, keeper_command};
-use learnpnp::keepaway_sim::perception::{PlayerId, SeenBall, SeenPlayer};
 use learnpnp::keepaway_sim::skills::{InterceptMemory, get_open, go_to_point, hold_ball, intercept, turn_to_ball};
 use learnpnp::keepaway_sim::state_vars::StateVars;
 use learnpnp::keepaway_sim::taker::{TakerMemory, taker_command};
+use learnpnp::keepaway_sim::view::{PlayerId, SeenBall, SeenPlayer};
 use learnpnp::keepaway_sim::world::NUM_PLAYERS;
 use learnpnp::keepaway_sim::{
     BaselinePolicy, Command, FieldState, KeepawayConfig, PlayerView, Simulator, Vec2, VisionMode, perceive,
@@ -68,7 +68,7 @@ proptest! {
             if sim.step(c).is_some() {
                 sim.reset();
             }
-            let w = sim.world();
+            let w = sim.field();
             prop_assert!(w.ball.pos.is_finite() && w.ball.vel.is_finite());
             for p in &w.players {
                 prop_assert!(p.pos.is_finite() && p.vel.is_finite() && p.body.is_finite());

@@ -2,13 +2,13 @@
 
 use crate::util::{noiseless, player};
 use learnpnp::keepaway_sim::features::{FeatureThresholds, Observation, PassLineDistances, observe};
-use learnpnp::keepaway_sim::perception::PlayerId;
 use learnpnp::keepaway_sim::policies::{hand_coded, threshold_policy};
 use learnpnp::keepaway_sim::skills::get_open::{congestion, grid_points, in_cone, least_congested_point};
 use learnpnp::keepaway_sim::skills::pass::{PassState, teammates_by_distance};
 use learnpnp::keepaway_sim::skills::predict::{Estimate, Kinematics, cycles_to_point};
 use learnpnp::keepaway_sim::skills::{InterceptMemory, go_to_point, hold_ball, intercept};
 use learnpnp::keepaway_sim::state_vars::StateVars;
+use learnpnp::keepaway_sim::view::PlayerId;
 use learnpnp::keepaway_sim::world::{Ball, NUM_PLAYERS};
 use learnpnp::keepaway_sim::{
     Command, FieldState, KeepawayConfig, KeeperAction, PlayerView, Simulator, Vec2, VisionMode, perceive,
@@ -121,9 +121,9 @@ fn hold_keeps_the_ball_for_many_cycles() {
     // Takers far away and standing still.
     w.players[3] = player(-8.0, 8.0, 0.0);
     w.players[4] = player(8.0, 8.0, 0.0);
-    sim.set_world(w);
+    sim.set_field(w);
     for t in 0..100 {
-        let v = view(sim.world(), 0);
+        let v = view(sim.field(), 0);
         assert!(v.ball_kickable(&c), "lost the ball at cycle {t}");
         let mut cmds = [Command::None; NUM_PLAYERS];
         cmds[0] = hold_ball(&v, &c, c.skills.keeper_hold_ratio);
@@ -131,7 +131,7 @@ fn hold_keeps_the_ball_for_many_cycles() {
     }
     // Settled: ball within the hold tolerance (0.3 m) of the spot 0.875 m in front
     // of the body, body facing +x (the framework's "opponent goal").
-    let w = sim.world();
+    let w = sim.field();
     let me = w.players[0];
     let spot = me.pos + Vec2::polar(0.875, me.body);
     assert!(w.ball.pos.dist(spot) < c.skills.hold_tolerance, "{w:?}");
@@ -150,11 +150,11 @@ fn hold_shields_the_ball_from_a_close_taker() {
         other => panic!("expected a kick, got {other:?}"),
     }
     let mut sim = Simulator::new(c, 1).expect("valid config");
-    sim.set_world(w);
+    sim.set_field(w);
     let mut cmds = [Command::None; NUM_PLAYERS];
     cmds[0] = hold_ball(&v, &c, c.skills.keeper_hold_ratio);
     sim.step(&cmds);
-    let b = sim.world().ball.pos;
+    let b = sim.field().ball.pos;
     // The ball goes behind the keeper, away from the taker (x < 0), 0.875 m away.
     assert!(b.x < 0.0, "ball at {b:?}");
     assert!((b.norm() - 0.875).abs() < 1e-6);
@@ -168,12 +168,12 @@ fn pass_reaches_the_receiver() {
     w.players[3] = player(-8.0, 8.0, 0.0);
     w.players[4] = player(-8.0, -8.0, 0.0);
     w.players[1] = player(9.0, 0.0, 180.0);
-    sim.set_world(w);
+    sim.set_field(w);
     // Keeper 1 at 9 m is the second closest (keeper 2 is 8 m away).
-    let mut pass = PassState::new(2, &view(sim.world(), 0));
+    let mut pass = PassState::new(2, &view(sim.field(), 0));
     let mut kicks = 0;
     loop {
-        let v = view(sim.world(), 0);
+        let v = view(sim.field(), 0);
         if !(kicks == 0 || pass.continues(&v, &c)) {
             break;
         }
@@ -184,11 +184,11 @@ fn pass_reaches_the_receiver() {
         assert!(kicks < 5, "pass never left the kicker");
     }
     // Let the ball roll to the receiver (who stands still).
-    let receiver = sim.world().players[1].pos;
+    let receiver = sim.field().players[1].pos;
     let mut best = f64::INFINITY;
     let mut speed_there = 0.0;
     for _ in 0..40 {
-        let w = *sim.world();
+        let w = *sim.field();
         let d = w.ball.pos.dist(receiver);
         if d < best {
             best = d;
@@ -210,12 +210,12 @@ fn intercept_runs_to_a_rolling_ball() {
     w.players[4] = player(8.0, 8.0, 0.0);
     w.ball.pos = Vec2::new(-6.0, 2.0);
     w.ball.vel = Vec2::new(0.8, -0.2);
-    sim.set_world(w);
+    sim.set_field(w);
     let mut memory = InterceptMemory::default();
-    let first = intercept(&view(sim.world(), 0), &c, &mut memory);
+    let first = intercept(&view(sim.field(), 0), &c, &mut memory);
     assert!(matches!(first, Command::Turn { .. }), "{first:?}");
     for t in 0..40 {
-        let v = view(sim.world(), 0);
+        let v = view(sim.field(), 0);
         if v.ball_kickable(&c) {
             assert!(t > 2);
             return;
@@ -233,14 +233,14 @@ fn go_to_point_gets_there() {
     let mut sim = Simulator::new(c, 1).expect("valid config");
     let mut w = scene();
     w.players[2] = player(0.0, -8.0, -170.0);
-    sim.set_world(w);
+    sim.set_field(w);
     let target = Vec2::new(-6.0, -2.0);
     for _ in 0..30 {
         let mut cmds = [Command::None; NUM_PLAYERS];
-        cmds[2] = go_to_point(&view(sim.world(), 2), &c, target);
+        cmds[2] = go_to_point(&view(sim.field(), 2), &c, target);
         sim.step(&cmds);
     }
-    assert!(sim.world().players[2].pos.dist(target) < 1.0);
+    assert!(sim.field().players[2].pos.dist(target) < 1.0);
 }
 
 #[test]

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
-use learnpnp::domains::keepaway::FixedPolicy;
+use learnpnp::domains::keepaway::{FixedPolicy, KeepawayOptions};
 use learnpnp::domains::penalty_kick::Variant;
 use learnpnp::experiment::defaults::{
     self, AssessmentArg, Overrides, parse_schedule, parse_step_size, parse_threshold,
@@ -195,20 +195,22 @@ impl From<ExperimentFlags> for ExperimentOptions {
             trace_every: args.trace_every,
             seed: Some(args.seed),
             label: args.label,
-            record: args.record,
             initial_values: args.initial_values,
             initial_values_fallback: args.initial_values_fallback,
             plan: args.plan,
             unchecked: args.unchecked,
             max_actions: args.max_actions,
             variant: args.variant,
-            policy: args.policy,
-            vision: args.vision,
-            timer: args.server_timer,
-            referee: args.referee,
-            hold_threshold: args.hold_threshold,
-            lane_threshold: args.lane_threshold,
-            taker_threshold: args.taker_threshold,
+            keepaway: KeepawayOptions {
+                record: args.record,
+                policy: args.policy,
+                vision: args.vision,
+                timer: args.server_timer,
+                referee: args.referee,
+                hold_threshold: args.hold_threshold,
+                lane_threshold: args.lane_threshold,
+                taker_threshold: args.taker_threshold,
+            },
             learner: Overrides {
                 gamma: args.gamma,
                 alpha: args.alpha,

@@ -8,12 +8,11 @@ use std::path::PathBuf;
 
 use super::defaults::{self, Overrides};
 use super::spec::{Algorithm, DomainSpec, ExperimentError, ExperimentSpec};
-use crate::domains::keepaway::{FixedPolicy, KeepawayDomainConfig, KeepawayMode};
+use crate::domains::keepaway::{KeepawayDomainConfig, KeepawayMode, KeepawayOptions};
 use crate::domains::nmdp::NmdpConfig;
 use crate::domains::parr_russell::ParrRussellConfig;
 use crate::domains::penalty_kick::{PenaltyKickConfig, Variant};
 use crate::domains::sutton::SuttonConfig;
-use crate::keepaway_sim::params::{RefereeRule, ServerTimer, VisionMode};
 use crate::learning::persist;
 use crate::named::Named;
 
@@ -84,8 +83,6 @@ pub struct ExperimentOptions {
     pub seed: Option<u64>,
     /// A label for plots (default: the algorithm).
     pub label: Option<String>,
-    /// Keepaway: evaluation episodes of run 0 saved as RoboCup game logs.
-    pub record: usize,
     /// Value tables every run starts from instead of the initial value.
     pub initial_values: Vec<PathBuf>,
     /// Start from an unusable initial-values file's previous good version.
@@ -98,20 +95,8 @@ pub struct ExperimentOptions {
     pub max_actions: Option<u32>,
     /// Penalty kick plan variant.
     pub variant: Variant,
-    /// Keepaway: the keepers' policy for keepaway-fixed.
-    pub policy: FixedPolicy,
-    /// Keepaway: what the agents perceive.
-    pub vision: VisionMode,
-    /// Keepaway: the soccer server's timer.
-    pub timer: ServerTimer,
-    /// Keepaway: the referee's turnover rule.
-    pub referee: RefereeRule,
-    /// Keepaway: distance (m) at which the threshold policy passes.
-    pub hold_threshold: Option<f64>,
-    /// Keepaway: threshold (m) of the takers' distance to a pass line.
-    pub lane_threshold: Option<f64>,
-    /// Keepaway: threshold (m) of the closest taker's distance.
-    pub taker_threshold: Option<f64>,
+    /// Keepaway's options.
+    pub keepaway: KeepawayOptions,
     /// The learner's parameters the user set.
     pub learner: Overrides,
 }
@@ -146,26 +131,18 @@ impl ExperimentOptions {
                 config: NmdpConfig::default(),
                 plan,
             },
-            DomainName::KeepawayPass | DomainName::KeepawayPosition | DomainName::KeepawayFixed => {
-                let mut config = KeepawayDomainConfig::for_mode(match name {
-                    DomainName::KeepawayPass => KeepawayMode::Pass,
-                    DomainName::KeepawayPosition => KeepawayMode::Position,
-                    _ => KeepawayMode::Fixed(self.policy),
-                });
-                config.vision = self.vision;
-                config.timer = self.timer;
-                config.referee = self.referee;
-                if let Some(t) = self.hold_threshold {
-                    config.hold_threshold = t;
-                }
-                if let Some(t) = self.lane_threshold {
-                    config.thresholds.pass_line = t;
-                }
-                if let Some(t) = self.taker_threshold {
-                    config.thresholds.closest_taker = t;
-                }
-                DomainSpec::Keepaway { config, plan }
-            }
+            DomainName::KeepawayPass => DomainSpec::Keepaway {
+                config: self.keepaway.config(KeepawayMode::Pass),
+                plan,
+            },
+            DomainName::KeepawayPosition => DomainSpec::Keepaway {
+                config: self.keepaway.config(KeepawayMode::Position),
+                plan,
+            },
+            DomainName::KeepawayFixed => DomainSpec::Keepaway {
+                config: self.keepaway.config(KeepawayMode::Fixed(self.keepaway.policy)),
+                plan,
+            },
         }
     }
 
@@ -237,7 +214,7 @@ impl ExperimentOptions {
             protocol,
             seed: self.seed.unwrap_or(defaults::DEFAULT_SEED),
             initial_values: self.initial_values_to_use()?,
-            record: self.record,
+            record: self.keepaway.record,
         };
         spec.validate()?;
         if !self.unchecked {

@@ -9,20 +9,18 @@
 //! other keepers' from a fixed policy. Play stops at such a decision and
 //! resumes, in the same cycle, when the caller answers: a step is the time
 //! until the next decision (a semi-Markov decision, as in Stone, Sutton and
-//! Kuhlmann's keepaway). Each cycle is played exactly as
-//! [`KeepawayTask`](super::KeepawayTask) plays it (the keepers' commands in
-//! order, then the takers'), so a caller that answers as a fixed policy would
-//! plays the episodes of that policy's `keepaway-fixed` run.
+//! Kuhlmann's keepaway). Each cycle is the simulator's [`Game`] cycle, the one
+//! [`KeepawayTask`](super::KeepawayTask) plays, so a caller that answers as a
+//! fixed policy would plays the episodes of that policy's `keepaway-fixed` run.
 
 use crate::keepaway_sim::command::Command;
+use crate::keepaway_sim::game::{Cycle, Game};
 use crate::keepaway_sim::keeper::{KeeperAction, KeeperMemory, KeeperPolicy, keeper_command};
 use crate::keepaway_sim::params::{ConfigError, KeepawayConfig};
-use crate::keepaway_sim::perception::{Perception, PlayerView};
 use crate::keepaway_sim::policies::BaselinePolicy;
-use crate::keepaway_sim::simulator::Simulator;
 use crate::keepaway_sim::state_vars::StateVars;
-use crate::keepaway_sim::taker::{TakerMemory, taker_command};
-use crate::keepaway_sim::world::{NUM_KEEPERS, NUM_PLAYERS, NUM_TAKERS};
+use crate::keepaway_sim::view::PlayerView;
+use crate::keepaway_sim::world::NUM_KEEPERS;
 
 use super::task::RunSeeds;
 use crate::rng::SimRng;
@@ -63,11 +61,12 @@ pub struct Start {
     pub skipped: Vec<f64>,
 }
 
-/// A cycle in progress: the players' views and the commands decided so far.
+/// A cycle stopped in its keepers' stage: the game's cycle and the keepers'
+/// commands decided so far.
 #[derive(Clone, Copy)]
-struct Cycle {
-    views: [PlayerView; NUM_PLAYERS],
-    commands: [Command; NUM_PLAYERS],
+struct Paused {
+    cycle: Cycle,
+    keepers: [Command; NUM_KEEPERS],
     next_keeper: usize,
 }
 
@@ -99,13 +98,11 @@ impl KeeperPolicy for Asked {
 
 /// Keepaway 3 vs 2 paused at the deciding keepers' decisions.
 pub struct PassDecisions {
-    sim: Simulator,
-    perception: Perception,
+    game: Game,
     deciders: usize,
     others: BaselinePolicy,
     keepers: [KeeperMemory; NUM_KEEPERS],
-    takers: [TakerMemory; NUM_TAKERS],
-    cycle: Option<Cycle>,
+    paused: Option<Paused>,
     cycles_since_stop: u32,
 }
 
@@ -121,20 +118,18 @@ impl PassDecisions {
     ) -> Result<Self, ConfigError> {
         let seeds = RunSeeds::draw(&mut rng);
         Ok(PassDecisions {
-            sim: Simulator::new(config, seeds.simulator)?,
-            perception: Perception::new(&config, seeds.simulator),
+            game: Game::new(config, seeds.simulator)?,
             deciders: deciders.min(NUM_KEEPERS),
             others: others(seeds.fixed_policy),
             keepers: [KeeperMemory::default(); NUM_KEEPERS],
-            takers: [TakerMemory::default(); NUM_TAKERS],
-            cycle: None,
+            paused: None,
             cycles_since_stop: 0,
         })
     }
 
     /// The simulator's configuration.
     pub fn config(&self) -> &KeepawayConfig {
-        self.sim.config()
+        self.game.simulator().config()
     }
 
     /// Starts a new episode and plays to its first decision (episodes that end
@@ -142,11 +137,9 @@ impl PassDecisions {
     pub fn reset(&mut self) -> Start {
         let mut skipped = Vec::new();
         loop {
-            self.sim.reset();
-            self.perception.reset(self.sim.rng());
+            self.game.reset();
             self.keepers = [KeeperMemory::default(); NUM_KEEPERS];
-            self.takers = [TakerMemory::default(); NUM_TAKERS];
-            self.cycle = None;
+            self.paused = None;
             self.cycles_since_stop = 0;
             match self.play(None) {
                 Stop::Decide(decision) => {
@@ -166,10 +159,10 @@ impl PassDecisions {
     /// the previous stop. Without a pending decision (after the end), plays
     /// nothing and returns the end again.
     pub fn step(&mut self, action: KeeperAction) -> (Stop, f64) {
-        if self.cycle.is_none() {
+        if self.paused.is_none() {
             return (
                 Stop::Ended {
-                    seconds: self.sim.episode_seconds(),
+                    seconds: self.game.simulator().episode_seconds(),
                 },
                 0.0,
             );
@@ -180,23 +173,23 @@ impl PassDecisions {
 
     /// The seconds played since the previous stop, counted from now on anew.
     fn take_seconds(&mut self) -> f64 {
-        f64::from(std::mem::take(&mut self.cycles_since_stop)) * self.sim.config().server.cycle_seconds
+        f64::from(std::mem::take(&mut self.cycles_since_stop)) * self.config().server.cycle_seconds
     }
 
     /// Plays cycles until a decision or the episode's end; `answer` completes
     /// the decision the current cycle stopped at.
     fn play(&mut self, mut answer: Option<KeeperAction>) -> Stop {
-        let cfg = *self.sim.config();
+        let cfg = *self.config();
         loop {
-            let mut cycle = self.cycle.take().unwrap_or_else(|| Cycle {
-                views: self.perception.views(self.sim.world()),
-                commands: [Command::None; NUM_PLAYERS],
+            let mut paused = self.paused.take().unwrap_or_else(|| Paused {
+                cycle: self.game.views(),
+                keepers: [Command::None; NUM_KEEPERS],
                 next_keeper: 0,
             });
-            while cycle.next_keeper < NUM_KEEPERS {
-                let k = cycle.next_keeper;
-                let view = &cycle.views[k];
-                cycle.commands[k] = if k < self.deciders {
+            while paused.next_keeper < NUM_KEEPERS {
+                let k = paused.next_keeper;
+                let view = &paused.cycle.views[k];
+                paused.keepers[k] = if k < self.deciders {
                     let mut memory = self.keepers[k];
                     let mut policy = Asked {
                         answer: answer.take(),
@@ -205,7 +198,7 @@ impl PassDecisions {
                     };
                     let command = keeper_command(view, &cfg, &mut memory, &mut policy);
                     if let Some(decision) = policy.asked {
-                        self.cycle = Some(cycle);
+                        self.paused = Some(paused);
                         return Stop::Decide(decision);
                     }
                     self.keepers[k] = memory;
@@ -213,16 +206,13 @@ impl PassDecisions {
                 } else {
                     keeper_command(view, &cfg, &mut self.keepers[k], &mut self.others)
                 };
-                cycle.next_keeper += 1;
+                paused.next_keeper += 1;
             }
-            for (t, memory) in self.takers.iter_mut().enumerate() {
-                cycle.commands[NUM_KEEPERS + t] = taker_command(&cycle.views[NUM_KEEPERS + t], &cfg, memory);
-            }
-            self.perception.sent(&cycle.commands);
+            let commands = self.game.commands(paused.cycle, paused.keepers);
             self.cycles_since_stop += 1;
-            if self.sim.step(&cycle.commands).is_some() {
+            if self.game.step(&commands).is_some() {
                 return Stop::Ended {
-                    seconds: self.sim.episode_seconds(),
+                    seconds: self.game.simulator().episode_seconds(),
                 };
             }
         }

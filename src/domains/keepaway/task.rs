@@ -8,12 +8,8 @@ use rand::RngExt;
 use super::config::KeepawayDomainConfig;
 use super::team::{KeeperTeam, LocalTeam, TeamStep};
 use crate::domains::{EpisodeOutcome, Task, TaskError};
-use crate::keepaway_sim::command::Command;
-use crate::keepaway_sim::perception::{Perception, PlayerId};
+use crate::keepaway_sim::game::Game;
 use crate::keepaway_sim::rcg::GameLogWriter;
-use crate::keepaway_sim::simulator::Simulator;
-use crate::keepaway_sim::taker::{TakerMemory, taker_command};
-use crate::keepaway_sim::world::{NUM_KEEPERS, NUM_PLAYERS, NUM_TAKERS};
 use crate::learning::{EpisodeMode, EpisodeStart, Learner};
 use crate::plan::Plan;
 use crate::rng::{SimRng, derive_seed};
@@ -42,10 +38,8 @@ impl RunSeeds {
 /// Learning (or fixed) runs of Keepaway 3 vs 2.
 pub struct KeepawayTask {
     config: KeepawayDomainConfig,
-    sim: Simulator,
-    perception: Perception,
+    game: Game,
     team: Box<dyn KeeperTeam>,
-    takers: [TakerMemory; NUM_TAKERS],
 }
 
 impl KeepawayTask {
@@ -69,15 +63,8 @@ impl KeepawayTask {
         team: Box<dyn KeeperTeam>,
         seeds: RunSeeds,
     ) -> Result<Self, TaskError> {
-        let sim = Simulator::new(config.simulator(), seeds.simulator).map_err(|e| TaskError::Invalid(e.to_string()))?;
-        let perception = Perception::new(sim.config(), seeds.simulator);
-        Ok(KeepawayTask {
-            config,
-            sim,
-            perception,
-            team,
-            takers: [TakerMemory::default(); NUM_TAKERS],
-        })
+        let game = Game::new(config.simulator(), seeds.simulator).map_err(|e| TaskError::Invalid(e.to_string()))?;
+        Ok(KeepawayTask { config, game, team })
     }
 
     /// Plays one episode; an episode the team aborts is discarded and played again.
@@ -95,9 +82,12 @@ impl KeepawayTask {
     pub fn record_episode(&mut self, mode: EpisodeMode) -> Result<(EpisodeOutcome, String), TaskError> {
         self.team.set_noting(true);
         let result = loop {
-            let mut log = GameLogWriter::new(self.sim.config());
+            let mut log = GameLogWriter::new(self.game.simulator().config());
             match self.play_once(EpisodeStart::of(mode), Some(&mut log)) {
-                Ok(Some(outcome)) => break Ok((outcome, log.finish(self.sim.episode_cycles(), self.sim.ended()))),
+                Ok(Some(outcome)) => {
+                    let sim = self.game.simulator();
+                    break Ok((outcome, log.finish(sim.episode_cycles(), sim.ended())));
+                }
                 Ok(None) => continue,
                 Err(e) => break Err(e),
             }
@@ -113,53 +103,38 @@ impl KeepawayTask {
         start: EpisodeStart,
         mut log: Option<&mut GameLogWriter>,
     ) -> Result<Option<EpisodeOutcome>, TaskError> {
-        self.sim.reset();
-        self.perception.reset(self.sim.rng());
-        self.takers = [TakerMemory::default(); NUM_TAKERS];
+        self.game.reset();
         self.team.begin_episode(start)?;
-        let cfg = *self.sim.config();
-        let seconds_per_cycle = cfg.server.cycle_seconds;
+        let seconds_per_cycle = self.game.simulator().config().server.cycle_seconds;
         loop {
-            let world = *self.sim.world();
-            let views = self.perception.views(&world);
-            let keeper_views = PlayerId::KEEPERS.map(|id| views[id.index()]);
-            let mut commands = [Command::None; NUM_PLAYERS];
-            let (keepers, takers) = commands.split_at_mut(NUM_KEEPERS);
-            let memories = &mut self.takers;
+            let mut cycle = self.game.views();
+            let game = &mut self.game;
             // One taker's decision per step: a remote team polls between them.
-            let mut next = 0;
-            let mut decide_taker = || {
-                if let (Some(command), Some(memory), Some(view)) = (
-                    takers.get_mut(next),
-                    memories.get_mut(next),
-                    views.get(NUM_KEEPERS + next),
-                ) {
-                    *command = taker_command(view, &cfg, memory);
-                    next += 1;
-                }
-                next < NUM_TAKERS
-            };
-            let step = self.team.act(&keeper_views, seconds_per_cycle, &mut decide_taker)?;
-            let TeamStep::Commands(keeper_commands) = step else {
+            let step = self.team.act(&cycle.keeper_views(), seconds_per_cycle, &mut || {
+                game.decide_taker(&mut cycle)
+            })?;
+            let TeamStep::Commands(keepers) = step else {
                 return Ok(None);
             };
-            keepers.copy_from_slice(&keeper_commands);
-            self.perception.sent(&commands);
+            let commands = self.game.commands(cycle, keepers);
             if let Some(log) = log.as_deref_mut() {
-                log.show(&world, &self.team.notes());
-                log.commands(&world, &commands);
+                let world = self.game.simulator().field();
+                log.show(world, &self.team.notes());
+                log.commands(world, &commands);
             }
-            if self.sim.step(&commands).is_some() {
+            if self.game.step(&commands).is_some() {
                 break;
             }
         }
+        let sim = self.game.simulator();
         if let Some(log) = log {
-            log.show(self.sim.world(), &self.team.notes());
+            log.show(sim.field(), &self.team.notes());
         }
-        let cycles = self.sim.episode_cycles();
+        let cycles = sim.episode_cycles();
+        let seconds = sim.episode_seconds();
         let exploratory = self.team.end_episode(cycles)?;
         Ok(Some(EpisodeOutcome {
-            ret: self.sim.episode_seconds(),
+            ret: seconds,
             actions: cycles,
             steps: cycles,
             exploratory,
@@ -173,12 +148,12 @@ impl KeepawayTask {
 
     /// The simulator's random state (between episodes: what a restart resumes from).
     pub fn simulator_rng(&self) -> &SimRng {
-        self.sim.rng()
+        self.game.simulator().rng()
     }
 
     /// Restores the simulator's random state.
     pub fn set_simulator_rng(&mut self, rng: SimRng) {
-        self.sim.set_rng(rng);
+        self.game.set_simulator_rng(rng);
     }
 
     /// Cycles in which a plan-driven keeper issued no command, over the run.

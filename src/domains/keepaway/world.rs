@@ -7,9 +7,9 @@ use crate::keepaway_sim::command::Command;
 use crate::keepaway_sim::features::{FeatureThresholds, PassLineDistances};
 use crate::keepaway_sim::geometry::Vec2;
 use crate::keepaway_sim::params::KeepawayConfig;
-use crate::keepaway_sim::perception::PlayerView;
 use crate::keepaway_sim::skills::InterceptMemory;
 use crate::keepaway_sim::skills::fastest::{BallEstimates, fastest_teammate_with, pass_origin_with};
+use crate::keepaway_sim::view::PlayerView;
 use crate::keepaway_sim::world_model::believed;
 
 /// The atoms of a keeper's knowledge base, in id order.

@@ -1,0 +1,8 @@
+//! What every learnpnp crate shares: seeded, reproducible random numbers
+//! ([`rng`]) and enumerations a user picks by name ([`named`]). The `learnpnp`
+//! crate re-exports both (`learnpnp::rng`, `learnpnp::named`).
+
+#![deny(missing_docs)]
+
+pub mod named;
+pub mod rng;

@@ -1,0 +1,63 @@
+//! Keepaway 3 vs 2: a faithful re-implementation of the RoboCup 2D Soccer Server's
+//! physics (2005-era parameters), the keepaway referee, and the keepaway player
+//! framework's skills, takers and baseline keeper policies (Stone, Sutton, Kuhlmann
+//! 2005), as used in chapter 7 of the thesis.
+//!
+//! Layers, bottom up:
+//! - [`geometry`], [`params`], [`command`]: vectors and angles (degrees), parameters,
+//!   the primitive commands;
+//! - [`world`], [`referee`], [`simulator`]: state, physics step, episode end and
+//!   reset, all randomness from one seeded generator;
+//! - [`perception`]: what each agent perceives ([`view::PlayerView`]):
+//!   the framework players' perception (by default: [`see`], what the server
+//!   tells them, [`timing`], when, and [`world_model`], what their world model
+//!   makes of it), full state, or quantised;
+//! - [`skills`], [`taker`], [`keeper`]: the framework's behaviours; the keeper with the
+//!   ball asks a pluggable [`keeper::KeeperPolicy`];
+//! - [`policies`]: random, always-hold, hand-coded and the thesis's threshold policy;
+//! - [`state_vars`], [`features`], [`positions`]: abstractions for plans and learners;
+//! - [`episode`]: running episodes;
+//! - [`rcg`], [`replay`]: RoboCup game logs (`.rcg`) of episodes, for rcssmonitor,
+//!   and a self-contained HTML page replaying one.
+
+#![deny(missing_docs)]
+
+use learnpnp_common::{named, rng};
+
+pub mod command;
+pub mod episode;
+pub mod features;
+pub mod game;
+pub mod geometry;
+pub mod keeper;
+pub mod params;
+pub mod perception;
+#[cfg(test)]
+mod played_views;
+pub mod policies;
+pub mod positions;
+pub mod rcg;
+pub mod referee;
+pub mod replay;
+pub mod see;
+pub mod simulator;
+pub mod skills;
+pub mod state_vars;
+pub mod taker;
+pub mod timing;
+pub mod view;
+pub mod world;
+pub mod world_model;
+
+pub use command::Command;
+pub use episode::{Keepaway, run_episode};
+pub use game::{Cycle, EpisodeSummary, Game};
+pub use geometry::Vec2;
+pub use keeper::{KeeperAction, KeeperPolicy, SupportAction};
+pub use params::{ConfigError, KeepawayConfig, RefereeRule, ServerParams, ServerTimer, SkillParams, VisionMode};
+pub use perception::{Perception, perceive};
+pub use policies::BaselinePolicy;
+pub use referee::EndReason;
+pub use simulator::Simulator;
+pub use view::{PlayerId, PlayerView};
+pub use world::FieldState;

@@ -1,0 +1,24 @@
+//! The keepaway framework's skills, as pure functions of a
+//! [`PlayerView`](crate::view::PlayerView) and the configuration
+//! returning a [`Command`](crate::command::Command); passing and
+//! intercepting keep a small explicit memory ([`pass::PassState`],
+//! [`intercept::InterceptMemory`]).
+//!
+//! The numbers follow the framework (Stone, Kuhlmann; built on UvA Trilearn's
+//! `BasicPlayer`), collected in [`crate::params::SkillParams`]; each skill
+//! documents where it deviates.
+
+pub mod fastest;
+pub mod get_open;
+pub mod hold;
+pub mod intercept;
+pub mod kick;
+pub mod movement;
+pub mod pass;
+pub mod predict;
+
+pub use get_open::{get_open, get_open_from, go_to_support_point};
+pub use hold::hold_ball;
+pub use intercept::{InterceptMemory, intercept};
+pub use movement::{go_to_point, turn_to_ball};
+pub use pass::PassState;
