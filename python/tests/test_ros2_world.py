@@ -110,7 +110,11 @@ def test_a_ros2_corridor_robot_is_learned_to_the_optimum_and_bad_messages_are_re
         summary, counts = learn(supervisor, ros2_world, sandbox, router, "corridor", "1")
     finally:
         robot.terminate()
-        robot.wait(timeout=10)
+        try:
+            robot.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            robot.kill()
+            robot.wait()
     assert summary["experiment"]["final_greedy_mean"] == -4.0, "the greedy walk goes straight forward"
     assert counts["malformed_cdr"] == 1, counts
     assert counts["wrong_type"] == 1, counts

@@ -108,7 +108,9 @@ def main():
     signal.signal(signal.SIGTERM, lambda *_: stop.set())
     while not stop.wait(0.2):
         pass
-    sys.exit(0)
+    # Zenoh's threads would keep the interpreter alive: leave at once.
+    sys.stdout.flush()
+    os._exit(0)
 
 
 if __name__ == "__main__":
