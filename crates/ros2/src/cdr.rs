@@ -173,10 +173,7 @@ impl<'a> Reader<'a> {
                 self.pos = end;
                 Ok(s)
             }
-            None => Err(CdrError::Truncated {
-                at: self.pos,
-                need: n,
-            }),
+            None => Err(CdrError::Truncated { at: self.pos, need: n }),
         }
     }
 

@@ -95,7 +95,10 @@ impl Default for Qos {
 impl Qos {
     /// rclcpp's usual profile: the defaults with a history of `depth`.
     pub fn keep_last(depth: u64) -> Self {
-        Qos { depth, ..Qos::default() }
+        Qos {
+            depth,
+            ..Qos::default()
+        }
     }
 
     /// The token's QoS field (liveliness_utils.cpp, `qos_to_keyexpr`): each
@@ -172,7 +175,13 @@ impl Entity<'_> {
             } else {
                 format!("/{name}")
             };
-            key.push_str(&format!("/{}/{}/{}/{}", mangle(&fq), mangle(ty), hash, qos.to_keyexpr()));
+            key.push_str(&format!(
+                "/{}/{}/{}/{}",
+                mangle(&fq),
+                mangle(ty),
+                hash,
+                qos.to_keyexpr()
+            ));
         }
         key
     }
@@ -323,7 +332,12 @@ mod tests {
             format!("0/robot1/chatter/std_msgs::msg::dds_::String_/{STRING_HASH}")
         );
         assert_eq!(
-            topic_key(2, "/add_two_ints", "example_interfaces::srv::dds_::AddTwoInts_", ADD_HASH),
+            topic_key(
+                2,
+                "/add_two_ints",
+                "example_interfaces::srv::dds_::AddTwoInts_",
+                ADD_HASH
+            ),
             format!("2/add_two_ints/example_interfaces::srv::dds_::AddTwoInts_/{ADD_HASH}")
         );
     }
@@ -343,7 +357,14 @@ mod tests {
             topic,
         };
         assert_eq!(
-            node("aac3178e146ba6f1fc6e6a4085e77f21", "listener", 0, EntityKind::Node, None).token(),
+            node(
+                "aac3178e146ba6f1fc6e6a4085e77f21",
+                "listener",
+                0,
+                EntityKind::Node,
+                None
+            )
+            .token(),
             "@ros2_lv/2/aac3178e146ba6f1fc6e6a4085e77f21/0/0/NN/%/%/listener"
         );
         let string = "std_msgs::msg::dds_::String_";
@@ -356,7 +377,9 @@ mod tests {
                 Some(("/chatter", string, STRING_HASH, Qos::keep_last(10)))
             )
             .token(),
-            format!("@ros2_lv/2/aac3178e146ba6f1fc6e6a4085e77f21/0/10/MS/%/%/listener/%chatter/{string}/{STRING_HASH}/::,10:,:,:,,")
+            format!(
+                "@ros2_lv/2/aac3178e146ba6f1fc6e6a4085e77f21/0/10/MS/%/%/listener/%chatter/{string}/{STRING_HASH}/::,10:,:,:,,"
+            )
         );
         assert_eq!(
             node(
@@ -367,15 +390,34 @@ mod tests {
                 Some(("/chatter", string, STRING_HASH, Qos::keep_last(7)))
             )
             .token(),
-            format!("@ros2_lv/2/8b20917502ee955ac4476e0266340d5c/0/10/MP/%/%/talker/%chatter/{string}/{STRING_HASH}/::,7:,:,:,,")
+            format!(
+                "@ros2_lv/2/8b20917502ee955ac4476e0266340d5c/0/10/MP/%/%/talker/%chatter/{string}/{STRING_HASH}/::,7:,:,:,,"
+            )
         );
         let add = "example_interfaces::srv::dds_::AddTwoInts_";
         for (zid, name, kind, code) in [
-            ("f9980ee0495eaafb3e38f0d19e2eae12", "add_two_ints_server", EntityKind::ServiceServer, "SS"),
-            ("e1dc8d1b45ae8717fce78689cc655685", "add_two_ints_client", EntityKind::ServiceClient, "SC"),
+            (
+                "f9980ee0495eaafb3e38f0d19e2eae12",
+                "add_two_ints_server",
+                EntityKind::ServiceServer,
+                "SS",
+            ),
+            (
+                "e1dc8d1b45ae8717fce78689cc655685",
+                "add_two_ints_client",
+                EntityKind::ServiceClient,
+                "SC",
+            ),
         ] {
             assert_eq!(
-                node(zid, name, 10, kind, Some(("/add_two_ints", add, ADD_HASH, Qos::keep_last(10)))).token(),
+                node(
+                    zid,
+                    name,
+                    10,
+                    kind,
+                    Some(("/add_two_ints", add, ADD_HASH, Qos::keep_last(10)))
+                )
+                .token(),
                 format!("@ros2_lv/2/{zid}/0/10/{code}/%/%/{name}/%add_two_ints/{add}/{ADD_HASH}/::,10:,:,:,,")
             );
         }

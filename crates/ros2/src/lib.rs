@@ -5,8 +5,8 @@
 
 pub mod cdr;
 pub mod keys;
-pub mod types;
 pub mod mapping;
 pub mod node;
-pub mod world;
 pub mod plan_state;
+pub mod types;
+pub mod world;

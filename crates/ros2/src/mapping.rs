@@ -197,7 +197,10 @@ impl TryFrom<RawEntry> for Reading {
     type Error = String;
     fn try_from(r: RawEntry) -> Result<Self, String> {
         if r.equals.is_some() || r.below.is_some() || r.above.is_some() {
-            return Err(format!("'{}': a reading takes no condition (equals, below, above)", r.name));
+            return Err(format!(
+                "'{}': a reading takes no condition (equals, below, above)",
+                r.name
+            ));
         }
         Ok(Reading {
             source: r.source(),
@@ -324,8 +327,13 @@ pub fn parse(file: &Path, text: &str) -> Result<Loaded, MappingError> {
     let mut registry = Registry::new();
     for i in &mapping.interfaces {
         let path = dir.join(&i.file);
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| entry(format!("[[interfaces]] '{}'", i.name), &i.file.display().to_string(), e.to_string()))?;
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            entry(
+                format!("[[interfaces]] '{}'", i.name),
+                &i.file.display().to_string(),
+                e.to_string(),
+            )
+        })?;
         registry
             .add_interface(&i.name, &text)
             .map_err(|e| entry(format!("[[interfaces]] '{}'", i.name), &i.name, e.to_string()))?;
@@ -352,7 +360,11 @@ pub fn parse(file: &Path, text: &str) -> Result<Loaded, MappingError> {
         check.action(&what, a)?;
     }
     if mapping.actions.is_empty() {
-        return Err(entry("[[action]]".into(), "", "a world needs at least one action".into()));
+        return Err(entry(
+            "[[action]]".into(),
+            "",
+            "a world needs at least one action".into(),
+        ));
     }
     if let Some(r) = &mapping.reward {
         check.numeric("[reward]", &r.source)?;
@@ -362,14 +374,20 @@ pub fn parse(file: &Path, text: &str) -> Result<Loaded, MappingError> {
     }
     if let Some(r) = &mapping.reset {
         check.service_type("[reset]", &r.type_name)?;
-        let (request, _) = registry.service(&r.type_name).map_err(|e| entry("[reset]".into(), &r.type_name, e.to_string()))?;
+        let (request, _) = registry
+            .service(&r.type_name)
+            .map_err(|e| entry("[reset]".into(), &r.type_name, e.to_string()))?;
         check.message("[reset]", request, &r.request)?;
     }
     if let Some(a) = &mapping.answer {
         check.msg_type("[answer]", &a.type_name)?;
     }
     if mapping.zenoh.connect.is_empty() && mapping.zenoh.listen.is_empty() {
-        return Err(entry("[zenoh]".into(), "connect", "give the router's endpoint (connect = [\"tcp/127.0.0.1:7447\"])".into()));
+        return Err(entry(
+            "[zenoh]".into(),
+            "connect",
+            "give the router's endpoint (connect = [\"tcp/127.0.0.1:7447\"])".into(),
+        ));
     }
     Ok(Loaded { mapping, registry, dir })
 }
@@ -402,11 +420,17 @@ impl<F: Fn(String, &str, String) -> MappingError> Checker<'_, F> {
     }
 
     fn msg_type(&self, what: &str, t: &str) -> Result<(), MappingError> {
-        self.registry.msg(t).map(drop).map_err(|e| self.err(what, t, e.to_string()))
+        self.registry
+            .msg(t)
+            .map(drop)
+            .map_err(|e| self.err(what, t, e.to_string()))
     }
 
     fn service_type(&self, what: &str, t: &str) -> Result<(), MappingError> {
-        self.registry.service(t).map(drop).map_err(|e| self.err(what, t, e.to_string()))
+        self.registry
+            .service(t)
+            .map(drop)
+            .map_err(|e| self.err(what, t, e.to_string()))
     }
 
     /// The message type a source's field is read from.
@@ -418,7 +442,10 @@ impl<F: Fn(String, &str, String) -> MappingError> Checker<'_, F> {
             }
             (None, Some(_)) => {
                 self.service_type(what, &s.type_name)?;
-                let (_, resp) = self.registry.service(&s.type_name).map_err(|e| self.err(what, &s.type_name, e.to_string()))?;
+                let (_, resp) = self
+                    .registry
+                    .service(&s.type_name)
+                    .map_err(|e| self.err(what, &s.type_name, e.to_string()))?;
                 Ok(resp.to_string())
             }
             _ => Err(self.err(what, "topic", "give either topic or service")),
@@ -429,17 +456,26 @@ impl<F: Fn(String, &str, String) -> MappingError> Checker<'_, F> {
         let mut t = self.source_type(what, s)?;
         let parts: Vec<&str> = s.field.split('.').collect();
         for (i, part) in parts.iter().enumerate() {
-            let def = self.registry.msg(&t).map_err(|e: TypeError| self.err(what, &t, e.to_string()))?;
+            let def = self
+                .registry
+                .msg(&t)
+                .map_err(|e: TypeError| self.err(what, &t, e.to_string()))?;
             let Some(f) = def.fields.iter().find(|f| f.name == *part) else {
                 let known: Vec<&str> = def.fields.iter().map(|f| f.name.as_str()).collect();
-                return Err(self.err(what, &s.field, format!("{t} has no field '{part}' (its fields: {})", known.join(", "))));
+                return Err(self.err(
+                    what,
+                    &s.field,
+                    format!("{t} has no field '{part}' (its fields: {})", known.join(", ")),
+                ));
             };
             if f.shape != Shape::Single {
                 return Err(self.err(what, &s.field, format!("'{part}' is an array or sequence")));
             }
             match &f.elem {
                 Elem::Nested(n) if i + 1 < parts.len() => t = n.clone(),
-                Elem::Nested(n) => return Err(self.err(what, &s.field, format!("'{part}' is a {n}, name one of its fields"))),
+                Elem::Nested(n) => {
+                    return Err(self.err(what, &s.field, format!("'{part}' is a {n}, name one of its fields")));
+                }
                 Elem::Prim(_) if i + 1 < parts.len() => {
                     return Err(self.err(what, &s.field, format!("'{part}' has no fields")));
                 }
@@ -494,8 +530,13 @@ impl<F: Fn(String, &str, String) -> MappingError> Checker<'_, F> {
             }
             (None, Some(_)) => {
                 let goal = format!("{}_Goal", a.type_name);
-                self.msg_type(what, &goal)
-                    .map_err(|_| self.err(what, &a.type_name, "not a known action type (give its .action file in [[interfaces]])"))?;
+                self.msg_type(what, &goal).map_err(|_| {
+                    self.err(
+                        what,
+                        &a.type_name,
+                        "not a known action type (give its .action file in [[interfaces]])",
+                    )
+                })?;
                 goal
             }
             _ => return Err(self.err(what, "topic", "give either topic or action")),
@@ -505,7 +546,10 @@ impl<F: Fn(String, &str, String) -> MappingError> Checker<'_, F> {
 
     /// Checks that `table` is a value of `message_type`, field by field.
     fn message(&self, what: &str, message_type: &str, table: &toml::Table) -> Result<(), MappingError> {
-        let def = self.registry.msg(message_type).map_err(|e| self.err(what, message_type, e.to_string()))?;
+        let def = self
+            .registry
+            .msg(message_type)
+            .map_err(|e| self.err(what, message_type, e.to_string()))?;
         if let Some(k) = table.keys().find(|k| !def.fields.iter().any(|f| &f.name == *k)) {
             return Err(self.err(what, k, format!("{message_type} has no such field")));
         }
@@ -601,13 +645,22 @@ type = "std_srvs/srv/Empty"
     #[test]
     fn bad_entries_name_file_entry_and_token() {
         let e = err(&GOOD.replace("field = \"range\"", "field = \"rnage\""));
-        assert!(e.contains("m.toml: [[atom]] 'near_wall': 'rnage'") && e.contains("its fields: header"), "{e}");
+        assert!(
+            e.contains("m.toml: [[atom]] 'near_wall': 'rnage'") && e.contains("its fields: header"),
+            "{e}"
+        );
         let e = err(&GOOD.replace("std_msgs/msg/Bool", "std_msgs/msg/Boool"));
-        assert!(e.contains("[[atom]] 'at_end': 'std_msgs/msg/Boool'") && e.contains("unknown type"), "{e}");
+        assert!(
+            e.contains("[[atom]] 'at_end': 'std_msgs/msg/Boool'") && e.contains("unknown type"),
+            "{e}"
+        );
         let e = err(&GOOD.replace("equals = true", "equals = 3"));
         assert!(e.contains("[[atom]] 'at_end': '3'"), "{e}");
         let e = err(&GOOD.replace("{ data = 1 }", "{ data = \"x\" }"));
-        assert!(e.contains("[[action]] 'forward': 'message'") && e.contains("expected an integer"), "{e}");
+        assert!(
+            e.contains("[[action]] 'forward': 'message'") && e.contains("expected an integer"),
+            "{e}"
+        );
         let e = err(&GOOD.replace("{ data = 1 }", "{ dta = 1 }"));
         assert!(e.contains("[[action]] 'forward': 'dta'"), "{e}");
         let e = err(&GOOD.replace("name = \"position\"", "name = \"at_end\""));

@@ -41,7 +41,7 @@ pub enum Ros2Error {
         /// The service.
         service: String,
         /// Why.
-        refusal: Refusal,
+        refusal: Box<Refusal>,
     },
 }
 
@@ -191,7 +191,12 @@ impl Node {
     pub fn publisher(&self, topic: &str, type_name: &str) -> Result<Publisher, Ros2Error> {
         let (key, _, token) = self.entity(EntityKind::Publisher, topic, type_name)?;
         let gid = gid_of(&token);
-        let token = self.session.liveliness().declare_token(token).wait().map_err(zenoh_error)?;
+        let token = self
+            .session
+            .liveliness()
+            .declare_token(token)
+            .wait()
+            .map_err(zenoh_error)?;
         let publisher = self
             .session
             .declare_publisher(key)
@@ -216,7 +221,12 @@ impl Node {
         F: Fn(Result<Received, Refusal>) + Send + Sync + 'static,
     {
         let (key, expected, token) = self.entity(EntityKind::Subscription, topic, type_name)?;
-        let token = self.session.liveliness().declare_token(token).wait().map_err(zenoh_error)?;
+        let token = self
+            .session
+            .liveliness()
+            .declare_token(token)
+            .wait()
+            .map_err(zenoh_error)?;
         let prefix = key.strip_suffix(&expected).unwrap_or(&key).to_string();
         let registry = Arc::clone(&self.registry);
         let type_name = type_name.to_string();
@@ -232,7 +242,13 @@ impl Node {
                         expected: expected.clone(),
                     })
                 } else {
-                    decode(&registry, &type_name, key, &sample.payload().to_bytes(), sample.attachment().map(|a| a.to_bytes()))
+                    decode(
+                        &registry,
+                        &type_name,
+                        key,
+                        &sample.payload().to_bytes(),
+                        sample.attachment().map(|a| a.to_bytes()),
+                    )
                 };
                 on(result);
             })
@@ -250,7 +266,12 @@ impl Node {
         let (request, response) = self.registry.service(srv_type)?;
         let (request, response) = (request.to_string(), response.to_string());
         let gid = gid_of(&token);
-        let token = self.session.liveliness().declare_token(token).wait().map_err(zenoh_error)?;
+        let token = self
+            .session
+            .liveliness()
+            .declare_token(token)
+            .wait()
+            .map_err(zenoh_error)?;
         Ok(Client {
             session: self.session.clone(),
             registry: Arc::clone(&self.registry),
@@ -279,7 +300,12 @@ impl Node {
         let (key, _, token) = self.entity(EntityKind::ServiceServer, service, srv_type)?;
         let (request, response) = self.registry.service(srv_type)?;
         let (request, response) = (request.to_string(), response.to_string());
-        let token = self.session.liveliness().declare_token(token).wait().map_err(zenoh_error)?;
+        let token = self
+            .session
+            .liveliness()
+            .declare_token(token)
+            .wait()
+            .map_err(zenoh_error)?;
         let registry = Arc::clone(&self.registry);
         let reply_key = key.clone();
         let queryable = self
@@ -288,7 +314,13 @@ impl Node {
             .complete(true)
             .callback(move |query| {
                 let payload = query.payload().map(|p| p.to_bytes().to_vec()).unwrap_or_default();
-                let got = decode(&registry, &request, &reply_key, &payload, query.attachment().map(|a| a.to_bytes()));
+                let got = decode(
+                    &registry,
+                    &request,
+                    &reply_key,
+                    &payload,
+                    query.attachment().map(|a| a.to_bytes()),
+                );
                 let answer = got.and_then(|got| {
                     let value = handler(got.value);
                     registry
@@ -348,10 +380,12 @@ fn decode(
         key: key.to_string(),
         error: e.to_string(),
     })?;
-    let value = registry.decode(type_name, payload).map_err(|error| Refusal::MalformedCdr {
-        key: key.to_string(),
-        error,
-    })?;
+    let value = registry
+        .decode(type_name, payload)
+        .map_err(|error| Refusal::MalformedCdr {
+            key: key.to_string(),
+            error,
+        })?;
     Ok(Received { value, attachment })
 }
 
@@ -426,7 +460,7 @@ impl Client {
             .map_err(zenoh_error)?;
         let refused = |refusal| Ros2Error::Refused {
             service: self.service.clone(),
-            refusal,
+            refusal: Box::new(refusal),
         };
         while let Ok(reply) = replies.recv() {
             let Ok(sample) = reply.result() else { continue };
@@ -442,7 +476,10 @@ impl Client {
             if got.attachment.sequence != sequence {
                 return Err(refused(Refusal::BadAttachment {
                     key,
-                    error: format!("the reply carries sequence {} for request {sequence}", got.attachment.sequence),
+                    error: format!(
+                        "the reply carries sequence {} for request {sequence}",
+                        got.attachment.sequence
+                    ),
                 }));
             }
             return Ok(got.value);
@@ -482,7 +519,11 @@ pub(crate) mod tests {
 
     /// Two sessions linked on a free 127.0.0.1 port.
     pub(crate) fn loopback_pair() -> (Session, Session) {
-        let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
+        let port = std::net::TcpListener::bind("127.0.0.1:0")
+            .unwrap()
+            .local_addr()
+            .unwrap()
+            .port();
         let a = zenoh::open(loopback(Some(port), None)).wait().unwrap();
         let b = zenoh::open(loopback(None, Some(port))).wait().unwrap();
         (a, b)
@@ -519,7 +560,10 @@ pub(crate) mod tests {
         assert_eq!(first.unwrap().unwrap().value.get("data"), Some(&Value::Bool(true)));
         while rx.try_recv().is_ok() {}
         wrong.publish(&Value::fields([("data", Value::Int(3))])).unwrap();
-        raw.put(vec![0u8, 1, 0, 0, 9]).attachment(attachment.to_bytes()).wait().unwrap();
+        raw.put(vec![0u8, 1, 0, 0, 9])
+            .attachment(attachment.to_bytes())
+            .wait()
+            .unwrap();
         raw.put(vec![0u8, 1, 0, 0, 1]).wait().unwrap();
         let kinds = AtomicUsize::new(0);
         for _ in 0..3 {

@@ -179,7 +179,9 @@ pub enum TypeError {
 fn split_name(name: &str) -> Result<(&str, &str, &str), TypeError> {
     let mut it = name.split('/');
     match (it.next(), it.next(), it.next(), it.next()) {
-        (Some(p), Some(k), Some(n), None) if !p.is_empty() && !n.is_empty() && ["msg", "srv", "action"].contains(&k) => {
+        (Some(p), Some(k), Some(n), None)
+            if !p.is_empty() && !n.is_empty() && ["msg", "srv", "action"].contains(&k) =>
+        {
             Ok((p, k, n))
         }
         _ => Err(TypeError::Name(name.to_string())),
@@ -222,7 +224,10 @@ const BUILTIN_MSGS: &[(&str, &str)] = &[
         "service_msgs/msg/ServiceEventInfo",
         "uint8 event_type\nbuiltin_interfaces/Time stamp\nchar[16] client_gid\nint64 sequence_number",
     ),
-    ("action_msgs/msg/GoalInfo", "unique_identifier_msgs/UUID goal_id\nbuiltin_interfaces/Time stamp"),
+    (
+        "action_msgs/msg/GoalInfo",
+        "unique_identifier_msgs/UUID goal_id\nbuiltin_interfaces/Time stamp",
+    ),
     ("action_msgs/msg/GoalStatus", "GoalInfo goal_info\nint8 status"),
     ("action_msgs/msg/GoalStatusArray", "GoalStatus[] status_list"),
 ];
@@ -231,7 +236,11 @@ const BUILTIN_MSGS: &[(&str, &str)] = &[
 const BUILTIN_SRVS: &[(&str, &str, &str)] = &[
     ("std_srvs/srv/Empty", "", ""),
     ("std_srvs/srv/Trigger", "", "bool success\nstring message"),
-    ("action_msgs/srv/CancelGoal", "GoalInfo goal_info", "int8 return_code\nGoalInfo[] goals_canceling"),
+    (
+        "action_msgs/srv/CancelGoal",
+        "GoalInfo goal_info",
+        "int8 return_code\nGoalInfo[] goals_canceling",
+    ),
 ];
 
 impl Default for Registry {
@@ -248,10 +257,12 @@ impl Registry {
             services: BTreeMap::new(),
         };
         for (name, text) in BUILTIN_MSGS {
-            r.add_msg(name, text).unwrap_or_else(|e| unreachable!("built-in {name}: {e}"));
+            r.add_msg(name, text)
+                .unwrap_or_else(|e| unreachable!("built-in {name}: {e}"));
         }
         for (name, req, resp) in BUILTIN_SRVS {
-            r.add_srv(name, req, resp).unwrap_or_else(|e| unreachable!("built-in {name}: {e}"));
+            r.add_srv(name, req, resp)
+                .unwrap_or_else(|e| unreachable!("built-in {name}: {e}"));
         }
         r
     }
@@ -356,7 +367,11 @@ impl Registry {
             MsgDef {
                 name: event,
                 fields: vec![
-                    field("info", Elem::Nested("service_msgs/msg/ServiceEventInfo".into()), Shape::Single),
+                    field(
+                        "info",
+                        Elem::Nested("service_msgs/msg/ServiceEventInfo".into()),
+                        Shape::Single,
+                    ),
                     field("request", Elem::Nested(req.clone()), Shape::Bounded(1)),
                     field("response", Elem::Nested(resp.clone()), Shape::Bounded(1)),
                 ],
@@ -381,18 +396,26 @@ impl Registry {
             ("msg", [m]) => self.add_msg(name, m),
             ("srv", [req, resp]) => self.add_srv(name, req, resp),
             ("action", [goal, result, feedback]) => self.add_action(name, goal, result, feedback),
-            (k, p) => Err(syntax(format!("a {k} has {} sections separated by '---', not {}", match k {
-                "msg" => 1,
-                "srv" => 2,
-                _ => 3,
-            }, p.len()))),
+            (k, p) => Err(syntax(format!(
+                "a {k} has {} sections separated by '---', not {}",
+                match k {
+                    "msg" => 1,
+                    "srv" => 2,
+                    _ => 3,
+                },
+                p.len()
+            ))),
         }
     }
 
     /// Adds an action: its goal, result and feedback, and the services and
     /// message ROS 2 builds from them (`_SendGoal`, `_GetResult`, `_FeedbackMessage`).
     pub fn add_action(&mut self, name: &str, goal: &str, result: &str, feedback: &str) -> Result<(), TypeError> {
-        let (g, r, f) = (format!("{name}_Goal"), format!("{name}_Result"), format!("{name}_Feedback"));
+        let (g, r, f) = (
+            format!("{name}_Goal"),
+            format!("{name}_Result"),
+            format!("{name}_Feedback"),
+        );
         self.add_msg(&g, goal)?;
         self.add_msg(&r, result)?;
         self.add_msg(&f, feedback)?;
@@ -441,7 +464,10 @@ impl Registry {
                 queue.extend(nested_of(&self.description(&n)?));
             }
         }
-        let mut json = format!("{{\"type_description\": {}, \"referenced_type_descriptions\": [", describe(&top));
+        let mut json = format!(
+            "{{\"type_description\": {}, \"referenced_type_descriptions\": [",
+            describe(&top)
+        );
         for (i, n) in refs.iter().enumerate() {
             if i > 0 {
                 json.push_str(", ");
@@ -548,7 +574,8 @@ impl Registry {
         match elem {
             Elem::Nested(n) => {
                 let empty = Value::Struct(BTreeMap::new());
-                self.write_struct(w, n, v.unwrap_or(&empty)).map_err(|e| e.to_string())?;
+                self.write_struct(w, n, v.unwrap_or(&empty))
+                    .map_err(|e| e.to_string())?;
             }
             Elem::Prim(p) => match p {
                 Prim::Bool => match v {
@@ -688,7 +715,11 @@ fn describe(def: &MsgDef) -> String {
             )
         })
         .collect();
-    format!("{{\"type_name\": {}, \"fields\": [{}]}}", json_str(&def.name), fields.join(", "))
+    format!(
+        "{{\"type_name\": {}, \"fields\": [{}]}}",
+        json_str(&def.name),
+        fields.join(", ")
+    )
 }
 
 fn json_str(s: &str) -> String {
@@ -772,8 +803,11 @@ mod tests {
             r.type_hash("std_msgs/msg/String").unwrap(),
             "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
         );
-        r.add_interface("example_interfaces/srv/AddTwoInts", "int64 a\nint64 b\n---\nint64 sum\n")
-            .unwrap();
+        r.add_interface(
+            "example_interfaces/srv/AddTwoInts",
+            "int64 a\nint64 b\n---\nint64 sum\n",
+        )
+        .unwrap();
         assert_eq!(
             r.type_hash("example_interfaces/srv/AddTwoInts").unwrap(),
             "RIHS01_e118de6bf5eeb66a2491b5bda11202e7b68f198d6f67922cf30364858239c81a"
@@ -786,13 +820,29 @@ mod tests {
     #[test]
     fn hashes_agree_with_zenoh_ros2_sdk() {
         let mut r = Registry::new();
-        r.add_interface("corridor_msgs/srv/Reset", "int32 start\n---\nbool success\n").unwrap();
+        r.add_interface("corridor_msgs/srv/Reset", "int32 start\n---\nbool success\n")
+            .unwrap();
         for (t, h) in [
-            ("std_msgs/msg/Bool", "feb91e995ff9ebd09c0cb3d2aed18b11077585839fb5db80193b62d74528f6c9"),
-            ("std_msgs/msg/Int32", "b6578ded3c58c626cfe8d1a6fb6e04f706f97e9f03d2727c9ff4e74b1cef0deb"),
-            ("std_msgs/msg/Float64", "705ba9c3d1a09df43737eb67095534de36fd426c0587779bda2bc51fe790182a"),
-            ("sensor_msgs/msg/Range", "9430b1915b94d4268ff903679e8ecd09b6a67d331bd028738ec1eeb592891ebd"),
-            ("corridor_msgs/srv/Reset", "56cbcd15f5eccf7dd116b888aed6522a8431d36b51c6f8de2a8788d8395766d1"),
+            (
+                "std_msgs/msg/Bool",
+                "feb91e995ff9ebd09c0cb3d2aed18b11077585839fb5db80193b62d74528f6c9",
+            ),
+            (
+                "std_msgs/msg/Int32",
+                "b6578ded3c58c626cfe8d1a6fb6e04f706f97e9f03d2727c9ff4e74b1cef0deb",
+            ),
+            (
+                "std_msgs/msg/Float64",
+                "705ba9c3d1a09df43737eb67095534de36fd426c0587779bda2bc51fe790182a",
+            ),
+            (
+                "sensor_msgs/msg/Range",
+                "9430b1915b94d4268ff903679e8ecd09b6a67d331bd028738ec1eeb592891ebd",
+            ),
+            (
+                "corridor_msgs/srv/Reset",
+                "56cbcd15f5eccf7dd116b888aed6522a8431d36b51c6f8de2a8788d8395766d1",
+            ),
         ] {
             assert_eq!(r.type_hash(t).unwrap(), format!("RIHS01_{h}"), "{t}");
         }
@@ -815,7 +865,10 @@ mod tests {
             (
                 "header",
                 Value::fields([
-                    ("stamp", Value::fields([("sec", Value::Int(3)), ("nanosec", Value::Int(9))])),
+                    (
+                        "stamp",
+                        Value::fields([("sec", Value::Int(3)), ("nanosec", Value::Int(9))]),
+                    ),
                     ("frame_id", Value::Str("base".into())),
                 ]),
             ),
@@ -827,8 +880,13 @@ mod tests {
         ]);
         let bytes = r.encode("sensor_msgs/msg/Range", &range).unwrap();
         assert_eq!(r.decode("sensor_msgs/msg/Range", &bytes).unwrap(), range);
-        assert_eq!(r.encode("std_msgs/msg/Empty", &Value::fields([])).unwrap(), [0, 1, 0, 0, 0]);
-        let f64 = r.encode("std_msgs/msg/Float64", &Value::fields([("data", Value::Float(-1.0))])).unwrap();
+        assert_eq!(
+            r.encode("std_msgs/msg/Empty", &Value::fields([])).unwrap(),
+            [0, 1, 0, 0, 0]
+        );
+        let f64 = r
+            .encode("std_msgs/msg/Float64", &Value::fields([("data", Value::Float(-1.0))]))
+            .unwrap();
         assert_eq!(f64, [0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0xf0, 0xbf]);
         let status = Value::fields([(
             "status_list",
@@ -836,30 +894,44 @@ mod tests {
         )]);
         let bytes = r.encode("action_msgs/msg/GoalStatusArray", &status).unwrap();
         let back = r.decode("action_msgs/msg/GoalStatusArray", &bytes).unwrap();
-        assert_eq!(back.path("status_list").and_then(|l| match l {
-            Value::List(v) => v[0].get("status").cloned(),
-            _ => None,
-        }), Some(Value::Int(4)));
+        assert_eq!(
+            back.path("status_list").and_then(|l| match l {
+                Value::List(v) => v[0].get("status").cloned(),
+                _ => None,
+            }),
+            Some(Value::Int(4))
+        );
     }
 
     #[test]
     fn bad_values_and_payloads_are_named() {
         let r = Registry::new();
-        let e = r.encode("std_msgs/msg/Int32", &Value::fields([("data", Value::Int(1 << 40))])).unwrap_err();
+        let e = r
+            .encode("std_msgs/msg/Int32", &Value::fields([("data", Value::Int(1 << 40))]))
+            .unwrap_err();
         assert!(e.to_string().contains("out of range"), "{e}");
         let e = r.decode("std_msgs/msg/Bool", &[0, 1, 0, 0, 7]).unwrap_err();
-        assert!(e.to_string().contains("std_msgs/msg/Bool") && e.to_string().contains("not 0 or 1"), "{e}");
+        assert!(
+            e.to_string().contains("std_msgs/msg/Bool") && e.to_string().contains("not 0 or 1"),
+            "{e}"
+        );
         assert!(matches!(r.type_hash("nope/msg/X"), Err(TypeError::Unknown(_))));
     }
 
     #[test]
     fn an_action_brings_its_services_and_feedback_message() {
         let mut r = Registry::new();
-        r.add_interface("corridor_msgs/action/Move", "int32 direction\n---\nbool moved\n---\nfloat32 progress\n")
-            .unwrap();
+        r.add_interface(
+            "corridor_msgs/action/Move",
+            "int32 direction\n---\nbool moved\n---\nfloat32 progress\n",
+        )
+        .unwrap();
         assert_eq!(
             r.service("corridor_msgs/action/Move_SendGoal").unwrap(),
-            ("corridor_msgs/action/Move_SendGoal_Request", "corridor_msgs/action/Move_SendGoal_Response")
+            (
+                "corridor_msgs/action/Move_SendGoal_Request",
+                "corridor_msgs/action/Move_SendGoal_Response"
+            )
         );
         for t in [
             "corridor_msgs/action/Move_SendGoal",

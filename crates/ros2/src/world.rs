@@ -79,14 +79,17 @@ impl Shared {
 /// How a plan action reaches the robot.
 enum Command {
     /// A message on a topic.
-    Topic(Publisher, Value),
+    Topic(Box<(Publisher, Value)>),
     /// A goal to a ROS 2 action.
-    Action {
-        send_goal: Client,
-        get_result: Client,
-        cancel: Client,
-        goal: Value,
-    },
+    Action(Box<Goal>),
+}
+
+/// A ROS 2 action's clients and the goal to send.
+struct Goal {
+    send_goal: Client,
+    get_result: Client,
+    cancel: Client,
+    goal: Value,
 }
 
 /// A service polled after each step for a value.
@@ -170,7 +173,11 @@ impl Ros2World {
         for a in &m.actions {
             commands.push(command(&node, a, &shared, &mut subscriptions)?);
         }
-        let reset = m.reset.as_ref().map(|r| node.client(&r.service, &r.type_name)).transpose()?;
+        let reset = m
+            .reset
+            .as_ref()
+            .map(|r| node.client(&r.service, &r.type_name))
+            .transpose()?;
         let reward_service = m
             .reward
             .as_ref()
@@ -229,7 +236,12 @@ impl Ros2World {
                 drop(s);
                 eprintln!(
                     "learnpnp-ros2-world: no answer on '{}' within {} ms",
-                    self.loaded.mapping.answer.as_ref().map(|a| a.topic.as_str()).unwrap_or_default(),
+                    self.loaded
+                        .mapping
+                        .answer
+                        .as_ref()
+                        .map(|a| a.topic.as_str())
+                        .unwrap_or_default(),
                     self.timeout.as_millis()
                 );
                 return;
@@ -248,7 +260,7 @@ impl Ros2World {
         let mut s = self.shared.lock();
         match e {
             Ros2Error::NoReply { .. } => s.counts.timeouts += 1,
-            Ros2Error::Refused { refusal, .. } => match refusal {
+            Ros2Error::Refused { refusal, .. } => match refusal.as_ref() {
                 Refusal::MalformedCdr { .. } => s.counts.malformed_cdr += 1,
                 Refusal::WrongType { .. } => s.counts.wrong_type += 1,
                 Refusal::BadAttachment { .. } => s.counts.bad_attachment += 1,
@@ -292,7 +304,11 @@ impl Ros2World {
                         self.shared.lock().counts.unknown_action_status += 1;
                         eprintln!(
                             "learnpnp-ros2-world: refused: result status {code} ({}), taken as failed",
-                            if other.is_some() { "not final" } else { "not an action_msgs status" }
+                            if other.is_some() {
+                                "not final"
+                            } else {
+                                "not an action_msgs status"
+                            }
                         );
                         ActionStatus::Failed
                     }
@@ -338,39 +354,55 @@ impl Ros2World {
 }
 
 /// Prepares a plan action's command.
-fn command(node: &Node, a: &ActionMap, shared: &Arc<Shared>, subs: &mut Vec<Subscription>) -> Result<Command, Ros2Error> {
+fn command(
+    node: &Node,
+    a: &ActionMap,
+    shared: &Arc<Shared>,
+    subs: &mut Vec<Subscription>,
+) -> Result<Command, Ros2Error> {
     let message = Value::from_toml(&toml::Value::Table(a.message.clone())).unwrap_or_else(|| Value::fields([]));
     if let Some(topic) = &a.topic {
-        return Ok(Command::Topic(node.publisher(topic, &a.type_name)?, message));
+        return Ok(Command::Topic(Box::new((
+            node.publisher(topic, &a.type_name)?,
+            message,
+        ))));
     }
     let action = a.action.clone().unwrap_or_default();
     let t = &a.type_name;
     let sh = Arc::clone(shared);
-    subs.push(node.subscribe(&names::name(&action, names::FEEDBACK), &format!("{t}_FeedbackMessage"), move |r| match r {
-        Ok(_) => sh.lock().counts.feedback += 1,
-        Err(refusal) => sh.refuse(&refusal),
-    })?);
+    subs.push(node.subscribe(
+        &names::name(&action, names::FEEDBACK),
+        &format!("{t}_FeedbackMessage"),
+        move |r| match r {
+            Ok(_) => sh.lock().counts.feedback += 1,
+            Err(refusal) => sh.refuse(&refusal),
+        },
+    )?);
     let sh = Arc::clone(shared);
-    subs.push(node.subscribe(&names::name(&action, names::STATUS), "action_msgs/msg/GoalStatusArray", move |r| match r {
-        Ok(Received { value, .. }) => {
-            if let Some(Value::List(list)) = value.get("status_list") {
-                for s in list {
-                    let code = s.get("status").and_then(Value::as_f64).map_or(-1, |c| c as i64);
-                    if GoalStatus::from_code(code).is_none() {
-                        sh.lock().counts.unknown_action_status += 1;
-                        eprintln!("learnpnp-ros2-world: refused: goal status {code} is not an action_msgs status");
+    subs.push(node.subscribe(
+        &names::name(&action, names::STATUS),
+        "action_msgs/msg/GoalStatusArray",
+        move |r| match r {
+            Ok(Received { value, .. }) => {
+                if let Some(Value::List(list)) = value.get("status_list") {
+                    for s in list {
+                        let code = s.get("status").and_then(Value::as_f64).map_or(-1, |c| c as i64);
+                        if GoalStatus::from_code(code).is_none() {
+                            sh.lock().counts.unknown_action_status += 1;
+                            eprintln!("learnpnp-ros2-world: refused: goal status {code} is not an action_msgs status");
+                        }
                     }
                 }
             }
-        }
-        Err(refusal) => sh.refuse(&refusal),
-    })?);
-    Ok(Command::Action {
+            Err(refusal) => sh.refuse(&refusal),
+        },
+    )?);
+    Ok(Command::Action(Box::new(Goal {
         send_goal: node.client(&names::name(&action, names::SEND_GOAL), &format!("{t}_SendGoal"))?,
         get_result: node.client(&names::name(&action, names::GET_RESULT), &format!("{t}_GetResult"))?,
         cancel: node.client(&names::name(&action, names::CANCEL_GOAL), "action_msgs/srv/CancelGoal")?,
         goal: message,
-    })
+    })))
 }
 
 impl ServedWorld for Ros2World {
@@ -439,19 +471,14 @@ impl ServedWorld for Ros2World {
         let before = self.answers();
         let status = match actions.first().copied().flatten().and_then(|a| self.commands.get(a)) {
             None => ActionStatus::None,
-            Some(Command::Topic(publisher, message)) => match publisher.publish(message) {
+            Some(Command::Topic(t)) => match t.0.publish(&t.1) {
                 Ok(()) => ActionStatus::Finished,
                 Err(e) => {
                     self.failed("command", &e);
                     ActionStatus::Failed
                 }
             },
-            Some(Command::Action {
-                send_goal,
-                get_result,
-                cancel,
-                goal,
-            }) => self.run_goal(send_goal, get_result, cancel, goal),
+            Some(Command::Action(g)) => self.run_goal(&g.send_goal, &g.get_result, &g.cancel, &g.goal),
         };
         if status != ActionStatus::None {
             self.await_answer(before);
@@ -526,7 +553,11 @@ message = { direction = 1 }
     fn a_plan_action_is_a_ros_2_goal_run_to_its_result_and_bad_statuses_are_refused() {
         let dir = std::env::temp_dir().join(format!("learnpnp-ros2-action-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        std::fs::write(dir.join("Move.action"), "int32 direction\n---\nbool moved\n---\nfloat32 progress\n").unwrap();
+        std::fs::write(
+            dir.join("Move.action"),
+            "int32 direction\n---\nbool moved\n---\nfloat32 progress\n",
+        )
+        .unwrap();
         std::fs::write(dir.join("m.toml"), MAPPING).unwrap();
         let loaded = mapping::load(&dir.join("m.toml")).unwrap();
         std::fs::remove_dir_all(&dir).unwrap();
@@ -536,8 +567,19 @@ message = { direction = 1 }
         let robot = Arc::new(Node::new(b, Arc::clone(&registry), 0, "/", "robot").unwrap());
         let status = Arc::new(AtomicI64::new(4));
         let moved = Arc::new(robot.publisher("/robot/moved", "std_msgs/msg/Bool").unwrap());
-        let feedback = Arc::new(robot.publisher("/robot/move/_action/feedback", "corridor_msgs/action/Move_FeedbackMessage").unwrap());
-        let statuses = Arc::new(robot.publisher("/robot/move/_action/status", "action_msgs/msg/GoalStatusArray").unwrap());
+        let feedback = Arc::new(
+            robot
+                .publisher(
+                    "/robot/move/_action/feedback",
+                    "corridor_msgs/action/Move_FeedbackMessage",
+                )
+                .unwrap(),
+        );
+        let statuses = Arc::new(
+            robot
+                .publisher("/robot/move/_action/status", "action_msgs/msg/GoalStatusArray")
+                .unwrap(),
+        );
         let t = "corridor_msgs/action/Move";
         let _send = robot
             .serve(
@@ -550,7 +592,12 @@ message = { direction = 1 }
                 |_| {},
             )
             .unwrap();
-        let (s, m, f, st) = (Arc::clone(&status), Arc::clone(&moved), Arc::clone(&feedback), Arc::clone(&statuses));
+        let (s, m, f, st) = (
+            Arc::clone(&status),
+            Arc::clone(&moved),
+            Arc::clone(&feedback),
+            Arc::clone(&statuses),
+        );
         let _result = robot
             .serve(
                 "/robot/move/_action/get_result",
@@ -558,22 +605,42 @@ message = { direction = 1 }
                 move |req| {
                     let code = s.load(Ordering::Relaxed);
                     let id = req.get("goal_id").cloned().unwrap_or_else(|| Value::fields([]));
-                    f.publish(&Value::fields([("goal_id", id.clone()), ("feedback", Value::fields([("progress", Value::Float(1.0))]))]))
+                    f.publish(&Value::fields([
+                        ("goal_id", id.clone()),
+                        ("feedback", Value::fields([("progress", Value::Float(1.0))])),
+                    ]))
+                    .unwrap();
+                    let one = Value::fields([
+                        ("goal_info", Value::fields([("goal_id", id)])),
+                        ("status", Value::Int(code)),
+                    ]);
+                    st.publish(&Value::fields([("status_list", Value::List(vec![one]))]))
                         .unwrap();
-                    let one = Value::fields([("goal_info", Value::fields([("goal_id", id)])), ("status", Value::Int(code))]);
-                    st.publish(&Value::fields([("status_list", Value::List(vec![one]))])).unwrap();
                     m.publish(&Value::fields([("data", Value::Bool(code == 4))])).unwrap();
-                    Value::fields([("status", Value::Int(code)), ("result", Value::fields([("moved", Value::Bool(code == 4))]))])
+                    Value::fields([
+                        ("status", Value::Int(code)),
+                        ("result", Value::fields([("moved", Value::Bool(code == 4))])),
+                    ])
                 },
                 |_| {},
             )
             .unwrap();
         let _cancel = robot
-            .serve("/robot/move/_action/cancel_goal", "action_msgs/srv/CancelGoal", |_| Value::fields([]), |_| {})
+            .serve(
+                "/robot/move/_action/cancel_goal",
+                "action_msgs/srv/CancelGoal",
+                |_| Value::fields([]),
+                |_| {},
+            )
             .unwrap();
         // Wait until the world's session sees the robot's two servers.
         let servers = (0..100).any(|_| {
-            let replies = a.liveliness().get("@ros2_lv/0/**").timeout(Duration::from_millis(500)).wait().unwrap();
+            let replies = a
+                .liveliness()
+                .get("@ros2_lv/0/**")
+                .timeout(Duration::from_millis(500))
+                .wait()
+                .unwrap();
             let mut n = 0;
             while let Ok(r) = replies.recv() {
                 n += r.result().is_ok_and(|s| s.key_expr().as_str().contains("/SS/")) as usize;

@@ -46,7 +46,13 @@ fn run() -> anyhow::Result<()> {
     };
     let session = link::open(&endpoints, &security, None).context("opening the zenoh session")?;
     let ros = loaded.mapping.ros.clone();
-    let node = Node::new(session, Arc::new(loaded.registry.clone()), ros.domain, &ros.namespace, &ros.node)?;
+    let node = Node::new(
+        session,
+        Arc::new(loaded.registry.clone()),
+        ros.domain,
+        &ros.namespace,
+        &ros.node,
+    )?;
     let mut world = Ros2World::new(loaded, node)?;
     let served = serve(&mut world);
     let counts = world.counts();
