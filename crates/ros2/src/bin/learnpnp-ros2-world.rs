@@ -11,11 +11,9 @@ use std::sync::Arc;
 
 use anyhow::Context;
 use clap::Parser;
-use learnpnp_ros2::mapping;
 use learnpnp_ros2::node::Node;
 use learnpnp_ros2::world::Ros2World;
-use learnpnp_system::bridge::certs::HostFiles;
-use learnpnp_system::bridge::link::{self, Endpoints, Security};
+use learnpnp_ros2::{link, mapping};
 use learnpnp_system::multiprocess::world_host::serve;
 
 /// A ROS 2 robot as a learnpnp world.
@@ -32,19 +30,10 @@ struct Args {
 fn run() -> anyhow::Result<()> {
     let args = Args::parse();
     let loaded = mapping::load(&args.mapping)?;
-    let z = &loaded.mapping.zenoh;
     // The secure link's own configuration (learnpnp_system::bridge::link):
     // multicast scouting and gossip off, explicit endpoints, mutual TLS over
     // QUIC with the run's certificates when `tls` names their directory.
-    let security = match &z.tls {
-        Some(dir) => Security::MutualTls(HostFiles::in_dir(&loaded.dir.join(dir))?),
-        None => Security::PlainTcp,
-    };
-    let endpoints = Endpoints {
-        listen: z.listen.clone(),
-        connect: z.connect.clone(),
-    };
-    let session = link::open(&endpoints, &security, None).context("opening the zenoh session")?;
+    let session = link::open(&loaded.mapping.zenoh, &loaded.dir).context("opening the zenoh session")?;
     let ros = loaded.mapping.ros.clone();
     let node = Node::new(
         session,
