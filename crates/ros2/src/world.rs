@@ -674,4 +674,85 @@ message = { direction = 1 }
         assert_eq!(counts.timeouts, 0, "{counts:?}");
         assert!(counts.feedback >= 1, "{counts:?}");
     }
+
+    const SERVICES: &str = r#"
+timeout_ms = 3000
+max_steps = 2
+[zenoh]
+connect = ["tcp/127.0.0.1:9"]
+
+[[interfaces]]
+name = "corridor_msgs/srv/Score"
+file = "Score.srv"
+
+[[action]]
+name = "forward"
+topic = "/robot/cmd"
+type = "std_msgs/msg/Int32"
+message = { data = 1 }
+
+[reward]
+service = "/robot/score"
+type = "corridor_msgs/srv/Score"
+field = "reward"
+
+[end]
+service = "/robot/score"
+type = "corridor_msgs/srv/Score"
+field = "done"
+equals = true
+"#;
+
+    /// The reward and the episode's end from a service asked after each step;
+    /// the step limit cuts the episode short.
+    #[test]
+    fn reward_and_end_come_from_a_service_after_each_step() {
+        let dir = std::env::temp_dir().join(format!("learnpnp-ros2-services-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("Score.srv"), "int32 unused\n---\nfloat64 reward\nbool done\n").unwrap();
+        std::fs::write(dir.join("m.toml"), SERVICES).unwrap();
+        let loaded = mapping::load(&dir.join("m.toml")).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        let registry = Arc::new(loaded.registry.clone());
+        let (a, b) = loopback_pair();
+        let world_node = Node::new(a.clone(), Arc::clone(&registry), 0, "/", "learnpnp_world").unwrap();
+        let robot = Node::new(b, Arc::clone(&registry), 0, "/", "robot").unwrap();
+        let asked = Arc::new(AtomicI64::new(0));
+        let n = Arc::clone(&asked);
+        let _score = robot
+            .serve(
+                "/robot/score",
+                "corridor_msgs/srv/Score",
+                move |_| {
+                    // Asked twice per step (reward, end) and once at reset (end).
+                    let k = n.fetch_add(1, Ordering::Relaxed);
+                    Value::fields([("reward", Value::Float(-2.5)), ("done", Value::Bool(k >= 2))])
+                },
+                |_| {},
+            )
+            .unwrap();
+        let seen = (0..100).any(|_| {
+            let replies = a
+                .liveliness()
+                .get("@ros2_lv/0/**")
+                .timeout(Duration::from_millis(500))
+                .wait()
+                .unwrap();
+            let mut found = false;
+            while let Ok(r) = replies.recv() {
+                found |= r.result().is_ok_and(|s| s.key_expr().as_str().contains("/SS/"));
+            }
+            found
+        });
+        assert!(seen, "the robot's service is seen");
+        let mut world = Ros2World::new(loaded, world_node).unwrap();
+        world.reset(None);
+        assert!(!world.terminated() && !world.truncated());
+        let step = world.step(&[Some(0)]);
+        assert_eq!((step[0].reward, step[0].action), (-2.5, ActionStatus::Finished));
+        assert!(world.terminated(), "the service said done");
+        world.step(&[None]);
+        assert!(world.truncated(), "max_steps = 2");
+        assert_eq!(world.counts().timeouts, 0);
+    }
 }
