@@ -221,12 +221,6 @@ impl Node {
         F: Fn(Result<Received, Refusal>) + Send + Sync + 'static,
     {
         let (key, expected, token) = self.entity(EntityKind::Subscription, topic, type_name)?;
-        let token = self
-            .session
-            .liveliness()
-            .declare_token(token)
-            .wait()
-            .map_err(zenoh_error)?;
         let prefix = key.strip_suffix(&expected).unwrap_or(&key).to_string();
         let registry = Arc::clone(&self.registry);
         let type_name = type_name.to_string();
@@ -252,6 +246,13 @@ impl Node {
                 };
                 on(result);
             })
+            .wait()
+            .map_err(zenoh_error)?;
+        // The token once the subscriber is there: a peer that sees it can publish to it.
+        let token = self
+            .session
+            .liveliness()
+            .declare_token(token)
             .wait()
             .map_err(zenoh_error)?;
         Ok(Subscription {
@@ -300,12 +301,6 @@ impl Node {
         let (key, _, token) = self.entity(EntityKind::ServiceServer, service, srv_type)?;
         let (request, response) = self.registry.service(srv_type)?;
         let (request, response) = (request.to_string(), response.to_string());
-        let token = self
-            .session
-            .liveliness()
-            .declare_token(token)
-            .wait()
-            .map_err(zenoh_error)?;
         let registry = Arc::clone(&self.registry);
         let reply_key = key.clone();
         let queryable = self
@@ -349,6 +344,13 @@ impl Node {
                     }
                 }
             })
+            .wait()
+            .map_err(zenoh_error)?;
+        // The token once the queryable is there: a client that sees it can call.
+        let token = self
+            .session
+            .liveliness()
+            .declare_token(token)
             .wait()
             .map_err(zenoh_error)?;
         Ok(Server {
