@@ -1,0 +1,673 @@
+//! The mapping file: a ROS 2 robot's topics, services and actions as a
+//! learnpnp world's atoms, fluents, reward, episode end and actions.
+//!
+//! TOML (the `toml` crate), not YAML: TOML has one way to write each value
+//! and a maintained Rust parser with line-and-column errors, while the YAML
+//! crate in our tree (serde_yaml) is deprecated; a ROS 2 user reads TOML's
+//! `[[atom]]` tables as easily as a launch file's YAML. `docs/ROS2.md` is the
+//! reference.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+use thiserror::Error;
+
+use crate::types::{Elem, Registry, Shape, TypeError, Value};
+
+/// A mapping file that cannot be used.
+#[derive(Debug, Error)]
+pub enum MappingError {
+    /// The file cannot be read.
+    #[error("{file}: {error}")]
+    Read {
+        /// The file.
+        file: PathBuf,
+        /// The error.
+        error: std::io::Error,
+    },
+    /// Not TOML of the mapping's form.
+    #[error("{file}: {error}")]
+    Syntax {
+        /// The file.
+        file: PathBuf,
+        /// The parser's message (line, column and token).
+        error: String,
+    },
+    /// An entry that does not make sense.
+    #[error("{file}: {entry}: '{token}': {why}")]
+    Entry {
+        /// The file.
+        file: PathBuf,
+        /// The entry (`[[atom]] 'at_end'`).
+        entry: String,
+        /// The offending token.
+        token: String,
+        /// What is wrong.
+        why: String,
+    },
+}
+
+fn default_domain() -> u32 {
+    0
+}
+fn default_node() -> String {
+    "learnpnp_world".into()
+}
+fn default_namespace() -> String {
+    "/".into()
+}
+fn default_field() -> String {
+    "data".into()
+}
+fn default_timeout() -> u64 {
+    5000
+}
+
+/// `[ros]`: the node the world is.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RosSection {
+    /// ROS_DOMAIN_ID.
+    #[serde(default = "default_domain")]
+    pub domain: u32,
+    /// The world's node name.
+    #[serde(default = "default_node")]
+    pub node: String,
+    /// Its namespace.
+    #[serde(default = "default_namespace")]
+    pub namespace: String,
+}
+
+impl Default for RosSection {
+    fn default() -> Self {
+        RosSection {
+            domain: default_domain(),
+            node: default_node(),
+            namespace: default_namespace(),
+        }
+    }
+}
+
+/// `[zenoh]`: where the Zenoh router (rmw_zenohd or zenohd) is.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ZenohSection {
+    /// Endpoints to connect to (`tcp/127.0.0.1:7447`; `quic/...` with `tls`).
+    #[serde(default)]
+    pub connect: Vec<String>,
+    /// Endpoints to listen on (the world is then the router).
+    #[serde(default)]
+    pub listen: Vec<String>,
+    /// A directory with the secure link's `ca.pem`, `cert.pem` and `key.pem`
+    /// (made by `learnpnp-supervisor link-certs`): mutual TLS over QUIC.
+    pub tls: Option<PathBuf>,
+}
+
+/// A `.msg`, `.srv` or `.action` file beyond the built-in types.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Interface {
+    /// Its full name (`corridor_msgs/action/Move`).
+    pub name: String,
+    /// Its file, relative to the mapping file.
+    pub file: PathBuf,
+}
+
+/// Where a value comes from: a field of a topic's messages, or of a service's response.
+#[derive(Debug, Clone)]
+pub struct Source {
+    /// A topic (the latest message counts).
+    pub topic: Option<String>,
+    /// A service (called with its default request after each step).
+    pub service: Option<String>,
+    /// The message or service type (`std_msgs/msg/Bool`).
+    pub type_name: String,
+    /// The field, dotted for nested ones (`range`, `header.stamp.sec`).
+    pub field: String,
+}
+
+/// An entry as written: a source, and for conditions one of `equals`, `below`, `above`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawEntry {
+    #[serde(default)]
+    name: String,
+    topic: Option<String>,
+    service: Option<String>,
+    #[serde(rename = "type")]
+    type_name: String,
+    #[serde(default = "default_field")]
+    field: String,
+    equals: Option<toml::Value>,
+    below: Option<f64>,
+    above: Option<f64>,
+}
+
+impl RawEntry {
+    fn source(&self) -> Source {
+        Source {
+            topic: self.topic.clone(),
+            service: self.service.clone(),
+            type_name: self.type_name.clone(),
+            field: self.field.clone(),
+        }
+    }
+}
+
+/// A condition on a field: one of `equals`, `below`, `above`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(from = "RawEntry")]
+pub struct Condition {
+    /// Its name (an atom's).
+    pub name: String,
+    /// Where its value comes from.
+    pub source: Source,
+    /// True when the field equals this (a boolean, integer, float or string).
+    pub equals: Option<toml::Value>,
+    /// True when the field is below this.
+    pub below: Option<f64>,
+    /// True when the field is above this.
+    pub above: Option<f64>,
+}
+
+impl From<RawEntry> for Condition {
+    fn from(r: RawEntry) -> Self {
+        Condition {
+            source: r.source(),
+            name: r.name,
+            equals: r.equals,
+            below: r.below,
+            above: r.above,
+        }
+    }
+}
+
+/// A numeric field (a fluent, the reward).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(try_from = "RawEntry")]
+pub struct Reading {
+    /// Its name (a fluent's; empty for the reward).
+    pub name: String,
+    /// Where its value comes from.
+    pub source: Source,
+}
+
+impl TryFrom<RawEntry> for Reading {
+    type Error = String;
+    fn try_from(r: RawEntry) -> Result<Self, String> {
+        if r.equals.is_some() || r.below.is_some() || r.above.is_some() {
+            return Err(format!(
+                "'{}': a reading takes no condition (equals, below, above)",
+                r.name
+            ));
+        }
+        Ok(Reading {
+            source: r.source(),
+            name: r.name,
+        })
+    }
+}
+
+/// A plan action: a message on a topic, or a goal of a ROS 2 action.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ActionMap {
+    /// The plan's action name.
+    pub name: String,
+    /// A topic to publish `message` on.
+    pub topic: Option<String>,
+    /// A ROS 2 action to send `goal` to.
+    pub action: Option<String>,
+    /// The message or action type.
+    #[serde(rename = "type")]
+    pub type_name: String,
+    /// The message (for a topic) or goal (for an action), by field.
+    #[serde(default)]
+    pub message: toml::Table,
+}
+
+/// `[answer]`: the robot's answer to each command and reset (lock-step).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Answer {
+    /// The topic the robot publishes on after each command, once its state is published.
+    pub topic: String,
+    /// Its type.
+    #[serde(rename = "type")]
+    pub type_name: String,
+}
+
+/// `[reset]`: the service starting an episode.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ResetCall {
+    /// The service.
+    pub service: String,
+    /// Its type (`std_srvs/srv/Empty`).
+    #[serde(rename = "type")]
+    pub type_name: String,
+    /// The request, by field (unset fields are zero).
+    #[serde(default)]
+    pub request: toml::Table,
+}
+
+/// The mapping file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Mapping {
+    /// The world's node.
+    #[serde(default)]
+    pub ros: RosSection,
+    /// The Zenoh session.
+    pub zenoh: ZenohSection,
+    /// Interface files.
+    #[serde(default)]
+    pub interfaces: Vec<Interface>,
+    /// Atoms.
+    #[serde(default, rename = "atom")]
+    pub atoms: Vec<Condition>,
+    /// Fluents.
+    #[serde(default, rename = "fluent")]
+    pub fluents: Vec<Reading>,
+    /// Actions.
+    #[serde(default, rename = "action")]
+    pub actions: Vec<ActionMap>,
+    /// The reward: a topic's messages summed over a step, or a service's answer after it.
+    pub reward: Option<Reading>,
+    /// A reward added at every step.
+    #[serde(default)]
+    pub step_reward: f64,
+    /// The episode's end.
+    pub end: Option<Condition>,
+    /// Steps after which an episode is cut short.
+    pub max_steps: Option<u32>,
+    /// The reset service.
+    pub reset: Option<ResetCall>,
+    /// The robot's answer.
+    pub answer: Option<Answer>,
+    /// How long to wait for the robot's answer, a result or a reply (ms).
+    #[serde(default = "default_timeout")]
+    pub timeout_ms: u64,
+}
+
+/// A loaded mapping: the file's contents and the types it uses.
+#[derive(Debug, Clone)]
+pub struct Loaded {
+    /// The mapping.
+    pub mapping: Mapping,
+    /// The types, built-in and from `[[interfaces]]`.
+    pub registry: Registry,
+    /// The file's directory (relative paths start there).
+    pub dir: PathBuf,
+}
+
+/// Reads and checks a mapping file.
+pub fn load(file: &Path) -> Result<Loaded, MappingError> {
+    let text = std::fs::read_to_string(file).map_err(|error| MappingError::Read {
+        file: file.to_path_buf(),
+        error,
+    })?;
+    parse(file, &text)
+}
+
+/// Parses and checks mapping text read from `file`.
+pub fn parse(file: &Path, text: &str) -> Result<Loaded, MappingError> {
+    let mapping: Mapping = toml::from_str(text).map_err(|e| MappingError::Syntax {
+        file: file.to_path_buf(),
+        error: e.to_string(),
+    })?;
+    let dir = file.parent().map(Path::to_path_buf).unwrap_or_default();
+    let entry = |entry: String, token: &str, why: String| MappingError::Entry {
+        file: file.to_path_buf(),
+        entry,
+        token: token.to_string(),
+        why,
+    };
+    let mut registry = Registry::new();
+    for i in &mapping.interfaces {
+        let path = dir.join(&i.file);
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            entry(
+                format!("[[interfaces]] '{}'", i.name),
+                &i.file.display().to_string(),
+                e.to_string(),
+            )
+        })?;
+        registry
+            .add_interface(&i.name, &text)
+            .map_err(|e| entry(format!("[[interfaces]] '{}'", i.name), &i.name, e.to_string()))?;
+    }
+    let check = Checker {
+        registry: &registry,
+        entry: &entry,
+    };
+    let mut names = BTreeSet::new();
+    for a in &mapping.atoms {
+        let what = format!("[[atom]] '{}'", a.name);
+        check.name(&what, &a.name, &mut names)?;
+        check.condition(&what, a)?;
+    }
+    for f in &mapping.fluents {
+        let what = format!("[[fluent]] '{}'", f.name);
+        check.name(&what, &f.name, &mut names)?;
+        check.numeric(&what, &f.source)?;
+    }
+    let mut actions = BTreeSet::new();
+    for a in &mapping.actions {
+        let what = format!("[[action]] '{}'", a.name);
+        check.name(&what, &a.name, &mut actions)?;
+        check.action(&what, a)?;
+    }
+    if mapping.actions.is_empty() {
+        return Err(entry(
+            "[[action]]".into(),
+            "",
+            "a world needs at least one action".into(),
+        ));
+    }
+    if let Some(r) = &mapping.reward {
+        check.numeric("[reward]", &r.source)?;
+    }
+    if let Some(e) = &mapping.end {
+        check.condition("[end]", e)?;
+    }
+    if let Some(r) = &mapping.reset {
+        check.service_type("[reset]", &r.type_name)?;
+        let (request, _) = registry
+            .service(&r.type_name)
+            .map_err(|e| entry("[reset]".into(), &r.type_name, e.to_string()))?;
+        check.message("[reset]", request, &r.request)?;
+    }
+    if let Some(a) = &mapping.answer {
+        check.msg_type("[answer]", &a.type_name)?;
+    }
+    if mapping.zenoh.connect.is_empty() && mapping.zenoh.listen.is_empty() {
+        return Err(entry(
+            "[zenoh]".into(),
+            "connect",
+            "give the router's endpoint (connect = [\"tcp/127.0.0.1:7447\"])".into(),
+        ));
+    }
+    Ok(Loaded { mapping, registry, dir })
+}
+
+struct Checker<'a, F: Fn(String, &str, String) -> MappingError> {
+    registry: &'a Registry,
+    entry: &'a F,
+}
+
+/// What a field path ends on.
+enum FieldKind {
+    Bool,
+    Number,
+    Text,
+}
+
+impl<F: Fn(String, &str, String) -> MappingError> Checker<'_, F> {
+    fn err(&self, what: &str, token: &str, why: impl Into<String>) -> MappingError {
+        (self.entry)(what.to_string(), token, why.into())
+    }
+
+    fn name(&self, what: &str, name: &str, seen: &mut BTreeSet<String>) -> Result<(), MappingError> {
+        if name.is_empty() || name.chars().any(char::is_whitespace) {
+            return Err(self.err(what, name, "give a name without spaces"));
+        }
+        if !seen.insert(name.to_string()) {
+            return Err(self.err(what, name, "named twice"));
+        }
+        Ok(())
+    }
+
+    fn msg_type(&self, what: &str, t: &str) -> Result<(), MappingError> {
+        self.registry
+            .msg(t)
+            .map(drop)
+            .map_err(|e| self.err(what, t, e.to_string()))
+    }
+
+    fn service_type(&self, what: &str, t: &str) -> Result<(), MappingError> {
+        self.registry
+            .service(t)
+            .map(drop)
+            .map_err(|e| self.err(what, t, e.to_string()))
+    }
+
+    /// The message type a source's field is read from.
+    fn source_type(&self, what: &str, s: &Source) -> Result<String, MappingError> {
+        match (&s.topic, &s.service) {
+            (Some(_), None) => {
+                self.msg_type(what, &s.type_name)?;
+                Ok(s.type_name.clone())
+            }
+            (None, Some(_)) => {
+                self.service_type(what, &s.type_name)?;
+                let (_, resp) = self
+                    .registry
+                    .service(&s.type_name)
+                    .map_err(|e| self.err(what, &s.type_name, e.to_string()))?;
+                Ok(resp.to_string())
+            }
+            _ => Err(self.err(what, "topic", "give either topic or service")),
+        }
+    }
+
+    fn field(&self, what: &str, s: &Source) -> Result<FieldKind, MappingError> {
+        let mut t = self.source_type(what, s)?;
+        let parts: Vec<&str> = s.field.split('.').collect();
+        for (i, part) in parts.iter().enumerate() {
+            let def = self
+                .registry
+                .msg(&t)
+                .map_err(|e: TypeError| self.err(what, &t, e.to_string()))?;
+            let Some(f) = def.fields.iter().find(|f| f.name == *part) else {
+                let known: Vec<&str> = def.fields.iter().map(|f| f.name.as_str()).collect();
+                return Err(self.err(
+                    what,
+                    &s.field,
+                    format!("{t} has no field '{part}' (its fields: {})", known.join(", ")),
+                ));
+            };
+            if f.shape != Shape::Single {
+                return Err(self.err(what, &s.field, format!("'{part}' is an array or sequence")));
+            }
+            match &f.elem {
+                Elem::Nested(n) if i + 1 < parts.len() => t = n.clone(),
+                Elem::Nested(n) => {
+                    return Err(self.err(what, &s.field, format!("'{part}' is a {n}, name one of its fields")));
+                }
+                Elem::Prim(_) if i + 1 < parts.len() => {
+                    return Err(self.err(what, &s.field, format!("'{part}' has no fields")));
+                }
+                Elem::Prim(p) => {
+                    return Ok(match p {
+                        crate::types::Prim::Bool => FieldKind::Bool,
+                        crate::types::Prim::String => FieldKind::Text,
+                        _ => FieldKind::Number,
+                    });
+                }
+            }
+        }
+        Err(self.err(what, &s.field, "empty field"))
+    }
+
+    fn numeric(&self, what: &str, s: &Source) -> Result<(), MappingError> {
+        match self.field(what, s)? {
+            FieldKind::Text => Err(self.err(what, &s.field, "a string is not a number")),
+            _ => Ok(()),
+        }
+    }
+
+    fn condition(&self, what: &str, c: &Condition) -> Result<(), MappingError> {
+        let kind = self.field(what, &c.source)?;
+        match (&c.equals, c.below, c.above) {
+            (Some(v), None, None) => {
+                let fits = matches!(
+                    (&kind, v),
+                    (FieldKind::Bool, toml::Value::Boolean(_))
+                        | (FieldKind::Number, toml::Value::Integer(_) | toml::Value::Float(_))
+                        | (FieldKind::Text, toml::Value::String(_))
+                );
+                if fits {
+                    Ok(())
+                } else {
+                    Err(self.err(what, &v.to_string(), format!("cannot equal field '{}'", c.source.field)))
+                }
+            }
+            (None, Some(_), None) | (None, None, Some(_)) => match kind {
+                FieldKind::Number => Ok(()),
+                _ => Err(self.err(what, &c.source.field, "below and above need a numeric field")),
+            },
+            _ => Err(self.err(what, "equals", "give exactly one of equals, below, above")),
+        }
+    }
+
+    fn action(&self, what: &str, a: &ActionMap) -> Result<(), MappingError> {
+        let message_type = match (&a.topic, &a.action) {
+            (Some(_), None) => {
+                self.msg_type(what, &a.type_name)?;
+                a.type_name.clone()
+            }
+            (None, Some(_)) => {
+                let goal = format!("{}_Goal", a.type_name);
+                self.msg_type(what, &goal).map_err(|_| {
+                    self.err(
+                        what,
+                        &a.type_name,
+                        "not a known action type (give its .action file in [[interfaces]])",
+                    )
+                })?;
+                goal
+            }
+            _ => return Err(self.err(what, "topic", "give either topic or action")),
+        };
+        self.message(what, &message_type, &a.message)
+    }
+
+    /// Checks that `table` is a value of `message_type`, field by field.
+    fn message(&self, what: &str, message_type: &str, table: &toml::Table) -> Result<(), MappingError> {
+        let def = self
+            .registry
+            .msg(message_type)
+            .map_err(|e| self.err(what, message_type, e.to_string()))?;
+        if let Some(k) = table.keys().find(|k| !def.fields.iter().any(|f| &f.name == *k)) {
+            return Err(self.err(what, k, format!("{message_type} has no such field")));
+        }
+        let value = Value::from_toml(&toml::Value::Table(table.clone()))
+            .ok_or_else(|| self.err(what, "message", "dates are not message values"))?;
+        self.registry
+            .encode(message_type, &value)
+            .map(drop)
+            .map_err(|e| self.err(what, "message", e.to_string()))
+    }
+}
+
+impl Condition {
+    /// Whether `value` (a message or response) meets the condition.
+    pub fn holds(&self, value: &Value) -> bool {
+        let Some(v) = value.path(&self.source.field) else {
+            return false;
+        };
+        if let Some(want) = &self.equals {
+            return match (v, want) {
+                (Value::Bool(a), toml::Value::Boolean(b)) => a == b,
+                (Value::Str(a), toml::Value::String(b)) => a == b,
+                (v, toml::Value::Integer(i)) => v.as_f64() == Some(*i as f64),
+                (v, toml::Value::Float(f)) => v.as_f64() == Some(*f),
+                _ => false,
+            };
+        }
+        match (v.as_f64(), self.below, self.above) {
+            (Some(x), Some(b), _) => x < b,
+            (Some(x), _, Some(a)) => x > a,
+            _ => false,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = r#"
+[zenoh]
+connect = ["tcp/127.0.0.1:7447"]
+
+[[atom]]
+name = "at_end"
+topic = "/corridor/at_end"
+type = "std_msgs/msg/Bool"
+equals = true
+
+[[atom]]
+name = "near_wall"
+topic = "/corridor/range"
+type = "sensor_msgs/msg/Range"
+field = "range"
+below = 0.5
+
+[[fluent]]
+name = "position"
+topic = "/corridor/position"
+type = "std_msgs/msg/Int32"
+
+[[action]]
+name = "forward"
+topic = "/corridor/cmd"
+type = "std_msgs/msg/Int32"
+message = { data = 1 }
+
+[reward]
+topic = "/corridor/reward"
+type = "std_msgs/msg/Float64"
+
+[reset]
+service = "/corridor/reset"
+type = "std_srvs/srv/Empty"
+"#;
+
+    fn err(text: &str) -> String {
+        parse(Path::new("m.toml"), text).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn a_good_mapping_loads_and_its_conditions_hold() {
+        let l = parse(Path::new("m.toml"), GOOD).unwrap();
+        assert_eq!(l.mapping.atoms.len(), 2);
+        let near = &l.mapping.atoms[1];
+        let range = |r: f64| Value::fields([("range", Value::Float(r))]);
+        assert!(near.holds(&range(0.25)));
+        assert!(!near.holds(&range(0.75)));
+        assert!(l.mapping.atoms[0].holds(&Value::fields([("data", Value::Bool(true))])));
+        assert!(!l.mapping.atoms[0].holds(&Value::fields([("data", Value::Bool(false))])));
+    }
+
+    #[test]
+    fn bad_entries_name_file_entry_and_token() {
+        let e = err(&GOOD.replace("field = \"range\"", "field = \"rnage\""));
+        assert!(
+            e.contains("m.toml: [[atom]] 'near_wall': 'rnage'") && e.contains("its fields: header"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace("std_msgs/msg/Bool", "std_msgs/msg/Boool"));
+        assert!(
+            e.contains("[[atom]] 'at_end': 'std_msgs/msg/Boool'") && e.contains("unknown type"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace("equals = true", "equals = 3"));
+        assert!(e.contains("[[atom]] 'at_end': '3'"), "{e}");
+        let e = err(&GOOD.replace("{ data = 1 }", "{ data = \"x\" }"));
+        assert!(
+            e.contains("[[action]] 'forward': 'message'") && e.contains("expected an integer"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace("{ data = 1 }", "{ dta = 1 }"));
+        assert!(e.contains("[[action]] 'forward': 'dta'"), "{e}");
+        let e = err(&GOOD.replace("name = \"position\"", "name = \"at_end\""));
+        assert!(e.contains("'at_end': named twice"), "{e}");
+        let e = err(&GOOD.replace("[reset]", "[rest]"));
+        assert!(e.starts_with("m.toml: ") && e.contains("rest"), "{e}");
+        let e = err(&GOOD.replace("std_srvs/srv/Empty", "std_msgs/msg/Empty"));
+        assert!(e.contains("[reset]: 'std_msgs/msg/Empty'"), "{e}");
+    }
+}

@@ -1,0 +1,123 @@
+"""A ROS 2 robot as the world: a corridor robot written with zenoh-ros2-sdk
+(an implementation of rmw_zenoh's wire format no one here wrote,
+``ros2/corridor_robot.py``) is learned in plan space through
+``learnpnp-supervisor --world-cmd "learnpnp-ros2-world MAPPING"``, the mapping
+being ``ros2/corridor.toml``. The robot's message definitions are shipped in
+``ros2/msgs``: nothing is downloaded.
+
+Every Zenoh session contacts only 127.0.0.1: this test's router listens on a
+free port there with multicast scouting and gossip off, and the robot and the
+world connect to it alone.
+
+The corridor has five cells and costs -1 a step, so the best return is -4
+(four steps forward); the greedy episodes after learning must all earn it.
+A robot that sends a malformed CDR payload and a message under a wrong type
+hash gets both refused and counted, and the run goes on to the optimum.
+"""
+
+import json
+import os
+import pathlib
+import socket
+import subprocess
+import sys
+
+import pytest
+
+zenoh = pytest.importorskip("zenoh")
+pytest.importorskip("zenoh_ros2_sdk")
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+HERE = pathlib.Path(__file__).resolve().parent / "ros2"
+GREEDY = 5
+
+
+@pytest.fixture
+def ros2_world(supervisor):
+    """The `learnpnp-ros2-world` built beside the supervisor."""
+    path = pathlib.Path(supervisor).parent / "learnpnp-ros2-world"
+    if not path.is_file():
+        pytest.skip(f"{path} is not built")
+    return str(path)
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture
+def router():
+    """A Zenoh router on 127.0.0.1 (rmw_zenohd's role): its port."""
+    port = free_port()
+    conf = zenoh.Config()
+    conf.insert_json5("mode", '"router"')
+    conf.insert_json5("scouting/multicast/enabled", "false")
+    conf.insert_json5("scouting/gossip/enabled", "false")
+    conf.insert_json5("listen/endpoints", f'["tcp/127.0.0.1:{port}"]')
+    conf.insert_json5("connect/endpoints", "[]")
+    session = zenoh.open(conf)
+    yield port
+    session.close()
+
+
+def start_robot(port, sandbox, faults=0):
+    robot = subprocess.Popen(
+        [sys.executable, str(HERE / "corridor_robot.py"), "--port", str(port), "--faults", str(faults)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "TMPDIR": str(sandbox)},
+    )
+    line = robot.stdout.readline()
+    assert line.strip() == "ready", robot.stderr.read()
+    return robot
+
+
+def mapping(sandbox, port):
+    text = (HERE / "corridor.toml").read_text()
+    text = text.replace("tcp/127.0.0.1:7447", f"tcp/127.0.0.1:{port}")
+    text = text.replace('file = "msgs/', f'file = "{HERE}/msgs/')
+    path = sandbox / "corridor.toml"
+    path.write_text(text)
+    return path
+
+
+def learn(supervisor, ros2_world, sandbox, port, name, seed):
+    report = sandbox / f"{name}-report.json"
+    out, ipc = sandbox / name, sandbox / "ipc"
+    world = f"{ros2_world} {mapping(sandbox, port)} --report {report}"
+    command = [supervisor, "--world-cmd", world, "--plan", str(ROOT / "plans" / "ros2" / "corridor.pnml")]
+    command += ["--algo", "q-learning", "--episodes", "150", "--eval-every", "150", "--eval-episodes", "0"]
+    command += ["--greedy-episodes", str(GREEDY), "--seed", seed, "--out", str(out), "--floor-round-trips", "200"]
+    done = subprocess.run(
+        command, env={**os.environ, "LEARNPNP_IPC_DIR": str(ipc)}, capture_output=True, text=True, timeout=120
+    )
+    assert done.returncode == 0, done.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["complete"], summary
+    left = [f for f in os.listdir("/dev/shm") if any(f.startswith(p) for p in summary["ipc_prefixes"])]
+    assert left == [], left
+    return summary, json.loads(report.read_text())
+
+
+def test_a_ros2_corridor_robot_is_learned_to_the_optimum_and_bad_messages_are_refused(
+    supervisor, ros2_world, sandbox, router
+):
+    robot = start_robot(router, sandbox, faults=3)
+    try:
+        summary, counts = learn(supervisor, ros2_world, sandbox, router, "corridor", "1")
+    finally:
+        robot.terminate()
+        try:
+            robot.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            robot.kill()
+            robot.wait()
+    assert summary["experiment"]["final_greedy_mean"] == -4.0, "the greedy walk goes straight forward"
+    assert counts["malformed_cdr"] == 1, counts
+    assert counts["wrong_type"] == 1, counts
+    assert counts["timeouts"] == 0, counts
+    assert counts["steps"] >= 150 * 4, counts
+    assert counts["resets"] >= 150 + GREEDY, counts
