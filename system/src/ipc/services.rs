@@ -45,7 +45,7 @@ pub enum IpcError {
 }
 
 /// Wraps an iceoryx2 error with what was being done.
-pub(crate) fn fail<E: Debug>(operation: impl Into<String>) -> impl FnOnce(E) -> IpcError {
+pub fn fail<E: Debug>(operation: impl Into<String>) -> impl FnOnce(E) -> IpcError {
     let operation = operation.into();
     move |e| IpcError::Iceoryx {
         operation,

@@ -60,19 +60,29 @@ pub struct Binaries {
 }
 
 impl Binaries {
-    /// The binaries in `dir`.
+    /// The binaries in `dir` (the simulator's and the agents' must be there;
+    /// the bridge's is looked for when a run crosses hosts: [`Binaries::bridge`]).
     pub fn in_dir(dir: &Path) -> Result<Self, LaunchError> {
         let binaries = Binaries {
             sim: dir.join(SIM_BINARY),
             agent: dir.join(AGENT_BINARY),
             bridge: dir.join(BRIDGE_BINARY),
         };
-        for path in [&binaries.sim, &binaries.agent, &binaries.bridge] {
+        for path in [&binaries.sim, &binaries.agent] {
             if !path.is_file() {
                 return Err(LaunchError::Missing(path.clone()));
             }
         }
         Ok(binaries)
+    }
+
+    /// The bridge's binary (the crate `learnpnp-bridge`), if it is there.
+    pub fn bridge(&self) -> Result<&Path, LaunchError> {
+        if self.bridge.is_file() {
+            Ok(&self.bridge)
+        } else {
+            Err(LaunchError::Missing(self.bridge.clone()))
+        }
     }
 
     /// The binaries next to the running executable. Under `cargo run`, which
@@ -84,13 +94,13 @@ impl Binaries {
             source,
         })?;
         let dir = exe.parent().map(Path::to_path_buf).unwrap_or_default();
-        match Self::in_dir(&dir) {
-            Err(LaunchError::Missing(_)) if std::env::var_os("CARGO").is_some() => {
-                build_with_cargo(&dir)?;
-                Self::in_dir(&dir)
-            }
-            other => other,
+        let binaries = Self::in_dir(&dir);
+        let missing = binaries.as_ref().map_or(true, |b| b.bridge().is_err());
+        if missing && std::env::var_os("CARGO").is_some() {
+            build_with_cargo(&dir)?;
+            return Self::in_dir(&dir);
         }
+        binaries
     }
 }
 
@@ -99,12 +109,17 @@ impl Binaries {
 fn build_with_cargo(dir: &Path) -> Result<(), LaunchError> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let mut command = Command::new(cargo);
+    // The bridge is a package of its own (it links Zenoh, the supervisor does not).
     command.args([
         "build",
+        "-p",
+        "learnpnp-system",
         "--bin",
         SIM_BINARY,
         "--bin",
         AGENT_BINARY,
+        "-p",
+        "learnpnp-bridge",
         "--bin",
         BRIDGE_BINARY,
     ]);
@@ -116,7 +131,7 @@ fn build_with_cargo(dir: &Path) -> Result<(), LaunchError> {
             .arg("--manifest-path")
             .arg(Path::new(&manifest).join("Cargo.toml"));
     }
-    eprintln!("building {SIM_BINARY} and {AGENT_BINARY} (cargo run builds only the supervisor)");
+    eprintln!("building {SIM_BINARY}, {AGENT_BINARY} and {BRIDGE_BINARY} (cargo run builds only the supervisor)");
     let status = command.status().map_err(LaunchError::Cargo)?;
     if status.success() {
         Ok(())

@@ -24,9 +24,9 @@ use super::agent_process::checkpoint_name;
 use super::floor_probe::{FloorPayload, FloorProbe, KeepawayFloor, WorldFloor};
 use super::launch::{Binaries, Helper, Process, spawn};
 use super::supervisor::{BRIDGE_STOP_GRACE, EXIT_CANNOT_RESUME, Fault, SupervisorError, json_error};
-use crate::bridge::JOIN_TIMEOUT;
-use crate::bridge::refusals::LinkReport;
-use crate::bridge::remote::{OUTBOX, RunInfo};
+use crate::hosts::JOIN_TIMEOUT;
+use crate::hosts::report::LinkReport;
+use crate::hosts::run_info::{OUTBOX, RunInfo};
 use crate::ipc::convert::{control_message, read_heartbeat};
 use crate::ipc::namespace::Namespace;
 use crate::ipc::protocol::{Order, Role, Roster};
@@ -149,7 +149,7 @@ impl Host<'_> {
             None => args.push("--insecure-plain-tcp".into()),
         }
         let process = spawn(
-            &self.config.binaries.bridge,
+            self.config.binaries.bridge()?,
             Role::Bridge,
             &args,
             &self.log(Role::Bridge),

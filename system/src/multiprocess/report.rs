@@ -16,7 +16,7 @@ use super::floor_probe::REMOTE_HOST_FLOOR;
 use super::sim_process::{AbortedEpisode, FLOOR, ROUND_TRIP, keeper_round_trip_histogram};
 use super::supervisor::{Fault, ResumeCheck, RunRecord, SupervisorConfig, SupervisorError, json_error};
 use super::world_agent::WORLD_TURNAROUND;
-use crate::bridge::refusals::LinkReport;
+use crate::hosts::report::LinkReport;
 use crate::ipc::convert::Rejections;
 use crate::ipc::wait::WaitStrategy;
 use crate::latency::plot::{ReferenceLine, percentile_plot};

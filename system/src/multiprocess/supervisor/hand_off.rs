@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 
 use super::config::{Cluster, SupervisorError, json_error};
 use super::watch::Watch;
-use crate::bridge::refusals::LinkReport;
+use crate::hosts::report::LinkReport;
 use crate::ipc::protocol::{Order, Role, Roster};
 use crate::multiprocess::agent_process::checkpoint_name;
 use crate::multiprocess::sim_process::SimulatorResult;
@@ -54,7 +54,7 @@ impl Watch<'_> {
 
     /// Writes the run's description the bridge gives the other hosts.
     pub(super) fn describe_for_other_hosts(&self, cluster: &Cluster) -> Result<(), SupervisorError> {
-        let info = crate::bridge::remote::RunInfo {
+        let info = crate::hosts::run_info::RunInfo {
             prefix: self.context.ipc_prefix.clone(),
             run_id: self.context.run_id,
             run: self.context.run,

@@ -73,7 +73,7 @@ impl Watch<'_> {
             }
             Role::Bridge => {
                 let args = self.bridge_args();
-                let process = spawn(&self.config.binaries.bridge, role, &args, &self.log(role))?;
+                let process = spawn(self.config.binaries.bridge()?, role, &args, &self.log(role))?;
                 // The bridge sends no heartbeat: its exit is what is watched.
                 self.fleet.processes.insert(role, process);
                 return Ok(());

@@ -11,7 +11,7 @@ use serde::Serialize;
 
 use super::config::{SupervisorError, io_error, json_error};
 use super::watch::{Fault, Watch};
-use crate::bridge::refusals::LinkReport;
+use crate::hosts::report::LinkReport;
 use crate::ipc::convert::Rejections;
 use crate::ipc::protocol::{Role, Roster};
 use crate::latency::Latency;

@@ -13,8 +13,8 @@ use serde_json::{Value, json};
 use shm_layouts::services;
 
 use super::carry::{Direction, Route, Source, key};
-use super::certs::{HOST_B_NAME, MONITOR_NAME};
 use super::remote::{ExpectedFiles, RUN_INFO_KEY, ack_key, file_key};
+use learnpnp_system::hosts::certs::{HOST_B_NAME, MONITOR_NAME};
 
 /// The keys of `route` that host B publishes on, those host A's bridge
 /// subscribes to them by (announced to host B, whose publishers send only
