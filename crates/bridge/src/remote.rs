@@ -83,7 +83,8 @@ pub struct ExpectedFiles {
 impl ExpectedFiles {
     /// The files of `info`'s remote agents.
     pub fn of(info: &RunInfo) -> Self {
-        use learnpnp_system::multiprocess::agent_process::{checkpoint_name, compute_histogram};
+        use learnpnp_system::multiprocess::agent_chassis::checkpoint_name;
+        use learnpnp_system::multiprocess::agent_process::compute_histogram;
         use learnpnp_system::multiprocess::floor_probe::REMOTE_HOST_FLOOR;
         use learnpnp_system::multiprocess::sim_process::ROUND_TRIP;
         use learnpnp_system::multiprocess::world_agent::{

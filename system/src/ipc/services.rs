@@ -7,9 +7,7 @@ use std::fmt::Debug;
 use iceoryx2::node::Node;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::notifier::Notifier;
-use iceoryx2::port::publisher::Publisher;
-use iceoryx2::port::subscriber::Subscriber;
-use iceoryx2::prelude::{NodeBuilder, ServiceName, SignalHandlingMode, ZeroCopySend, ipc};
+use iceoryx2::prelude::{NodeBuilder, ServiceName, SignalHandlingMode, ZeroCopySend};
 use iceoryx2::service::port_factory::{event, publish_subscribe};
 use shm_layouts::{
     AgentReport, Control, EpisodeEvent, Heartbeat, KeeperCommand, KeeperSnapshot, NUM_KEEPERS, WorldCommand,
@@ -20,38 +18,7 @@ use super::namespace::Namespace;
 use super::protocol::{Role, Roster};
 use super::wait::WaitStrategy;
 
-/// The iceoryx2 service variant of every port: inter-process, single-threaded ports.
-pub type Ipc = ipc::Service;
-
-/// A publisher of `T`.
-pub type Pub<T> = Publisher<Ipc, T, ()>;
-/// A subscriber of `T`.
-pub type Sub<T> = Subscriber<Ipc, T, ()>;
-
-/// Why a port cannot be opened or used.
-#[derive(Debug, thiserror::Error)]
-pub enum IpcError {
-    /// An iceoryx2 operation failed.
-    #[error("{operation}: {detail}")]
-    Iceoryx {
-        /// What was being done (names the service).
-        operation: String,
-        /// iceoryx2's error.
-        detail: String,
-    },
-    /// The namespace is unusable.
-    #[error(transparent)]
-    Namespace(#[from] super::namespace::NamespaceError),
-}
-
-/// Wraps an iceoryx2 error with what was being done.
-pub fn fail<E: Debug>(operation: impl Into<String>) -> impl FnOnce(E) -> IpcError {
-    let operation = operation.into();
-    move |e| IpcError::Iceoryx {
-        operation,
-        detail: format!("{e:?}"),
-    }
-}
+pub use super::port::{Ipc, IpcError, Pub, Sub, fail};
 
 /// Sized for the run's processes plus restarts whose predecessor iceoryx2
 /// has not yet cleaned up, and a diagnostic or foreign port or two.

@@ -18,7 +18,7 @@ use iceoryx2::port::listener::{Listener, ListenerWaitError};
 use learnpnp::named::Named;
 use serde::{Deserialize, Serialize};
 
-use super::services::{Ipc, IpcError, fail};
+use super::port::{Ipc, IpcError, fail};
 
 /// A waiting process's behaviour between polls.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -20,7 +20,7 @@ use std::time::{Duration, Instant};
 use serde::Serialize;
 
 use super::RunContext;
-use super::agent_process::checkpoint_name;
+use super::agent_chassis::checkpoint_name;
 use super::floor_probe::{FloorPayload, FloorProbe, KeepawayFloor, WorldFloor};
 use super::launch::{Binaries, Helper, Process, spawn};
 use super::supervisor::{BRIDGE_STOP_GRACE, EXIT_CANNOT_RESUME, Fault, SupervisorError, json_error};

@@ -10,7 +10,7 @@ use super::config::{Cluster, SupervisorError, json_error};
 use super::watch::Watch;
 use crate::hosts::report::LinkReport;
 use crate::ipc::protocol::{Order, Role, Roster};
-use crate::multiprocess::agent_process::checkpoint_name;
+use crate::multiprocess::agent_chassis::checkpoint_name;
 use crate::multiprocess::sim_process::SimulatorResult;
 use crate::multiprocess::world_agent::agent_result_file;
 

@@ -21,7 +21,7 @@ use crate::ipc::convert::{control_message, read_heartbeat};
 use crate::ipc::namespace::Namespace;
 use crate::ipc::protocol::{Order, ProcessState, Role, Roster};
 use crate::ipc::services::{Ipc, SupervisorPorts, receive};
-use crate::multiprocess::agent_process::checkpoint_name;
+use crate::multiprocess::agent_chassis::checkpoint_name;
 use crate::multiprocess::floor_probe::FloorProbe;
 use crate::multiprocess::launch::{Process, set_fifo_priority, spawn, spawn_world};
 use crate::multiprocess::world_agent::EXIT_PLAN_DOES_NOT_FIT;
