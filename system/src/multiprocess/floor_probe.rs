@@ -21,7 +21,7 @@ use iceoryx2::prelude::ZeroCopySend;
 use shm_layouts::{KeeperCommand, KeeperSnapshot, WorldCommand, WorldSnapshot};
 
 use super::sim_process::{FLOOR, FLOOR_END, histogram_file};
-use super::supervisor::SupervisorError;
+use super::supervisor::config::SupervisorError;
 use super::{ProcessError, RunContext};
 use crate::ipc::protocol::Roster;
 use crate::ipc::services::{FloorEchoPorts, FloorPorts, Ipc, IpcError, node, receive, send};

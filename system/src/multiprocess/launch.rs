@@ -23,6 +23,26 @@ pub const SIM_BINARY: &str = "learnpnp-sim";
 /// The agents' binary.
 pub const AGENT_BINARY: &str = "learnpnp-agent";
 
+/// The variables that give a world process its run (`shm_layouts/README.md`).
+pub mod world_env {
+    /// The run's iceoryx2 prefix.
+    pub const PREFIX: &str = "LEARNPNP_IPC_PREFIX";
+    /// The run's iceoryx2 root directory, ending in `/`.
+    pub const ROOT: &str = "LEARNPNP_IPC_ROOT";
+    /// The run id.
+    pub const RUN_ID: &str = "LEARNPNP_RUN_ID";
+    /// How many agents.
+    pub const AGENTS: &str = "LEARNPNP_AGENTS";
+    /// `lockstep` or `realtime`.
+    pub const CLOCK: &str = "LEARNPNP_CLOCK";
+    /// Real time: the cycle in milliseconds.
+    pub const PERIOD_MS: &str = "LEARNPNP_PERIOD_MS";
+    /// The wait strategy.
+    pub const WAIT: &str = "LEARNPNP_WAIT";
+    /// The world's seed for the run.
+    pub const SEED: &str = "LEARNPNP_SEED";
+}
+
 /// Why a process cannot be started.
 #[derive(Debug, thiserror::Error)]
 pub enum LaunchError {
@@ -277,7 +297,6 @@ pub fn spawn_world(
             source: io::Error::other(format!("the experiment is {}, not a world", spec.domain.name())),
         });
     };
-    use super::supervisor::world_env;
     let seed = derive_seed(derive_seed(spec.seed, context.run as u64), WORLD_SEED_STREAM);
     let mut command = world_command(line);
     command

@@ -16,7 +16,7 @@ use std::time::{Duration, Instant};
 use serde::{Deserialize, Serialize};
 use shm_layouts::{Header, KeeperCommand, KeeperSnapshot, PROTOCOL_VERSION, SENDER_SIMULATOR};
 
-use super::journal::{self, JOURNAL_FILE, Journal, JournalEntry};
+use super::journal::{self, Journal};
 use super::{Clock, Pacemaker, ProcessError, RunContext};
 use crate::ipc::convert::{
     Rejection, Rejections, command_message, episode_event, read_agent_report, read_command, read_control, snapshot,
@@ -33,6 +33,7 @@ use learnpnp::keepaway_sim::command::Command;
 use learnpnp::keepaway_sim::perception::PlayerView;
 use learnpnp::keepaway_sim::world::NUM_KEEPERS;
 use learnpnp::learning::{EpisodeMode, EpisodeStart};
+use learnpnp::rng::SimRng;
 
 /// File name of the simulator's result in its work directory.
 pub const RESULT_FILE: &str = "simulator.json";
@@ -64,6 +65,22 @@ pub struct AbortedEpisode {
     pub cycles: u32,
     /// The keepers lost (1-based, as the report names them).
     pub keepers: Vec<usize>,
+}
+
+/// The journal's file name in the simulator's work directory.
+pub const JOURNAL_FILE: &str = "simulator.journal";
+
+/// One whole episode.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JournalEntry {
+    /// Learning, evaluation or greedy.
+    pub mode: EpisodeMode,
+    /// What it earned.
+    pub outcome: EpisodeOutcome,
+    /// The simulator's random state after it.
+    pub rng: SimRng,
+    /// The counters after it.
+    pub totals: SimTotals,
 }
 
 /// The simulator's counters. They survive a restart: the journal carries

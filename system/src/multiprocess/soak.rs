@@ -20,7 +20,10 @@ use plotters::prelude::*;
 use serde::Serialize;
 
 use super::chaos::{Chaos, ChaosRecord, SoakClock};
-use super::supervisor::{Fault, Request, RunObserver, RunRecord, RunView, SupervisorError, json_error};
+use super::supervisor::config::{SupervisorError, json_error};
+use super::supervisor::observe::{Request, RunObserver, RunView};
+use super::supervisor::results::RunRecord;
+use super::supervisor::watch::Fault;
 use crate::ipc::namespace::SHM_DIR;
 use crate::latency::plot::PlotFailure;
 use learnpnp::experiment::plot::{FONT, PLOT_SIZE, colour};
@@ -188,26 +191,7 @@ impl Soak {
     }
 }
 
-/// Why the soak's sample log cannot be written or read back.
-#[derive(Debug, thiserror::Error)]
-pub enum SampleLogError {
-    /// The file cannot be written or read.
-    #[error("{path}: {source}")]
-    Io {
-        /// The log.
-        path: PathBuf,
-        /// The error.
-        source: std::io::Error,
-    },
-    /// A line of it is not a sample.
-    #[error("{path}: unreadable sample {line:?}")]
-    Unreadable {
-        /// The log.
-        path: PathBuf,
-        /// The line.
-        line: String,
-    },
-}
+pub use super::supervisor::config::SampleLogError;
 
 /// `soak.csv`, written as the samples are taken.
 #[derive(Debug)]

@@ -25,26 +25,6 @@ pub const IDENTITY_FILE: &str = "ipc.json";
 /// not restarted again.
 pub const EXIT_CANNOT_RESUME: i32 = 3;
 
-/// The variables that give a world process its run (`shm_layouts/README.md`).
-pub mod world_env {
-    /// The run's iceoryx2 prefix.
-    pub const PREFIX: &str = "LEARNPNP_IPC_PREFIX";
-    /// The run's iceoryx2 root directory, ending in `/`.
-    pub const ROOT: &str = "LEARNPNP_IPC_ROOT";
-    /// The run id.
-    pub const RUN_ID: &str = "LEARNPNP_RUN_ID";
-    /// How many agents.
-    pub const AGENTS: &str = "LEARNPNP_AGENTS";
-    /// `lockstep` or `realtime`.
-    pub const CLOCK: &str = "LEARNPNP_CLOCK";
-    /// Real time: the cycle in milliseconds.
-    pub const PERIOD_MS: &str = "LEARNPNP_PERIOD_MS";
-    /// The wait strategy.
-    pub const WAIT: &str = "LEARNPNP_WAIT";
-    /// The world's seed for the run.
-    pub const SEED: &str = "LEARNPNP_SEED";
-}
-
 /// How the supervisor runs the system.
 #[derive(Debug, Clone)]
 pub struct SupervisorConfig {
@@ -151,7 +131,7 @@ pub enum SupervisorError {
     Checkpoint(#[from] PersistError),
     /// The soak's sample log cannot be written or read back.
     #[error(transparent)]
-    SampleLog(#[from] crate::multiprocess::soak::SampleLogError),
+    SampleLog(#[from] SampleLogError),
     /// A run across hosts cannot be set up.
     #[error("the link to the other hosts: {0}")]
     Bridge(String),
@@ -229,3 +209,24 @@ pub(super) fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> Supervisor
 
 /// The directory of the result set holding every run's working files.
 pub(super) const RUNS_DIR: &str = "runs";
+
+/// Why the soak's sample log cannot be written or read back.
+#[derive(Debug, thiserror::Error)]
+pub enum SampleLogError {
+    /// The file cannot be written or read.
+    #[error("{path}: {source}")]
+    Io {
+        /// The log.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
+    /// A line of it is not a sample.
+    #[error("{path}: unreadable sample {line:?}")]
+    Unreadable {
+        /// The log.
+        path: PathBuf,
+        /// The line.
+        line: String,
+    },
+}

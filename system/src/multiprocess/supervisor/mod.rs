@@ -12,17 +12,16 @@
 //! [`results`] (what a run produced); [`watch`] holds one run's state and
 //! [`observe`] what watches it from the supervisor's loop.
 
-mod config;
-mod hand_off;
-mod life_cycle;
-mod observe;
-mod results;
-mod watch;
+pub(crate) mod config;
+pub(crate) mod hand_off;
+pub(crate) mod life_cycle;
+pub(crate) mod observe;
+pub(crate) mod results;
+pub(crate) mod watch;
 
+pub use crate::multiprocess::launch::world_env;
 pub(crate) use config::json_error;
-pub use config::{
-    Cluster, EXIT_CANNOT_RESUME, IDENTITY_FILE, RunFailure, SupervisorConfig, SupervisorError, world_env,
-};
+pub use config::{Cluster, EXIT_CANNOT_RESUME, IDENTITY_FILE, RunFailure, SupervisorConfig, SupervisorError};
 pub use hand_off::{BRIDGE_STOP_GRACE, REMOTE_FILES_TIMEOUT, RUN_INFO_FILE};
 pub use life_cycle::STALL_TIMEOUTS;
 pub use observe::{Progress, Request, RunObserver, RunView};
