@@ -194,7 +194,7 @@ pub fn read_command(msg: &KeeperCommand, keeper: usize, run_id: u64) -> Result<C
 }
 
 /// The event of `news` about episode `episode`.
-pub fn episode_event(episode_seq: u64, news: EpisodeNews, run_id: u64) -> EpisodeEvent {
+pub(crate) fn episode_event(episode_seq: u64, news: EpisodeNews, run_id: u64) -> EpisodeEvent {
     let (kind, start, cycles, seconds) = match news {
         EpisodeNews::Begin(start) => (episode::BEGIN, start, 0, 0.0),
         EpisodeNews::End { cycles, seconds } => (episode::END, EpisodeStart::LEARN, cycles, seconds),
@@ -214,7 +214,7 @@ pub fn episode_event(episode_seq: u64, news: EpisodeNews, run_id: u64) -> Episod
 }
 
 /// Reads an episode event: its episode and what happens.
-pub fn read_episode_event(msg: &EpisodeEvent, run_id: u64) -> Result<(u64, EpisodeNews), Rejection> {
+pub(crate) fn read_episode_event(msg: &EpisodeEvent, run_id: u64) -> Result<(u64, EpisodeNews), Rejection> {
     check_header(&msg.header, run_id, |s| s == SENDER_SIMULATOR)?;
     finite(&[msg.seconds])?;
     let news = match msg.kind {
@@ -230,7 +230,7 @@ pub fn read_episode_event(msg: &EpisodeEvent, run_id: u64) -> Result<(u64, Episo
 }
 
 /// Keeper `keeper`'s report.
-pub fn agent_report(news: AgentNews, keeper: usize, run_id: u64) -> AgentReport {
+pub(crate) fn agent_report(news: AgentNews, keeper: usize, run_id: u64) -> AgentReport {
     let (kind, episode, pid, exploratory) = match news {
         AgentNews::Ready { pid } => (report::READY, 0, pid, false),
         AgentNews::Ended { episode, exploratory } => (report::ENDED, episode, 0, exploratory),
@@ -246,7 +246,11 @@ pub fn agent_report(news: AgentNews, keeper: usize, run_id: u64) -> AgentReport 
 }
 
 /// Reads a report from one of `agents` agents: the agent that sent it and what it says.
-pub fn read_agent_report(msg: &AgentReport, run_id: u64, agents: usize) -> Result<(usize, AgentNews), Rejection> {
+pub(crate) fn read_agent_report(
+    msg: &AgentReport,
+    run_id: u64,
+    agents: usize,
+) -> Result<(usize, AgentNews), Rejection> {
     check_header(&msg.header, run_id, |s| (s as usize) < agents)?;
     let news = match (msg.kind, msg.exploratory) {
         (report::READY, 0) => AgentNews::Ready { pid: msg.pid },
@@ -282,7 +286,7 @@ pub fn heartbeat(pulse: &Pulse, run_id: u64) -> Heartbeat {
 }
 
 /// Reads a heartbeat from one of `roster`'s processes.
-pub fn read_heartbeat(msg: &Heartbeat, run_id: u64, roster: Roster) -> Result<Pulse, Rejection> {
+pub(crate) fn read_heartbeat(msg: &Heartbeat, run_id: u64, roster: Roster) -> Result<Pulse, Rejection> {
     check_header(&msg.header, run_id, |s| roster.role_of(s).is_some())?;
     let role = roster.role_of(msg.header.sender).ok_or(Rejection::Sender)?;
     let state = match msg.state {
@@ -308,7 +312,7 @@ pub fn read_heartbeat(msg: &Heartbeat, run_id: u64, roster: Roster) -> Result<Pu
 }
 
 /// The control message of `order` for `target` (`None`: everyone).
-pub fn control_message(order: Order, target: Option<Role>, sequence: u64, run_id: u64) -> Control {
+pub(crate) fn control_message(order: Order, target: Option<Role>, sequence: u64, run_id: u64) -> Control {
     let (command, target, pid) = match order {
         Order::Stop => (control::STOP, target.map_or(control::ALL, Role::sender), 0),
         Order::Checkpoint => (control::CHECKPOINT, target.map_or(control::ALL, Role::sender), 0),
@@ -334,7 +338,7 @@ fn agents_of(me: Role) -> usize {
 }
 
 /// Reads a control message as `me` receives it: `None` if it is for someone else.
-pub fn read_control(msg: &Control, me: Role, run_id: u64) -> Result<Option<Order>, Rejection> {
+pub(crate) fn read_control(msg: &Control, me: Role, run_id: u64) -> Result<Option<Order>, Rejection> {
     check_header(&msg.header, run_id, |s| s == SENDER_SUPERVISOR)?;
     let for_me = msg.target == control::ALL || msg.target == me.sender();
     match msg.command {

@@ -39,7 +39,7 @@ pub struct CommandReading {
 
 /// What happens to an episode.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum EpisodeNews {
+pub(crate) enum EpisodeNews {
     /// It begins, run as `start` says.
     Begin(EpisodeStart),
     /// It ended after `cycles` cycles, lasting `seconds`.
@@ -58,7 +58,7 @@ pub enum EpisodeNews {
 
 /// An agent's report at an episode boundary.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum AgentNews {
+pub(crate) enum AgentNews {
     /// Connected and ready for an episode: the process with this id.
     Ready {
         /// The agent's process id.
@@ -75,7 +75,7 @@ pub enum AgentNews {
 
 /// The `sender` a bridge would have: none of the run's messages carries it
 /// (the bridge forwards the other processes' messages as they are).
-pub const SENDER_BRIDGE: u32 = 300;
+pub(crate) const SENDER_BRIDGE: u32 = 300;
 
 /// Who a process of the run is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]

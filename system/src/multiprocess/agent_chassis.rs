@@ -39,7 +39,7 @@ pub fn checkpoint_name(k: usize) -> String {
 
 /// Where a restarted agent writes the values it resumed with:
 /// `resumed-keeper<k>.<pid>.bin` in the run's work directory.
-pub fn resumed_file(dir: &Path, k: usize, pid: u32) -> PathBuf {
+pub(crate) fn resumed_file(dir: &Path, k: usize, pid: u32) -> PathBuf {
     dir.join(format!("resumed-keeper{}.{pid}.bin", k + 1))
 }
 

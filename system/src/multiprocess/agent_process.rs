@@ -35,12 +35,12 @@ use learnpnp::plan::Plan;
 /// floor ping, one cycle after the previous one) the agent stops sleeping and
 /// polls, so that the message finds it awake rather than waiting for a
 /// wake-up (on a virtual machine a sleeping core can take milliseconds to wake).
-pub const EXPECT_EARLY: Duration = Duration::from_millis(1);
+pub(crate) const EXPECT_EARLY: Duration = Duration::from_millis(1);
 
 /// Real time: how long after a message was due the agent keeps polling for it
 /// before it goes back to sleep (the first snapshot of an episode comes after
 /// the episode's begin, later than one cycle after the last one).
-pub const EXPECT_LATE: Duration = Duration::from_millis(2);
+pub(crate) const EXPECT_LATE: Duration = Duration::from_millis(2);
 
 /// The name of keeper `k`'s compute-time histogram.
 pub fn compute_histogram(k: usize) -> String {

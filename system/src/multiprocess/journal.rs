@@ -50,7 +50,7 @@ pub enum JournalError {
 
 /// Checks that a replayed journal entry of mode `journaled` is the episode
 /// the protocol has due (of mode `due`).
-pub fn follows_protocol(journaled: EpisodeMode, due: EpisodeMode) -> Result<(), TaskError> {
+pub(crate) fn follows_protocol(journaled: EpisodeMode, due: EpisodeMode) -> Result<(), TaskError> {
     if journaled == due {
         Ok(())
     } else {
@@ -92,7 +92,7 @@ pub fn read<E: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<E>, Journ
 
 /// Appends entries to a journal.
 #[derive(Debug)]
-pub struct Journal {
+pub(crate) struct Journal {
     path: PathBuf,
     file: File,
     /// Lines appended, not yet handed to the operating system.

@@ -18,10 +18,10 @@ use learnpnp::experiment::spec::{DomainSpec, ExperimentSpec};
 use learnpnp::rng::derive_seed;
 
 /// The simulator's binary.
-pub const SIM_BINARY: &str = "learnpnp-sim";
+pub(crate) const SIM_BINARY: &str = "learnpnp-sim";
 
 /// The agents' binary.
-pub const AGENT_BINARY: &str = "learnpnp-agent";
+pub(crate) const AGENT_BINARY: &str = "learnpnp-agent";
 
 /// The variables that give a world process its run (`shm_layouts/README.md`).
 pub mod world_env {
@@ -66,7 +66,7 @@ pub enum LaunchError {
 }
 
 /// The bridge's binary (runs across hosts).
-pub const BRIDGE_BINARY: &str = "learnpnp-bridge";
+pub(crate) const BRIDGE_BINARY: &str = "learnpnp-bridge";
 
 /// The simulator's, the agents' and the bridge's binaries.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -187,7 +187,7 @@ impl RunContext {
 /// 99): when woken it runs ahead of every normally scheduled process on its
 /// core, and it yields its core only to real-time processes. Needs
 /// CAP_SYS_NICE or an RLIMIT_RTPRIO (`ulimit -r`) of at least `priority`.
-pub fn set_fifo_priority(pid: u32, priority: u8) -> io::Result<()> {
+pub(crate) fn set_fifo_priority(pid: u32, priority: u8) -> io::Result<()> {
     let pid = libc::pid_t::try_from(pid).map_err(|_| io::Error::from(io::ErrorKind::InvalidInput))?;
     let param = libc::sched_param {
         sched_priority: i32::from(priority),
@@ -284,7 +284,7 @@ pub fn spawn(binary: &Path, role: Role, args: &[OsString], log: &Path) -> Result
 /// (directly, or with `sh -c` if a shell must read its command), in the
 /// supervisor's working directory, with the run in its
 /// environment (`shm_layouts/README.md`: the world process's environment).
-pub fn spawn_world(
+pub(crate) fn spawn_world(
     spec: &ExperimentSpec,
     context: &RunContext,
     namespace: &Namespace,
@@ -373,7 +373,7 @@ fn spawn_child(mut command: Command, what: &str, log: &Path) -> Result<Child, La
 /// echo), started as the run's processes are; killed with its group when
 /// dropped, if it has not exited.
 #[derive(Debug)]
-pub struct Helper {
+pub(crate) struct Helper {
     child: Child,
 }
 

@@ -214,11 +214,11 @@ pub enum ProcessError {
 }
 
 /// How often a process sends its heartbeat.
-pub const HEARTBEAT_EVERY: Duration = Duration::from_millis(100);
+pub(crate) const HEARTBEAT_EVERY: Duration = Duration::from_millis(100);
 
 /// A process's heartbeat: its pulse, published every [`HEARTBEAT_EVERY`].
 #[derive(Debug)]
-pub struct Pacemaker {
+pub(crate) struct Pacemaker {
     /// What the next heartbeat says.
     pub pulse: Pulse,
     run_id: u64,

@@ -53,7 +53,7 @@ pub struct RemoteConfig {
 }
 
 /// How long the remote host waits for host A to acknowledge its files.
-pub const SHIPPING_TIMEOUT: Duration = Duration::from_secs(30);
+pub(crate) const SHIPPING_TIMEOUT: Duration = Duration::from_secs(30);
 
 /// What a remote host did (its `summary.json`).
 #[derive(Debug, Clone, Serialize)]

@@ -36,23 +36,23 @@ use learnpnp::learning::{EpisodeMode, EpisodeStart};
 use learnpnp::rng::SimRng;
 
 /// File name of the simulator's result in its work directory.
-pub const RESULT_FILE: &str = "simulator.json";
+pub(crate) const RESULT_FILE: &str = "simulator.json";
 
 /// Histogram of snapshot-to-command round trips (every keeper, every cycle).
 pub const ROUND_TRIP: &str = "roundtrip";
 
 /// The name of keeper `k`'s own round-trip histogram (a remote keeper's is
 /// the round trip across the link between hosts).
-pub fn keeper_round_trip_histogram(k: usize) -> String {
+pub(crate) fn keeper_round_trip_histogram(k: usize) -> String {
     format!("{ROUND_TRIP}-keeper{}", k + 1)
 }
 
 /// Histogram of the bare iceoryx2 round trip of the same payload.
-pub const FLOOR: &str = "floor";
+pub(crate) const FLOOR: &str = "floor";
 
 /// How long the simulator waits for its agents to connect, or for a lost
 /// keeper's replacement, before it gives up.
-pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(60);
+pub(crate) const CONNECT_TIMEOUT: Duration = Duration::from_secs(60);
 
 /// An episode discarded because a keeper was lost.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -72,7 +72,7 @@ pub const JOURNAL_FILE: &str = "simulator.journal";
 
 /// One whole episode.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct JournalEntry {
+pub(crate) struct JournalEntry {
     /// Learning, evaluation or greedy.
     pub mode: EpisodeMode,
     /// What it earned.
@@ -585,7 +585,7 @@ fn sample_floor(link: &mut Link, at: Instant, deadline: Instant) -> Result<(), T
 }
 
 /// The Keepaway configuration of `spec`, if the multi-process system can run it.
-pub fn keepaway_config(spec: &ExperimentSpec) -> Result<KeepawayDomainConfig, ProcessError> {
+pub(crate) fn keepaway_config(spec: &ExperimentSpec) -> Result<KeepawayDomainConfig, ProcessError> {
     use learnpnp::domains::keepaway::KeepawayMode;
     match &spec.domain {
         DomainSpec::Keepaway { config, .. } if matches!(config.mode, KeepawayMode::Pass | KeepawayMode::Position) => {
@@ -775,7 +775,7 @@ fn learning_episodes(path: &Path) -> Result<Vec<EpisodeRecord>, journal::Journal
 
 /// The file of histogram `name` recorded by this process: `<name>.<pid>.hdr`
 /// (every incarnation of a process writes its own; the supervisor merges them).
-pub fn histogram_file(dir: &Path, name: &str) -> PathBuf {
+pub(crate) fn histogram_file(dir: &Path, name: &str) -> PathBuf {
     dir.join(format!("{name}.{}.hdr", std::process::id()))
 }
 

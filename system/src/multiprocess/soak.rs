@@ -48,7 +48,7 @@ const ENDS: usize = 5;
 const FAULT_SETTLE_SECONDS: f64 = 5.0;
 
 /// The verdict's memory-growth limit, in percent.
-pub const RSS_GROWTH_LIMIT: f64 = 1.0;
+pub(crate) const RSS_GROWTH_LIMIT: f64 = 1.0;
 
 /// When a soak ends.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -61,7 +61,7 @@ pub struct SoakLimits {
 
 /// One process at one second of the soak.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Sample {
+pub(crate) struct Sample {
     /// Seconds since the soak began.
     pub seconds: f64,
     /// `supervisor`, `simulator`, `keeper 1`, ...

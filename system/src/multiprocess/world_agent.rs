@@ -51,7 +51,7 @@ const JOURNAL_GATHERING: Duration = Duration::from_millis(10);
 const HOUSEKEEPING_EVERY: Duration = Duration::from_millis(1);
 
 /// How long an agent waits for the world's vocabulary before it gives up.
-pub const VOCABULARY_TIMEOUT: Duration = Duration::from_secs(60);
+pub(crate) const VOCABULARY_TIMEOUT: Duration = Duration::from_secs(60);
 
 /// The histogram of the world's turnaround as the agents see it: from the
 /// world's reading of an agent's command to its publishing that agent's

@@ -43,7 +43,7 @@ use watch::Watch;
 /// (created): returns what it produced once the simulator has ended and every
 /// process has stopped, also when the run failed ([`RunRecord::failure`]).
 /// The run's namespace is removed in every case.
-pub fn supervise_run(
+pub(crate) fn supervise_run(
     config: &SupervisorConfig,
     run: usize,
     work_dir: &Path,
