@@ -11,15 +11,9 @@
 
 #![deny(missing_docs)]
 
-/// The command line of the run's child processes (their run context as clap arguments).
 pub mod child_args;
-/// A run across hosts: what the supervisor and each host's bridge share (run description, link report, certificates).
 pub mod hosts;
-/// The transport on iceoryx2: namespaces, services and ports, wait strategies, the protocol and its validation.
 pub mod ipc;
-/// HdrHistogram latencies: percentiles, `.hgrm` text, serialisation, plots.
 pub mod latency;
-/// The processes of a run (simulator, world, agents) and the supervisor over them; soaks, chaos, benchmarks.
 pub mod multiprocess;
-/// glibc's mmap threshold fixed at its default, so that a soak's memory growth is a leak signal.
 pub mod resident_memory;

@@ -25,15 +25,10 @@
 
 #![deny(missing_docs)]
 
-/// Host A's access control: which keys host B may publish and subscribe.
 pub mod access;
-/// Carrying one service's messages between iceoryx2 and Zenoh, checked on arrival.
 pub mod carry;
-/// The Zenoh session of the link: endpoints, TLS, scouting off.
 pub mod link;
-/// Zenoh's own refusals (TLS handshakes, access control) counted from its tracing events.
 pub mod refusals;
-/// What the hosts tell each other besides the services: the run's description, the files at the end.
 pub mod remote;
 
 use std::path::PathBuf;

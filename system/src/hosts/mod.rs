@@ -4,11 +4,8 @@
 //! description ([`run_info`]), the link report ([`report`]) and the link's
 //! certificates ([`certs`], made by `learnpnp-supervisor link-certs`).
 
-/// The run's private CA and its hosts' certificates.
 pub mod certs;
-/// What a host's bridges did over a run (`link.json`).
 pub mod report;
-/// Host A's description of a run for the other hosts.
 pub mod run_info;
 
 use std::time::Duration;

@@ -9,17 +9,10 @@
 //! - [`convert`]: the in-process types to and from their `shm_layouts`
 //!   layouts, validating everything read.
 
-/// Validation of every message read, and the messages built.
 pub mod convert;
-/// A run's iceoryx2 namespace: prefix, directory, owner lock, cleanup.
 pub mod namespace;
-/// What every port is made of: the iceoryx2 service variant and its errors.
 pub mod port;
-/// The protocol's own types (roles, orders, pulses, news).
 pub mod protocol;
-/// A run's services and each process's ports.
 pub mod services;
-/// Wait strategies: spin, yield, block, hybrid.
 pub mod wait;
-/// The world protocol: snapshots, commands and vocabulary of a world in its own process.
 pub mod world;

@@ -5,7 +5,6 @@
 //! Values are recorded in nanoseconds with three significant digits and
 //! reported in microseconds.
 
-/// Percentile plots of latency histograms.
 pub mod plot;
 
 use std::fmt::Write as _;

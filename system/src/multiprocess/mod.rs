@@ -21,41 +21,23 @@
 //!
 //! See docs/ARCHITECTURE.md for one snapshot's way through the processes.
 
-/// The chassis both agent processes run on: heartbeat, orders, checkpoints.
 pub mod agent_chassis;
-/// A Keepaway keeper's process: its plan and learner, or a fixed policy.
 pub mod agent_process;
-/// Checkpoints written by a background thread, spaced in time.
 pub mod background_save;
-/// The latency benchmark: runs of the system measured, with their floor.
 pub mod bench_latency;
-/// How the generic path's cost grows with the agents (the corridor world, lock-step).
 pub mod bench_world;
-/// Fault injection: kills, stops, garbage and load during a soak.
 pub mod chaos;
-/// The floor of a run: the round trip of the transport alone.
 pub mod floor_probe;
-/// A foreign publisher of garbage on a run's services.
 pub mod garbage;
-/// Journals of whole episodes (the simulator's, each world agent's), for restarts.
 pub mod journal;
-/// Starting the run's processes: binaries, command lines, logs.
 pub mod launch;
-/// CPU load beside a run (chaos soaks).
 pub mod load;
-/// A host of remote agents joining a run across hosts (`learnpnp-supervisor remote`).
 pub mod remote_host;
-/// What a supervised experiment writes: summary, episodes, latency files and plot.
 pub mod report;
-/// The Keepaway simulator's process.
 pub mod sim_process;
-/// Soaks: long runs sampled, and their verdict.
 pub mod soak;
-/// The supervisor: launching, watching, restarting and stopping a run's processes; its report.
 pub mod supervisor;
-/// An agent of a world in its own process, on the stepwise executor.
 pub mod world_agent;
-/// A world written in Rust served as a run's world process (the world's side of the protocol).
 pub mod world_host;
 
 use std::path::PathBuf;
