@@ -6,7 +6,7 @@
 //! A's orders, the files' acknowledgements), and ask for the run's
 //! description; a monitor's certificate may only subscribe to the heartbeats
 //! and the episode events. Subjects are certificates' common names
-//! ([`super::certs`]), never Zenoh ids or interfaces (a Zenoh id is not
+//! ([`learnpnp_system::hosts::certs`]), never Zenoh ids or interfaces (a Zenoh id is not
 //! authenticated). What it denies is counted ([`super::refusals`]).
 
 use serde_json::{Value, json};

@@ -1,6 +1,6 @@
 //! The Zenoh session joining a run's hosts. By default an encrypted link
 //! with mutual authentication: every host presents a certificate of the
-//! run's private CA ([`super::certs`]) and trusts no other root; host B
+//! run's private CA ([`learnpnp_system::hosts::certs`]) and trusts no other root; host B
 //! verifies that host A's certificate names the address it connects to;
 //! host A's router admits each peer only to the keys its certificate's
 //! common name may use ([`super::access`]). Plain TCP (no encryption, no

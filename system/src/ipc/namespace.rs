@@ -67,7 +67,7 @@ fn io_error(path: &Path) -> impl FnOnce(io::Error) -> NamespaceError + '_ {
 
 /// The directory holding the namespaces' root directories and owner locks:
 /// `$LEARNPNP_IPC_DIR`, or `/tmp/learnpnp-ipc`.
-pub(crate) fn base_dir() -> PathBuf {
+pub fn base_dir() -> PathBuf {
     std::env::var_os("LEARNPNP_IPC_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|| PathBuf::from("/tmp/learnpnp-ipc"))

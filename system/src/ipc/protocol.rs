@@ -39,7 +39,7 @@ pub struct CommandReading {
 
 /// What happens to an episode.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum EpisodeNews {
+pub enum EpisodeNews {
     /// It begins, run as `start` says.
     Begin(EpisodeStart),
     /// It ended after `cycles` cycles, lasting `seconds`.
@@ -58,7 +58,7 @@ pub(crate) enum EpisodeNews {
 
 /// An agent's report at an episode boundary.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum AgentNews {
+pub enum AgentNews {
     /// Connected and ready for an episode: the process with this id.
     Ready {
         /// The agent's process id.

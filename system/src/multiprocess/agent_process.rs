@@ -35,7 +35,7 @@ use learnpnp::plan::Plan;
 /// floor ping, one cycle after the previous one) the agent stops sleeping and
 /// polls, so that the message finds it awake rather than waiting for a
 /// wake-up (on a virtual machine a sleeping core can take milliseconds to wake).
-pub(crate) const EXPECT_EARLY: Duration = Duration::from_millis(1);
+pub const EXPECT_EARLY: Duration = Duration::from_millis(1);
 
 /// Real time: how long after a message was due the agent keeps polling for it
 /// before it goes back to sleep (the first snapshot of an episode comes after

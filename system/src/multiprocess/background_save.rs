@@ -27,7 +27,7 @@ use std::time::{Duration, Instant};
 use learnpnp::learning::persist::{self, SavedValues};
 
 /// The least time between two periodic checkpoints' writes.
-pub(crate) const CHECKPOINT_SPACING: Duration = Duration::from_secs(1);
+pub const CHECKPOINT_SPACING: Duration = Duration::from_secs(1);
 
 /// What one checkpoint writes.
 #[derive(Debug, Default)]
@@ -40,7 +40,7 @@ pub struct Checkpoint {
 
 /// The writer thread and the agent's handle on it.
 #[derive(Debug)]
-pub(crate) struct BackgroundSave {
+pub struct BackgroundSave {
     shared: Arc<Shared>,
     spacing: Duration,
     thread: Option<JoinHandle<()>>,

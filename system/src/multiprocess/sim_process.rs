@@ -36,7 +36,7 @@ use learnpnp::learning::{EpisodeMode, EpisodeStart};
 use learnpnp::rng::SimRng;
 
 /// File name of the simulator's result in its work directory.
-pub(crate) const RESULT_FILE: &str = "simulator.json";
+pub const RESULT_FILE: &str = "simulator.json";
 
 /// Histogram of snapshot-to-command round trips (every keeper, every cycle).
 pub const ROUND_TRIP: &str = "roundtrip";

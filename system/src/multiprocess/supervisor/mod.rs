@@ -6,11 +6,11 @@
 //! episode in flight) and a world that dies, stops everything on request with
 //! a final checkpoint, and removes every shared-memory file of the run.
 //!
-//! Its jobs, one module each: [`config`] (configuration and errors),
-//! [`life_cycle`] (the processes' launch, heartbeats, restarts and stop),
-//! [`hand_off`] (a run across hosts: the bridge and the remote agents' files),
-//! [`results`] (what a run produced); [`watch`] holds one run's state and
-//! [`observe`] what watches it from the supervisor's loop.
+//! Its jobs, one module each: `config` (configuration and errors),
+//! `life_cycle` (the processes' launch, heartbeats, restarts and stop),
+//! `hand_off` (a run across hosts: the bridge and the remote agents' files),
+//! `results` (what a run produced); `watch` holds one run's state and
+//! `observe` what watches it from the supervisor's loop.
 
 pub(crate) mod config;
 pub(crate) mod hand_off;
