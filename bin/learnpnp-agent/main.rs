@@ -6,7 +6,7 @@ use std::io::Write as _;
 use std::process::ExitCode;
 
 use clap::Parser;
-use learnpnp_system::cli::RunContextArgs;
+use learnpnp_system::child_args::RunContextArgs;
 use learnpnp_system::multiprocess::agent_process::{self, AgentSettings};
 use learnpnp_system::multiprocess::floor_probe;
 use learnpnp_system::multiprocess::supervisor::EXIT_CANNOT_RESUME;

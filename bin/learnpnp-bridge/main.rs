@@ -9,11 +9,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, ValueEnum};
+use learnpnp_bridge::link::{Endpoints, Security};
+use learnpnp_bridge::refusals::ZenohRefusals;
+use learnpnp_bridge::{BridgeConfig, Side, run};
 use learnpnp_cli::interrupt::Interrupt;
-use learnpnp_system::bridge::certs::HostFiles;
-use learnpnp_system::bridge::link::{Endpoints, Security};
-use learnpnp_system::bridge::refusals::ZenohRefusals;
-use learnpnp_system::bridge::{BridgeConfig, Side, run};
+use learnpnp_system::hosts::certs::HostFiles;
 
 /// Which host the bridge serves.
 #[derive(Debug, Clone, Copy, ValueEnum)]

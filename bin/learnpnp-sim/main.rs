@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use clap::Parser;
-use learnpnp_system::cli::RunContextArgs;
+use learnpnp_system::child_args::RunContextArgs;
 use learnpnp_system::multiprocess::{RunContext, sim_process};
 
 /// The Keepaway simulator behind iceoryx2 services.

@@ -4,13 +4,15 @@
 //! rewards through iceoryx2 shared memory (the layouts are the `shm_layouts`
 //! crate), under a supervisor that launches, watches and restarts them;
 //! latency histograms, soaks and fault injection; a bridge carrying a run's
-//! services to agents on other hosts over Zenoh ([`bridge`]). The plans,
+//! services to agents on other hosts over Zenoh (the crate
+//! `learnpnp-bridge`, a process of its own; [`hosts`]: what it shares with
+//! the supervisor). The plans,
 //! executor and learners are the `learnpnp` crate.
 
 #![deny(missing_docs)]
 
-pub mod bridge;
-pub mod cli;
+pub mod child_args;
+pub mod hosts;
 pub mod ipc;
 pub mod latency;
 pub mod multiprocess;

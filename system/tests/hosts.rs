@@ -11,6 +11,7 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
+use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Duration;
 
@@ -41,10 +42,33 @@ fn ip(args: &[&str]) -> bool {
         .is_ok_and(|s| s.success())
 }
 
+/// Builds the bridge's binary beside the supervisor's, once per test binary:
+/// it is the crate `learnpnp-bridge`, which `cargo test -p learnpnp-system`
+/// does not build (a workspace build does; this keeps it current).
+fn build_bridge() {
+    static BUILT: OnceLock<()> = OnceLock::new();
+    BUILT.get_or_init(|| {
+        let supervisor = PathBuf::from(env!("CARGO_BIN_EXE_learnpnp-supervisor"));
+        let release = supervisor
+            .parent()
+            .and_then(Path::file_name)
+            .is_some_and(|dir| dir == "release");
+        let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+        let mut build = Command::new(cargo);
+        build.args(["build", "-p", "learnpnp-bridge", "--bin", "learnpnp-bridge"]);
+        if release {
+            build.arg("--release");
+        }
+        let status = build.status().expect("cargo runs");
+        assert!(status.success(), "building learnpnp-bridge failed: {status}");
+    });
+}
+
 impl Hosts {
     /// Two namespaces joined by a veth pair 198.18.N.1 <-> 198.18.N.2, or
     /// loopback if they cannot be made.
     pub(crate) fn new() -> Self {
+        build_bridge();
         let n = HOSTS.fetch_add(1, Ordering::Relaxed);
         let tag = format!("{}{n}", std::process::id() % 100_000);
         let (na, nb) = (format!("lpa{tag}"), format!("lpb{tag}"));

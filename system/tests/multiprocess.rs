@@ -19,7 +19,7 @@ use learnpnp::named::Named;
 use learnpnp_cli::args::parse_experiment_flags;
 use learnpnp_system::ipc::namespace::{Namespace, SHM_DIR};
 use learnpnp_system::multiprocess::garbage::Garbage;
-use learnpnp_system::multiprocess::journal::JOURNAL_FILE;
+use learnpnp_system::multiprocess::sim_process::JOURNAL_FILE;
 use learnpnp_system::multiprocess::supervisor::{IDENTITY_FILE, run_work_dir};
 use serde_json::Value;
 use shm_layouts::{

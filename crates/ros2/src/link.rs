@@ -1,12 +1,12 @@
 //! The world's Zenoh session, opened by the secure link's own code
-//! (`learnpnp_system::bridge::link::open`): multicast scouting and gossip
+//! (`learnpnp_bridge::link::open`): multicast scouting and gossip
 //! off, only the endpoints the mapping names; with `tls`, mutual TLS over
 //! QUIC with the run's certificates (`learnpnp-supervisor link-certs`).
 
 use std::path::Path;
 
-use learnpnp_system::bridge::certs::HostFiles;
-use learnpnp_system::bridge::link::{self, Endpoints, Security};
+use learnpnp_system::hosts::certs::HostFiles;
+use learnpnp_bridge::link::{self, Endpoints, Security};
 use thiserror::Error;
 use zenoh::Session;
 
@@ -44,7 +44,7 @@ mod tests {
     use std::sync::mpsc;
     use std::time::Duration;
 
-    use learnpnp_system::bridge::certs::{self, CertRequest, HOST_A_DIR, HOST_B_DIR};
+    use learnpnp_system::hosts::certs::{self, CertRequest, HOST_A_DIR, HOST_B_DIR};
 
     use super::*;
     use crate::node::Node;

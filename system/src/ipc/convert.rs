@@ -4,10 +4,9 @@
 //! in range, finite numbers, known tags). A refused message is counted by
 //! [`Rejection`] reason and never applied.
 
-use serde::{Deserialize, Serialize};
 use shm_layouts::{
     AgentReport, BallLayout, Control, EpisodeEvent, Header, Heartbeat, KeeperCommand, KeeperSnapshot, PROTOCOL_VERSION,
-    PlayerLayout, SENDER_SIMULATOR, SENDER_SUPERVISOR, command, control, episode, forced, mode, reject, report, state,
+    PlayerLayout, SENDER_SIMULATOR, SENDER_SUPERVISOR, command, control, episode, forced, mode, report, state,
 };
 
 use learnpnp::keepaway_sim::command::Command;
@@ -20,95 +19,7 @@ use super::protocol::{AgentNews, CommandReading, EpisodeNews, Order, ProcessStat
 
 const _: () = assert!(shm_layouts::NUM_KEEPERS == NUM_KEEPERS && shm_layouts::NUM_PLAYERS == NUM_PLAYERS);
 
-/// Why a message was refused.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Rejection {
-    /// Another protocol version.
-    Version,
-    /// Another run.
-    Run,
-    /// A sender that may not publish this message here.
-    Sender,
-    /// An id or tag out of range, or a number that is not finite.
-    Content,
-    /// A stale or future episode or cycle.
-    Sequence,
-}
-
-impl Rejection {
-    /// Its index in [`Rejections`] and in the heartbeat's counters.
-    pub fn index(self) -> usize {
-        match self {
-            Rejection::Version => reject::VERSION,
-            Rejection::Run => reject::RUN,
-            Rejection::Sender => reject::SENDER,
-            Rejection::Content => reject::CONTENT,
-            Rejection::Sequence => reject::SEQUENCE,
-        }
-    }
-}
-
-/// Refused messages, counted by reason.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Rejections {
-    /// Another protocol version.
-    pub version: u64,
-    /// Another run.
-    pub run: u64,
-    /// A sender not allowed on the service.
-    pub sender: u64,
-    /// Ids out of range, unknown tags, numbers that are not finite.
-    pub content: u64,
-    /// Out of sequence.
-    pub sequence: u64,
-}
-
-impl Rejections {
-    /// Counts one refusal.
-    pub fn count(&mut self, why: Rejection) {
-        let slot = match why {
-            Rejection::Version => &mut self.version,
-            Rejection::Run => &mut self.run,
-            Rejection::Sender => &mut self.sender,
-            Rejection::Content => &mut self.content,
-            Rejection::Sequence => &mut self.sequence,
-        };
-        *slot += 1;
-    }
-
-    /// All refusals.
-    pub fn total(&self) -> u64 {
-        self.to_array().iter().sum()
-    }
-
-    /// As the heartbeat carries them (indexed by `shm_layouts::reject`).
-    pub fn to_array(&self) -> [u64; reject::COUNT] {
-        let mut a = [0; reject::COUNT];
-        a[reject::VERSION] = self.version;
-        a[reject::RUN] = self.run;
-        a[reject::SENDER] = self.sender;
-        a[reject::CONTENT] = self.content;
-        a[reject::SEQUENCE] = self.sequence;
-        a
-    }
-
-    /// From the heartbeat's array.
-    pub fn from_array(a: [u64; reject::COUNT]) -> Self {
-        Rejections {
-            version: a[reject::VERSION],
-            run: a[reject::RUN],
-            sender: a[reject::SENDER],
-            content: a[reject::CONTENT],
-            sequence: a[reject::SEQUENCE],
-        }
-    }
-
-    /// The sum, reason by reason.
-    pub fn plus(&self, other: &Rejections) -> Rejections {
-        let (a, b) = (self.to_array(), other.to_array());
-        Rejections::from_array(std::array::from_fn(|i| a[i] + b[i]))
-    }
-}
+pub use super::protocol::{Rejection, Rejections};
 
 /// Checks a header: this protocol, this run, one of the allowed senders.
 fn check_header(header: &Header, run_id: u64, allowed: impl Fn(u32) -> bool) -> Result<(), Rejection> {
@@ -283,7 +194,7 @@ pub fn read_command(msg: &KeeperCommand, keeper: usize, run_id: u64) -> Result<C
 }
 
 /// The event of `news` about episode `episode`.
-pub fn episode_event(episode_seq: u64, news: EpisodeNews, run_id: u64) -> EpisodeEvent {
+pub(crate) fn episode_event(episode_seq: u64, news: EpisodeNews, run_id: u64) -> EpisodeEvent {
     let (kind, start, cycles, seconds) = match news {
         EpisodeNews::Begin(start) => (episode::BEGIN, start, 0, 0.0),
         EpisodeNews::End { cycles, seconds } => (episode::END, EpisodeStart::LEARN, cycles, seconds),
@@ -303,7 +214,7 @@ pub fn episode_event(episode_seq: u64, news: EpisodeNews, run_id: u64) -> Episod
 }
 
 /// Reads an episode event: its episode and what happens.
-pub fn read_episode_event(msg: &EpisodeEvent, run_id: u64) -> Result<(u64, EpisodeNews), Rejection> {
+pub(crate) fn read_episode_event(msg: &EpisodeEvent, run_id: u64) -> Result<(u64, EpisodeNews), Rejection> {
     check_header(&msg.header, run_id, |s| s == SENDER_SIMULATOR)?;
     finite(&[msg.seconds])?;
     let news = match msg.kind {
@@ -319,7 +230,7 @@ pub fn read_episode_event(msg: &EpisodeEvent, run_id: u64) -> Result<(u64, Episo
 }
 
 /// Keeper `keeper`'s report.
-pub fn agent_report(news: AgentNews, keeper: usize, run_id: u64) -> AgentReport {
+pub(crate) fn agent_report(news: AgentNews, keeper: usize, run_id: u64) -> AgentReport {
     let (kind, episode, pid, exploratory) = match news {
         AgentNews::Ready { pid } => (report::READY, 0, pid, false),
         AgentNews::Ended { episode, exploratory } => (report::ENDED, episode, 0, exploratory),
@@ -335,7 +246,11 @@ pub fn agent_report(news: AgentNews, keeper: usize, run_id: u64) -> AgentReport 
 }
 
 /// Reads a report from one of `agents` agents: the agent that sent it and what it says.
-pub fn read_agent_report(msg: &AgentReport, run_id: u64, agents: usize) -> Result<(usize, AgentNews), Rejection> {
+pub(crate) fn read_agent_report(
+    msg: &AgentReport,
+    run_id: u64,
+    agents: usize,
+) -> Result<(usize, AgentNews), Rejection> {
     check_header(&msg.header, run_id, |s| (s as usize) < agents)?;
     let news = match (msg.kind, msg.exploratory) {
         (report::READY, 0) => AgentNews::Ready { pid: msg.pid },
@@ -371,7 +286,7 @@ pub fn heartbeat(pulse: &Pulse, run_id: u64) -> Heartbeat {
 }
 
 /// Reads a heartbeat from one of `roster`'s processes.
-pub fn read_heartbeat(msg: &Heartbeat, run_id: u64, roster: Roster) -> Result<Pulse, Rejection> {
+pub(crate) fn read_heartbeat(msg: &Heartbeat, run_id: u64, roster: Roster) -> Result<Pulse, Rejection> {
     check_header(&msg.header, run_id, |s| roster.role_of(s).is_some())?;
     let role = roster.role_of(msg.header.sender).ok_or(Rejection::Sender)?;
     let state = match msg.state {
@@ -397,7 +312,7 @@ pub fn read_heartbeat(msg: &Heartbeat, run_id: u64, roster: Roster) -> Result<Pu
 }
 
 /// The control message of `order` for `target` (`None`: everyone).
-pub fn control_message(order: Order, target: Option<Role>, sequence: u64, run_id: u64) -> Control {
+pub(crate) fn control_message(order: Order, target: Option<Role>, sequence: u64, run_id: u64) -> Control {
     let (command, target, pid) = match order {
         Order::Stop => (control::STOP, target.map_or(control::ALL, Role::sender), 0),
         Order::Checkpoint => (control::CHECKPOINT, target.map_or(control::ALL, Role::sender), 0),
@@ -423,7 +338,7 @@ fn agents_of(me: Role) -> usize {
 }
 
 /// Reads a control message as `me` receives it: `None` if it is for someone else.
-pub fn read_control(msg: &Control, me: Role, run_id: u64) -> Result<Option<Order>, Rejection> {
+pub(crate) fn read_control(msg: &Control, me: Role, run_id: u64) -> Result<Option<Order>, Rejection> {
     check_header(&msg.header, run_id, |s| s == SENDER_SUPERVISOR)?;
     let for_me = msg.target == control::ALL || msg.target == me.sender();
     match msg.command {

@@ -2,7 +2,8 @@
 //!
 //! - [`namespace`]: a run's own prefix and directory, its owner lock, and the
 //!   cleanup of what dead runs left;
-//! - [`services`]: every service of a run with its limits, and each process's ports;
+//! - [`services`]: every service of a run with its limits, and each process's ports
+//!   (made of [`port`]'s iceoryx2 types);
 //! - [`wait`]: how a process waits between polls (spin, yield, block, hybrid);
 //! - [`protocol`]: the protocol's own types (roles, what messages say, orders);
 //! - [`convert`]: the in-process types to and from their `shm_layouts`
@@ -10,6 +11,7 @@
 
 pub mod convert;
 pub mod namespace;
+pub mod port;
 pub mod protocol;
 pub mod services;
 pub mod wait;

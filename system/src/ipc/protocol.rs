@@ -7,9 +7,9 @@
 use serde::{Deserialize, Serialize};
 use shm_layouts::SENDER_SIMULATOR;
 
-use super::convert::Rejections;
 use learnpnp::keepaway_sim::command::Command;
 use learnpnp::learning::EpisodeStart;
+use shm_layouts::reject;
 
 /// What a snapshot says besides the view.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -75,7 +75,7 @@ pub enum AgentNews {
 
 /// The `sender` a bridge would have: none of the run's messages carries it
 /// (the bridge forwards the other processes' messages as they are).
-pub const SENDER_BRIDGE: u32 = 300;
+pub(crate) const SENDER_BRIDGE: u32 = 300;
 
 /// Who a process of the run is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
@@ -251,4 +251,94 @@ pub enum Order {
         /// Its replacement's process id.
         pid: u32,
     },
+}
+
+/// Why a message was refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rejection {
+    /// Another protocol version.
+    Version,
+    /// Another run.
+    Run,
+    /// A sender that may not publish this message here.
+    Sender,
+    /// An id or tag out of range, or a number that is not finite.
+    Content,
+    /// A stale or future episode or cycle.
+    Sequence,
+}
+
+impl Rejection {
+    /// Its index in [`Rejections`] and in the heartbeat's counters.
+    pub fn index(self) -> usize {
+        match self {
+            Rejection::Version => reject::VERSION,
+            Rejection::Run => reject::RUN,
+            Rejection::Sender => reject::SENDER,
+            Rejection::Content => reject::CONTENT,
+            Rejection::Sequence => reject::SEQUENCE,
+        }
+    }
+}
+
+/// Refused messages, counted by reason.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Rejections {
+    /// Another protocol version.
+    pub version: u64,
+    /// Another run.
+    pub run: u64,
+    /// A sender not allowed on the service.
+    pub sender: u64,
+    /// Ids out of range, unknown tags, numbers that are not finite.
+    pub content: u64,
+    /// Out of sequence.
+    pub sequence: u64,
+}
+
+impl Rejections {
+    /// Counts one refusal.
+    pub fn count(&mut self, why: Rejection) {
+        let slot = match why {
+            Rejection::Version => &mut self.version,
+            Rejection::Run => &mut self.run,
+            Rejection::Sender => &mut self.sender,
+            Rejection::Content => &mut self.content,
+            Rejection::Sequence => &mut self.sequence,
+        };
+        *slot += 1;
+    }
+
+    /// All refusals.
+    pub fn total(&self) -> u64 {
+        self.to_array().iter().sum()
+    }
+
+    /// As the heartbeat carries them (indexed by `shm_layouts::reject`).
+    pub fn to_array(&self) -> [u64; reject::COUNT] {
+        let mut a = [0; reject::COUNT];
+        a[reject::VERSION] = self.version;
+        a[reject::RUN] = self.run;
+        a[reject::SENDER] = self.sender;
+        a[reject::CONTENT] = self.content;
+        a[reject::SEQUENCE] = self.sequence;
+        a
+    }
+
+    /// From the heartbeat's array.
+    pub fn from_array(a: [u64; reject::COUNT]) -> Self {
+        Rejections {
+            version: a[reject::VERSION],
+            run: a[reject::RUN],
+            sender: a[reject::SENDER],
+            content: a[reject::CONTENT],
+            sequence: a[reject::SEQUENCE],
+        }
+    }
+
+    /// The sum, reason by reason.
+    pub fn plus(&self, other: &Rejections) -> Rejections {
+        let (a, b) = (self.to_array(), other.to_array());
+        Rejections::from_array(std::array::from_fn(|i| a[i] + b[i]))
+    }
 }

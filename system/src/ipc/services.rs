@@ -7,9 +7,7 @@ use std::fmt::Debug;
 use iceoryx2::node::Node;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::notifier::Notifier;
-use iceoryx2::port::publisher::Publisher;
-use iceoryx2::port::subscriber::Subscriber;
-use iceoryx2::prelude::{NodeBuilder, ServiceName, SignalHandlingMode, ZeroCopySend, ipc};
+use iceoryx2::prelude::{NodeBuilder, ServiceName, SignalHandlingMode, ZeroCopySend};
 use iceoryx2::service::port_factory::{event, publish_subscribe};
 use shm_layouts::{
     AgentReport, Control, EpisodeEvent, Heartbeat, KeeperCommand, KeeperSnapshot, NUM_KEEPERS, WorldCommand,
@@ -20,38 +18,7 @@ use super::namespace::Namespace;
 use super::protocol::{Role, Roster};
 use super::wait::WaitStrategy;
 
-/// The iceoryx2 service variant of every port: inter-process, single-threaded ports.
-pub type Ipc = ipc::Service;
-
-/// A publisher of `T`.
-pub type Pub<T> = Publisher<Ipc, T, ()>;
-/// A subscriber of `T`.
-pub type Sub<T> = Subscriber<Ipc, T, ()>;
-
-/// Why a port cannot be opened or used.
-#[derive(Debug, thiserror::Error)]
-pub enum IpcError {
-    /// An iceoryx2 operation failed.
-    #[error("{operation}: {detail}")]
-    Iceoryx {
-        /// What was being done (names the service).
-        operation: String,
-        /// iceoryx2's error.
-        detail: String,
-    },
-    /// The namespace is unusable.
-    #[error(transparent)]
-    Namespace(#[from] super::namespace::NamespaceError),
-}
-
-/// Wraps an iceoryx2 error with what was being done.
-pub(crate) fn fail<E: Debug>(operation: impl Into<String>) -> impl FnOnce(E) -> IpcError {
-    let operation = operation.into();
-    move |e| IpcError::Iceoryx {
-        operation,
-        detail: format!("{e:?}"),
-    }
-}
+pub use super::port::{Ipc, IpcError, Pub, Sub, fail};
 
 /// Sized for the run's processes plus restarts whose predecessor iceoryx2
 /// has not yet cleaned up, and a diagnostic or foreign port or two.
@@ -136,15 +103,15 @@ fn wake_service_for(node: &Node<Ipc>, process: &str, notifiers: usize) -> Result
 }
 
 /// The wake-up service name of the simulator.
-pub const SIM_PROCESS: &str = "sim";
+pub(crate) const SIM_PROCESS: &str = "sim";
 
 /// The wake-up service name of keeper `k`'s agent.
-pub fn keeper_process(k: usize) -> String {
+pub(crate) fn keeper_process(k: usize) -> String {
     format!("keeper-{k}")
 }
 
 /// The wake-up service name of a world.
-pub const WORLD_PROCESS: &str = "world";
+pub(crate) const WORLD_PROCESS: &str = "world";
 
 /// The wake-up service name of a world's agent `a`.
 pub fn agent_process(a: usize) -> String {
@@ -471,7 +438,7 @@ impl AgentPorts {
 }
 
 /// A world's agent's ports (agent a).
-pub struct WorldAgentPorts {
+pub(crate) struct WorldAgentPorts {
     /// Its snapshots.
     pub snapshot: Sub<WorldSnapshot>,
     /// Its commands (waking the world).
@@ -517,7 +484,7 @@ impl WorldAgentPorts {
 
 /// A world's ports, for a world written in Rust (the Python world kit opens
 /// the same services).
-pub struct WorldPorts {
+pub(crate) struct WorldPorts {
     /// Snapshots to agent a (waking it).
     pub snapshots: Vec<Outlet<WorldSnapshot>>,
     /// Commands from agent a.
@@ -562,7 +529,7 @@ impl WorldPorts {
 }
 
 /// The supervisor's ports.
-pub struct SupervisorPorts {
+pub(crate) struct SupervisorPorts {
     /// Every process's heartbeats.
     pub heartbeats: Sub<Heartbeat>,
     /// Commands to the processes (waking every one of them).
@@ -582,12 +549,12 @@ impl SupervisorPorts {
 }
 
 /// The wake-up service name of a remote host's floor echo process.
-pub const FLOOR_ECHO_PROCESS: &str = "floor-echo";
+pub(crate) const FLOOR_ECHO_PROCESS: &str = "floor-echo";
 
 /// The pinging side of a floor measurement: pings of the snapshot payload
 /// `P` (waking the process that echoes them) and its echoes, of the command
 /// payload `C`.
-pub struct FloorPorts<P: ZeroCopySend + Debug + 'static, C: ZeroCopySend + Debug + 'static> {
+pub(crate) struct FloorPorts<P: ZeroCopySend + Debug + 'static, C: ZeroCopySend + Debug + 'static> {
     /// Pings to the echoing process (waking it).
     pub ping: Outlet<P>,
     /// Its echoes.
@@ -627,7 +594,7 @@ impl<P: ZeroCopySend + Debug + 'static, C: ZeroCopySend + Debug + 'static> Floor
 }
 
 /// The echoing side of a remote host's own floor measurement.
-pub struct FloorEchoPorts<P: ZeroCopySend + Debug + 'static, C: ZeroCopySend + Debug + 'static> {
+pub(crate) struct FloorEchoPorts<P: ZeroCopySend + Debug + 'static, C: ZeroCopySend + Debug + 'static> {
     /// The supervisor's pings.
     pub ping: Sub<P>,
     /// The echoes (the supervisor polls for them).

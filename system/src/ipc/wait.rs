@@ -18,7 +18,7 @@ use iceoryx2::port::listener::{Listener, ListenerWaitError};
 use learnpnp::named::Named;
 use serde::{Deserialize, Serialize};
 
-use super::services::{Ipc, IpcError, fail};
+use super::port::{Ipc, IpcError, fail};
 
 /// A waiting process's behaviour between polls.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -63,7 +63,7 @@ impl Named for WaitStrategy {
 /// How long [`WaitStrategy::Hybrid`] yields before it blocks: a little longer
 /// than a lock-step cycle's round trip, so that a busy run never blocks and an
 /// idle process soon stops taking turns on the cores.
-pub const HYBRID_YIELD: Duration = Duration::from_micros(200);
+pub(crate) const HYBRID_YIELD: Duration = Duration::from_micros(200);
 
 /// The longest a blocked process sleeps before it looks again (for its
 /// heartbeat, the supervisor's commands and deadlines).

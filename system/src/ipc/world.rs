@@ -12,7 +12,7 @@ use shm_layouts::{
 use super::convert::Rejection;
 
 /// Words of the atoms' bitset.
-pub const ATOM_WORDS: usize = MAX_ATOMS / 64;
+pub(crate) const ATOM_WORDS: usize = MAX_ATOMS / 64;
 
 /// What happens to the episode, as a snapshot says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -203,7 +203,7 @@ fn check_header(header: &Header, run_id: u64, sender: u32) -> Result<(), Rejecti
 
 /// Collects a vocabulary's parts as they come, checking each.
 #[derive(Debug, Default)]
-pub struct VocabularyReader {
+pub(crate) struct VocabularyReader {
     shape: Option<[u32; 5]>,
     names: Vec<Option<String>>,
 }
@@ -299,7 +299,7 @@ pub fn world_snapshot(view: &WorldView, agent: usize, run_id: u64) -> WorldSnaps
 
 /// Reads a snapshot received on agent `agent`'s service from a world of
 /// `atoms` atoms and `fluents` fluents.
-pub fn read_world_snapshot(
+pub(crate) fn read_world_snapshot(
     msg: &WorldSnapshot,
     agent: usize,
     run_id: u64,
@@ -366,7 +366,7 @@ pub fn world_command(order: &WorldOrder, agent: usize, run_id: u64) -> WorldComm
 }
 
 /// Reads a command received on agent `agent`'s service by a world of `actions` actions.
-pub fn read_world_command(
+pub(crate) fn read_world_command(
     msg: &WorldCommand,
     agent: usize,
     run_id: u64,
@@ -424,7 +424,7 @@ pub fn floor_pong(run_id: u64, sequence: u64) -> WorldCommand {
 
 /// Now on `CLOCK_MONOTONIC`, in nanoseconds: the clock every process of a
 /// host shares (Python's `time.monotonic_ns()`).
-pub fn monotonic_ns() -> u64 {
+pub(crate) fn monotonic_ns() -> u64 {
     let mut now = libc::timespec { tv_sec: 0, tv_nsec: 0 };
     // SAFETY: `now` is a valid timespec the call writes.
     unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut now) };

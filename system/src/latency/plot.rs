@@ -10,7 +10,7 @@ use learnpnp::experiment::plot::{FONT, PLOT_SIZE, colour};
 
 /// A horizontal line at `micros` labelled `label`.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ReferenceLine {
+pub(crate) struct ReferenceLine {
     /// The legend text.
     pub label: String,
     /// Its height in microseconds.
@@ -38,7 +38,7 @@ impl PlotFailure {
 }
 
 /// The SVG text of the percentile plot of `histograms` with `references`.
-pub fn percentile_plot(
+pub(crate) fn percentile_plot(
     title: &str,
     histograms: &[&Latency],
     references: &[ReferenceLine],

@@ -8,18 +8,17 @@
 //! snapshot is due ([`EXPECT_EARLY`]).
 
 use learnpnp::named::Named;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use super::background_save::{BackgroundSave, CHECKPOINT_SPACING, Checkpoint};
-use super::sim_process::{FLOOR_END, floor_pong, histogram_file, keepaway_config};
-use super::{Clock, HEARTBEAT_EVERY, Pacemaker, ProcessError, RunContext};
-use crate::ipc::convert::{Rejection, agent_report, command_message, read_control, read_episode_event, read_snapshot};
+use super::agent_chassis::{Chassis, load_checkpoint};
+use super::sim_process::{FLOOR_END, floor_pong, keepaway_config};
+use super::{Clock, HEARTBEAT_EVERY, ProcessError, RunContext};
+use crate::ipc::convert::{Rejection, agent_report, command_message, read_episode_event, read_snapshot};
 use crate::ipc::protocol::{AgentNews, CommandReading, EpisodeNews, Order, ProcessState, Role, SnapshotMeta};
 use crate::ipc::services::{AgentPorts, node, receive};
 use crate::ipc::wait::{Idle, MAX_BLOCK, TIMED_WAIT_SLACK};
-use crate::latency::Latency;
 use learnpnp::domains::keepaway::{KeepawayDomainConfig, PlanKeeper, RunSeeds, registry};
 use learnpnp::experiment::runner::{learner_for, task_rng};
 use learnpnp::experiment::spec::ExperimentSpec;
@@ -29,17 +28,8 @@ use learnpnp::keepaway_sim::params::KeepawayConfig;
 use learnpnp::keepaway_sim::perception::PlayerView;
 use learnpnp::keepaway_sim::policies::BaselinePolicy;
 use learnpnp::learning::EpisodeStart;
-use learnpnp::learning::persist::{self, PlanLabels, SavedValues};
+use learnpnp::learning::persist::SavedValues;
 use learnpnp::plan::Plan;
-
-/// Writes a line to the agent's log (its stderr). Unlike `eprintln!` it does
-/// not panic when the write fails: a full disk must not kill the agent.
-macro_rules! report {
-    ($($arg:tt)*) => {{
-        use std::io::Write as _;
-        let _ = writeln!(std::io::stderr(), $($arg)*);
-    }};
-}
 
 /// Real time: how long before a message is due (a snapshot, or agent 0's
 /// floor ping, one cycle after the previous one) the agent stops sleeping and
@@ -50,27 +40,11 @@ pub const EXPECT_EARLY: Duration = Duration::from_millis(1);
 /// Real time: how long after a message was due the agent keeps polling for it
 /// before it goes back to sleep (the first snapshot of an episode comes after
 /// the episode's begin, later than one cycle after the last one).
-pub const EXPECT_LATE: Duration = Duration::from_millis(2);
+pub(crate) const EXPECT_LATE: Duration = Duration::from_millis(2);
 
 /// The name of keeper `k`'s compute-time histogram.
 pub fn compute_histogram(k: usize) -> String {
     format!("compute-keeper{}", k + 1)
-}
-
-/// The name of keeper `k`'s checkpoint file: as the in-process experiment names
-/// the values of its learning agents (`values.bin`, `values-agent2.bin`, ...).
-pub fn checkpoint_name(k: usize) -> String {
-    if k == 0 {
-        "values.bin".to_string()
-    } else {
-        format!("values-agent{}.bin", k + 1)
-    }
-}
-
-/// Where a restarted agent writes the values it resumed with:
-/// `resumed-keeper<k>.<pid>.bin` in the run's work directory.
-pub fn resumed_file(dir: &Path, k: usize, pid: u32) -> PathBuf {
-    dir.join(format!("resumed-keeper{}.{pid}.bin", k + 1))
 }
 
 /// An agent's settings beyond the run's.
@@ -149,33 +123,6 @@ impl Brain {
     }
 }
 
-/// Loads a checkpoint for a restart: the file, or, if it is unusable, its
-/// previous good version, reporting the problem; an error naming the file if
-/// neither can be used or the values belong to another plan.
-pub(super) fn load_checkpoint(path: &Path, plan: &Plan) -> Result<SavedValues, ProcessError> {
-    let saved = match persist::load(path) {
-        Ok(saved) => saved,
-        Err(problem) => {
-            let prev = persist::prev_path(path);
-            let saved = persist::load(&prev)
-                .map_err(|_| ProcessError::CannotResume(format!("{problem} (and no usable {})", prev.display())))?;
-            report!(
-                "error: {problem}; resuming from the previous checkpoint {}",
-                prev.display()
-            );
-            saved
-        }
-    };
-    let expected: Vec<PlanLabels> = plan.activation_plans().into_iter().map(PlanLabels::of).collect();
-    if saved.plans != expected {
-        return Err(ProcessError::CannotResume(format!(
-            "{}: the checkpoint was learned on another plan",
-            path.display()
-        )));
-    }
-    Ok(saved)
-}
-
 /// Whether a begin of `episode` is for the next episode, the last begun
 /// being `last_begun`: in lock-step the one after it, in real time any later
 /// one (a cut link may have lost some); any, when none was begun since the
@@ -230,14 +177,9 @@ fn brain(
 
 /// What the agent tracks while it runs.
 struct Agent {
-    context: RunContext,
-    settings: AgentSettings,
+    chassis: Chassis,
     ports: AgentPorts,
     brain: Brain,
-    pacemaker: Pacemaker,
-    compute: Latency,
-    checkpoint: PathBuf,
-    saver: BackgroundSave,
     /// No episode event or ping has come since the agent started: it keeps
     /// saying it is ready (the simulator may have subscribed after the first time).
     announcing: bool,
@@ -247,7 +189,6 @@ struct Agent {
     /// started): a begin is taken for the next episode only.
     last_begun: Option<u64>,
     start: EpisodeStart,
-    learning_episodes: u64,
     /// Real time: the cycle's length.
     cycle: Option<Duration>,
     /// Real time: when the next snapshot and the next floor ping are due.
@@ -258,58 +199,48 @@ struct Agent {
 
 impl Agent {
     fn count(&mut self, why: Rejection) {
-        self.pacemaker.pulse.rejected.count(why);
+        self.chassis.count(why);
     }
 
     /// Hands the checkpoint (and the compute histogram so far) to the writer
     /// thread; a failure is reported and counted there, the previous
     /// checkpoint stays.
     fn save(&mut self) {
-        let mut files = Vec::new();
-        match self.compute.to_bytes() {
-            Ok(bytes) => files.push((histogram_file(&self.context.work_dir, self.compute.name()), bytes)),
-            Err(e) => report!("error: {e}"),
-        }
-        self.saver.submit(Checkpoint {
-            values: self.brain.values().map(|values| (self.checkpoint.clone(), values)),
-            files,
-        });
+        self.chassis.save(self.brain.values(), &[]);
     }
 
     /// Checkpoints and waits until it is written.
     fn save_now(&mut self) {
         self.save();
-        self.saver.flush();
+        self.chassis.flush();
     }
 
     /// Handles the supervisor's commands; returns true on stop.
     fn control(&mut self) -> Result<bool, ProcessError> {
-        let (me, run_id) = (Role::Keeper(self.settings.keeper), self.context.run_id);
-        while let Some(order) = receive(&self.ports.control, |m| read_control(m, me, run_id))? {
+        while let Some(order) = self.chassis.next_order(&self.ports.control, |_| {})? {
             match order {
-                Ok(Some(Order::Stop)) => return Ok(true),
-                Ok(Some(Order::Checkpoint)) => self.save_now(),
+                Order::Stop => return Ok(true),
+                Order::Checkpoint => self.save_now(),
                 // The new simulator starts from the last episode boundary: the
                 // episode in progress is dropped (the learner is not told its end).
-                Ok(Some(Order::SimulatorRestarted)) => {
+                Order::SimulatorRestarted => {
                     self.episode = 0;
                     self.last_begun = None;
                     self.announcing = true;
                 }
-                Ok(Some(Order::KeeperLost { .. }) | None) => {}
-                Err(why) => self.count(why),
+                Order::KeeperLost { .. } => {}
             }
         }
         Ok(false)
     }
 
     fn is_next(&self, episode: u64) -> bool {
-        begins_next(self.last_begun, self.context.clock, episode)
+        begins_next(self.last_begun, self.chassis.context.clock, episode)
     }
 
     /// Handles episode events; returns whether one was handled.
     fn episode_events(&mut self) -> Result<bool, ProcessError> {
-        let run_id = self.context.run_id;
+        let run_id = self.chassis.context.run_id;
         let mut handled = false;
         while let Some(event) = receive(&self.ports.episode, |m| read_episode_event(m, run_id))? {
             handled = true;
@@ -317,7 +248,7 @@ impl Agent {
                 Ok((episode, EpisodeNews::Begin(start))) if self.is_next(episode) => {
                     self.last_begun = Some(episode);
                     self.announcing = false;
-                    self.pacemaker.pulse.state = ProcessState::Running;
+                    self.chassis.pacemaker.pulse.state = ProcessState::Running;
                     self.brain.begin_episode(start);
                     self.episode = episode;
                     self.start = start;
@@ -326,14 +257,13 @@ impl Agent {
                     let exploratory = self.brain.end_episode();
                     self.episode = 0;
                     if self.start.learning() {
-                        self.learning_episodes += 1;
-                        let every = self.settings.checkpoint_every;
-                        if every > 0 && self.learning_episodes.is_multiple_of(every) && self.saver.due() {
+                        self.chassis.learning_episodes += 1;
+                        if self.chassis.checkpoint_due() {
                             self.save();
                         }
                     }
-                    self.pacemaker.pulse.episodes += 1;
-                    let report = agent_report(AgentNews::Ended { episode, exploratory }, self.settings.keeper, run_id);
+                    self.chassis.pacemaker.pulse.episodes += 1;
+                    let report = agent_report(AgentNews::Ended { episode, exploratory }, self.chassis.index, run_id);
                     self.ports.report.send(report)?;
                 }
                 // The episode is discarded: the learner is not told its end,
@@ -351,7 +281,7 @@ impl Agent {
     /// stopped, or starved of a core) skips to the newest snapshot, crediting
     /// the reward of the skipped ones, and acts once.
     fn snapshots(&mut self) -> Result<bool, ProcessError> {
-        let (k, run_id) = (self.settings.keeper, self.context.run_id);
+        let (k, run_id) = (self.chassis.index, self.chassis.context.run_id);
         let mut pending: Option<(SnapshotMeta, PlayerView, f64)> = match self.early.take() {
             Some((meta, view)) if meta.episode == self.episode => Some((meta, view, meta.reward)),
             Some(early) if early.0.episode > self.episode => {
@@ -424,24 +354,26 @@ impl Agent {
         let started = Instant::now();
         self.expected[0] = self.cycle.map(|c| started + c);
         let (command, idle) = self.brain.act(view, reward)?;
-        self.compute.record(started.elapsed());
+        self.chassis.compute.record(started.elapsed());
         let reading = CommandReading {
             episode: meta.episode,
             cycle_seq: meta.cycle_seq,
             command,
             idle,
         };
-        self.ports
-            .command
-            .send(command_message(&reading, self.settings.keeper, self.context.run_id))?;
-        self.pacemaker.pulse.cycles += 1;
+        self.ports.command.send(command_message(
+            &reading,
+            self.chassis.index,
+            self.chassis.context.run_id,
+        ))?;
+        self.chassis.pacemaker.pulse.cycles += 1;
         Ok(())
     }
 
     /// Answers the floor measurement's pings at once (keeper 0), until the
     /// simulator's end marker or a second of silence; returns whether a ping came.
     fn floor(&mut self) -> Result<bool, ProcessError> {
-        let run_id = self.context.run_id;
+        let run_id = self.chassis.context.run_id;
         let ping = |ports: &AgentPorts| {
             receive(&ports.floor_ping, |m| {
                 (m.header.run_id == run_id).then_some(m.cycle_seq)
@@ -453,7 +385,7 @@ impl Agent {
         self.announcing = false;
         let mut next = Some(first);
         let mut last = Instant::now();
-        let mut idle = Idle::new(self.context.wait);
+        let mut idle = Idle::new(self.chassis.context.wait);
         loop {
             match next.take() {
                 Some(Some(FLOOR_END)) => return Ok(true),
@@ -461,16 +393,16 @@ impl Agent {
                     self.ports.floor_pong.send(floor_pong(run_id, sequence))?;
                     last = Instant::now();
                     self.expected[1] = self.cycle.map(|c| last + c);
-                    idle = Idle::new(self.context.wait);
+                    idle = Idle::new(self.chassis.context.wait);
                     // Beats however fast the pings come (after the echo: not in the round trip).
-                    self.pacemaker.tick(&self.ports.heartbeat)?;
+                    self.chassis.pacemaker.tick(&self.ports.heartbeat)?;
                 }
                 Some(None) => self.count(Rejection::Run),
                 None => {
                     if last.elapsed() > Duration::from_secs(1) {
                         return Ok(true);
                     }
-                    self.pacemaker.tick(&self.ports.heartbeat)?;
+                    self.chassis.pacemaker.tick(&self.ports.heartbeat)?;
                     idle.pause(&self.ports.wake, MAX_BLOCK)?;
                 }
             }
@@ -478,27 +410,14 @@ impl Agent {
         }
     }
 
-    /// Says this process is ready for an episode.
-    fn announce(&mut self) -> Result<(), ProcessError> {
-        let ready = AgentNews::Ready {
-            pid: std::process::id(),
-        };
-        self.ports
-            .report
-            .send(agent_report(ready, self.settings.keeper, self.context.run_id))?;
-        Ok(())
-    }
-
     /// Serves the run until the supervisor says stop; checkpoints at the end.
     fn serve(&mut self) -> Result<(), ProcessError> {
-        let mut idle = Idle::new(self.context.wait);
+        let mut idle = Idle::new(self.chassis.context.wait);
         let mut announced = Instant::now();
         loop {
-            self.pacemaker.pulse.checkpoints = self.saver.written();
-            self.pacemaker.pulse.checkpoint_failures = self.saver.failed();
-            self.pacemaker.tick(&self.ports.heartbeat)?;
+            self.chassis.tick(&self.ports.heartbeat, 0)?;
             if self.announcing && announced.elapsed() >= HEARTBEAT_EVERY {
-                self.announce()?;
+                self.chassis.announce(&self.ports.report)?;
                 announced = Instant::now();
             }
             if self.control()? {
@@ -506,11 +425,11 @@ impl Agent {
             }
             let mut busy = self.episode_events()?;
             busy |= self.snapshots()?;
-            if self.settings.keeper == 0 {
+            if self.chassis.index == 0 {
                 busy |= self.floor()?;
             }
             if busy {
-                idle = Idle::new(self.context.wait);
+                idle = Idle::new(self.chassis.context.wait);
             } else {
                 match self.until_expected() {
                     Some(Duration::ZERO) => std::thread::yield_now(),
@@ -522,8 +441,7 @@ impl Agent {
                 }
             }
         }
-        self.pacemaker.pulse.state = ProcessState::Stopping;
-        self.pacemaker.beat(&self.ports.heartbeat)?;
+        self.chassis.beat(&self.ports.heartbeat, ProcessState::Stopping)?;
         self.save_now();
         Ok(())
     }
@@ -539,25 +457,25 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
     if k >= learnpnp::keepaway_sim::world::NUM_KEEPERS {
         return Err(ProcessError::NoKeeper(k + 1));
     }
-    let checkpoint = context.work_dir.join(checkpoint_name(k));
-    let brain = brain(&spec, &config, context, settings, &checkpoint)?;
+    let chassis = Chassis::new(
+        context,
+        Role::Keeper(k),
+        k,
+        settings.checkpoint_every,
+        compute_histogram(k),
+    )?;
+    let brain = brain(&spec, &config, context, settings, &chassis.checkpoint)?;
     let namespace = context.namespace()?;
     let node = node(&namespace, &format!("keeper-{k}"))?;
     let ports = AgentPorts::open(&node, k, context.wait)?;
     let mut agent = Agent {
-        context: context.clone(),
-        settings: settings.clone(),
+        chassis,
         ports,
         brain,
-        pacemaker: Pacemaker::new(Role::Keeper(k), context.run_id),
-        compute: Latency::new(compute_histogram(k)),
-        checkpoint,
-        saver: BackgroundSave::start(CHECKPOINT_SPACING).map_err(ProcessError::Writer)?,
         announcing: true,
         episode: 0,
         last_begun: None,
         start: EpisodeStart::LEARN,
-        learning_episodes: 0,
         cycle: (context.clock == Clock::Realtime)
             .then(|| Duration::from_secs_f64(config.simulator().server.cycle_seconds)),
         expected: [None; 2],
@@ -567,15 +485,13 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
         // What the learner holds now, for the supervisor to compare with the
         // checkpoint it resumed from.
         if let Some(values) = agent.brain.values() {
-            let path = resumed_file(&context.work_dir, k, std::process::id());
-            persist::save(&path, &values)?;
+            agent.chassis.record_resumed(&values)?;
         }
     } else {
         agent.save_now();
     }
-    agent.announce()?;
-    agent.pacemaker.pulse.state = ProcessState::Ready;
-    agent.pacemaker.beat(&agent.ports.heartbeat)?;
+    agent.chassis.announce(&agent.ports.report)?;
+    agent.chassis.beat(&agent.ports.heartbeat, ProcessState::Ready)?;
     agent.serve()
 }
 

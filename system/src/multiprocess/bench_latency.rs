@@ -60,7 +60,7 @@ pub struct Figures {
 
 /// What one configuration measured.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Measured {
+pub(crate) struct Measured {
     /// The bare round trip.
     pub floor: Figures,
     /// Snapshot to command, every keeper.

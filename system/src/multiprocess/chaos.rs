@@ -24,10 +24,11 @@ use std::time::Duration;
 use rand::RngExt;
 
 use super::Clock;
-use super::agent_process::checkpoint_name;
+use super::agent_chassis::checkpoint_name;
 use super::garbage::Garbage;
 use super::load::CpuLoad;
-use super::supervisor::{Request, RunRecord, RunView};
+use super::supervisor::observe::{Request, RunView};
+use super::supervisor::results::RunRecord;
 use crate::ipc::namespace::Namespace;
 use crate::ipc::protocol::{Order, Role, Roster};
 use crate::ipc::services::{IpcError, node};

@@ -21,7 +21,7 @@ use iceoryx2::prelude::ZeroCopySend;
 use shm_layouts::{KeeperCommand, KeeperSnapshot, WorldCommand, WorldSnapshot};
 
 use super::sim_process::{FLOOR, FLOOR_END, histogram_file};
-use super::supervisor::SupervisorError;
+use super::supervisor::config::SupervisorError;
 use super::{ProcessError, RunContext};
 use crate::ipc::protocol::Roster;
 use crate::ipc::services::{FloorEchoPorts, FloorPorts, Ipc, IpcError, node, receive, send};
@@ -33,7 +33,7 @@ pub const REMOTE_HOST_FLOOR: &str = "floor-remote-host";
 
 /// The payloads of a run's floor measurement: its snapshot (the ping) and
 /// its command (the echo).
-pub trait FloorPayload {
+pub(crate) trait FloorPayload {
     /// The snapshot payload.
     type Ping: ZeroCopySend + Debug + 'static;
     /// The command payload.
@@ -49,7 +49,7 @@ pub trait FloorPayload {
 }
 
 /// A Keepaway run's payloads.
-pub struct KeepawayFloor;
+pub(crate) struct KeepawayFloor;
 
 impl FloorPayload for KeepawayFloor {
     type Ping = KeeperSnapshot;
@@ -69,7 +69,7 @@ impl FloorPayload for KeepawayFloor {
 }
 
 /// A world run's payloads.
-pub struct WorldFloor;
+pub(crate) struct WorldFloor;
 
 impl FloorPayload for WorldFloor {
     type Ping = WorldSnapshot;
@@ -95,7 +95,7 @@ const FIRST_ECHO_TIMEOUT: Duration = Duration::from_secs(30);
 const ECHO_TIMEOUT: Duration = Duration::from_secs(2);
 
 /// The pinging side of a floor measurement.
-pub struct FloorProbe<F: FloorPayload> {
+pub(crate) struct FloorProbe<F: FloorPayload> {
     ports: FloorPorts<F::Ping, F::Pong>,
     run_id: u64,
     histogram: Latency,

@@ -1,5 +1,5 @@
 //! A journal of whole episodes: one JSON line per episode. The simulator's
-//! ([`JournalEntry`]: its mode, what it earned, the simulator's random state
+//! (`super::sim_process::JournalEntry`: its mode, what it earned, the simulator's random state
 //! after it, and the counters) lets a simulator that was killed be restarted
 //! from the last episode boundary: it replays the journaled outcomes through
 //! the protocol (rebuilding the run's results without playing them again),
@@ -20,28 +20,10 @@ use std::io::{self, BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
-use super::sim_process::SimTotals;
-use learnpnp::domains::{EpisodeOutcome, TaskError};
+use learnpnp::domains::TaskError;
 use learnpnp::learning::EpisodeMode;
-use learnpnp::rng::SimRng;
-
-/// The journal's file name in the simulator's work directory.
-pub const JOURNAL_FILE: &str = "simulator.journal";
-
-/// One whole episode.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct JournalEntry {
-    /// Learning, evaluation or greedy.
-    pub mode: EpisodeMode,
-    /// What it earned.
-    pub outcome: EpisodeOutcome,
-    /// The simulator's random state after it.
-    pub rng: SimRng,
-    /// The counters after it.
-    pub totals: SimTotals,
-}
 
 /// Why the journal cannot be used.
 #[derive(Debug, thiserror::Error)]
@@ -68,7 +50,7 @@ pub enum JournalError {
 
 /// Checks that a replayed journal entry of mode `journaled` is the episode
 /// the protocol has due (of mode `due`).
-pub fn follows_protocol(journaled: EpisodeMode, due: EpisodeMode) -> Result<(), TaskError> {
+pub(crate) fn follows_protocol(journaled: EpisodeMode, due: EpisodeMode) -> Result<(), TaskError> {
     if journaled == due {
         Ok(())
     } else {
@@ -110,7 +92,7 @@ pub fn read<E: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<E>, Journ
 
 /// Appends entries to a journal.
 #[derive(Debug)]
-pub struct Journal {
+pub(crate) struct Journal {
     path: PathBuf,
     file: File,
     /// Lines appended, not yet handed to the operating system.
@@ -196,6 +178,8 @@ fn push_line<E: Serialize>(lines: &mut Vec<u8>, entry: &E) -> io::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::multiprocess::sim_process::{JOURNAL_FILE, JournalEntry, SimTotals};
+    use learnpnp::domains::EpisodeOutcome;
     use learnpnp::rng::seeded;
 
     fn entry(i: u64) -> JournalEntry {

@@ -18,10 +18,30 @@ use learnpnp::experiment::spec::{DomainSpec, ExperimentSpec};
 use learnpnp::rng::derive_seed;
 
 /// The simulator's binary.
-pub const SIM_BINARY: &str = "learnpnp-sim";
+pub(crate) const SIM_BINARY: &str = "learnpnp-sim";
 
 /// The agents' binary.
-pub const AGENT_BINARY: &str = "learnpnp-agent";
+pub(crate) const AGENT_BINARY: &str = "learnpnp-agent";
+
+/// The variables that give a world process its run (`shm_layouts/README.md`).
+pub mod world_env {
+    /// The run's iceoryx2 prefix.
+    pub const PREFIX: &str = "LEARNPNP_IPC_PREFIX";
+    /// The run's iceoryx2 root directory, ending in `/`.
+    pub const ROOT: &str = "LEARNPNP_IPC_ROOT";
+    /// The run id.
+    pub const RUN_ID: &str = "LEARNPNP_RUN_ID";
+    /// How many agents.
+    pub const AGENTS: &str = "LEARNPNP_AGENTS";
+    /// `lockstep` or `realtime`.
+    pub const CLOCK: &str = "LEARNPNP_CLOCK";
+    /// Real time: the cycle in milliseconds.
+    pub const PERIOD_MS: &str = "LEARNPNP_PERIOD_MS";
+    /// The wait strategy.
+    pub const WAIT: &str = "LEARNPNP_WAIT";
+    /// The world's seed for the run.
+    pub const SEED: &str = "LEARNPNP_SEED";
+}
 
 /// Why a process cannot be started.
 #[derive(Debug, thiserror::Error)]
@@ -46,7 +66,7 @@ pub enum LaunchError {
 }
 
 /// The bridge's binary (runs across hosts).
-pub const BRIDGE_BINARY: &str = "learnpnp-bridge";
+pub(crate) const BRIDGE_BINARY: &str = "learnpnp-bridge";
 
 /// The simulator's, the agents' and the bridge's binaries.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -60,19 +80,29 @@ pub struct Binaries {
 }
 
 impl Binaries {
-    /// The binaries in `dir`.
+    /// The binaries in `dir` (the simulator's and the agents' must be there;
+    /// the bridge's is looked for when a run crosses hosts: [`Binaries::bridge`]).
     pub fn in_dir(dir: &Path) -> Result<Self, LaunchError> {
         let binaries = Binaries {
             sim: dir.join(SIM_BINARY),
             agent: dir.join(AGENT_BINARY),
             bridge: dir.join(BRIDGE_BINARY),
         };
-        for path in [&binaries.sim, &binaries.agent, &binaries.bridge] {
+        for path in [&binaries.sim, &binaries.agent] {
             if !path.is_file() {
                 return Err(LaunchError::Missing(path.clone()));
             }
         }
         Ok(binaries)
+    }
+
+    /// The bridge's binary (the crate `learnpnp-bridge`), if it is there.
+    pub fn bridge(&self) -> Result<&Path, LaunchError> {
+        if self.bridge.is_file() {
+            Ok(&self.bridge)
+        } else {
+            Err(LaunchError::Missing(self.bridge.clone()))
+        }
     }
 
     /// The binaries next to the running executable. Under `cargo run`, which
@@ -84,13 +114,13 @@ impl Binaries {
             source,
         })?;
         let dir = exe.parent().map(Path::to_path_buf).unwrap_or_default();
-        match Self::in_dir(&dir) {
-            Err(LaunchError::Missing(_)) if std::env::var_os("CARGO").is_some() => {
-                build_with_cargo(&dir)?;
-                Self::in_dir(&dir)
-            }
-            other => other,
+        let binaries = Self::in_dir(&dir);
+        let missing = binaries.as_ref().map_or(true, |b| b.bridge().is_err());
+        if missing && std::env::var_os("CARGO").is_some() {
+            build_with_cargo(&dir)?;
+            return Self::in_dir(&dir);
         }
+        binaries
     }
 }
 
@@ -99,12 +129,17 @@ impl Binaries {
 fn build_with_cargo(dir: &Path) -> Result<(), LaunchError> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let mut command = Command::new(cargo);
+    // The bridge is a package of its own (it links Zenoh, the supervisor does not).
     command.args([
         "build",
+        "-p",
+        "learnpnp-system",
         "--bin",
         SIM_BINARY,
         "--bin",
         AGENT_BINARY,
+        "-p",
+        "learnpnp-bridge",
         "--bin",
         BRIDGE_BINARY,
     ]);
@@ -116,7 +151,7 @@ fn build_with_cargo(dir: &Path) -> Result<(), LaunchError> {
             .arg("--manifest-path")
             .arg(Path::new(&manifest).join("Cargo.toml"));
     }
-    eprintln!("building {SIM_BINARY} and {AGENT_BINARY} (cargo run builds only the supervisor)");
+    eprintln!("building {SIM_BINARY}, {AGENT_BINARY} and {BRIDGE_BINARY} (cargo run builds only the supervisor)");
     let status = command.status().map_err(LaunchError::Cargo)?;
     if status.success() {
         Ok(())
@@ -152,7 +187,7 @@ impl RunContext {
 /// 99): when woken it runs ahead of every normally scheduled process on its
 /// core, and it yields its core only to real-time processes. Needs
 /// CAP_SYS_NICE or an RLIMIT_RTPRIO (`ulimit -r`) of at least `priority`.
-pub fn set_fifo_priority(pid: u32, priority: u8) -> io::Result<()> {
+pub(crate) fn set_fifo_priority(pid: u32, priority: u8) -> io::Result<()> {
     let pid = libc::pid_t::try_from(pid).map_err(|_| io::Error::from(io::ErrorKind::InvalidInput))?;
     let param = libc::sched_param {
         sched_priority: i32::from(priority),
@@ -249,7 +284,7 @@ pub fn spawn(binary: &Path, role: Role, args: &[OsString], log: &Path) -> Result
 /// (directly, or with `sh -c` if a shell must read its command), in the
 /// supervisor's working directory, with the run in its
 /// environment (`shm_layouts/README.md`: the world process's environment).
-pub fn spawn_world(
+pub(crate) fn spawn_world(
     spec: &ExperimentSpec,
     context: &RunContext,
     namespace: &Namespace,
@@ -262,7 +297,6 @@ pub fn spawn_world(
             source: io::Error::other(format!("the experiment is {}, not a world", spec.domain.name())),
         });
     };
-    use super::supervisor::world_env;
     let seed = derive_seed(derive_seed(spec.seed, context.run as u64), WORLD_SEED_STREAM);
     let mut command = world_command(line);
     command
@@ -339,7 +373,7 @@ fn spawn_child(mut command: Command, what: &str, log: &Path) -> Result<Child, La
 /// echo), started as the run's processes are; killed with its group when
 /// dropped, if it has not exited.
 #[derive(Debug)]
-pub struct Helper {
+pub(crate) struct Helper {
     child: Child,
 }
 

@@ -8,7 +8,7 @@ use std::thread::JoinHandle;
 
 /// Busy threads, one per core asked for, spinning until dropped.
 #[derive(Debug)]
-pub struct CpuLoad {
+pub(crate) struct CpuLoad {
     stop: Arc<AtomicBool>,
     threads: Vec<JoinHandle<()>>,
 }

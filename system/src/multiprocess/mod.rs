@@ -21,6 +21,7 @@
 //!
 //! See docs/ARCHITECTURE.md for one snapshot's way through the processes.
 
+pub mod agent_chassis;
 pub mod agent_process;
 pub mod background_save;
 pub mod bench_latency;
@@ -77,7 +78,7 @@ impl Named for Clock {
 
 /// What every process of a run shares: who the run is and how its processes
 /// talk. The supervisor passes it to its children on their command lines
-/// ([`RunContext::to_args`], parsed by [`crate::cli::RunContextArgs`]).
+/// ([`RunContext::to_args`], parsed by the binaries as `child_args::RunContextArgs`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunContext {
     /// The run's id (every message carries it).
@@ -195,11 +196,11 @@ pub enum ProcessError {
 }
 
 /// How often a process sends its heartbeat.
-pub const HEARTBEAT_EVERY: Duration = Duration::from_millis(100);
+pub(crate) const HEARTBEAT_EVERY: Duration = Duration::from_millis(100);
 
 /// A process's heartbeat: its pulse, published every [`HEARTBEAT_EVERY`].
 #[derive(Debug)]
-pub struct Pacemaker {
+pub(crate) struct Pacemaker {
     /// What the next heartbeat says.
     pub pulse: Pulse,
     run_id: u64,

@@ -20,13 +20,15 @@ use std::time::{Duration, Instant};
 use serde::Serialize;
 
 use super::RunContext;
-use super::agent_process::checkpoint_name;
+use super::agent_chassis::checkpoint_name;
 use super::floor_probe::{FloorPayload, FloorProbe, KeepawayFloor, WorldFloor};
 use super::launch::{Binaries, Helper, Process, spawn};
-use super::supervisor::{BRIDGE_STOP_GRACE, EXIT_CANNOT_RESUME, Fault, SupervisorError, json_error};
-use crate::bridge::JOIN_TIMEOUT;
-use crate::bridge::refusals::LinkReport;
-use crate::bridge::remote::{OUTBOX, RunInfo};
+use super::supervisor::config::{EXIT_CANNOT_RESUME, SupervisorError, json_error};
+use super::supervisor::hand_off::BRIDGE_STOP_GRACE;
+use super::supervisor::watch::Fault;
+use crate::hosts::JOIN_TIMEOUT;
+use crate::hosts::report::LinkReport;
+use crate::hosts::run_info::{OUTBOX, RunInfo};
 use crate::ipc::convert::{control_message, read_heartbeat};
 use crate::ipc::namespace::Namespace;
 use crate::ipc::protocol::{Order, Role, Roster};
@@ -51,7 +53,7 @@ pub struct RemoteConfig {
 }
 
 /// How long the remote host waits for host A to acknowledge its files.
-pub const SHIPPING_TIMEOUT: Duration = Duration::from_secs(30);
+pub(crate) const SHIPPING_TIMEOUT: Duration = Duration::from_secs(30);
 
 /// What a remote host did (its `summary.json`).
 #[derive(Debug, Clone, Serialize)]
@@ -136,7 +138,7 @@ impl Host<'_> {
             "--side".into(),
             "remote".into(),
             "--run-info".into(),
-            self.work_dir.join(super::supervisor::RUN_INFO_FILE).into(),
+            self.work_dir.join(super::supervisor::hand_off::RUN_INFO_FILE).into(),
             "--work-dir".into(),
             self.work_dir.clone().into(),
         ];
@@ -149,7 +151,7 @@ impl Host<'_> {
             None => args.push("--insecure-plain-tcp".into()),
         }
         let process = spawn(
-            &self.config.binaries.bridge,
+            self.config.binaries.bridge()?,
             Role::Bridge,
             &args,
             &self.log(Role::Bridge),
@@ -207,7 +209,7 @@ impl Host<'_> {
 
     /// Waits for the bridge to fetch the run's description; `None` on stop.
     fn await_run(&mut self, stop: &AtomicBool) -> Result<Option<RunInfo>, SupervisorError> {
-        let path = self.work_dir.join(super::supervisor::RUN_INFO_FILE);
+        let path = self.work_dir.join(super::supervisor::hand_off::RUN_INFO_FILE);
         let deadline = Instant::now() + JOIN_TIMEOUT + Duration::from_secs(5);
         while Instant::now() < deadline && !stop.load(Ordering::Relaxed) {
             if let Ok(info) = RunInfo::read(&path) {

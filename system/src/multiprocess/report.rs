@@ -14,9 +14,11 @@ use super::Clock;
 use super::agent_process::compute_histogram;
 use super::floor_probe::REMOTE_HOST_FLOOR;
 use super::sim_process::{AbortedEpisode, FLOOR, ROUND_TRIP, keeper_round_trip_histogram};
-use super::supervisor::{Fault, ResumeCheck, RunRecord, SupervisorConfig, SupervisorError, json_error};
+use super::supervisor::config::{SupervisorConfig, SupervisorError, json_error};
+use super::supervisor::results::{ResumeCheck, RunRecord};
+use super::supervisor::watch::Fault;
 use super::world_agent::WORLD_TURNAROUND;
-use crate::bridge::refusals::LinkReport;
+use crate::hosts::report::LinkReport;
 use crate::ipc::convert::Rejections;
 use crate::ipc::wait::WaitStrategy;
 use crate::latency::plot::{ReferenceLine, percentile_plot};
@@ -113,7 +115,7 @@ pub struct SystemSummary {
 
 /// Every histogram of the launch, runs merged: round trip, floor, each
 /// keeper's compute time, and all keepers' compute time.
-pub fn merged_histograms(records: &[RunRecord]) -> Result<Vec<Latency>, SupervisorError> {
+pub(crate) fn merged_histograms(records: &[RunRecord]) -> Result<Vec<Latency>, SupervisorError> {
     let mut merged: Vec<Latency> = Vec::new();
     for record in records {
         for h in &record.histograms {
@@ -136,7 +138,7 @@ fn find<'a>(histograms: &'a [Latency], name: &str) -> Option<&'a Latency> {
 }
 
 /// The summary of `records` (one per run started).
-pub fn summarize(
+pub(crate) fn summarize(
     config: &SupervisorConfig,
     records: &[RunRecord],
     histograms: &[Latency],
@@ -299,7 +301,7 @@ impl Report {
 /// Writes the run's files into `files` and publishes them as one set: the
 /// experiment's (when a run completed), `summary.json`, `latency/*.hgrm` and
 /// `latency/*.hdr`, and `latency.svg`.
-pub fn write_report(
+pub(crate) fn write_report(
     mut files: ResultWriter<'_>,
     config: &SupervisorConfig,
     records: &[RunRecord],

@@ -16,7 +16,7 @@ use std::time::{Duration, Instant};
 use serde::{Deserialize, Serialize};
 use shm_layouts::{Header, KeeperCommand, KeeperSnapshot, PROTOCOL_VERSION, SENDER_SIMULATOR};
 
-use super::journal::{self, JOURNAL_FILE, Journal, JournalEntry};
+use super::journal::{self, Journal};
 use super::{Clock, Pacemaker, ProcessError, RunContext};
 use crate::ipc::convert::{
     Rejection, Rejections, command_message, episode_event, read_agent_report, read_command, read_control, snapshot,
@@ -33,6 +33,7 @@ use learnpnp::keepaway_sim::command::Command;
 use learnpnp::keepaway_sim::perception::PlayerView;
 use learnpnp::keepaway_sim::world::NUM_KEEPERS;
 use learnpnp::learning::{EpisodeMode, EpisodeStart};
+use learnpnp::rng::SimRng;
 
 /// File name of the simulator's result in its work directory.
 pub const RESULT_FILE: &str = "simulator.json";
@@ -42,16 +43,16 @@ pub const ROUND_TRIP: &str = "roundtrip";
 
 /// The name of keeper `k`'s own round-trip histogram (a remote keeper's is
 /// the round trip across the link between hosts).
-pub fn keeper_round_trip_histogram(k: usize) -> String {
+pub(crate) fn keeper_round_trip_histogram(k: usize) -> String {
     format!("{ROUND_TRIP}-keeper{}", k + 1)
 }
 
 /// Histogram of the bare iceoryx2 round trip of the same payload.
-pub const FLOOR: &str = "floor";
+pub(crate) const FLOOR: &str = "floor";
 
 /// How long the simulator waits for its agents to connect, or for a lost
 /// keeper's replacement, before it gives up.
-pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(60);
+pub(crate) const CONNECT_TIMEOUT: Duration = Duration::from_secs(60);
 
 /// An episode discarded because a keeper was lost.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -64,6 +65,22 @@ pub struct AbortedEpisode {
     pub cycles: u32,
     /// The keepers lost (1-based, as the report names them).
     pub keepers: Vec<usize>,
+}
+
+/// The journal's file name in the simulator's work directory.
+pub const JOURNAL_FILE: &str = "simulator.journal";
+
+/// One whole episode.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub(crate) struct JournalEntry {
+    /// Learning, evaluation or greedy.
+    pub mode: EpisodeMode,
+    /// What it earned.
+    pub outcome: EpisodeOutcome,
+    /// The simulator's random state after it.
+    pub rng: SimRng,
+    /// The counters after it.
+    pub totals: SimTotals,
 }
 
 /// The simulator's counters. They survive a restart: the journal carries
@@ -569,7 +586,7 @@ fn sample_floor(link: &mut Link, at: Instant, deadline: Instant) -> Result<(), T
 }
 
 /// The Keepaway configuration of `spec`, if the multi-process system can run it.
-pub fn keepaway_config(spec: &ExperimentSpec) -> Result<KeepawayDomainConfig, ProcessError> {
+pub(crate) fn keepaway_config(spec: &ExperimentSpec) -> Result<KeepawayDomainConfig, ProcessError> {
     use learnpnp::domains::keepaway::KeepawayMode;
     match &spec.domain {
         DomainSpec::Keepaway { config, .. } if matches!(config.mode, KeepawayMode::Pass | KeepawayMode::Position) => {
@@ -757,7 +774,7 @@ fn learning_episodes(path: &Path) -> Result<Vec<EpisodeRecord>, journal::Journal
 
 /// The file of histogram `name` recorded by this process: `<name>.<pid>.hdr`
 /// (every incarnation of a process writes its own; the supervisor merges them).
-pub fn histogram_file(dir: &Path, name: &str) -> PathBuf {
+pub(crate) fn histogram_file(dir: &Path, name: &str) -> PathBuf {
     dir.join(format!("{name}.{}.hdr", std::process::id()))
 }
 

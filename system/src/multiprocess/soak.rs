@@ -20,7 +20,10 @@ use plotters::prelude::*;
 use serde::Serialize;
 
 use super::chaos::{Chaos, ChaosRecord, SoakClock};
-use super::supervisor::{Fault, Request, RunObserver, RunRecord, RunView, SupervisorError, json_error};
+use super::supervisor::config::{SupervisorError, json_error};
+use super::supervisor::observe::{Request, RunObserver, RunView};
+use super::supervisor::results::RunRecord;
+use super::supervisor::watch::Fault;
 use crate::ipc::namespace::SHM_DIR;
 use crate::latency::plot::PlotFailure;
 use learnpnp::experiment::plot::{FONT, PLOT_SIZE, colour};
@@ -45,7 +48,7 @@ const ENDS: usize = 5;
 const FAULT_SETTLE_SECONDS: f64 = 5.0;
 
 /// The verdict's memory-growth limit, in percent.
-pub const RSS_GROWTH_LIMIT: f64 = 1.0;
+pub(crate) const RSS_GROWTH_LIMIT: f64 = 1.0;
 
 /// When a soak ends.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -58,7 +61,7 @@ pub struct SoakLimits {
 
 /// One process at one second of the soak.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Sample {
+pub(crate) struct Sample {
     /// Seconds since the soak began.
     pub seconds: f64,
     /// `supervisor`, `simulator`, `keeper 1`, ...
@@ -188,26 +191,7 @@ impl Soak {
     }
 }
 
-/// Why the soak's sample log cannot be written or read back.
-#[derive(Debug, thiserror::Error)]
-pub enum SampleLogError {
-    /// The file cannot be written or read.
-    #[error("{path}: {source}")]
-    Io {
-        /// The log.
-        path: PathBuf,
-        /// The error.
-        source: std::io::Error,
-    },
-    /// A line of it is not a sample.
-    #[error("{path}: unreadable sample {line:?}")]
-    Unreadable {
-        /// The log.
-        path: PathBuf,
-        /// The line.
-        line: String,
-    },
-}
+pub use super::supervisor::config::SampleLogError;
 
 /// `soak.csv`, written as the samples are taken.
 #[derive(Debug)]

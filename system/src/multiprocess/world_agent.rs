@@ -12,20 +12,18 @@
 //! the plan, answer with the action's index in the world's vocabulary.
 
 use std::collections::VecDeque;
-use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
 use shm_layouts::MAX_ARGS;
 
-use super::agent_process::{checkpoint_name, load_checkpoint, resumed_file};
-use super::background_save::{BackgroundSave, CHECKPOINT_SPACING, Checkpoint};
+use super::agent_chassis::{Chassis, load_checkpoint, report};
 use super::journal::{self, Journal};
-use super::sim_process::{ROUND_TRIP, SimTotals, SimulatorResult, histogram_file};
+use super::sim_process::{ROUND_TRIP, SimTotals, SimulatorResult};
 use super::{Clock, HEARTBEAT_EVERY, Pacemaker, ProcessError, RunContext};
-use crate::ipc::convert::{Rejection, agent_report, read_control};
-use crate::ipc::protocol::{AgentNews, Order, ProcessState, Role};
+use crate::ipc::convert::{Rejection, read_control};
+use crate::ipc::protocol::{Order, ProcessState, Role};
 use crate::ipc::services::{WorldAgentPorts, node, receive, send};
 use crate::ipc::wait::{Idle, MAX_BLOCK};
 use crate::ipc::world::{
@@ -37,7 +35,7 @@ use learnpnp::agent::stepwise::{ActionOutcome, StepError, StepwiseAgent, action_
 use learnpnp::domains::{EpisodeOutcome, Task, TaskError};
 use learnpnp::experiment::runner::{RunOutput, learner_for, run_protocol};
 use learnpnp::experiment::spec::{DomainSpec, ExperimentError};
-use learnpnp::learning::persist::{self, SavedValues};
+use learnpnp::learning::persist::SavedValues;
 use learnpnp::learning::{EpisodeMode, Learner};
 use learnpnp::named::Named;
 use learnpnp::plan_file::load_plan;
@@ -53,7 +51,7 @@ const JOURNAL_GATHERING: Duration = Duration::from_millis(10);
 const HOUSEKEEPING_EVERY: Duration = Duration::from_millis(1);
 
 /// How long an agent waits for the world's vocabulary before it gives up.
-pub const VOCABULARY_TIMEOUT: Duration = Duration::from_secs(60);
+pub(crate) const VOCABULARY_TIMEOUT: Duration = Duration::from_secs(60);
 
 /// The histogram of the world's turnaround as the agents see it: from the
 /// world's reading of an agent's command to its publishing that agent's
@@ -172,8 +170,7 @@ struct Episode {
 
 /// The agent while it runs.
 struct WorldAgent {
-    context: RunContext,
-    settings: WorldAgentSettings,
+    chassis: Chassis,
     ports: WorldAgentPorts,
     stepwise: StepwiseAgent,
     binding: Binding,
@@ -183,12 +180,8 @@ struct WorldAgent {
     atoms: usize,
     fluents: usize,
     algorithm: &'static str,
-    pacemaker: Pacemaker,
-    compute: Latency,
     round_trip: Latency,
     world_turnaround: Latency,
-    checkpoint: PathBuf,
-    saver: BackgroundSave,
     /// Journal entries that could not be written.
     journal_failures: u64,
     journal: Journal,
@@ -205,19 +198,12 @@ struct WorldAgent {
     answered: Option<(u64, u64)>,
     episode: Option<Episode>,
     backlog: VecDeque<WorldView>,
-    learning_episodes: u64,
     stop: bool,
-}
-
-/// Writes a line to the agent's log (its stderr), ignoring a failed write.
-fn report(line: &str) {
-    use std::io::Write as _;
-    let _ = writeln!(std::io::stderr(), "{line}");
 }
 
 impl WorldAgent {
     fn count(&mut self, why: Rejection) {
-        self.pacemaker.pulse.rejected.count(why);
+        self.chassis.count(why);
         self.totals.rejected.count(why);
     }
 
@@ -235,23 +221,15 @@ impl WorldAgent {
     fn save(&mut self) {
         let written = self.journal.flush();
         self.count_journal_failure(written);
-        let mut files = Vec::new();
-        for histogram in [&self.compute, &self.round_trip, &self.world_turnaround] {
-            match histogram.to_bytes() {
-                Ok(bytes) => files.push((histogram_file(&self.context.work_dir, histogram.name()), bytes)),
-                Err(e) => report(&format!("error: {e}")),
-            }
-        }
-        self.saver.submit(Checkpoint {
-            values: Some((self.checkpoint.clone(), self.values())),
-            files,
-        });
+        let values = self.values();
+        self.chassis
+            .save(Some(values), &[&self.round_trip, &self.world_turnaround]);
     }
 
     /// Checkpoints and waits until it is written.
     fn save_now(&mut self) {
         self.save();
-        self.saver.flush();
+        self.chassis.flush();
     }
 
     /// Reports and counts a journal write that failed.
@@ -267,16 +245,17 @@ impl WorldAgent {
     fn housekeeping(&mut self) -> Result<(), ProcessError> {
         let written = self.journal.flush_if_due();
         self.count_journal_failure(written);
-        self.pacemaker.pulse.cycles = self.totals.cycles;
-        self.pacemaker.pulse.checkpoints = self.saver.written();
-        self.pacemaker.pulse.checkpoint_failures = self.saver.failed() + self.journal_failures;
-        self.pacemaker.tick(&self.ports.heartbeat)?;
-        let (me, run_id) = (Role::Agent(self.settings.agent), self.context.run_id);
-        while let Some(order) = receive(&self.ports.control, |m| read_control(m, me, run_id))? {
+        self.chassis.pacemaker.pulse.cycles = self.totals.cycles;
+        self.chassis.tick(&self.ports.heartbeat, self.journal_failures)?;
+        let run_id = self.chassis.context.run_id;
+        while let Some(order) = self
+            .chassis
+            .next_order(&self.ports.control, |why| self.totals.rejected.count(why))?
+        {
             match order {
-                Ok(Some(Order::Stop)) => self.stop = true,
-                Ok(Some(Order::Checkpoint)) => self.save_now(),
-                Ok(Some(Order::SimulatorRestarted)) => {
+                Order::Stop => self.stop = true,
+                Order::Checkpoint => self.save_now(),
+                Order::SimulatorRestarted => {
                     // A new world numbers its cycles afresh; the episode in
                     // flight is dropped (the learner is not told its end).
                     self.discard_episode();
@@ -285,17 +264,11 @@ impl WorldAgent {
                     self.backlog.clear();
                     while receive(&self.ports.snapshot, |_| ())?.is_some() {}
                 }
-                Ok(Some(Order::KeeperLost { .. }) | None) => {}
-                Err(why) => self.count(why),
+                Order::KeeperLost { .. } => {}
             }
         }
         if self.announcing && self.announced.is_none_or(|t| t.elapsed() >= HEARTBEAT_EVERY) {
-            let ready = AgentNews::Ready {
-                pid: std::process::id(),
-            };
-            self.ports
-                .report
-                .send(agent_report(ready, self.settings.agent, run_id))?;
+            self.chassis.announce(&self.ports.report)?;
             self.announced = Some(Instant::now());
         }
         answer_floor(&self.ports, run_id)?;
@@ -322,7 +295,12 @@ impl WorldAgent {
     /// follows is skipped, its reward credited to the newer (an agent that
     /// fell behind in real time acts once, on the newest).
     fn next_view(&mut self) -> Result<Option<WorldView>, ProcessError> {
-        let (a, run_id, atoms, fluents) = (self.settings.agent, self.context.run_id, self.atoms, self.fluents);
+        let (a, run_id, atoms, fluents) = (
+            self.chassis.index,
+            self.chassis.context.run_id,
+            self.atoms,
+            self.fluents,
+        );
         while let Some(reading) = receive(&self.ports.snapshot, |m| {
             read_world_snapshot(m, a, run_id, atoms, fluents)
         })? {
@@ -368,7 +346,7 @@ impl WorldAgent {
     /// Takes one snapshot; returns the episode's outcome when it ended.
     fn take(&mut self, view: WorldView, started: Instant) -> Result<Option<EpisodeOutcome>, ProcessError> {
         self.announcing = false;
-        self.pacemaker.pulse.state = ProcessState::Running;
+        self.chassis.pacemaker.pulse.state = ProcessState::Running;
         // The round trip of the last command and the world's turnaround,
         // recorded once the next command is sent (off the cycle's path).
         let timed = match (view.answered, self.answered) {
@@ -446,8 +424,8 @@ impl WorldAgent {
         };
         self.ports
             .command
-            .send(world_command(&order, self.settings.agent, self.context.run_id))?;
-        self.compute.record(compute);
+            .send(world_command(&order, self.chassis.index, self.chassis.context.run_id))?;
+        self.chassis.compute.record(compute);
         self.record_timing(timed);
         self.answered = Some((view.cycle, view.sent_ns));
         if !ended {
@@ -455,7 +433,7 @@ impl WorldAgent {
             return Ok(None);
         }
         self.episode = None;
-        self.pacemaker.pulse.episodes += 1;
+        self.chassis.pacemaker.pulse.episodes += 1;
         Ok(Some(EpisodeOutcome {
             ret: episode.ret,
             actions: episode.actions,
@@ -467,7 +445,7 @@ impl WorldAgent {
     /// Plays the world's next whole episode in `mode`.
     fn play(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, ProcessError> {
         self.stepwise.set_mode(mode);
-        let mut idle = Idle::new(self.context.wait);
+        let mut idle = Idle::new(self.chassis.context.wait);
         let mut kept: Option<Instant> = None;
         loop {
             // The supervisor's commands, the heartbeat and the journal every
@@ -475,7 +453,7 @@ impl WorldAgent {
             // them); in real time, floor pings at every idle poll.
             let busy = match self.next_view()? {
                 Some(view) => {
-                    idle = Idle::new(self.context.wait);
+                    idle = Idle::new(self.chassis.context.wait);
                     if let Some(outcome) = self.take(view, Instant::now())? {
                         return Ok(outcome);
                     }
@@ -489,10 +467,10 @@ impl WorldAgent {
                 if self.stop {
                     return Err(ProcessError::Stopped);
                 }
-            } else if !busy && self.context.clock == Clock::Realtime {
+            } else if !busy && self.chassis.context.clock == Clock::Realtime {
                 // Real time samples the floor side by side with the run;
                 // lock-step measured it before the world started.
-                answer_floor(&self.ports, self.context.run_id)?;
+                answer_floor(&self.ports, self.chassis.context.run_id)?;
             }
             if !busy {
                 idle.pause(&self.ports.wake, MAX_BLOCK)?;
@@ -508,7 +486,7 @@ impl WorldAgent {
     fn record(&mut self, mode: EpisodeMode, outcome: EpisodeOutcome) {
         if mode == EpisodeMode::Learn {
             self.totals.learning_episodes += 1;
-            self.learning_episodes += 1;
+            self.chassis.learning_episodes += 1;
         }
         self.totals.seconds += self.started.elapsed().as_secs_f64();
         self.started = Instant::now();
@@ -519,8 +497,7 @@ impl WorldAgent {
         };
         let written = self.journal.append(&entry);
         self.count_journal_failure(written);
-        let every = self.settings.checkpoint_every;
-        if mode == EpisodeMode::Learn && every > 0 && self.learning_episodes.is_multiple_of(every) && self.saver.due() {
+        if mode == EpisodeMode::Learn && self.chassis.checkpoint_due() {
             self.save();
         }
     }
@@ -532,7 +509,7 @@ impl Task for WorldAgent {
             journal::follows_protocol(entry.mode, mode)?;
             self.totals = entry.totals;
             if entry.mode == EpisodeMode::Learn {
-                self.learning_episodes += 1;
+                self.chassis.learning_episodes += 1;
             }
             return Ok(entry.outcome);
         }
@@ -616,9 +593,15 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
     let (a, agents) = (settings.agent, plans.len());
     let path = plans.get(a).ok_or(ProcessError::NoAgent(a + 1))?;
     let plan = Arc::new(load_plan(path, learnpnp::AllowedAtoms::Open).map_err(ExperimentError::from)?);
-    let checkpoint = context.work_dir.join(checkpoint_name(a));
+    let chassis = Chassis::new(
+        context,
+        Role::Agent(a),
+        a,
+        settings.checkpoint_every,
+        agent_compute_histogram(a),
+    )?;
     let start = if settings.resume {
-        Some(load_checkpoint(&checkpoint, &plan)?)
+        Some(load_checkpoint(&chassis.checkpoint, &plan)?)
     } else {
         spec.load_initial_values(Some(&plan))?.into_iter().nth(a)
     };
@@ -627,9 +610,9 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
     let namespace = context.namespace()?;
     let node = node(&namespace, &format!("agent-{a}"))?;
     let ports = WorldAgentPorts::open(&node, a, context.wait)?;
-    let mut pacemaker = Pacemaker::new(Role::Agent(a), context.run_id);
-    pacemaker.beat(&ports.heartbeat)?;
-    let Some(vocabulary) = await_vocabulary(&ports, &mut pacemaker, context, a)? else {
+    let mut chassis = chassis;
+    chassis.pacemaker.beat(&ports.heartbeat)?;
+    let Some(vocabulary) = await_vocabulary(&ports, &mut chassis.pacemaker, context, a)? else {
         return Ok(());
     };
     if vocabulary.agents != agents {
@@ -648,8 +631,7 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
     };
     let journal = Journal::open(&journal_path, &replay, JOURNAL_GATHERING)?;
     let mut agent = WorldAgent {
-        context: context.clone(),
-        settings: settings.clone(),
+        chassis,
         ports,
         stepwise,
         binding,
@@ -657,12 +639,8 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
         atoms: vocabulary.atoms.len(),
         fluents: vocabulary.fluents.len(),
         algorithm: spec.algorithm.name(),
-        pacemaker,
-        compute: Latency::new(agent_compute_histogram(a)),
         round_trip: Latency::new(ROUND_TRIP),
         world_turnaround: Latency::new(WORLD_TURNAROUND),
-        checkpoint,
-        saver: BackgroundSave::start(CHECKPOINT_SPACING).map_err(ProcessError::Writer)?,
         journal_failures: 0,
         journal,
         replay: replay.into(),
@@ -674,17 +652,14 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
         answered: None,
         episode: None,
         backlog: VecDeque::new(),
-        learning_episodes: 0,
         stop: false,
     };
     if settings.resume {
-        let path = resumed_file(&context.work_dir, a, std::process::id());
-        persist::save(&path, &agent.values())?;
+        agent.chassis.record_resumed(&agent.values())?;
     } else {
         agent.save_now();
     }
-    agent.pacemaker.pulse.state = ProcessState::Ready;
-    agent.pacemaker.beat(&agent.ports.heartbeat)?;
+    agent.chassis.beat(&agent.ports.heartbeat, ProcessState::Ready)?;
     let mut output = RunOutput::default();
     let played = run_protocol(&spec, &mut agent, context.run, true, &mut output, |_| {}, || false);
     agent.save_now();
@@ -705,8 +680,7 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
     // The last heartbeat says the agent is done (a supervisor on another
     // host learns it so); a sample its publisher outlives is lost, so the
     // ports stay a moment for it to be read.
-    agent.pacemaker.pulse.state = ProcessState::Stopping;
-    agent.pacemaker.beat(&agent.ports.heartbeat)?;
+    agent.chassis.beat(&agent.ports.heartbeat, ProcessState::Stopping)?;
     std::thread::sleep(STOPPING_LINGER);
     Ok(())
 }

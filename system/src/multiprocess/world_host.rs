@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use shm_layouts::MAX_FLUENTS;
 
-use super::supervisor::world_env;
+use super::launch::world_env;
 use super::{Clock, HEARTBEAT_EVERY, Pacemaker};
 use crate::ipc::convert::{Rejection, read_agent_report, read_control};
 use crate::ipc::namespace::Namespace;

@@ -30,7 +30,7 @@ struct Args {
 fn run() -> anyhow::Result<()> {
     let args = Args::parse();
     let loaded = mapping::load(&args.mapping)?;
-    // The secure link's own configuration (learnpnp_system::bridge::link):
+    // The secure link's own configuration (learnpnp_bridge::link):
     // multicast scouting and gossip off, explicit endpoints, mutual TLS over
     // QUIC with the run's certificates when `tls` names their directory.
     let session = link::open(&loaded.mapping.zenoh, &loaded.dir).context("opening the zenoh session")?;

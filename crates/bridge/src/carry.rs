@@ -26,10 +26,10 @@ use zenoh::pubsub::{Publisher, Subscriber};
 use zenoh::sample::Locality;
 use zenoh::{Session, Wait};
 
-use super::refusals::LinkRefusals;
 use super::{BridgeError, zenoh_error};
-use crate::ipc::services::{BridgePorts, Ipc, fail};
-use crate::ipc::wait::WaitStrategy;
+use learnpnp_system::hosts::report::LinkRefusals;
+use learnpnp_system::ipc::services::{BridgePorts, Ipc, fail};
+use learnpnp_system::ipc::wait::WaitStrategy;
 
 /// Which way a service is carried.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -211,7 +211,7 @@ pub struct Route {
     /// The wake-up services of the processes here that receive it.
     pub receivers: Vec<String>,
     /// The run's processes (the service's limits follow from them).
-    pub roster: crate::ipc::protocol::Roster,
+    pub roster: learnpnp_system::ipc::protocol::Roster,
 }
 
 /// One service of `T`, carried.

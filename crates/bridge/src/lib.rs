@@ -1,7 +1,9 @@
-//! A run across hosts: each host's bridge (`learnpnp-bridge`) carries the
+//! `learnpnp-bridge`: a run across hosts: each host's bridge (the binary
+//! `learnpnp-bridge`, which the host's supervisor starts) carries the
 //! run's services between the host's iceoryx2 namespace and the other hosts
 //! over Zenoh (TLS with mutual authentication by the run's private CA,
-//! explicit endpoints, multicast scouting off: [`link`], [`certs`]).
+//! explicit endpoints, multicast scouting off: [`link`], and
+//! [`learnpnp_system::hosts::certs`]).
 //!
 //! Host A runs the simulator or world, the supervisor and the local agents;
 //! host B runs the remote agents under a supervisor of its own
@@ -11,7 +13,7 @@
 //! the service's name and tagged with the type's name and the protocol
 //! version ([`carry`]), and publishes what arrives into the local service,
 //! where the receiving process validates it as it validates every message.
-//! Host A's bridge answers host B's request for the run ([`remote::RunInfo`]);
+//! Host A's bridge answers host B's request for the run ([`learnpnp_system::hosts::run_info::RunInfo`]);
 //! at the end, host B's bridge ships the remote agents' checkpoints and
 //! histograms to host A ([`remote::FileShipping`]), whose report covers the
 //! whole run.
@@ -21,9 +23,10 @@
 //! bridge takes from the link only the senders and orders the route carries
 //! and the files the run expects, counting what it refuses ([`refusals`]).
 
+#![deny(missing_docs)]
+
 pub mod access;
 pub mod carry;
-pub mod certs;
 pub mod link;
 pub mod refusals;
 pub mod remote;
@@ -38,10 +41,10 @@ pub enum BridgeError {
     Zenoh(String),
     /// Shared memory failed.
     #[error(transparent)]
-    Ipc(#[from] crate::ipc::services::IpcError),
+    Ipc(#[from] learnpnp_system::ipc::services::IpcError),
     /// The namespace is unusable.
     #[error(transparent)]
-    Namespace(#[from] crate::ipc::namespace::NamespaceError),
+    Namespace(#[from] learnpnp_system::ipc::namespace::NamespaceError),
     /// A file cannot be read or written.
     #[error("{path}: {source}")]
     Io {
@@ -55,7 +58,10 @@ pub enum BridgeError {
     RunInfo(String),
     /// The host's certificates are unusable.
     #[error(transparent)]
-    Certs(#[from] certs::CertError),
+    Certs(#[from] learnpnp_system::hosts::certs::CertError),
+    /// The run's description file cannot be read or written.
+    #[error(transparent)]
+    RunInfoFile(#[from] RunInfoError),
 }
 
 /// A Zenoh error as a [`BridgeError`].
@@ -76,14 +82,17 @@ use shm_layouts::{
 use zenoh::Session;
 
 use carry::{Carried, Carrier, Carry, Direction, Moved, RemoteOrders, Route, Source};
-use link::{Endpoints, PLAIN_TCP_WARNING, Security};
-use refusals::{LinkReport, ZenohRefusals};
-use remote::{ExpectedFiles, FileShipping, RunInfo, fetch_run_info, serve_run_info};
+use learnpnp_system::hosts::report::LinkReport;
+use learnpnp_system::hosts::run_info::{RunInfo, RunInfoError};
+use learnpnp_system::hosts::{JOIN_TIMEOUT, PLAIN_TCP_WARNING};
+use link::{Endpoints, Security};
+use refusals::ZenohRefusals;
+use remote::{ExpectedFiles, FileShipping, fetch_run_info, serve_run_info};
 
-use crate::ipc::namespace::Namespace;
-use crate::ipc::protocol::{Role, Roster};
-use crate::ipc::services::{Ipc, node, wake_name};
-use crate::ipc::wait::WaitStrategy;
+use learnpnp_system::ipc::namespace::Namespace;
+use learnpnp_system::ipc::protocol::{Role, Roster};
+use learnpnp_system::ipc::services::{Ipc, node, wake_name};
+use learnpnp_system::ipc::wait::WaitStrategy;
 
 /// Which host a bridge serves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -112,9 +121,6 @@ pub struct BridgeConfig {
     /// host: whose `outbox` is shipped).
     pub work_dir: std::path::PathBuf,
 }
-
-/// How long a remote host's bridge asks for the run before giving up.
-pub const JOIN_TIMEOUT: Duration = Duration::from_secs(60);
 
 /// Host A's name in the keys of a service keyed by host.
 const HOST_A: &str = "host-a";
@@ -359,7 +365,7 @@ impl<'a> Reporting<'a> {
             return Ok(());
         }
         report.write(self.dir).map_err(|source| BridgeError::Io {
-            path: self.dir.join(refusals::LINK_REPORT_FILE),
+            path: self.dir.join(learnpnp_system::hosts::report::LINK_REPORT_FILE),
             source,
         })?;
         self.written = Some(report);

@@ -6,15 +6,15 @@
 //! A's orders, the files' acknowledgements), and ask for the run's
 //! description; a monitor's certificate may only subscribe to the heartbeats
 //! and the episode events. Subjects are certificates' common names
-//! ([`super::certs`]), never Zenoh ids or interfaces (a Zenoh id is not
+//! ([`learnpnp_system::hosts::certs`]), never Zenoh ids or interfaces (a Zenoh id is not
 //! authenticated). What it denies is counted ([`super::refusals`]).
 
 use serde_json::{Value, json};
 use shm_layouts::services;
 
 use super::carry::{Direction, Route, Source, key};
-use super::certs::{HOST_B_NAME, MONITOR_NAME};
 use super::remote::{ExpectedFiles, RUN_INFO_KEY, ack_key, file_key};
+use learnpnp_system::hosts::certs::{HOST_B_NAME, MONITOR_NAME};
 
 /// The keys of `route` that host B publishes on, those host A's bridge
 /// subscribes to them by (announced to host B, whose publishers send only

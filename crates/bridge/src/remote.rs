@@ -1,5 +1,5 @@
 //! What the hosts of a run tell each other besides the services: host A's
-//! description of the run ([`RunInfo`], asked for by host B's bridge before
+//! description of the run ([`RunInfo`], written by its supervisor and asked for by host B's bridge before
 //! anything else), and, at the end, host B's files (the remote agents'
 //! checkpoints and histograms) for host A's report ([`FileShipping`]).
 
@@ -8,67 +8,17 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use crossbeam::channel::{Receiver, unbounded};
-use serde::{Deserialize, Serialize};
 use zenoh::pubsub::Subscriber;
 use zenoh::query::Queryable;
 use zenoh::{Session, Wait};
 
-use super::refusals::LinkRefusals;
 use super::{BridgeError, zenoh_error};
-use crate::ipc::protocol::Roster;
-use crate::ipc::wait::WaitStrategy;
-use crate::multiprocess::Clock;
+use learnpnp_system::hosts::report::LinkRefusals;
+use learnpnp_system::hosts::run_info::{OUTBOX, RunInfo};
+use learnpnp_system::ipc::protocol::Roster;
 
 /// The Zenoh key of the run's description (one run per link).
 pub const RUN_INFO_KEY: &str = "learnpnp/run-info";
-
-/// The directory of host B's work directory whose files its bridge ships.
-pub const OUTBOX: &str = "outbox";
-
-/// What host B needs to join host A's run.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct RunInfo {
-    /// Host A's iceoryx2 prefix: the run's name in every Zenoh key.
-    pub prefix: String,
-    /// The run's id (every message carries it).
-    pub run_id: u64,
-    /// The run's index in the experiment (it derives the seeds).
-    pub run: usize,
-    /// The run's processes.
-    pub roster: Roster,
-    /// The agents on other hosts (0-based).
-    pub remote: Vec<usize>,
-    /// Lock-step or real time.
-    pub clock: Clock,
-    /// How processes wait.
-    pub wait: WaitStrategy,
-    /// Agents checkpoint every this many learning episodes.
-    pub checkpoint_every: u64,
-    /// Round trips of each host's floor measurement.
-    pub floor_round_trips: usize,
-    /// The experiment, as `summary.json` holds it.
-    pub spec: serde_json::Value,
-}
-
-impl RunInfo {
-    /// Reads it from `path`.
-    pub fn read(path: &Path) -> Result<Self, BridgeError> {
-        let text = std::fs::read(path).map_err(|source| BridgeError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        serde_json::from_slice(&text).map_err(|e| BridgeError::RunInfo(format!("{}: {e}", path.display())))
-    }
-
-    /// Writes it to `path` (atomically).
-    pub fn write(&self, path: &Path) -> Result<(), BridgeError> {
-        let json = serde_json::to_vec_pretty(self).map_err(|e| BridgeError::RunInfo(e.to_string()))?;
-        atomic_file::write_atomic(path, &json).map_err(|source| BridgeError::Io {
-            path: path.to_path_buf(),
-            source,
-        })
-    }
-}
 
 /// Host A: answers host B's request for the run. Over a secure link, host
 /// A's access control lets only host B's certificate ask
@@ -133,10 +83,13 @@ pub struct ExpectedFiles {
 impl ExpectedFiles {
     /// The files of `info`'s remote agents.
     pub fn of(info: &RunInfo) -> Self {
-        use crate::multiprocess::agent_process::{checkpoint_name, compute_histogram};
-        use crate::multiprocess::floor_probe::REMOTE_HOST_FLOOR;
-        use crate::multiprocess::sim_process::ROUND_TRIP;
-        use crate::multiprocess::world_agent::{WORLD_TURNAROUND, agent_compute_histogram, agent_result_file};
+        use learnpnp_system::multiprocess::agent_chassis::checkpoint_name;
+        use learnpnp_system::multiprocess::agent_process::compute_histogram;
+        use learnpnp_system::multiprocess::floor_probe::REMOTE_HOST_FLOOR;
+        use learnpnp_system::multiprocess::sim_process::ROUND_TRIP;
+        use learnpnp_system::multiprocess::world_agent::{
+            WORLD_TURNAROUND, agent_compute_histogram, agent_result_file,
+        };
         let mut exact: Vec<String> = info.remote.iter().map(|&a| checkpoint_name(a)).collect();
         let mut histograms = vec![REMOTE_HOST_FLOOR.to_string()];
         match info.roster {
@@ -340,6 +293,8 @@ impl FileShipping {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use learnpnp_system::ipc::wait::WaitStrategy;
+    use learnpnp_system::multiprocess::Clock;
 
     fn info(roster: Roster, remote: Vec<usize>) -> RunInfo {
         RunInfo {

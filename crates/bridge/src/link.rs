@@ -1,6 +1,6 @@
 //! The Zenoh session joining a run's hosts. By default an encrypted link
 //! with mutual authentication: every host presents a certificate of the
-//! run's private CA ([`super::certs`]) and trusts no other root; host B
+//! run's private CA ([`learnpnp_system::hosts::certs`]) and trusts no other root; host B
 //! verifies that host A's certificate names the address it connects to;
 //! host A's router admits each peer only to the keys its certificate's
 //! common name may use ([`super::access`]). Plain TCP (no encryption, no
@@ -23,8 +23,8 @@
 
 use zenoh::{Config, Session, Wait};
 
-use super::certs::HostFiles;
 use super::{BridgeError, zenoh_error};
+use learnpnp_system::hosts::certs::HostFiles;
 
 /// Where a bridge listens and whom it connects to (`quic/ADDRESS:PORT`, or
 /// `tcp/ADDRESS:PORT` with [`Security::PlainTcp`]).
@@ -44,10 +44,6 @@ pub enum Security {
     /// Plain TCP: anyone who reaches the port can read the run and take it over.
     PlainTcp,
 }
-
-/// What [`Security::PlainTcp`] gives up, for logs and reports.
-pub const PLAIN_TCP_WARNING: &str = "the link between hosts is plain TCP (--insecure-plain-tcp): not encrypted, \
-     no host authenticated, no access control; anyone who reaches the bridge's port can read the run and take it over";
 
 impl Security {
     /// The endpoints' scheme.

@@ -22,7 +22,7 @@ use rcgen::{
 };
 
 /// The common name of host A's certificate.
-pub const HOST_A_NAME: &str = "learnpnp-host-a";
+pub(crate) const HOST_A_NAME: &str = "learnpnp-host-a";
 
 /// The common name of host B's certificate (the host of remote agents).
 pub const HOST_B_NAME: &str = "learnpnp-host-b";
@@ -31,13 +31,13 @@ pub const HOST_B_NAME: &str = "learnpnp-host-b";
 pub const MONITOR_NAME: &str = "learnpnp-monitor";
 
 /// The CA's certificate, in every host's directory and in `ca/`.
-pub const CA_CERT: &str = "ca.pem";
+pub(crate) const CA_CERT: &str = "ca.pem";
 
 /// The CA's private key, in `ca/` only.
-pub const CA_KEY: &str = "ca-key.pem";
+pub(crate) const CA_KEY: &str = "ca-key.pem";
 
 /// A host's certificate, in its directory.
-pub const CERT: &str = "cert.pem";
+pub(crate) const CERT: &str = "cert.pem";
 
 /// A host's private key, in its directory.
 pub const KEY: &str = "key.pem";
@@ -52,10 +52,10 @@ pub const HOST_A_DIR: &str = "host-a";
 pub const HOST_B_DIR: &str = "host-b";
 
 /// How long a host's certificate is valid, in days.
-pub const HOST_VALID_DAYS: i64 = 365;
+pub(crate) const HOST_VALID_DAYS: i64 = 365;
 
 /// How long the CA is valid, in days.
-pub const CA_VALID_DAYS: i64 = 10 * 365;
+pub(crate) const CA_VALID_DAYS: i64 = 10 * 365;
 
 /// Why certificates cannot be made or read.
 #[derive(Debug, thiserror::Error)]
