@@ -13,9 +13,9 @@ use learnpnp::domains::Task;
 use learnpnp::domains::keepaway::{KeepawayDomainConfig, KeepawayMode, KeepawayTask};
 use learnpnp::experiment::defaults::default_learner;
 use learnpnp::experiment::spec::{Algorithm, DomainSpec};
-use learnpnp::keepaway_sim::VisionMode;
 use learnpnp::learning::EpisodeMode;
 use learnpnp::rng::{derive_seed, seeded};
+use learnpnp_keepaway::VisionMode;
 use std::sync::Arc;
 
 const CYCLES: u64 = 10_000;

@@ -4,8 +4,8 @@
 //! physics and referee alone.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use learnpnp::keepaway_sim::world::NUM_PLAYERS;
-use learnpnp::keepaway_sim::{BaselinePolicy, Command, Keepaway, KeepawayConfig, Simulator, VisionMode};
+use learnpnp_keepaway::world::NUM_PLAYERS;
+use learnpnp_keepaway::{BaselinePolicy, Command, Keepaway, KeepawayConfig, Simulator, VisionMode};
 use std::hint::black_box;
 
 /// Cycles simulated per benchmark iteration.

@@ -13,8 +13,8 @@
 use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
-use learnpnp::keepaway_sim::policies::BaselinePolicy;
-use learnpnp::keepaway_sim::{EndReason, KeepawayConfig, VisionMode, run_episode};
+use learnpnp_keepaway::policies::BaselinePolicy;
+use learnpnp_keepaway::{EndReason, KeepawayConfig, VisionMode, run_episode};
 
 /// Plays `n` episodes with a policy made by `make` (from the episode index) and
 /// prints the mean duration with its 95% confidence interval (normal

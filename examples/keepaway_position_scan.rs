@@ -14,13 +14,13 @@
 use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
-use learnpnp::keepaway_sim::features::{DEFAULT_HOLD_THRESHOLD, PassLineDistances};
-use learnpnp::keepaway_sim::keeper::{KeeperAction, KeeperPolicy, SupportAction};
-use learnpnp::keepaway_sim::params::KeepawayConfig;
-use learnpnp::keepaway_sim::policies::threshold_policy;
-use learnpnp::keepaway_sim::positions::PositioningPoint;
-use learnpnp::keepaway_sim::run_episode;
-use learnpnp::keepaway_sim::view::PlayerView;
+use learnpnp_keepaway::features::{DEFAULT_HOLD_THRESHOLD, PassLineDistances};
+use learnpnp_keepaway::keeper::{KeeperAction, KeeperPolicy, SupportAction};
+use learnpnp_keepaway::params::KeepawayConfig;
+use learnpnp_keepaway::policies::threshold_policy;
+use learnpnp_keepaway::positions::PositioningPoint;
+use learnpnp_keepaway::run_episode;
+use learnpnp_keepaway::view::PlayerView;
 
 /// The threshold policy with the ball; a fixed point per keeper (or get-open) otherwise.
 struct Static {

@@ -17,11 +17,11 @@ use std::collections::BTreeMap;
 use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
-use learnpnp::keepaway_sim::policies::BaselinePolicy;
-use learnpnp::keepaway_sim::timing::{SeeArrival, SeePhase, see_arrival};
-use learnpnp::keepaway_sim::world::NUM_KEEPERS;
-use learnpnp::keepaway_sim::{KeepawayConfig, Perception, ServerTimer, run_episode};
 use learnpnp::named::Named;
+use learnpnp_keepaway::policies::BaselinePolicy;
+use learnpnp_keepaway::timing::{SeeArrival, SeePhase, see_arrival};
+use learnpnp_keepaway::world::NUM_KEEPERS;
+use learnpnp_keepaway::{KeepawayConfig, Perception, ServerTimer, run_episode};
 
 /// Whether a player with `phase` sees after acting in some step.
 fn late(phase: SeePhase, timer: ServerTimer) -> bool {

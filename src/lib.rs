@@ -26,7 +26,7 @@
 //!    reads it back, checked, to start a learner from it.
 //!
 //! The thesis's domains ([`domains`]: the penalty kick, Parr and Russell's and
-//! Sutton's grids, Keepaway on the simulator of [`keepaway_sim`]) and its
+//! Sutton's grids, Keepaway on the simulator of [`learnpnp_keepaway`]) and its
 //! experiments ([`experiment`]) are built the same way. The multi-process
 //! system (the `learnpnp-system` crate) and the `learnpnp` command
 //! (`learnpnp-cli`) sit on top of this crate; `docs/ARCHITECTURE.md` follows the
@@ -147,8 +147,6 @@ pub mod dot;
 pub mod executor;
 pub mod experiment;
 pub(crate) mod json_float;
-/// The Keepaway simulator (the `learnpnp-keepaway` crate), under its former path.
-pub use learnpnp_keepaway as keepaway_sim;
 pub mod learning;
 /// Enumerations picked by name (from the `learnpnp-common` crate).
 pub use learnpnp_common::named;

@@ -4,9 +4,9 @@
 
 use learnpnp::domains::Task;
 use learnpnp::domains::keepaway::{FixedPolicy, KeepawayDomainConfig, KeepawayMode, KeepawayTask, PassDecisions, Stop};
-use learnpnp::keepaway_sim::{BaselinePolicy, KeeperAction};
 use learnpnp::learning::EpisodeMode;
 use learnpnp::rng::seeded;
+use learnpnp_keepaway::{BaselinePolicy, KeeperAction};
 
 /// Episode durations of `keepaway-fixed --policy handcoded` on the task's stream `seed`.
 fn task_durations(seed: u64, episodes: usize) -> Vec<f64> {

@@ -1,9 +1,9 @@
 //! Whole episodes: determinism, baselines, custom policies.
 
-use learnpnp::keepaway_sim::positions::PositioningPoint;
-use learnpnp::keepaway_sim::view::PlayerId;
-use learnpnp::keepaway_sim::world::Side;
-use learnpnp::keepaway_sim::{
+use learnpnp_keepaway::positions::PositioningPoint;
+use learnpnp_keepaway::view::PlayerId;
+use learnpnp_keepaway::world::Side;
+use learnpnp_keepaway::{
     BaselinePolicy, EndReason, EpisodeSummary, FieldState, Keepaway, KeepawayConfig, KeeperAction, KeeperPolicy,
     PlayerView, SupportAction, VisionMode, run_episode,
 };

@@ -3,15 +3,15 @@
 //! the interception memory, and takers winning the ball from a holding keeper.
 
 use crate::util::{noiseless, player};
-use learnpnp::keepaway_sim::geometry::normalize_deg;
-use learnpnp::keepaway_sim::keeper::{KeeperMemory, keeper_command};
-use learnpnp::keepaway_sim::policies::BaselinePolicy;
-use learnpnp::keepaway_sim::skills::fastest::{fastest_teammate, pass_origin};
-use learnpnp::keepaway_sim::skills::intercept::{InterceptMemory, intercept, intercept_close};
-use learnpnp::keepaway_sim::taker::{TakerMemory, taker_command};
-use learnpnp::keepaway_sim::view::PlayerId;
-use learnpnp::keepaway_sim::world::{Ball, NUM_PLAYERS};
-use learnpnp::keepaway_sim::{
+use learnpnp_keepaway::geometry::normalize_deg;
+use learnpnp_keepaway::keeper::{KeeperMemory, keeper_command};
+use learnpnp_keepaway::policies::BaselinePolicy;
+use learnpnp_keepaway::skills::fastest::{fastest_teammate, pass_origin};
+use learnpnp_keepaway::skills::intercept::{InterceptMemory, intercept, intercept_close};
+use learnpnp_keepaway::taker::{TakerMemory, taker_command};
+use learnpnp_keepaway::view::PlayerId;
+use learnpnp_keepaway::world::{Ball, NUM_PLAYERS};
+use learnpnp_keepaway::{
     Command, EndReason, FieldState, KeepawayConfig, PlayerView, Simulator, Vec2, VisionMode, perceive, run_episode,
 };
 

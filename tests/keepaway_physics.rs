@@ -1,8 +1,8 @@
 //! The server's physics against closed forms (motion noise off).
 
-use learnpnp::keepaway_sim::world::{Ball, NUM_PLAYERS, Player};
-use learnpnp::keepaway_sim::{Command, FieldState, ServerParams, Vec2};
 use learnpnp::rng::seeded;
+use learnpnp_keepaway::world::{Ball, NUM_PLAYERS, Player};
+use learnpnp_keepaway::{Command, FieldState, ServerParams, Vec2};
 
 const NONE: [Command; NUM_PLAYERS] = [Command::None; NUM_PLAYERS];
 

@@ -1,9 +1,9 @@
 //! The keepaway referee: end conditions, the possession counter, the reset.
 
 use crate::util::noiseless;
-use learnpnp::keepaway_sim::referee::{Referee, TURNOVER_TIME};
-use learnpnp::keepaway_sim::world::{NUM_PLAYERS, Player};
-use learnpnp::keepaway_sim::{Command, EndReason, FieldState, KeepawayConfig, RefereeRule, Simulator, Vec2};
+use learnpnp_keepaway::referee::{Referee, TURNOVER_TIME};
+use learnpnp_keepaway::world::{NUM_PLAYERS, Player};
+use learnpnp_keepaway::{Command, EndReason, FieldState, KeepawayConfig, RefereeRule, Simulator, Vec2};
 
 /// Everybody at rest in a row far from the ball at the origin.
 fn quiet_world() -> FieldState {

@@ -1,13 +1,13 @@
 //! No panics and no stalls on any input: arbitrary commands, arbitrary views.
 
-use learnpnp::keepaway_sim::features::{FeatureThresholds, observe};
-use learnpnp::keepaway_sim::keeper::{KeeperMemory, keeper_command};
-use learnpnp::keepaway_sim::skills::{InterceptMemory, get_open, go_to_point, hold_ball, intercept, turn_to_ball};
-use learnpnp::keepaway_sim::state_vars::StateVars;
-use learnpnp::keepaway_sim::taker::{TakerMemory, taker_command};
-use learnpnp::keepaway_sim::view::{PlayerId, SeenBall, SeenPlayer};
-use learnpnp::keepaway_sim::world::NUM_PLAYERS;
-use learnpnp::keepaway_sim::{
+use learnpnp_keepaway::features::{FeatureThresholds, observe};
+use learnpnp_keepaway::keeper::{KeeperMemory, keeper_command};
+use learnpnp_keepaway::skills::{InterceptMemory, get_open, go_to_point, hold_ball, intercept, turn_to_ball};
+use learnpnp_keepaway::state_vars::StateVars;
+use learnpnp_keepaway::taker::{TakerMemory, taker_command};
+use learnpnp_keepaway::view::{PlayerId, SeenBall, SeenPlayer};
+use learnpnp_keepaway::world::NUM_PLAYERS;
+use learnpnp_keepaway::{
     BaselinePolicy, Command, FieldState, KeepawayConfig, PlayerView, Simulator, Vec2, VisionMode, perceive,
 };
 use proptest::prelude::*;

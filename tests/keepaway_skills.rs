@@ -1,16 +1,16 @@
 //! Skills, views and abstractions on scripted situations (motion noise off).
 
 use crate::util::{noiseless, player};
-use learnpnp::keepaway_sim::features::{FeatureThresholds, Observation, PassLineDistances, observe};
-use learnpnp::keepaway_sim::policies::{hand_coded, threshold_policy};
-use learnpnp::keepaway_sim::skills::get_open::{congestion, grid_points, in_cone, least_congested_point};
-use learnpnp::keepaway_sim::skills::pass::{PassState, teammates_by_distance};
-use learnpnp::keepaway_sim::skills::predict::{Estimate, Kinematics, cycles_to_point};
-use learnpnp::keepaway_sim::skills::{InterceptMemory, go_to_point, hold_ball, intercept};
-use learnpnp::keepaway_sim::state_vars::StateVars;
-use learnpnp::keepaway_sim::view::PlayerId;
-use learnpnp::keepaway_sim::world::{Ball, NUM_PLAYERS};
-use learnpnp::keepaway_sim::{
+use learnpnp_keepaway::features::{FeatureThresholds, Observation, PassLineDistances, observe};
+use learnpnp_keepaway::policies::{hand_coded, threshold_policy};
+use learnpnp_keepaway::skills::get_open::{congestion, grid_points, in_cone, least_congested_point};
+use learnpnp_keepaway::skills::pass::{PassState, teammates_by_distance};
+use learnpnp_keepaway::skills::predict::{Estimate, Kinematics, cycles_to_point};
+use learnpnp_keepaway::skills::{InterceptMemory, go_to_point, hold_ball, intercept};
+use learnpnp_keepaway::state_vars::StateVars;
+use learnpnp_keepaway::view::PlayerId;
+use learnpnp_keepaway::world::{Ball, NUM_PLAYERS};
+use learnpnp_keepaway::{
     Command, FieldState, KeepawayConfig, KeeperAction, PlayerView, Simulator, Vec2, VisionMode, perceive,
 };
 

@@ -8,9 +8,9 @@ use learnpnp::condition::{AtomId, BitKnowledgeBase, KnowledgeBase};
 use learnpnp::executor::{Action, World};
 use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
 use learnpnp::experiment::spec::ExperimentSpec;
-use learnpnp::keepaway_sim::world::Player;
-use learnpnp::keepaway_sim::{KeepawayConfig, Vec2, VisionMode};
 use learnpnp::net::{PetriNet, PlaceNode, TransitionNode};
+use learnpnp_keepaway::world::Player;
+use learnpnp_keepaway::{KeepawayConfig, Vec2, VisionMode};
 use proptest::test_runner::{Config as ProptestConfig, FileFailurePersistence};
 
 /// The workspace's root directory (where `plans/` and `tests/fixtures/` are).

@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use atomic_file::write_atomic;
 use clap::Args;
-use learnpnp::keepaway_sim::rcg::GameLog;
-use learnpnp::keepaway_sim::replay::replay_page;
+use learnpnp_keepaway::rcg::GameLog;
+use learnpnp_keepaway::replay::replay_page;
 
 #[derive(Args, Debug)]
 pub struct ReplayArgs {

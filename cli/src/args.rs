@@ -13,9 +13,9 @@ use learnpnp::experiment::defaults::{
 use learnpnp::experiment::options::ExperimentOptions;
 use learnpnp::experiment::ranges;
 use learnpnp::experiment::spec::Algorithm;
-use learnpnp::keepaway_sim::params::{RefereeRule, ServerTimer, VisionMode};
 use learnpnp::learning::{ExploitPolicy, Schedule, StepSize, ThresholdRule, Unestimated};
 use learnpnp::named::Named;
+use learnpnp_keepaway::params::{RefereeRule, ServerTimer, VisionMode};
 
 /// A value parser for an enumeration picked by name: clap lists the names in
 /// `--help` and refuses any other.

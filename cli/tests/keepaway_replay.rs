@@ -8,9 +8,9 @@ use learnpnp::domains::keepaway::{KeepawayDomainConfig, KeepawayMode, KeepawayTa
 use learnpnp::experiment::options::DomainName;
 use learnpnp_cli::args::parse_experiment_flags;
 
-use learnpnp::keepaway_sim::rcg::{GameLog, MAX_PLAYER};
 use learnpnp::learning::{EpisodeMode, Learner, RandomLearner};
 use learnpnp::rng::seeded;
+use learnpnp_keepaway::rcg::{GameLog, MAX_PLAYER};
 
 fn recorded(mode: KeepawayMode, seed: u64) -> String {
     let config = KeepawayDomainConfig::for_mode(mode);

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use learnpnp::keepaway_sim::rcg::{GameLog, KeeperNote};
+use learnpnp_keepaway::rcg::{GameLog, KeeperNote};
 
 fn learnpnp(args: &[&str]) -> Output {
     let out = Command::new(env!("CARGO_BIN_EXE_learnpnp"))
@@ -191,7 +191,7 @@ fn a_recorded_episode_is_drawn_where_the_log_puts_it() {
     let to_px = |x: f64, y: f64| (ox + x * scale, oy + y * scale);
 
     // A cycle past the start where every object stands clear of the others.
-    let clear = |f: &learnpnp::keepaway_sim::rcg::Frame| {
+    let clear = |f: &learnpnp_keepaway::rcg::Frame| {
         let mut points = vec![to_px(f.ball[0], f.ball[1])];
         points.extend(f.players.iter().map(|p| to_px(p.x, p.y)));
         points

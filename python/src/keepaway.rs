@@ -4,8 +4,8 @@
 
 use learnpnp::domains::keepaway::{Decision, FixedPolicy, KeepawayDomainConfig, KeepawayMode, PassDecisions, Stop};
 use learnpnp::experiment::runner::run_task_rng;
-use learnpnp::keepaway_sim::{KeepawayConfig, KeeperAction, ServerTimer, VisionMode};
 use learnpnp::named::Named;
+use learnpnp_keepaway::{KeepawayConfig, KeeperAction, ServerTimer, VisionMode};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 

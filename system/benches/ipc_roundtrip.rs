@@ -17,11 +17,12 @@
 use std::time::{Duration, Instant};
 
 use criterion::Criterion;
-use learnpnp::keepaway_sim::command::Command;
-use learnpnp::keepaway_sim::params::KeepawayConfig;
-use learnpnp::keepaway_sim::perception::{PlayerId, perceive};
-use learnpnp::keepaway_sim::simulator::Simulator;
 use learnpnp::learning::EpisodeStart;
+use learnpnp_keepaway::command::Command;
+use learnpnp_keepaway::params::KeepawayConfig;
+use learnpnp_keepaway::perception::perceive;
+use learnpnp_keepaway::simulator::Simulator;
+use learnpnp_keepaway::view::PlayerId;
 use learnpnp_system::ipc::convert::{command_message, read_command, read_snapshot, snapshot};
 use learnpnp_system::ipc::namespace::Namespace;
 use learnpnp_system::ipc::protocol::{CommandReading, SnapshotMeta};
@@ -75,7 +76,7 @@ fn bench(c: &mut Criterion) {
 
     let config = KeepawayConfig::default();
     let sim = Simulator::new(config, 7).expect("simulator");
-    let view = perceive(sim.world(), PlayerId::keeper(0).expect("keeper"), &config);
+    let view = perceive(sim.field(), PlayerId::keeper(0).expect("keeper"), &config);
     // The echo process subscribes some time after it starts: ping until it answers.
     let mut sequence = 0u64;
     'connect: loop {

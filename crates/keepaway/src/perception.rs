@@ -19,7 +19,7 @@ use super::world_model::{SaidBall, WorldModel};
 use crate::rng::{SimRng, derive_seed, seeded};
 use rand::RngExt;
 
-pub use super::view::{BadPlayerId, PlayerId, PlayerView, SeenBall, SeenPlayer};
+use super::view::{PlayerId, PlayerView, SeenBall, SeenPlayer};
 
 /// Builds player `me`'s view of `world` in the configured vision mode, without
 /// memory.

@@ -76,12 +76,6 @@ impl Simulator {
         &self.field
     }
 
-    /// The field's state: [`Simulator::field`] under its former name, kept
-    /// while the system crate's `ipc_roundtrip` bench calls it.
-    pub fn world(&self) -> &FieldState {
-        &self.field
-    }
-
     /// The configuration.
     pub fn config(&self) -> &KeepawayConfig {
         &self.cfg

@@ -5,8 +5,8 @@
 
 use std::path::Path;
 
-use learnpnp_system::hosts::certs::HostFiles;
 use learnpnp_bridge::link::{self, Endpoints, Security};
+use learnpnp_system::hosts::certs::HostFiles;
 use thiserror::Error;
 use zenoh::Session;
 

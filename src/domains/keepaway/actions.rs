@@ -2,11 +2,11 @@
 //! framework's skills, and finishes when the situation it serves is over.
 
 use crate::executor::{Action, Registry};
-use crate::keepaway_sim::geometry::Vec2;
-use crate::keepaway_sim::keeper::KeeperAction;
-use crate::keepaway_sim::positions::PositioningPoint;
-use crate::keepaway_sim::skills::pass::PassState;
-use crate::keepaway_sim::skills::{get_open_from, go_to_support_point, hold_ball, intercept};
+use learnpnp_keepaway::geometry::Vec2;
+use learnpnp_keepaway::keeper::KeeperAction;
+use learnpnp_keepaway::positions::PositioningPoint;
+use learnpnp_keepaway::skills::pass::PassState;
+use learnpnp_keepaway::skills::{get_open_from, go_to_support_point, hold_ball, intercept};
 
 use super::world::KeeperWorld;
 
@@ -168,7 +168,7 @@ pub fn goto_name(point: PositioningPoint) -> String {
 
 /// Every keeper action: `Hold`, `Pass1`, `Pass2`, `PassSafest`, `Intercept`,
 /// `GetOpen` and `GoTo<point>` for the nine positioning points.
-pub fn registry(config: &crate::keepaway_sim::params::KeepawayConfig) -> Registry<KeeperWorld> {
+pub fn registry(config: &learnpnp_keepaway::params::KeepawayConfig) -> Registry<KeeperWorld> {
     let mut r = Registry::new();
     r.action("Hold", &[], |_| Hold::default());
     r.action("Pass1", &[], |_| Pass::new(Receiver::Closest(1)));

@@ -4,14 +4,14 @@ use std::sync::Arc;
 
 use crate::analysis::option_label;
 use crate::executor::{Chooser, ExecError, Executor, PlanKey, Registry};
-use crate::keepaway_sim::command::Command;
-use crate::keepaway_sim::features::FeatureThresholds;
-use crate::keepaway_sim::params::KeepawayConfig;
-use crate::keepaway_sim::rcg::{ChoiceNote, KeeperNote, OptionNote};
-use crate::keepaway_sim::view::PlayerView;
 use crate::learning::{EpisodeStart, Learner};
 use crate::net::Marking;
 use crate::plan::Plan;
+use learnpnp_keepaway::command::Command;
+use learnpnp_keepaway::features::FeatureThresholds;
+use learnpnp_keepaway::params::KeepawayConfig;
+use learnpnp_keepaway::rcg::{ChoiceNote, KeeperNote, OptionNote};
+use learnpnp_keepaway::view::PlayerView;
 
 use super::world::KeeperWorld;
 

@@ -5,12 +5,12 @@ use serde::{Deserialize, Serialize};
 
 use super::world::atoms;
 use crate::domains::TaskError;
-use crate::keepaway_sim::features::{DEFAULT_HOLD_THRESHOLD, FeatureThresholds};
-use crate::keepaway_sim::params::{KeepawayConfig, RefereeRule, ServerTimer, VisionMode};
-use crate::keepaway_sim::policies::BaselinePolicy;
-use crate::keepaway_sim::world::NUM_KEEPERS;
 use crate::named::Named;
 use crate::plan::{AllowedAtoms, Plan, catalog};
+use learnpnp_keepaway::features::{DEFAULT_HOLD_THRESHOLD, FeatureThresholds};
+use learnpnp_keepaway::params::{KeepawayConfig, RefereeRule, ServerTimer, VisionMode};
+use learnpnp_keepaway::policies::BaselinePolicy;
+use learnpnp_keepaway::world::NUM_KEEPERS;
 
 /// The keepers' fixed decision policies (`keepaway-fixed --policy`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]

@@ -13,14 +13,14 @@
 //! [`KeepawayTask`](super::KeepawayTask) plays, so a caller that answers as a
 //! fixed policy would plays the episodes of that policy's `keepaway-fixed` run.
 
-use crate::keepaway_sim::command::Command;
-use crate::keepaway_sim::game::{Cycle, Game};
-use crate::keepaway_sim::keeper::{KeeperAction, KeeperMemory, KeeperPolicy, keeper_command};
-use crate::keepaway_sim::params::{ConfigError, KeepawayConfig};
-use crate::keepaway_sim::policies::BaselinePolicy;
-use crate::keepaway_sim::state_vars::StateVars;
-use crate::keepaway_sim::view::PlayerView;
-use crate::keepaway_sim::world::NUM_KEEPERS;
+use learnpnp_keepaway::command::Command;
+use learnpnp_keepaway::game::{Cycle, Game};
+use learnpnp_keepaway::keeper::{KeeperAction, KeeperMemory, KeeperPolicy, keeper_command};
+use learnpnp_keepaway::params::{ConfigError, KeepawayConfig};
+use learnpnp_keepaway::policies::BaselinePolicy;
+use learnpnp_keepaway::state_vars::StateVars;
+use learnpnp_keepaway::view::PlayerView;
+use learnpnp_keepaway::world::NUM_KEEPERS;
 
 use super::task::RunSeeds;
 use crate::rng::SimRng;

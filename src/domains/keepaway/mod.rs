@@ -1,6 +1,6 @@
 //! Keepaway 3 vs 2 with plan-driven keepers (thesis chapter 7).
 //!
-//! The simulator (`crate::keepaway_sim`) knows nothing of plans: each cycle a keeper
+//! The simulator (the `learnpnp-keepaway` crate) knows nothing of plans: each cycle a keeper
 //! gets its own `PlayerView`, its plan steps until an action issues the cycle's
 //! primitive command, and the simulator steps. The reward is the time elapsed,
 //! so an episode's return is its duration in seconds.

@@ -8,11 +8,11 @@ use rand::RngExt;
 use super::config::KeepawayDomainConfig;
 use super::team::{KeeperTeam, LocalTeam, TeamStep};
 use crate::domains::{EpisodeOutcome, Task, TaskError};
-use crate::keepaway_sim::game::Game;
-use crate::keepaway_sim::rcg::GameLogWriter;
 use crate::learning::{EpisodeMode, EpisodeStart, Learner};
 use crate::plan::Plan;
 use crate::rng::{SimRng, derive_seed};
+use learnpnp_keepaway::game::Game;
+use learnpnp_keepaway::rcg::GameLogWriter;
 
 /// The seeds a Keepaway run draws from its random stream: the simulator's and
 /// the fixed keepers' policy's. Every process of a run derives the same ones.
@@ -77,7 +77,7 @@ impl KeepawayTask {
     }
 
     /// Plays one episode in `mode` while writing it as a RoboCup game log
-    /// (`.rcg` text, see [`crate::keepaway_sim::rcg`]), with the plan-driven
+    /// (`.rcg` text, see [`learnpnp_keepaway::rcg`]), with the plan-driven
     /// keepers' current actions and choices where the team knows them.
     pub fn record_episode(&mut self, mode: EpisodeMode) -> Result<(EpisodeOutcome, String), TaskError> {
         self.team.set_noting(true);

@@ -9,15 +9,15 @@ use std::sync::Arc;
 use super::agent::PlanKeeper;
 use super::config::{KeepawayDomainConfig, KeepawayMode};
 use crate::domains::TaskError;
-use crate::keepaway_sim::command::Command;
-use crate::keepaway_sim::keeper::{KeeperMemory, keeper_command};
-use crate::keepaway_sim::params::KeepawayConfig;
-use crate::keepaway_sim::policies::BaselinePolicy;
-use crate::keepaway_sim::rcg::KeeperNote;
-use crate::keepaway_sim::view::PlayerView;
-use crate::keepaway_sim::world::NUM_KEEPERS;
 use crate::learning::{EpisodeStart, Learner, StateKey};
 use crate::plan::{Plan, catalog};
+use learnpnp_keepaway::command::Command;
+use learnpnp_keepaway::keeper::{KeeperMemory, keeper_command};
+use learnpnp_keepaway::params::KeepawayConfig;
+use learnpnp_keepaway::policies::BaselinePolicy;
+use learnpnp_keepaway::rcg::KeeperNote;
+use learnpnp_keepaway::view::PlayerView;
+use learnpnp_keepaway::world::NUM_KEEPERS;
 
 /// The keepers' answer for one cycle.
 #[derive(Debug, Clone, Copy, PartialEq)]

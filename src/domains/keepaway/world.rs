@@ -3,14 +3,14 @@
 
 use crate::condition::{AtomId, AtomTable, KnowledgeBase};
 use crate::executor::World;
-use crate::keepaway_sim::command::Command;
-use crate::keepaway_sim::features::{FeatureThresholds, PassLineDistances};
-use crate::keepaway_sim::geometry::Vec2;
-use crate::keepaway_sim::params::KeepawayConfig;
-use crate::keepaway_sim::skills::InterceptMemory;
-use crate::keepaway_sim::skills::fastest::{BallEstimates, fastest_teammate_with, pass_origin_with};
-use crate::keepaway_sim::view::PlayerView;
-use crate::keepaway_sim::world_model::believed;
+use learnpnp_keepaway::command::Command;
+use learnpnp_keepaway::features::{FeatureThresholds, PassLineDistances};
+use learnpnp_keepaway::geometry::Vec2;
+use learnpnp_keepaway::params::KeepawayConfig;
+use learnpnp_keepaway::skills::InterceptMemory;
+use learnpnp_keepaway::skills::fastest::{BallEstimates, fastest_teammate_with, pass_origin_with};
+use learnpnp_keepaway::view::PlayerView;
+use learnpnp_keepaway::world_model::believed;
 
 /// The atoms of a keeper's knowledge base, in id order.
 pub const ATOMS: [&str; 5] = ["HasBall", "Fastest", "Lane1Open", "Lane2Open", "TakerFar"];
@@ -24,7 +24,7 @@ pub fn atoms() -> AtomTable {
 ///
 /// - `HasBall`: the ball is within kickable distance;
 /// - `Fastest`: of the keepers, this one reaches the ball first (the framework's
-///   fastest teammate, [`fastest_teammate`](crate::keepaway_sim::skills::fastest::fastest_teammate));
+///   fastest teammate, [`fastest_teammate`](learnpnp_keepaway::skills::fastest::fastest_teammate));
 /// - `Lane1Open`, `Lane2Open`: the takers are farther than the pass-line
 ///   threshold from the line to the closest / second-closest teammate;
 /// - `TakerFar`: the closest taker is farther than its threshold.

@@ -9,11 +9,11 @@ use shm_layouts::{
     PlayerLayout, SENDER_SIMULATOR, SENDER_SUPERVISOR, command, control, episode, forced, mode, report, state,
 };
 
-use learnpnp::keepaway_sim::command::Command;
-use learnpnp::keepaway_sim::geometry::Vec2;
-use learnpnp::keepaway_sim::perception::{PlayerId, PlayerView, SeenBall, SeenPlayer};
-use learnpnp::keepaway_sim::world::{NUM_KEEPERS, NUM_PLAYERS};
 use learnpnp::learning::{EpisodeMode, EpisodeStart};
+use learnpnp_keepaway::command::Command;
+use learnpnp_keepaway::geometry::Vec2;
+use learnpnp_keepaway::view::{PlayerId, PlayerView, SeenBall, SeenPlayer};
+use learnpnp_keepaway::world::{NUM_KEEPERS, NUM_PLAYERS};
 
 use super::protocol::{AgentNews, CommandReading, EpisodeNews, Order, ProcessState, Pulse, Role, Roster, SnapshotMeta};
 

@@ -7,8 +7,8 @@
 use serde::{Deserialize, Serialize};
 use shm_layouts::SENDER_SIMULATOR;
 
-use learnpnp::keepaway_sim::command::Command;
 use learnpnp::learning::EpisodeStart;
+use learnpnp_keepaway::command::Command;
 use shm_layouts::reject;
 
 /// What a snapshot says besides the view.

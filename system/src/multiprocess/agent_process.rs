@@ -22,14 +22,14 @@ use crate::ipc::wait::{Idle, MAX_BLOCK, TIMED_WAIT_SLACK};
 use learnpnp::domains::keepaway::{KeepawayDomainConfig, PlanKeeper, RunSeeds, registry};
 use learnpnp::experiment::runner::{learner_for, task_rng};
 use learnpnp::experiment::spec::ExperimentSpec;
-use learnpnp::keepaway_sim::command::Command;
-use learnpnp::keepaway_sim::keeper::{KeeperMemory, keeper_command};
-use learnpnp::keepaway_sim::params::KeepawayConfig;
-use learnpnp::keepaway_sim::perception::PlayerView;
-use learnpnp::keepaway_sim::policies::BaselinePolicy;
 use learnpnp::learning::EpisodeStart;
 use learnpnp::learning::persist::SavedValues;
 use learnpnp::plan::Plan;
+use learnpnp_keepaway::command::Command;
+use learnpnp_keepaway::keeper::{KeeperMemory, keeper_command};
+use learnpnp_keepaway::params::KeepawayConfig;
+use learnpnp_keepaway::policies::BaselinePolicy;
+use learnpnp_keepaway::view::PlayerView;
 
 /// Real time: how long before a message is due (a snapshot, or agent 0's
 /// floor ping, one cycle after the previous one) the agent stops sleeping and
@@ -454,7 +454,7 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
     let spec = context.load_spec()?;
     let config = keepaway_config(&spec)?;
     let k = settings.keeper;
-    if k >= learnpnp::keepaway_sim::world::NUM_KEEPERS {
+    if k >= learnpnp_keepaway::world::NUM_KEEPERS {
         return Err(ProcessError::NoKeeper(k + 1));
     }
     let chassis = Chassis::new(

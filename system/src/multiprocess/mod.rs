@@ -4,7 +4,7 @@
 //! supervisor starts, watches and restarts them.
 //!
 //! - [`sim_process`]: the simulator process (the simulator itself is
-//!   [`learnpnp::keepaway_sim`]): Keepaway with the takers inside, whose
+//!   [`learnpnp_keepaway`]): Keepaway with the takers inside, whose
 //!   keepers are a [`learnpnp::domains::keepaway::KeeperTeam`] of remote
 //!   agents; it runs the same episode loop and protocol as the in-process
 //!   experiment ([`learnpnp::experiment::runner::run_protocol`]);

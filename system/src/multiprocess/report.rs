@@ -197,7 +197,7 @@ pub(crate) fn summarize(
             0.0
         },
         latency_us: latency,
-        keeper_latency_us: (0..learnpnp::keepaway_sim::world::NUM_KEEPERS)
+        keeper_latency_us: (0..learnpnp_keepaway::world::NUM_KEEPERS)
             .filter_map(|k| {
                 find(histograms, &keeper_round_trip_histogram(k))
                     .filter(|h| h.count() > 0)
@@ -237,7 +237,7 @@ fn latency_table(histograms: &[Latency], summary: &SystemSummary) -> String {
         "{:<22}{:>10}{:>10}{:>10}{:>10}{:>10}{:>12}\n",
         "latency (µs)", "p50", "p90", "p99", "p99.9", "max", "count"
     );
-    let keepers = 0..learnpnp::keepaway_sim::world::NUM_KEEPERS;
+    let keepers = 0..learnpnp_keepaway::world::NUM_KEEPERS;
     let rows = [(ROUND_TRIP.to_string(), "round trip".to_string())]
         .into_iter()
         .chain(

@@ -1,5 +1,5 @@
 //! The simulator process (it runs the simulator itself,
-//! [`learnpnp::keepaway_sim::simulator`]): Keepaway with the takers inside,
+//! [`learnpnp_keepaway::simulator`]): Keepaway with the takers inside,
 //! whose keepers are agent processes. Each cycle it publishes each keeper's snapshot, collects
 //! each keeper's command (lock-step: as soon as all are in; real time: until
 //! the cycle's 100 ms deadline), and steps the world. It runs the in-process
@@ -29,11 +29,11 @@ use learnpnp::domains::keepaway::{KeepawayDomainConfig, KeepawayTask, KeeperTeam
 use learnpnp::domains::{EpisodeOutcome, Task, TaskError};
 use learnpnp::experiment::runner::{EpisodeRecord, RunOutput, run_protocol, task_rng};
 use learnpnp::experiment::spec::{DomainSpec, ExperimentSpec};
-use learnpnp::keepaway_sim::command::Command;
-use learnpnp::keepaway_sim::perception::PlayerView;
-use learnpnp::keepaway_sim::world::NUM_KEEPERS;
 use learnpnp::learning::{EpisodeMode, EpisodeStart};
 use learnpnp::rng::SimRng;
+use learnpnp_keepaway::command::Command;
+use learnpnp_keepaway::view::PlayerView;
+use learnpnp_keepaway::world::NUM_KEEPERS;
 
 /// File name of the simulator's result in its work directory.
 pub const RESULT_FILE: &str = "simulator.json";

@@ -575,8 +575,7 @@ impl<'a> Watch<'a> {
         };
         let identity = serde_json::json!({ "ipc_prefix": context.ipc_prefix, "run_id": context.run_id });
         let identity_path = work_dir.join(IDENTITY_FILE);
-        atomic_file::write_atomic(&identity_path, identity.to_string().as_bytes())
-            .map_err(io_error(&identity_path))?;
+        atomic_file::write_atomic(&identity_path, identity.to_string().as_bytes()).map_err(io_error(&identity_path))?;
         let mut watch = Watch {
             config,
             namespace,

@@ -50,7 +50,10 @@ pub trait RunObserver {
 
     /// Called once before the first run, with the result set the observer may
     /// claim files in (to write them as it goes).
-    fn start(&mut self, _files: &mut learnpnp::experiment::result_dir::ResultWriter<'_>) -> Result<(), SupervisorError> {
+    fn start(
+        &mut self,
+        _files: &mut learnpnp::experiment::result_dir::ResultWriter<'_>,
+    ) -> Result<(), SupervisorError> {
         Ok(())
     }
 
