@@ -145,6 +145,7 @@ struct GarbageArgs {
 
 /// A run of the system.
 #[derive(Args, Debug, Clone)]
+#[command(group(clap::ArgGroup::new("world").args(["world_cmd", "ros2"])))]
 struct RunArgs {
     /// The experiment.
     #[arg(long, value_enum, default_value = "keepaway-position")]
@@ -153,15 +154,20 @@ struct RunArgs {
     /// serves the world (given the run in LEARNPNP_* environment variables;
     /// see shm_layouts/README.md); --plan is every agent's plan, or
     /// --agent-plan gives each agent its own.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "ros2")]
     world_cmd: Option<String>,
+    /// Run a ROS 2 robot as the world over rmw_zenoh: the mapping file of
+    /// `docs/ROS2.md`, served by `learnpnp-ros2-world` beside this binary
+    /// (its refusals counted in the world's log); --plan as with --world-cmd.
+    #[arg(long, value_name = "MAPPING")]
+    ros2: Option<PathBuf>,
     /// With --world-cmd and --plan: how many agents, each in its own process
     /// with its own copy of the plan, learner and checkpoints (1 to 16).
-    #[arg(long, default_value_t = 1, requires = "world_cmd", value_parser = clap::value_parser!(u8).range(1..=16))]
+    #[arg(long, default_value_t = 1, requires = "world", value_parser = clap::value_parser!(u8).range(1..=16))]
     agents: u8,
     /// With --world-cmd in real time: the cycle the world is told to keep, in
     /// milliseconds (LEARNPNP_PERIOD_MS; a robot at 10 Hz: 100).
-    #[arg(long, default_value_t = 100, requires = "world_cmd", value_parser = clap::value_parser!(u64).range(1..=60_000))]
+    #[arg(long, default_value_t = 100, requires = "world", value_parser = clap::value_parser!(u64).range(1..=60_000))]
     world_period_ms: u64,
     /// Agents (1-based, e.g. 3 or 2,3) that run on other hosts, each host's
     /// own supervisor started there with `learnpnp-supervisor remote`; this
@@ -175,7 +181,7 @@ struct RunArgs {
     link: LinkArgs,
     /// With --world-cmd: the next agent's plan (repeat it, one per agent,
     /// instead of --plan and --agents).
-    #[arg(long = "agent-plan", requires = "world_cmd", conflicts_with = "agents")]
+    #[arg(long = "agent-plan", requires = "world", conflicts_with = "agents")]
     agent_plans: Vec<PathBuf>,
     /// lockstep: step as soon as every command is in; realtime: every 100 ms.
     #[arg(long, value_parser = named::<Clock>(), default_value = "lockstep")]
@@ -282,6 +288,27 @@ const DEFAULT_WORLD_EPISODES: u64 = 1_000;
 /// Learning episodes of a soak or benchmark run, which its time limit ends.
 const UNBOUNDED_EPISODES: u64 = 1_000_000_000;
 
+/// The world's command: `--world-cmd` as given, or `--ros2 MAPPING` as the
+/// ROS 2 world beside this binary (the command is split on whitespace, so
+/// its paths may hold none).
+fn world_command(args: &RunArgs) -> Result<Option<String>> {
+    let Some(mapping) = &args.ros2 else {
+        return Ok(args.world_cmd.clone());
+    };
+    let exe = std::env::current_exe().context("locating learnpnp-supervisor")?;
+    let world = exe.with_file_name("learnpnp-ros2-world");
+    if let Some(spaced) = [world.as_path(), mapping.as_path()]
+        .into_iter()
+        .find(|p| p.to_string_lossy().chars().any(char::is_whitespace))
+    {
+        bail!(
+            "--ros2: the path {} holds whitespace, which the world's command cannot carry",
+            spaced.display()
+        );
+    }
+    Ok(Some(format!("{} {}", world.display(), mapping.display())))
+}
+
 /// Everything but the observer: the configuration, and the output directory
 /// checked and locked before any work.
 fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir)> {
@@ -290,7 +317,7 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
         Domain::KeepawayPass => DomainName::KeepawayPass,
     };
     let options = args.flags.options();
-    let spec = match &args.world_cmd {
+    let spec = match world_command(args)? {
         Some(command) => {
             let plans = match (&options.plan, args.agent_plans.as_slice()) {
                 (Some(plan), []) => vec![plan.clone(); usize::from(args.agents)],
@@ -299,10 +326,7 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
                 (None, plans) => bail!("{} --agent-plan files: a world serves at most 16 agents", plans.len()),
                 (Some(_), _) => bail!("--plan and --agent-plan do not go together: one plan for all, or one each"),
             };
-            let world = DomainSpec::World {
-                command: command.clone(),
-                plans,
-            };
+            let world = DomainSpec::World { command, plans };
             // A soak's or a benchmark's unbounded run stays unbounded.
             let default = if episodes == UNBOUNDED_EPISODES {
                 episodes

@@ -1,7 +1,7 @@
 """A ROS 2 robot as the world: a corridor robot written with zenoh-ros2-sdk
 (an implementation of rmw_zenoh's wire format no one here wrote,
 ``ros2/corridor_robot.py``) is learned in plan space through
-``learnpnp-supervisor --world-cmd "learnpnp-ros2-world MAPPING"``, the mapping
+``learnpnp-supervisor --ros2 MAPPING`` (the world ``learnpnp-ros2-world MAPPING``), the mapping
 being ``ros2/corridor.toml``. The robot's message definitions are shipped in
 ``ros2/msgs``: nothing is downloaded.
 
@@ -84,11 +84,9 @@ def mapping(sandbox, port):
     return path
 
 
-def learn(supervisor, ros2_world, sandbox, port, name, seed):
-    report = sandbox / f"{name}-report.json"
+def learn(supervisor, sandbox, port, name, seed):
     out, ipc = sandbox / name, sandbox / "ipc"
-    world = f"{ros2_world} {mapping(sandbox, port)} --report {report}"
-    command = [supervisor, "--world-cmd", world, "--plan", str(ROOT / "plans" / "ros2" / "corridor.pnml")]
+    command = [supervisor, "--ros2", str(mapping(sandbox, port)), "--plan", str(ROOT / "plans" / "ros2" / "corridor.pnml")]
     command += ["--algo", "q-learning", "--episodes", "150", "--eval-every", "150", "--eval-episodes", "0"]
     command += ["--greedy-episodes", str(GREEDY), "--seed", seed, "--out", str(out), "--floor-round-trips", "200"]
     done = subprocess.run(
@@ -99,7 +97,11 @@ def learn(supervisor, ros2_world, sandbox, port, name, seed):
     assert summary["complete"], summary
     left = [f for f in os.listdir("/dev/shm") if any(f.startswith(p) for p in summary["ipc_prefixes"])]
     assert left == [], left
-    return summary, json.loads(report.read_text())
+    # The world's last report line in its log: its refusals and counts.
+    log = (out / "runs" / "run-0" / "world.log").read_text().splitlines()
+    counts = [line for line in log if line.startswith("learnpnp-ros2-world: {")]
+    assert counts, log[-5:]
+    return summary, json.loads(counts[-1].split(": ", 1)[1])
 
 
 def test_a_ros2_corridor_robot_is_learned_to_the_optimum_and_bad_messages_are_refused(
@@ -107,7 +109,7 @@ def test_a_ros2_corridor_robot_is_learned_to_the_optimum_and_bad_messages_are_re
 ):
     robot = start_robot(router, sandbox, faults=3)
     try:
-        summary, counts = learn(supervisor, ros2_world, sandbox, router, "corridor", "1")
+        summary, counts = learn(supervisor, sandbox, router, "corridor", "1")
     finally:
         robot.terminate()
         try:

@@ -42,13 +42,19 @@ fn ip(args: &[&str]) -> bool {
         .is_ok_and(|s| s.success())
 }
 
-/// Builds the bridge's binary beside the supervisor's, once per test binary:
-/// it is the crate `learnpnp-bridge`, which `cargo test -p learnpnp-system`
-/// does not build (a workspace build does; this keeps it current).
+/// Builds the bridge's binary beside the supervisor's if it is missing, once
+/// per test binary: it is the crate `learnpnp-bridge`, which `cargo test -p
+/// learnpnp-system` alone does not build (`cargo test --workspace` does).
 fn build_bridge() {
     static BUILT: OnceLock<()> = OnceLock::new();
     BUILT.get_or_init(|| {
         let supervisor = PathBuf::from(env!("CARGO_BIN_EXE_learnpnp-supervisor"));
+        // `cargo test --workspace` builds it (the bridge crate's own test
+        // needs it): building it again here with only its package selected
+        // would build zenoh with another feature set, minutes of work.
+        if supervisor.with_file_name("learnpnp-bridge").is_file() {
+            return;
+        }
         let release = supervisor
             .parent()
             .and_then(Path::file_name)
