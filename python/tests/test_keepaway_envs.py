@@ -110,7 +110,7 @@ def test_same_seed_same_episodes_as_the_rust_experiment(tmp_path, learnpnp_cli):
 
 def test_each_server_timer_plays_its_own_reproducible_episodes(tmp_path, learnpnp_cli):
     # The soccer server's timer moves the framework players' sees (rcssserver's
-    # real-time StandardTimer or synch_mode's SyncTimer, src/keepaway_sim/timing.rs):
+    # real-time StandardTimer or synch_mode's SyncTimer, crates/keepaway/src/timing.rs):
     # with one seed, each timer repeats its episodes, the two differ, and each
     # is `learnpnp experiment --server-timer`'s.
     seed, episodes = 7, 30
