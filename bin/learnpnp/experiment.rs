@@ -206,11 +206,12 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
                 summary.episodes_per_second,
                 args.out.display()
             );
-            if spec.record > 0 {
-                let first = args.out.join("replays").join(replay_name(0, spec.record));
+            let replays = spec.domain.replays();
+            if replays > 0 {
+                let first = args.out.join("replays").join(replay_name(0, replays));
                 println!(
                     "{} recorded episode(s) in {}; watch one with: learnpnp replay {} -o episode.html",
-                    spec.record,
+                    replays,
                     args.out.join("replays").display(),
                     first.display()
                 );

@@ -165,7 +165,7 @@ fn recording_changes_no_result() {
         .expect("valid flags")
         .spec(DomainName::KeepawayPass)
         .expect("a spec");
-    assert_eq!(recording.record, 2);
+    assert_eq!(recording.domain.replays(), 2);
     let a = run_quietly(&plain, 1);
     let b = run_quietly(&recording, 2);
     for (x, y) in a.runs.iter().zip(&b.runs) {

@@ -39,9 +39,10 @@ pub trait Task {
     /// The learners of the task (one per learning agent).
     fn learners(&self) -> Vec<&dyn Learner>;
 
-    /// Plays `episodes` evaluation episodes, each written as a RoboCup game
-    /// log (`.rcg` text); a domain with no such log returns none.
-    fn record(&mut self, _episodes: usize) -> Result<Vec<String>, TaskError> {
+    /// The episodes the domain's configuration asks to replay, played after
+    /// the run's last evaluation and each recorded as its domain's log text
+    /// (Keepaway: a RoboCup game log); none by default.
+    fn replays(&mut self) -> Result<Vec<String>, TaskError> {
         Ok(Vec::new())
     }
 }

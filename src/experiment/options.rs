@@ -162,6 +162,12 @@ impl ExperimentOptions {
     /// The experiment these options describe in `domain` (a world in its
     /// own process, which has no name of its own on the command line).
     pub fn spec_for(&self, domain: DomainSpec) -> Result<ExperimentSpec, ExperimentError> {
+        if self.keepaway.record > 0 && !matches!(domain, DomainSpec::Keepaway { .. }) {
+            return Err(ExperimentError::Invalid(format!(
+                "--record saves Keepaway episodes as game logs; {} has none",
+                domain.name()
+            )));
+        }
         let algo = match self.algo {
             Some(a) => a,
             None if domain.is_fixed_policy() => Algorithm::Random,
@@ -214,7 +220,6 @@ impl ExperimentOptions {
             protocol,
             seed: self.seed.unwrap_or(defaults::DEFAULT_SEED),
             initial_values: self.initial_values_to_use()?,
-            record: self.keepaway.record,
         };
         spec.validate()?;
         if !self.unchecked {

@@ -70,7 +70,6 @@ fn experiment(
         protocol,
         seed: SEED,
         initial_values: Vec::new(),
-        record: 0,
     }
 }
 

@@ -22,7 +22,7 @@ fn family(spec: &ExperimentSpec) -> &'static str {
 pub(crate) fn episodes_of(spec: &ExperimentSpec) -> u64 {
     let p = &spec.protocol;
     let per_run = p.episodes + p.eval_points().len() as u64 * p.eval_episodes as u64 + p.greedy_episodes as u64;
-    per_run * p.runs as u64 + spec.record as u64
+    per_run * p.runs as u64 + spec.domain.replays() as u64
 }
 
 /// Seconds per episode, per domain family, measured so far.

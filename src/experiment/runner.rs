@@ -193,7 +193,7 @@ pub fn run_protocol(
     out.episodes_run += p.greedy_episodes as u64;
     if first {
         // Played last, so that recording changes no result of the run.
-        out.replays = task.record(spec.record)?;
+        out.replays = task.replays()?;
     }
     Ok(true)
 }

@@ -142,6 +142,7 @@ impl DomainSpec {
                 }
             }
             DomainSpec::Keepaway { config, .. } => {
+                field("record", ranges::RECORD.check(config.record as u64))?;
                 field("hold-threshold", ranges::DISTANCE.check(config.hold_threshold))?;
                 field("lane-threshold", ranges::DISTANCE.check(config.thresholds.pass_line))?;
                 field(
@@ -151,6 +152,15 @@ impl DomainSpec {
             }
         }
         Ok(())
+    }
+
+    /// Evaluation episodes of run 0 it records for replay (Keepaway's
+    /// `--record`); none in the other domains.
+    pub fn replays(&self) -> usize {
+        match self {
+            DomainSpec::Keepaway { config, .. } => config.record,
+            _ => 0,
+        }
     }
 
     /// The domain's command-line name.
@@ -528,14 +538,6 @@ pub struct ExperimentSpec {
     /// experiment saves them), instead of the initial value.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub initial_values: Vec<PathBuf>,
-    /// Keepaway: evaluation episodes of run 0, played after its last
-    /// evaluation, to save as RoboCup game logs (they change no result).
-    #[serde(default, skip_serializing_if = "is_zero")]
-    pub record: usize,
-}
-
-fn is_zero(n: &usize) -> bool {
-    *n == 0
 }
 
 impl ExperimentSpec {
@@ -546,13 +548,6 @@ impl ExperimentSpec {
         self.protocol.validate()?;
         self.domain.validate()?;
         self.learner.validate()?;
-        field("record", ranges::RECORD.check(self.record as u64))?;
-        if self.record > 0 && !matches!(self.domain, DomainSpec::Keepaway { .. }) {
-            return Err(ExperimentError::Invalid(format!(
-                "--record saves Keepaway episodes as game logs; {} has none",
-                self.domain.name()
-            )));
-        }
         if !self.learner.is_for(self.algorithm) {
             return Err(ExperimentError::Invalid(format!(
                 "the learner's parameters are not those of {}",

@@ -88,6 +88,7 @@ impl KeepawayOptions {
         config.vision = self.vision;
         config.timer = self.timer;
         config.referee = self.referee;
+        config.record = self.record;
         if let Some(t) = self.hold_threshold {
             config.hold_threshold = t;
         }
@@ -119,6 +120,14 @@ pub struct KeepawayDomainConfig {
     pub thresholds: FeatureThresholds,
     /// The distance at which the threshold policy passes.
     pub hold_threshold: f64,
+    /// Evaluation episodes of run 0, played after its last evaluation and
+    /// saved as RoboCup game logs (they change no result).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub record: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 impl Default for KeepawayDomainConfig {
@@ -130,6 +139,7 @@ impl Default for KeepawayDomainConfig {
             referee: RefereeRule::Rcssserver11,
             thresholds: FeatureThresholds::default(),
             hold_threshold: DEFAULT_HOLD_THRESHOLD,
+            record: 0,
         }
     }
 }

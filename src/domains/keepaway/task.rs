@@ -175,8 +175,8 @@ impl Task for KeepawayTask {
         self.team.learners()
     }
 
-    fn record(&mut self, episodes: usize) -> Result<Vec<String>, TaskError> {
-        (0..episodes)
+    fn replays(&mut self) -> Result<Vec<String>, TaskError> {
+        (0..self.config().record)
             .map(|_| self.record_episode(EpisodeMode::Evaluate).map(|(_, log)| log))
             .collect()
     }
