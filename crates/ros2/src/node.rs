@@ -187,16 +187,21 @@ impl Node {
         Ok((topic_key(self.domain, &fq, &dds, &hash), format!("{dds}/{hash}"), token))
     }
 
+    /// Declares an entity's liveliness token (rmw_zenoh's graph cache reads
+    /// it), kept as long as the returned token lives.
+    fn announce(&self, token: String) -> Result<zenoh::liveliness::LivelinessToken, Ros2Error> {
+        self.session
+            .liveliness()
+            .declare_token(token)
+            .wait()
+            .map_err(zenoh_error)
+    }
+
     /// A publisher of `type_name` messages on `topic` (its `MP` token).
     pub fn publisher(&self, topic: &str, type_name: &str) -> Result<Publisher, Ros2Error> {
         let (key, _, token) = self.entity(EntityKind::Publisher, topic, type_name)?;
         let gid = gid_of(&token);
-        let token = self
-            .session
-            .liveliness()
-            .declare_token(token)
-            .wait()
-            .map_err(zenoh_error)?;
+        let token = self.announce(token)?;
         let publisher = self
             .session
             .declare_publisher(key)
@@ -249,12 +254,7 @@ impl Node {
             .wait()
             .map_err(zenoh_error)?;
         // The token once the subscriber is there: a peer that sees it can publish to it.
-        let token = self
-            .session
-            .liveliness()
-            .declare_token(token)
-            .wait()
-            .map_err(zenoh_error)?;
+        let token = self.announce(token)?;
         Ok(Subscription {
             _subscriber: subscriber,
             _token: token,
@@ -267,12 +267,7 @@ impl Node {
         let (request, response) = self.registry.service(srv_type)?;
         let (request, response) = (request.to_string(), response.to_string());
         let gid = gid_of(&token);
-        let token = self
-            .session
-            .liveliness()
-            .declare_token(token)
-            .wait()
-            .map_err(zenoh_error)?;
+        let token = self.announce(token)?;
         Ok(Client {
             session: self.session.clone(),
             registry: Arc::clone(&self.registry),
@@ -347,12 +342,7 @@ impl Node {
             .wait()
             .map_err(zenoh_error)?;
         // The token once the queryable is there: a client that sees it can call.
-        let token = self
-            .session
-            .liveliness()
-            .declare_token(token)
-            .wait()
-            .map_err(zenoh_error)?;
+        let token = self.announce(token)?;
         Ok(Server {
             _queryable: queryable,
             _token: token,

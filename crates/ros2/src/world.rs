@@ -549,6 +549,27 @@ message = { direction = 1 }
     /// The action path against an action server made of this crate's own
     /// services and publishers (the Python test's robot uses topics: the
     /// zenoh-ros2-sdk has no actions).
+    /// Whether `session` sees at least `n` service servers' liveliness
+    /// tokens (`SS`) within about 55 s.
+    fn sees_servers(session: &zenoh::Session, n: usize) -> bool {
+        (0..100).any(|_| {
+            let replies = session
+                .liveliness()
+                .get("@ros2_lv/0/**")
+                .timeout(Duration::from_millis(500))
+                .wait()
+                .unwrap();
+            let mut seen = 0;
+            while let Ok(r) = replies.recv() {
+                seen += r.result().is_ok_and(|s| s.key_expr().as_str().contains("/SS/")) as usize;
+            }
+            seen >= n || {
+                std::thread::sleep(Duration::from_millis(50));
+                false
+            }
+        })
+    }
+
     #[test]
     fn a_plan_action_is_a_ros_2_goal_run_to_its_result_and_bad_statuses_are_refused() {
         let dir = std::env::temp_dir().join(format!("learnpnp-ros2-action-{}", std::process::id()));
@@ -633,24 +654,8 @@ message = { direction = 1 }
                 |_| {},
             )
             .unwrap();
-        // Wait until the world's session sees the robot's two servers.
-        let servers = (0..100).any(|_| {
-            let replies = a
-                .liveliness()
-                .get("@ros2_lv/0/**")
-                .timeout(Duration::from_millis(500))
-                .wait()
-                .unwrap();
-            let mut n = 0;
-            while let Ok(r) = replies.recv() {
-                n += r.result().is_ok_and(|s| s.key_expr().as_str().contains("/SS/")) as usize;
-            }
-            n >= 3 || {
-                std::thread::sleep(Duration::from_millis(50));
-                false
-            }
-        });
-        assert!(servers, "the robot's action servers are seen");
+        // Wait until the world's session sees the robot's servers.
+        assert!(sees_servers(&a, 3), "the robot's action servers are seen");
         let mut world = Ros2World::new(loaded, world_node).unwrap();
         world.reset(None);
         let done = world.step(&[Some(0)]);
@@ -731,23 +736,7 @@ equals = true
                 |_| {},
             )
             .unwrap();
-        let seen = (0..100).any(|_| {
-            let replies = a
-                .liveliness()
-                .get("@ros2_lv/0/**")
-                .timeout(Duration::from_millis(500))
-                .wait()
-                .unwrap();
-            let mut found = false;
-            while let Ok(r) = replies.recv() {
-                found |= r.result().is_ok_and(|s| s.key_expr().as_str().contains("/SS/"));
-            }
-            found || {
-                std::thread::sleep(Duration::from_millis(50));
-                false
-            }
-        });
-        assert!(seen, "the robot's service is seen");
+        assert!(sees_servers(&a, 1), "the robot's service is seen");
         let mut world = Ros2World::new(loaded, world_node).unwrap();
         world.reset(None);
         assert!(!world.terminated() && !world.truncated());
