@@ -62,9 +62,9 @@ def router():
     session.close()
 
 
-def start_robot(port, sandbox, faults=0):
+def start_robot(port, sandbox, *args):
     robot = subprocess.Popen(
-        [sys.executable, str(HERE / "corridor_robot.py"), "--port", str(port), "--faults", str(faults)],
+        [sys.executable, str(HERE / "corridor_robot.py"), "--port", str(port), *args],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
@@ -75,18 +75,28 @@ def start_robot(port, sandbox, faults=0):
     return robot
 
 
-def mapping(sandbox, port):
-    text = (HERE / "corridor.toml").read_text()
+def stop(robot):
+    robot.terminate()
+    try:
+        robot.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        robot.kill()
+        robot.wait()
+
+
+def mapping(sandbox, port, name):
+    text = (HERE / name).read_text()
     text = text.replace("tcp/127.0.0.1:7447", f"tcp/127.0.0.1:{port}")
     text = text.replace('file = "msgs/', f'file = "{HERE}/msgs/')
-    path = sandbox / "corridor.toml"
+    path = sandbox / name
     path.write_text(text)
     return path
 
 
-def learn(supervisor, sandbox, port, name, seed):
+def learn(supervisor, sandbox, port, name, seed, mapping_name="corridor.toml"):
     out, ipc = sandbox / name, sandbox / "ipc"
-    command = [supervisor, "--ros2", str(mapping(sandbox, port)), "--plan", str(ROOT / "plans" / "ros2" / "corridor.pnml")]
+    plan = str(ROOT / "plans" / "ros2" / "corridor.pnml")
+    command = [supervisor, "--ros2", str(mapping(sandbox, port, mapping_name)), "--plan", plan]
     command += ["--algo", "q-learning", "--episodes", "150", "--eval-every", "150", "--eval-episodes", "0"]
     command += ["--greedy-episodes", str(GREEDY), "--seed", seed, "--out", str(out), "--floor-round-trips", "200"]
     done = subprocess.run(
@@ -107,19 +117,37 @@ def learn(supervisor, sandbox, port, name, seed):
 def test_a_ros2_corridor_robot_is_learned_to_the_optimum_and_bad_messages_are_refused(
     supervisor, ros2_world, sandbox, router
 ):
-    robot = start_robot(router, sandbox, faults=3)
+    robot = start_robot(router, sandbox, "--faults", "3")
     try:
         summary, counts = learn(supervisor, sandbox, router, "corridor", "1")
     finally:
-        robot.terminate()
-        try:
-            robot.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            robot.kill()
-            robot.wait()
+        stop(robot)
     assert summary["experiment"]["final_greedy_mean"] == -4.0, "the greedy walk goes straight forward"
     assert counts["malformed_cdr"] == 1, counts
     assert counts["wrong_type"] == 1, counts
     assert counts["timeouts"] == 0, counts
     assert counts["steps"] >= 150 * 4, counts
     assert counts["resets"] >= 150 + GREEDY, counts
+
+
+def test_plan_actions_as_ros2_action_goals_run_to_their_results_on_an_sdk_robot(
+    supervisor, ros2_world, sandbox, router
+):
+    """The same corridor, each move a goal of the ROS 2 action /corridor/move
+    whose server the robot makes of zenoh-ros2-sdk's service servers and
+    publishers (the SDK has no actions), the synthesized types' hashes by
+    rosbags: every goal is accepted and runs to its result (a hash that
+    differed from the world's would put the robot's services on other keys,
+    and every goal would time out), its feedback and statuses are taken, and
+    the agent still learns the optimum."""
+    robot = start_robot(router, sandbox, "--action")
+    try:
+        summary, counts = learn(supervisor, sandbox, router, "action", "2", "corridor_action.toml")
+    finally:
+        stop(robot)
+    assert summary["experiment"]["final_greedy_mean"] == -4.0, "the greedy walk goes straight forward"
+    for refusal in ("timeouts", "goals_rejected", "unknown_action_status", "wrong_type", "malformed_cdr"):
+        assert counts[refusal] == 0, counts
+    assert counts["steps"] >= 150 * 4, counts
+    # One feedback message a goal; the last ones may still be on their way when the world stops.
+    assert counts["steps"] - 2 <= counts["feedback"] <= counts["steps"], counts

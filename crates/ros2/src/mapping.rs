@@ -7,7 +7,7 @@
 //! `[[atom]]` tables as easily as a launch file's YAML. `docs/ROS2.md` is the
 //! reference.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
@@ -354,10 +354,21 @@ pub fn parse(file: &Path, text: &str) -> Result<Loaded, MappingError> {
         check.numeric(&what, &f.source)?;
     }
     let mut actions = BTreeSet::new();
+    // A topic or ROS 2 action has one type, whichever plan actions use it.
+    let mut types: BTreeMap<&str, &str> = BTreeMap::new();
     for a in &mapping.actions {
         let what = format!("[[action]] '{}'", a.name);
         check.name(&what, &a.name, &mut actions)?;
         check.action(&what, a)?;
+        if let Some(target) = a.topic.as_deref().or(a.action.as_deref())
+            && let Some(other) = types.insert(target, &a.type_name).filter(|t| *t != a.type_name)
+        {
+            return Err(entry(
+                what,
+                &a.type_name,
+                format!("'{target}' is already mapped with the type {other}"),
+            ));
+        }
     }
     if mapping.actions.is_empty() {
         return Err(entry(
@@ -669,5 +680,12 @@ type = "std_srvs/srv/Empty"
         assert!(e.starts_with("m.toml: ") && e.contains("rest"), "{e}");
         let e = err(&GOOD.replace("std_srvs/srv/Empty", "std_msgs/msg/Empty"));
         assert!(e.contains("[reset]: 'std_msgs/msg/Empty'"), "{e}");
+        let back =
+            "[[action]]\nname = \"back\"\ntopic = \"/corridor/cmd\"\ntype = \"std_msgs/msg/Float64\"\n\n[reward]";
+        let e = err(&GOOD.replacen("[reward]", back, 1));
+        assert!(
+            e.contains("[[action]] 'back': 'std_msgs/msg/Float64': '/corridor/cmd' is already mapped with the type std_msgs/msg/Int32"),
+            "{e}"
+        );
     }
 }

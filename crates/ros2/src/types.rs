@@ -848,6 +848,39 @@ mod tests {
         }
     }
 
+    /// An action's synthesized types hash as an independent implementation
+    /// computes them: rosbags 0.11.9's `Typestore.hash_rihs01`, the types built
+    /// as rosidl builds them, by
+    /// `python python/tests/ros2/action_types.py example_interfaces/action/Fibonacci Fibonacci.action`
+    /// (Fibonacci.action: `int32 order`, `---`, `int32[] sequence`, `---`,
+    /// `int32[] sequence`); that script checks its construction on design.md's
+    /// two golden hashes first (python/tests/test_ros2_types.py).
+    #[test]
+    fn action_hashes_agree_with_rosbags() {
+        let mut r = Registry::new();
+        r.add_interface(
+            "example_interfaces/action/Fibonacci",
+            "int32 order\n---\nint32[] sequence\n---\nint32[] sequence\n",
+        )
+        .unwrap();
+        for (t, h) in [
+            (
+                "example_interfaces/action/Fibonacci_SendGoal",
+                "d1a57fb2a4afe8c21e34fb10db206f16ce6729b28531141472df92277c55b557",
+            ),
+            (
+                "example_interfaces/action/Fibonacci_GetResult",
+                "1b0de0d5d29dc955d92f546706568428632771db13ec84c15ec1c1a59f424a57",
+            ),
+            (
+                "example_interfaces/action/Fibonacci_FeedbackMessage",
+                "c1de71afd52e49a89c53d8262366884185bc0a02f78ce051c4e46b0a7fe59bb2",
+            ),
+        ] {
+            assert_eq!(r.type_hash(t).unwrap(), format!("RIHS01_{h}"), "{t}");
+        }
+    }
+
     #[test]
     fn dds_names_follow_the_design() {
         assert_eq!(dds_name("std_msgs/msg/String").unwrap(), "std_msgs::msg::dds_::String_");

@@ -84,11 +84,17 @@ enum Command {
     Action(Box<Goal>),
 }
 
-/// A ROS 2 action's clients and the goal to send.
-struct Goal {
+/// A ROS 2 action's clients: one set per action, however many plan actions
+/// send it goals (as one rclcpp action client would).
+struct ActionClients {
     send_goal: Client,
     get_result: Client,
     cancel: Client,
+}
+
+/// A ROS 2 action's clients and the goal to send.
+struct Goal {
+    clients: Arc<ActionClients>,
     goal: Value,
 }
 
@@ -170,8 +176,9 @@ impl Ros2World {
             })?);
         }
         let mut commands = Vec::new();
+        let mut clients = BTreeMap::new();
         for a in &m.actions {
-            commands.push(command(&node, a, &shared, &mut subscriptions)?);
+            commands.push(command(&node, a, &shared, &mut subscriptions, &mut clients)?);
         }
         let reset = m
             .reset
@@ -272,7 +279,12 @@ impl Ros2World {
     }
 
     /// Runs a ROS 2 action's goal to its end: the action's status.
-    fn run_goal(&self, send_goal: &Client, get_result: &Client, cancel: &Client, goal: &Value) -> ActionStatus {
+    fn run_goal(&self, clients: &ActionClients, goal: &Value) -> ActionStatus {
+        let ActionClients {
+            send_goal,
+            get_result,
+            cancel,
+        } = clients;
         let n = self.goals.fetch_add(1, Ordering::Relaxed);
         // A goal id unique in the run: the counter and the process id.
         let mut uuid = [0u8; 16];
@@ -353,12 +365,14 @@ impl Ros2World {
     }
 }
 
-/// Prepares a plan action's command.
+/// Prepares a plan action's command; a ROS 2 action's clients and
+/// subscriptions are made once (`clients`, by the action's full name).
 fn command(
     node: &Node,
     a: &ActionMap,
     shared: &Arc<Shared>,
     subs: &mut Vec<Subscription>,
+    clients: &mut BTreeMap<String, Arc<ActionClients>>,
 ) -> Result<Command, Ros2Error> {
     let message = Value::from_toml(&toml::Value::Table(a.message.clone())).unwrap_or_else(|| Value::fields([]));
     if let Some(topic) = &a.topic {
@@ -368,6 +382,12 @@ fn command(
         ))));
     }
     let action = a.action.clone().unwrap_or_default();
+    if let Some(c) = clients.get(&node.qualify(&action)) {
+        return Ok(Command::Action(Box::new(Goal {
+            clients: Arc::clone(c),
+            goal: message,
+        })));
+    }
     let t = &a.type_name;
     let sh = Arc::clone(shared);
     subs.push(node.subscribe(
@@ -397,10 +417,14 @@ fn command(
             Err(refusal) => sh.refuse(&refusal),
         },
     )?);
-    Ok(Command::Action(Box::new(Goal {
+    let c = Arc::new(ActionClients {
         send_goal: node.client(&names::name(&action, names::SEND_GOAL), &format!("{t}_SendGoal"))?,
         get_result: node.client(&names::name(&action, names::GET_RESULT), &format!("{t}_GetResult"))?,
         cancel: node.client(&names::name(&action, names::CANCEL_GOAL), "action_msgs/srv/CancelGoal")?,
+    });
+    clients.insert(node.qualify(&action), Arc::clone(&c));
+    Ok(Command::Action(Box::new(Goal {
+        clients: c,
         goal: message,
     })))
 }
@@ -478,7 +502,7 @@ impl ServedWorld for Ros2World {
                     ActionStatus::Failed
                 }
             },
-            Some(Command::Action(g)) => self.run_goal(&g.send_goal, &g.get_result, &g.cancel, &g.goal),
+            Some(Command::Action(g)) => self.run_goal(&g.clients, &g.goal),
         };
         if status != ActionStatus::None {
             self.await_answer(before);

@@ -11,6 +11,20 @@ the far wall) and last a tick on ``/corridor/tick`` (``std_msgs/Int32``), the
 lock-step answer. ``/corridor/reset`` (``corridor_msgs/srv/Reset``) puts it
 back at ``start``.
 
+With ``--action``, the commands are goals of the ROS 2 action
+``/corridor/move`` (``corridor_msgs/action/Move``: direction, then position as
+feedback and result) instead of ``/corridor/cmd`` messages. zenoh-ros2-sdk has
+no action server, so the robot makes one of what ROS 2 makes an action of:
+the services ``_action/send_goal``, ``_action/get_result`` and
+``_action/cancel_goal`` and the topics ``_action/feedback`` and
+``_action/status``, with the synthesized types' hashes computed by the
+``rosbags`` package (``action_types.py``). A goal is accepted, then executed
+(status executing, feedback, the move, the state, status succeeded); its
+result is answered once it is done.
+
+With ``--log FILE``, the robot appends the wall-clock time (ns) of each
+command, one a line.
+
 With ``--faults N``, after its N-th command the robot also sends, once, a
 ``Bool`` whose CDR byte is 7 (malformed) and a ``Bool`` under a wrong type
 hash, before its true state.
@@ -34,6 +48,8 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--port", type=int, required=True, help="the router's port on 127.0.0.1")
     parser.add_argument("--faults", type=int, default=0, help="send bad messages after this command (0: never)")
+    parser.add_argument("--action", action="store_true", help="take commands as goals of the /corridor/move action")
+    parser.add_argument("--log", help="append each command's time (ns) to this file")
     args = parser.parse_args()
     # Contact nothing but the router on 127.0.0.1: no multicast, no gossip, no listener.
     os.environ["ZENOH_CONFIG_OVERRIDE"] = (
@@ -86,14 +102,19 @@ def main():
         wrong = at_end.keyexpr.rsplit("/", 1)[0] + "/RIHS01_" + "0" * 64
         session.put(wrong, zenoh.ZBytes(b"\x00\x01\x00\x00\x01"), attachment=attachment)
 
-    def on_command(msg):
+    log = open(args.log, "a", buffering=1) if args.log else None
+
+    def move(direction):
         with lock:
+            if log:
+                log.write(f"{time.time_ns()}\n")
             state["commands"] += 1
-            state["pos"] = min(max(state["pos"] + int(msg.data), 0), LENGTH - 1)
+            state["pos"] = min(max(state["pos"] + direction, 0), LENGTH - 1)
             reward.publish(data=-1.0)
             if state["commands"] == args.faults:
                 send_faults()
             publish_state()
+            return state["pos"]
 
     def on_reset(request):
         with lock:
@@ -101,7 +122,10 @@ def main():
             publish_state()
         return server.response_msg_class(success=True)
 
-    ROS2Subscriber("/corridor/cmd", "std_msgs/msg/Int32", on_command, **where)
+    if args.action:
+        servers = serve_action(move, where, time_cls)  # kept for the robot's life
+    else:
+        ROS2Subscriber("/corridor/cmd", "std_msgs/msg/Int32", lambda msg: move(int(msg.data)), **where)
     server = ROS2ServiceServer("/corridor/reset", "corridor_msgs/srv/Reset", callback=on_reset, **where)
     print("ready", flush=True)
     stop = threading.Event()
@@ -111,6 +135,101 @@ def main():
     # Zenoh's threads would keep the interpreter alive: leave at once.
     sys.stdout.flush()
     os._exit(0)
+
+
+def serve_action(move, where, time_cls):
+    """The robot's side of the ROS 2 action ``/corridor/move``, made of the
+    SDK's service servers and publishers by ROS 2's action naming."""
+    from action_types import Types
+    from zenoh_ros2_sdk import ROS2Publisher, ROS2ServiceServer
+
+    name, action = "/corridor/move", "corridor_msgs/action/Move"
+    text = (MSGS / "corridor_msgs" / "action" / "Move.action").read_text()
+    types = Types()
+    types.action(action, text)
+    goal_def, result_def, feedback_def = (part.strip() for part in text.split("\n---"))
+    uuid = "unique_identifier_msgs/msg/UUID goal_id"
+    definitions = {
+        f"{action}_Goal": goal_def,
+        f"{action}_Result": result_def,
+        f"{action}_Feedback": feedback_def,
+        f"{action}_FeedbackMessage": f"{uuid}\n{action}_Feedback feedback",
+    }
+    status_pub = ROS2Publisher(f"{name}/_action/status", "action_msgs/msg/GoalStatusArray", **where)
+    session = status_pub.session_mgr
+    session.register_message_type(None, "unique_identifier_msgs/msg/UUID")
+    for type_name, definition in definitions.items():
+        session.register_message_type(definition, type_name)
+    feedback_pub = ROS2Publisher(
+        f"{name}/_action/feedback",
+        f"{action}_FeedbackMessage",
+        msg_definition=definitions[f"{action}_FeedbackMessage"],
+        type_hash=types.hash(f"{action}_FeedbackMessage"),
+        **where,
+    )
+    store = session.store.types
+    goal_info, goal_status = store["action_msgs/msg/GoalInfo"], store["action_msgs/msg/GoalStatus"]
+    results = {}  # goal id -> (done event, [position])
+
+    def now():
+        t = time.time_ns()
+        return time_cls(sec=t // 10**9, nanosec=t % 10**9)
+
+    def publish_status(goal_id, status):
+        info = goal_info(goal_id=goal_id, stamp=now())
+        status_pub.publish(status_list=[goal_status(goal_info=info, status=status)])
+
+    def execute(goal_id, direction, done, out):
+        publish_status(goal_id, 2)  # executing
+        feedback = store[f"{action}_Feedback"]
+        feedback_pub.publish(goal_id=goal_id, feedback=feedback(position=-1))
+        out.append(move(direction))
+        publish_status(goal_id, 4)  # succeeded
+        done.set()
+
+    def on_send_goal(request):
+        done, out = threading.Event(), []
+        results[bytes(request.goal_id.uuid)] = (done, out)
+        threading.Thread(target=execute, args=(request.goal_id, int(request.goal.direction), done, out)).start()
+        return send_goal.response_msg_class(accepted=True, stamp=now())
+
+    def on_get_result(request):
+        done, out = results.pop(bytes(request.goal_id.uuid), (None, None))
+        result = store[f"{action}_Result"]
+        if done is None or not done.wait(5.0):
+            return get_result.response_msg_class(status=6, result=result(position=-1))  # aborted
+        return get_result.response_msg_class(status=4, result=result(position=out[0]))
+
+    def on_cancel(request):
+        return cancel.response_msg_class(return_code=0, goals_canceling=[])
+
+    def service(suffix, key, callback, request, response):
+        srv = f"{action}_{suffix}"
+        return ROS2ServiceServer(
+            f"{name}/_action/{key}",
+            srv,
+            callback=callback,
+            request_definition=request,
+            response_definition=response,
+            type_hash=types.hash(srv),
+            **where,
+        )
+
+    send_goal = service(
+        "SendGoal", "send_goal", on_send_goal, f"{uuid}\n{action}_Goal goal", "bool accepted\nbuiltin_interfaces/msg/Time stamp"
+    )
+    get_result = service("GetResult", "get_result", on_get_result, uuid, f"int8 status\n{action}_Result result")
+    # Its definitions given, so that the SDK does not look for them online.
+    cancel_request, cancel_response = (MSGS / "action_msgs" / "srv" / "CancelGoal.srv").read_text().split("---")
+    cancel = ROS2ServiceServer(
+        f"{name}/_action/cancel_goal",
+        "action_msgs/srv/CancelGoal",
+        callback=on_cancel,
+        request_definition=cancel_request.strip(),
+        response_definition=cancel_response.strip(),
+        **where,
+    )
+    return send_goal, get_result, cancel, feedback_pub, status_pub
 
 
 if __name__ == "__main__":
