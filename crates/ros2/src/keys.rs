@@ -248,14 +248,12 @@ impl Attachment {
     }
 }
 
-/// A GID for an entity: the first 16 bytes of SHA-256 of its token.
-/// (rmw_zenoh hashes the token with XXH3-128 instead; peers treat a GID as
-/// opaque bytes that identify the entity.)
+/// An entity's GID as rmw_zenoh derives it (rmw_zenoh_cpp
+/// `src/detail/liveliness_utils.cpp`, `Entity`'s constructor): XXH3-128 of
+/// the entity's liveliness token, the hash's low 64 bits then its high 64
+/// bits, each little-endian (`memcpy` of `XXH128_hash_t`'s `low64`, `high64`).
 pub fn gid_of(token: &str) -> [u8; GID_LEN] {
-    let digest = ring::digest::digest(&ring::digest::SHA256, token.as_bytes());
-    let mut gid = [0u8; GID_LEN];
-    gid.copy_from_slice(&digest.as_ref()[..GID_LEN]);
-    gid
+    xxhash_rust::xxh3::xxh3_128(token.as_bytes()).to_le_bytes()
 }
 
 /// ROS 2's action naming (design article "Actions"; rcl_action's names): the
@@ -421,6 +419,33 @@ mod tests {
                 format!("@ros2_lv/2/{zid}/0/10/{code}/%/%/{name}/%add_two_ints/{add}/{ADD_HASH}/::,10:,:,:,,")
             );
         }
+    }
+
+    /// GIDs as the reference xxHash computes them: libxxhash 0.8.1's
+    /// `XXH3_128bits` (Debian's libxxhash0, called through Python's ctypes:
+    /// `low64.to_bytes(8, "little") + high64.to_bytes(8, "little")`) on design.md's
+    /// node and publisher tokens and on a token longer than 240 bytes (xxHash's
+    /// three input-length paths: 17-128, 129-240, longer).
+    #[test]
+    fn gids_are_xxh3_128_of_the_token_as_rmw_zenoh_makes_them() {
+        let long = "@ros2_lv/0/0123456789abcdef0123456789abcdef/0/3/SC/%/%/learnpnp_world/%a%very%long%namespace%for%a%robot%with%many%parts/corridor_msgs::action::dds_::Move_SendGoal_/RIHS01_c588ea9aa1d1b1fb851ed432419fe25742f3702a20907375ab1f76991434d2b4/::,10:,:,:,,";
+        for (token, gid) in [
+            (
+                "@ros2_lv/2/aac3178e146ba6f1fc6e6a4085e77f21/0/0/NN/%/%/listener".to_string(),
+                "49877999dacb858702d11ac823785912",
+            ),
+            (
+                format!(
+                    "@ros2_lv/2/8b20917502ee955ac4476e0266340d5c/0/10/MP/%/%/talker/%chatter/std_msgs::msg::dds_::String_/{STRING_HASH}/::,7:,:,:,,"
+                ),
+                "ac170f31eadcd9ff0cd86d7a17907d1c",
+            ),
+            (long.to_string(), "94c625a8b258b76610b1432c3b17190f"),
+        ] {
+            let hex: String = gid_of(&token).iter().map(|b| format!("{b:02x}")).collect();
+            assert_eq!(hex, gid, "{} bytes", token.len());
+        }
+        assert_eq!(long.len(), 249);
     }
 
     #[test]
