@@ -39,6 +39,18 @@ pub enum CdrError {
         /// The byte found.
         value: u8,
     },
+    /// A bounded sequence or string longer than its bound.
+    #[error("{what} at byte {at} has {count} elements, more than its bound {bound}")]
+    OverBound {
+        /// `sequence` or `string`.
+        what: &'static str,
+        /// Offset in the body.
+        at: usize,
+        /// The count found (a string's bytes without its NUL).
+        count: usize,
+        /// The type's bound.
+        bound: usize,
+    },
     /// A sequence longer than the payload could hold.
     #[error("sequence at byte {at} claims {count} elements")]
     BadLength {
@@ -242,6 +254,36 @@ impl<'a> Reader<'a> {
         }
         Ok(n as usize)
     }
+    /// A bounded sequence's element count (`T[<=bound]`), refused when over its bound.
+    pub fn bounded_count(&mut self, bound: usize) -> Result<usize, CdrError> {
+        self.align(4);
+        let at = self.pos;
+        let count = self.count()?;
+        if count > bound {
+            return Err(CdrError::OverBound {
+                what: "sequence",
+                at,
+                count,
+                bound,
+            });
+        }
+        Ok(count)
+    }
+    /// A bounded string (`string<=bound`, the bound in bytes), refused when over its bound.
+    pub fn bounded_string(&mut self, bound: usize) -> Result<String, CdrError> {
+        self.align(4);
+        let at = self.pos;
+        let s = self.string()?;
+        if s.len() > bound {
+            return Err(CdrError::OverBound {
+                what: "string",
+                at,
+                count: s.len(),
+                bound,
+            });
+        }
+        Ok(s)
+    }
     /// A string: length with the NUL, bytes, NUL.
     pub fn string(&mut self) -> Result<String, CdrError> {
         let at = self.pos;
@@ -287,5 +329,20 @@ mod tests {
         assert_eq!(r.bool().unwrap_err(), CdrError::BadBool { at: 0, value: 2 });
         let mut r = Reader::new(&[0, 1, 0, 0, 200, 0, 0, 0, b'x']).unwrap();
         assert!(matches!(r.string(), Err(CdrError::BadLength { .. })));
+        let mut r = Reader::new(&[0, 1, 0, 0, 3, 0, 0, 0, b'a', b'b', 0]).unwrap();
+        assert_eq!(
+            r.bounded_string(1).unwrap_err(),
+            CdrError::OverBound {
+                what: "string",
+                at: 0,
+                count: 2,
+                bound: 1
+            }
+        );
+        let mut r = Reader::new(&[0, 1, 0, 0, 2, 0, 0, 0, 7, 8]).unwrap();
+        assert!(matches!(
+            r.bounded_count(1),
+            Err(CdrError::OverBound { count: 2, bound: 1, .. })
+        ));
     }
 }

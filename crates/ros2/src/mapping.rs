@@ -493,7 +493,7 @@ impl<F: Fn(String, &str, String) -> MappingError> Checker<'_, F> {
                 Elem::Prim(p) => {
                     return Ok(match p {
                         crate::types::Prim::Bool => FieldKind::Bool,
-                        crate::types::Prim::String => FieldKind::Text,
+                        crate::types::Prim::String | crate::types::Prim::BoundedString(_) => FieldKind::Text,
                         _ => FieldKind::Number,
                     });
                 }

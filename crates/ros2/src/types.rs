@@ -49,6 +49,8 @@ pub enum Prim {
     F64,
     /// `string`.
     String,
+    /// `string<=N`: at most N bytes.
+    BoundedString(usize),
 }
 
 impl Prim {
@@ -68,7 +70,7 @@ impl Prim {
             "float32" => Prim::F32,
             "float64" => Prim::F64,
             "string" => Prim::String,
-            _ => return None,
+            _ => Prim::BoundedString(s.strip_prefix("string<=")?.parse().ok().filter(|&n| n > 0)?),
         })
     }
 
@@ -88,6 +90,15 @@ impl Prim {
             Prim::Bool => 15,
             Prim::Byte => 16,
             Prim::String => 17,
+            Prim::BoundedString(_) => 21,
+        }
+    }
+
+    /// type_description_interfaces/msg/FieldType's `string_capacity`: a bounded string's bound.
+    fn string_capacity(self) -> usize {
+        match self {
+            Prim::BoundedString(n) => n,
+            _ => 0,
         }
     }
 }
@@ -316,8 +327,8 @@ impl Registry {
                     (&ty[..b], shape)
                 }
             };
-            if base.contains("<=") {
-                return Err(syntax("bounded strings are not supported"));
+            if base.starts_with("string<=") && Prim::parse(base).is_none() {
+                return Err(syntax("bad string bound (string<=N, N a positive integer)"));
             }
             let elem = match Prim::parse(base) {
                 Some(p) => Elem::Prim(p),
@@ -593,8 +604,15 @@ impl Registry {
                 Prim::U64 => w.u64(range(int(v)?, 0, i64::MAX.into())? as u64),
                 Prim::F32 => w.f32(float(v)? as f32),
                 Prim::F64 => w.f64(float(v)?),
-                Prim::String => match v {
+                Prim::String | Prim::BoundedString(_) => match v {
                     None => w.string(""),
+                    Some(Value::Str(s)) if s.len() > p.string_capacity() && p.string_capacity() > 0 => {
+                        return Err(format!(
+                            "a string of {} bytes, more than its bound {}",
+                            s.len(),
+                            p.string_capacity()
+                        ));
+                    }
                     Some(Value::Str(s)) => w.string(s),
                     Some(o) => return Err(format!("expected a string, got {o:?}")),
                 },
@@ -614,7 +632,11 @@ impl Registry {
             let v = match f.shape {
                 Shape::Single => self.read_elem(r, &f.elem)?,
                 Shape::Array(n) => Value::List((0..n).map(|_| self.read_elem(r, &f.elem)).collect::<Result<_, _>>()?),
-                Shape::Bounded(_) | Shape::Sequence => {
+                Shape::Bounded(bound) => {
+                    let n = r.bounded_count(bound)?;
+                    Value::List((0..n).map(|_| self.read_elem(r, &f.elem)).collect::<Result<_, _>>()?)
+                }
+                Shape::Sequence => {
                     let n = r.count()?;
                     Value::List((0..n).map(|_| self.read_elem(r, &f.elem)).collect::<Result<_, _>>()?)
                 }
@@ -640,6 +662,7 @@ impl Registry {
                 Prim::F32 => Value::Float(r.f32()?.into()),
                 Prim::F64 => Value::Float(r.f64()?),
                 Prim::String => Value::Str(r.string()?),
+                Prim::BoundedString(n) => Value::Str(r.bounded_string(*n)?),
             },
         })
     }
@@ -697,9 +720,9 @@ fn describe(def: &MsgDef) -> String {
         .fields
         .iter()
         .map(|f| {
-            let (base, nested) = match &f.elem {
-                Elem::Prim(p) => (p.type_id(), String::new()),
-                Elem::Nested(n) => (1, n.clone()),
+            let (base, string_capacity, nested) = match &f.elem {
+                Elem::Prim(p) => (p.type_id(), p.string_capacity(), String::new()),
+                Elem::Nested(n) => (1, 0, n.clone()),
             };
             let (offset, capacity) = match f.shape {
                 Shape::Single => (0, 0),
@@ -708,7 +731,7 @@ fn describe(def: &MsgDef) -> String {
                 Shape::Sequence => (144, 0),
             };
             format!(
-                "{{\"name\": {}, \"type\": {{\"type_id\": {}, \"capacity\": {capacity}, \"string_capacity\": 0, \"nested_type_name\": {}}}}}",
+                "{{\"name\": {}, \"type\": {{\"type_id\": {}, \"capacity\": {capacity}, \"string_capacity\": {string_capacity}, \"nested_type_name\": {}}}}}",
                 json_str(&f.name),
                 base + offset,
                 json_str(&nested)
@@ -879,6 +902,93 @@ mod tests {
         ] {
             assert_eq!(r.type_hash(t).unwrap(), format!("RIHS01_{h}"), "{t}");
         }
+    }
+
+    /// A message with bounded strings, bounded sequences and fixed arrays:
+    /// its hash as rosbags 0.11.9's `Typestore.hash_rihs01` computes it
+    /// (`Types().msg("corridor_msgs/msg/Bounded", BOUNDED)` of
+    /// python/tests/ros2/action_types.py, then `.hash(...)`): type ids 21 +
+    /// 48/96/144 and `string_capacity` for bounded strings, `capacity` for
+    /// arrays and bounded sequences.
+    const BOUNDED: &str = "string<=10 name\nint32[<=3] values\nstring<=5[2] tags\nstring<=4[<=2] codes\n\
+                           float64[4] pose\nstring[<=2] notes\nbuiltin_interfaces/msg/Time[<=2] stamps\n";
+
+    #[test]
+    fn bounded_types_hash_as_rosbags_computes_them() {
+        let mut r = Registry::new();
+        r.add_interface("corridor_msgs/msg/Bounded", BOUNDED).unwrap();
+        assert_eq!(
+            r.type_hash("corridor_msgs/msg/Bounded").unwrap(),
+            "RIHS01_cbbf08fb619976f0484fbb0161dd02824eb60945b40eb2b149c053a2b51fd9b0"
+        );
+        let e = r.add_msg("x/msg/Y", "string<=x name").unwrap_err();
+        assert!(e.to_string().contains("bad string bound"), "{e}");
+    }
+
+    #[test]
+    fn bounds_are_kept_on_encoding_and_refused_over_on_decoding() {
+        let mut r = Registry::new();
+        r.add_interface("corridor_msgs/msg/Bounded", BOUNDED).unwrap();
+        let t = "corridor_msgs/msg/Bounded";
+        let ints = |v: &[i64]| Value::List(v.iter().map(|&i| Value::Int(i)).collect());
+        let strs = |v: &[&str]| Value::List(v.iter().map(|&s| Value::Str(s.into())).collect());
+        let good = Value::fields([
+            ("name", Value::Str("robot".into())),
+            ("values", ints(&[1, 2, 3])),
+            ("tags", strs(&["a", "bcdef"])),
+            ("codes", strs(&["abcd"])),
+            (
+                "pose",
+                Value::List([1.0, 2.0, 3.0, 4.0].into_iter().map(Value::Float).collect()),
+            ),
+            ("notes", strs(&[])),
+            ("stamps", Value::List(vec![])),
+        ]);
+        let bytes = r.encode(t, &good).unwrap();
+        assert_eq!(r.decode(t, &bytes).unwrap(), good);
+        let over = |field: &str, v: Value| {
+            let Value::Struct(mut m) = good.clone() else {
+                unreachable!()
+            };
+            m.insert(field.into(), v);
+            r.encode(t, &Value::Struct(m)).unwrap_err().to_string()
+        };
+        assert!(over("name", Value::Str("elevenbytes".into())).contains("more than its bound 10"));
+        assert!(over("values", ints(&[1, 2, 3, 4])).contains("at most 3 elements"));
+        assert!(over("tags", strs(&["a", "bcdefg"])).contains("more than its bound 5"));
+        assert!(over("pose", ints(&[1])).contains("expected 4 elements"));
+        // A peer's payload over a bound is refused, never trusted: the
+        // `name` string of 11 bytes, then the `values` sequence of 4.
+        let mut w = Writer::new();
+        w.string("elevenbytes");
+        let e = r.decode(t, &w.finish()).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                TypeError::Cdr {
+                    error: CdrError::OverBound {
+                        what: "string",
+                        count: 11,
+                        bound: 10,
+                        ..
+                    },
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let mut w = Writer::new();
+        w.string("robot");
+        w.u32(4);
+        for i in 0..4 {
+            w.i32(i);
+        }
+        let e = r.decode(t, &w.finish()).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("sequence at byte 12 has 4 elements, more than its bound 3"),
+            "{e}"
+        );
     }
 
     #[test]
