@@ -93,12 +93,13 @@ def mapping(sandbox, port, name):
     return path
 
 
-def learn(supervisor, sandbox, port, name, seed, mapping_name="corridor.toml"):
+def learn(supervisor, sandbox, port, name, seed, mapping_name="corridor.toml", episodes=150, extra=()):
     out, ipc = sandbox / name, sandbox / "ipc"
     plan = str(ROOT / "plans" / "ros2" / "corridor.pnml")
     command = [supervisor, "--ros2", str(mapping(sandbox, port, mapping_name)), "--plan", plan]
-    command += ["--algo", "q-learning", "--episodes", "150", "--eval-every", "150", "--eval-episodes", "0"]
-    command += ["--greedy-episodes", str(GREEDY), "--seed", seed, "--out", str(out), "--floor-round-trips", "200"]
+    command += ["--algo", "q-learning", "--episodes", str(episodes), "--eval-every", str(episodes)]
+    command += ["--eval-episodes", "0", "--greedy-episodes", str(GREEDY), "--seed", seed, "--out", str(out)]
+    command += ["--floor-round-trips", "200", *extra]
     done = subprocess.run(
         command, env={**os.environ, "LEARNPNP_IPC_DIR": str(ipc)}, capture_output=True, text=True, timeout=120
     )
@@ -151,3 +152,33 @@ def test_plan_actions_as_ros2_action_goals_run_to_their_results_on_an_sdk_robot(
     assert counts["steps"] >= 150 * 4, counts
     # One feedback message a goal; the last ones may still be on their way when the world stops.
     assert counts["steps"] - 2 <= counts["feedback"] <= counts["steps"], counts
+
+
+def test_in_real_time_the_robot_is_commanded_at_its_rate_and_latencies_are_recorded(
+    supervisor, ros2_world, sandbox, router
+):
+    """The supervisor's real-time mode with the world's cycle the robot's
+    rate (--world-period-ms 50: a 20 Hz robot): the robot, which logs the
+    wall-clock time of each command it gets, is commanded once a cycle (the
+    median gap between its commands is the period, within scheduling
+    jitter), and the run writes its latency histograms."""
+    period_ms = 50
+    log = sandbox / "commands.log"
+    robot = start_robot(router, sandbox, "--log", str(log))
+    try:
+        extra = ("--mode", "realtime", "--world-period-ms", str(period_ms))
+        summary, counts = learn(supervisor, sandbox, router, "realtime", "3", episodes=3, extra=extra)
+    finally:
+        stop(robot)
+    assert summary["mode"] == "realtime", summary
+    times = [int(line) for line in log.read_text().split()]
+    assert len(times) >= 20, times
+    gaps_ms = sorted((b - a) / 1e6 for a, b in zip(times, times[1:]))
+    median = gaps_ms[len(gaps_ms) // 2]
+    assert 0.9 * period_ms <= median <= 1.3 * period_ms, gaps_ms
+    assert 0.6 * 1000 / period_ms <= summary["cycles_per_second"] <= 1.05 * 1000 / period_ms, summary
+    assert counts["timeouts"] == 0, counts
+    latency = sandbox / "realtime" / "latency"
+    for histogram in ("roundtrip", "world-turnaround", "compute", "floor"):
+        assert (latency / f"{histogram}.hgrm").stat().st_size > 0, histogram
+    assert summary["latency_us"]["p50"] > 0, summary
