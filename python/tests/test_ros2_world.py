@@ -140,15 +140,19 @@ def test_plan_actions_as_ros2_action_goals_run_to_their_results_on_an_sdk_robot(
     rosbags: every goal is accepted and runs to its result (a hash that
     differed from the world's would put the robot's services on other keys,
     and every goal would time out), its feedback and statuses are taken, and
-    the agent still learns the optimum."""
-    robot = start_robot(router, sandbox, "--action")
+    the agent still learns the optimum. The robot's one malformed payload,
+    one wrong type hash and one goal status action_msgs does not define are
+    each refused and counted."""
+    robot = start_robot(router, sandbox, "--action", "--faults", "3")
     try:
         summary, counts = learn(supervisor, sandbox, router, "action", "2", "corridor_action.toml")
     finally:
         stop(robot)
     assert summary["experiment"]["final_greedy_mean"] == -4.0, "the greedy walk goes straight forward"
-    for refusal in ("timeouts", "goals_rejected", "unknown_action_status", "wrong_type", "malformed_cdr"):
+    for refusal in ("timeouts", "goals_rejected", "bad_attachment"):
         assert counts[refusal] == 0, counts
+    for refusal in ("unknown_action_status", "wrong_type", "malformed_cdr"):
+        assert counts[refusal] == 1, counts
     assert counts["steps"] >= 150 * 4, counts
     # One feedback message a goal; the last ones may still be on their way when the world stops.
     assert counts["steps"] - 2 <= counts["feedback"] <= counts["steps"], counts

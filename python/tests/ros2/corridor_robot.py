@@ -27,7 +27,8 @@ command, one a line.
 
 With ``--faults N``, after its N-th command the robot also sends, once, a
 ``Bool`` whose CDR byte is 7 (malformed) and a ``Bool`` under a wrong type
-hash, before its true state.
+hash, before its true state; with ``--action``, the N-th goal's status list
+also carries, once, the status 9, which action_msgs does not define.
 
 Message definitions come from ``msgs/`` beside this file: nothing is fetched.
 """
@@ -123,7 +124,7 @@ def main():
         return server.response_msg_class(success=True)
 
     if args.action:
-        servers = serve_action(move, where, time_cls)  # kept for the robot's life
+        servers = serve_action(move, where, time_cls, args.faults)  # kept for the robot's life
     else:
         ROS2Subscriber("/corridor/cmd", "std_msgs/msg/Int32", lambda msg: move(int(msg.data)), **where)
     server = ROS2ServiceServer("/corridor/reset", "corridor_msgs/srv/Reset", callback=on_reset, **where)
@@ -137,7 +138,7 @@ def main():
     os._exit(0)
 
 
-def serve_action(move, where, time_cls):
+def serve_action(move, where, time_cls, faults):
     """The robot's side of the ROS 2 action ``/corridor/move``, made of the
     SDK's service servers and publishers by ROS 2's action naming."""
     from action_types import Types
@@ -170,6 +171,7 @@ def serve_action(move, where, time_cls):
     store = session.store.types
     goal_info, goal_status = store["action_msgs/msg/GoalInfo"], store["action_msgs/msg/GoalStatus"]
     results = {}  # goal id -> (done event, [position])
+    goals = [0]
 
     def now():
         t = time.time_ns()
@@ -184,6 +186,9 @@ def serve_action(move, where, time_cls):
         feedback = store[f"{action}_Feedback"]
         feedback_pub.publish(goal_id=goal_id, feedback=feedback(position=-1))
         out.append(move(direction))
+        goals[0] += 1
+        if goals[0] == faults:
+            publish_status(goal_id, 9)  # not an action_msgs status
         publish_status(goal_id, 4)  # succeeded
         done.set()
 
