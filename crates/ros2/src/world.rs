@@ -79,7 +79,7 @@ impl Shared {
 /// How a plan action reaches the robot.
 enum Command {
     /// A message on a topic.
-    Topic(Box<(Publisher, Value)>),
+    Topic(Box<(Arc<Publisher>, Value)>),
     /// A goal to a ROS 2 action.
     Action(Box<Goal>),
 }
@@ -176,9 +176,9 @@ impl Ros2World {
             })?);
         }
         let mut commands = Vec::new();
-        let mut clients = BTreeMap::new();
+        let mut made = Made::default();
         for a in &m.actions {
-            commands.push(command(&node, a, &shared, &mut subscriptions, &mut clients)?);
+            commands.push(command(&node, a, &shared, &mut subscriptions, &mut made)?);
         }
         let reset = m
             .reset
@@ -365,24 +365,37 @@ impl Ros2World {
     }
 }
 
-/// Prepares a plan action's command; a ROS 2 action's clients and
-/// subscriptions are made once (`clients`, by the action's full name).
+/// The publishers and action clients made so far, by full name: one per
+/// topic or ROS 2 action, however many plan actions use it.
+#[derive(Default)]
+struct Made {
+    publishers: BTreeMap<String, Arc<Publisher>>,
+    clients: BTreeMap<String, Arc<ActionClients>>,
+}
+
+/// Prepares a plan action's command; a topic's publisher and a ROS 2
+/// action's clients and subscriptions are made once (`made`).
 fn command(
     node: &Node,
     a: &ActionMap,
     shared: &Arc<Shared>,
     subs: &mut Vec<Subscription>,
-    clients: &mut BTreeMap<String, Arc<ActionClients>>,
+    made: &mut Made,
 ) -> Result<Command, Ros2Error> {
     let message = Value::from_toml(&toml::Value::Table(a.message.clone())).unwrap_or_else(|| Value::fields([]));
     if let Some(topic) = &a.topic {
-        return Ok(Command::Topic(Box::new((
-            node.publisher(topic, &a.type_name)?,
-            message,
-        ))));
+        let publisher = match made.publishers.get(&node.qualify(topic)) {
+            Some(p) => Arc::clone(p),
+            None => {
+                let p = Arc::new(node.publisher(topic, &a.type_name)?);
+                made.publishers.insert(node.qualify(topic), Arc::clone(&p));
+                p
+            }
+        };
+        return Ok(Command::Topic(Box::new((publisher, message))));
     }
     let action = a.action.clone().unwrap_or_default();
-    if let Some(c) = clients.get(&node.qualify(&action)) {
+    if let Some(c) = made.clients.get(&node.qualify(&action)) {
         return Ok(Command::Action(Box::new(Goal {
             clients: Arc::clone(c),
             goal: message,
@@ -422,7 +435,7 @@ fn command(
         get_result: node.client(&names::name(&action, names::GET_RESULT), &format!("{t}_GetResult"))?,
         cancel: node.client(&names::name(&action, names::CANCEL_GOAL), "action_msgs/srv/CancelGoal")?,
     });
-    clients.insert(node.qualify(&action), Arc::clone(&c));
+    made.clients.insert(node.qualify(&action), Arc::clone(&c));
     Ok(Command::Action(Box::new(Goal {
         clients: c,
         goal: message,
