@@ -84,8 +84,10 @@ def stop(robot):
         robot.wait()
 
 
-def mapping(sandbox, port, name):
+def mapping(sandbox, port, name, timeout_ms=None):
     text = (HERE / name).read_text()
+    if timeout_ms is not None:
+        text = text.replace("timeout_ms = 5000", f"timeout_ms = {timeout_ms}")
     text = text.replace("tcp/127.0.0.1:7447", f"tcp/127.0.0.1:{port}")
     text = text.replace('file = "msgs/', f'file = "{HERE}/msgs/')
     path = sandbox / name
@@ -93,10 +95,10 @@ def mapping(sandbox, port, name):
     return path
 
 
-def learn(supervisor, sandbox, port, name, seed, mapping_name="corridor.toml", episodes=150, extra=()):
+def learn(supervisor, sandbox, port, name, seed, mapping_name="corridor.toml", episodes=150, extra=(), timeout_ms=None):
     out, ipc = sandbox / name, sandbox / "ipc"
     plan = str(ROOT / "plans" / "ros2" / "corridor.pnml")
-    command = [supervisor, "--ros2", str(mapping(sandbox, port, mapping_name)), "--plan", plan]
+    command = [supervisor, "--ros2", str(mapping(sandbox, port, mapping_name, timeout_ms)), "--plan", plan]
     command += ["--algo", "q-learning", "--episodes", str(episodes), "--eval-every", str(episodes)]
     command += ["--eval-episodes", "0", "--greedy-episodes", str(GREEDY), "--seed", seed, "--out", str(out)]
     command += ["--floor-round-trips", "200", *extra]
@@ -142,20 +144,25 @@ def test_plan_actions_as_ros2_action_goals_run_to_their_results_on_an_sdk_robot(
     and every goal would time out), its feedback and statuses are taken, and
     the agent still learns the optimum. The robot's one malformed payload,
     one wrong type hash and one goal status action_msgs does not define are
-    each refused and counted."""
-    robot = start_robot(router, sandbox, "--action", "--faults", "3")
+    each refused and counted. The robot holds its fifth goal: the world's
+    get_result times out (1 s here), the world cancels the goal through
+    _action/cancel_goal, the robot cancels it, and the run goes on."""
+    robot = start_robot(router, sandbox, "--action", "--faults", "3", "--stall", "5")
     try:
-        summary, counts = learn(supervisor, sandbox, router, "action", "2", "corridor_action.toml")
+        summary, counts = learn(supervisor, sandbox, router, "action", "2", "corridor_action.toml", timeout_ms=1000)
     finally:
         stop(robot)
+    assert robot.stdout.read().split() == ["canceled", "1"], "the held goal is canceled by the world"
     assert summary["experiment"]["final_greedy_mean"] == -4.0, "the greedy walk goes straight forward"
-    for refusal in ("timeouts", "goals_rejected", "bad_attachment"):
+    for refusal in ("goals_rejected", "bad_attachment"):
         assert counts[refusal] == 0, counts
     for refusal in ("unknown_action_status", "wrong_type", "malformed_cdr"):
         assert counts[refusal] == 1, counts
+    # The held goal: its get_result, then the answer the robot never sends for a move it did not make.
+    assert counts["timeouts"] == 2, counts
     assert counts["steps"] >= 150 * 4, counts
     # One feedback message a goal; the last ones may still be on their way when the world stops.
-    assert counts["steps"] - 2 <= counts["feedback"] <= counts["steps"], counts
+    assert counts["steps"] - 3 <= counts["feedback"] <= counts["steps"] - 1, counts
 
 
 def test_in_real_time_the_robot_is_commanded_at_its_rate_and_latencies_are_recorded(

@@ -20,7 +20,9 @@ the services ``_action/send_goal``, ``_action/get_result`` and
 ``_action/status``, with the synthesized types' hashes computed by the
 ``rosbags`` package (``action_types.py``). A goal is accepted, then executed
 (status executing, feedback, the move, the state, status succeeded); its
-result is answered once it is done.
+result is answered once it is done. With ``--stall N``, the N-th goal is
+accepted but not executed until it is canceled (``_action/cancel_goal``:
+status canceled); the robot prints ``canceled K`` for the K-th goal it cancels.
 
 With ``--log FILE``, the robot appends the wall-clock time (ns) of each
 command, one a line.
@@ -51,6 +53,7 @@ def main():
     parser.add_argument("--faults", type=int, default=0, help="send bad messages after this command (0: never)")
     parser.add_argument("--action", action="store_true", help="take commands as goals of the /corridor/move action")
     parser.add_argument("--log", help="append each command's time (ns) to this file")
+    parser.add_argument("--stall", type=int, default=0, help="with --action: hold this goal until canceled (0: none)")
     args = parser.parse_args()
     # Contact nothing but the router on 127.0.0.1: no multicast, no gossip, no listener.
     os.environ["ZENOH_CONFIG_OVERRIDE"] = (
@@ -124,7 +127,7 @@ def main():
         return server.response_msg_class(success=True)
 
     if args.action:
-        servers = serve_action(move, where, time_cls, args.faults)  # kept for the robot's life
+        servers = serve_action(move, where, time_cls, args.faults, args.stall)  # kept for the robot's life
     else:
         ROS2Subscriber("/corridor/cmd", "std_msgs/msg/Int32", lambda msg: move(int(msg.data)), **where)
     server = ROS2ServiceServer("/corridor/reset", "corridor_msgs/srv/Reset", callback=on_reset, **where)
@@ -138,7 +141,7 @@ def main():
     os._exit(0)
 
 
-def serve_action(move, where, time_cls, faults):
+def serve_action(move, where, time_cls, faults, stall):
     """The robot's side of the ROS 2 action ``/corridor/move``, made of the
     SDK's service servers and publishers by ROS 2's action naming."""
     from action_types import Types
@@ -170,8 +173,9 @@ def serve_action(move, where, time_cls, faults):
     )
     store = session.store.types
     goal_info, goal_status = store["action_msgs/msg/GoalInfo"], store["action_msgs/msg/GoalStatus"]
-    results = {}  # goal id -> (done event, [position])
-    goals = [0]
+    results = {}  # goal id -> (done event, [final status, position])
+    goals = {"received": 0, "done": 0}
+    lock = threading.Lock()
 
     def now():
         t = time.time_ns()
@@ -185,28 +189,60 @@ def serve_action(move, where, time_cls, faults):
         publish_status(goal_id, 2)  # executing
         feedback = store[f"{action}_Feedback"]
         feedback_pub.publish(goal_id=goal_id, feedback=feedback(position=-1))
-        out.append(move(direction))
-        goals[0] += 1
-        if goals[0] == faults:
+        position = move(direction)
+        goals["done"] += 1
+        if goals["done"] == faults:
             publish_status(goal_id, 9)  # not an action_msgs status
         publish_status(goal_id, 4)  # succeeded
+        out.extend([4, position])
         done.set()
 
     def on_send_goal(request):
         done, out = threading.Event(), []
-        results[bytes(request.goal_id.uuid)] = (done, out)
-        threading.Thread(target=execute, args=(request.goal_id, int(request.goal.direction), done, out)).start()
+        with lock:
+            results[bytes(request.goal_id.uuid)] = (done, out)
+            goals["received"] += 1
+            held = goals["received"] == stall
+        if not held:
+            threading.Thread(target=execute, args=(request.goal_id, int(request.goal.direction), done, out)).start()
         return send_goal.response_msg_class(accepted=True, stamp=now())
 
-    def on_get_result(request):
-        done, out = results.pop(bytes(request.goal_id.uuid), (None, None))
+    def answer_results():
+        """get_result's requests, each answered once its goal is done (the
+        SDK's queue mode: a callback must not wait)."""
         result = store[f"{action}_Result"]
-        if done is None or not done.wait(5.0):
-            return get_result.response_msg_class(status=6, result=result(position=-1))  # aborted
-        return get_result.response_msg_class(status=4, result=result(position=out[0]))
+
+        def answer(key, done, out):
+            if done is None or not done.wait(10.0):
+                response = get_result.response_msg_class(status=6, result=result(position=-1))  # aborted
+            else:
+                response = get_result.response_msg_class(status=out[0], result=result(position=out[1]))
+            try:
+                get_result.send_response(key, response)
+            except KeyError:
+                pass  # the client is gone
+
+        while True:
+            key, request = get_result.take_request()
+            with lock:
+                done, out = results.get(bytes(request.goal_id.uuid), (None, None))
+            threading.Thread(target=answer, args=(key, done, out), daemon=True).start()
+
+    canceled = [0]
 
     def on_cancel(request):
-        return cancel.response_msg_class(return_code=0, goals_canceling=[])
+        goal_id = request.goal_info.goal_id
+        with lock:
+            done, out = results.get(bytes(goal_id.uuid), (None, None))
+        if done is None or done.is_set():
+            return cancel.response_msg_class(return_code=3 if done else 2, goals_canceling=[])  # terminated, unknown
+        publish_status(goal_id, 5)  # canceled
+        out.extend([5, -1])
+        done.set()
+        canceled[0] += 1
+        print(f"canceled {canceled[0]}", flush=True)
+        info = goal_info(goal_id=goal_id, stamp=now())
+        return cancel.response_msg_class(return_code=0, goals_canceling=[info])
 
     def service(suffix, key, callback, request, response):
         srv = f"{action}_{suffix}"
@@ -214,6 +250,7 @@ def serve_action(move, where, time_cls, faults):
             f"{name}/_action/{key}",
             srv,
             callback=callback,
+            mode="callback" if callback else "queue",
             request_definition=request,
             response_definition=response,
             type_hash=types.hash(srv),
@@ -223,9 +260,12 @@ def serve_action(move, where, time_cls, faults):
     send_goal = service(
         "SendGoal", "send_goal", on_send_goal, f"{uuid}\n{action}_Goal goal", "bool accepted\nbuiltin_interfaces/msg/Time stamp"
     )
-    get_result = service("GetResult", "get_result", on_get_result, uuid, f"int8 status\n{action}_Result result")
-    # Its definitions given, so that the SDK does not look for them online.
-    cancel_request, cancel_response = (MSGS / "action_msgs" / "srv" / "CancelGoal.srv").read_text().split("---")
+    get_result = service("GetResult", "get_result", None, uuid, f"int8 status\n{action}_Result result")
+    threading.Thread(target=answer_results, daemon=True).start()
+    # Its definitions given, so that the SDK does not look for them online,
+    # with GoalInfo's full name (rosbags would look for it under srv/).
+    cancel_text = (MSGS / "action_msgs" / "srv" / "CancelGoal.srv").read_text()
+    cancel_request, cancel_response = cancel_text.replace("GoalInfo", "action_msgs/msg/GoalInfo").split("---")
     cancel = ROS2ServiceServer(
         f"{name}/_action/cancel_goal",
         "action_msgs/srv/CancelGoal",
