@@ -58,6 +58,10 @@ pub const DEFAULT_QUEUE: usize = 8192;
 /// The agent whose markings PNP's monitor line follows (a PNP observer watches one plan).
 const MONITORED: Source = Source { run: 0, agent: 0 };
 
+/// The messages the SDK's server holds for a slow client before it drops
+/// the oldest (its default is 1024: a burst of choices would push out a curve point).
+const CLIENT_BACKLOG: usize = 65_536;
+
 /// The most curve points kept for clients that connect mid-run.
 const CURVE_KEPT: usize = 100_000;
 
@@ -231,6 +235,7 @@ impl View {
                 .block_on(
                     foxglove::WebSocketServer::new()
                         .name("learnpnp")
+                        .message_backlog_size(CLIENT_BACKLOG)
                         .context(&context)
                         .bind(Ipv4Addr::LOCALHOST.to_string(), 0)
                         .listener(Arc::new(Subscriptions {
@@ -307,12 +312,14 @@ impl View {
     }
 
     fn shutdown(&mut self) -> Result<Counts, ViewError> {
-        let Some(worker) = self.worker.take() else {
-            return Ok(Counts::default());
+        let counts = match self.worker.take() {
+            Some(worker) => {
+                // The queue may be full: this one waits for room, the worker drains it.
+                let _ = self.commands.send(Command::Close);
+                worker.join().map_err(|_| ViewError::Thread)
+            }
+            None => Ok(Ok(Counts::default())),
         };
-        // The queue may be full: this one waits for room, the worker drains it.
-        let _ = self.commands.send(Command::Close);
-        let counts = worker.join().map_err(|_| ViewError::Thread);
         if let Some(server) = self.server.take() {
             server.stop().wait_blocking();
         }

@@ -148,7 +148,13 @@ fn a_client_of_the_foxglove_protocol_sees_markings_and_choices_with_the_plans_la
         let mut received: Vec<FeedEvent> = Vec::new();
         let deadline = Instant::now() + Duration::from_secs(60);
         let kinds = |received: &[FeedEvent]| received.iter().map(FeedEvent::kind).collect::<HashSet<_>>();
-        while kinds(&received).len() < wanted.len() && Instant::now() < deadline {
+        // Until every kind has come and a choice shows values learned.
+        let learned = |received: &[FeedEvent]| {
+            received
+                .iter()
+                .any(|e| matches!(e, FeedEvent::Choice(c) if c.options.iter().any(|o| o.updates > 0)))
+        };
+        while (kinds(&received).len() < wanted.len() || !learned(&received)) && Instant::now() < deadline {
             let Ok(Some(Ok(message))) = tokio::time::timeout(Duration::from_secs(5), socket.next()).await else {
                 continue;
             };
@@ -249,6 +255,16 @@ fn a_recording_holds_every_record_published_uncompressed() {
         .expect("the file has one");
     assert!(!summary.chunk_indexes.is_empty());
     assert!(summary.chunk_indexes.iter().all(|c| c.compression.is_empty()));
+    // A view replaying the recording serves it to its page.
+    let replay = View::start(ViewOptions {
+        address: loopback_any_port(),
+        replay: Some(file.clone()),
+        ..ViewOptions::default()
+    })
+    .expect("the view starts");
+    let (status, served) = http_get(replay.address().expect("served"), "/recording.mcap");
+    assert_eq!((status.as_str(), served == bytes), ("HTTP/1.1 200 OK", true));
+    replay.close().expect("the view closes");
     let _ = std::fs::remove_dir_all(file.parent().expect("a directory"));
 }
 
