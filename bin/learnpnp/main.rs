@@ -8,6 +8,7 @@ mod merge;
 mod replay;
 mod reproduce;
 mod schema;
+mod view;
 
 use std::process::ExitCode;
 
@@ -53,6 +54,8 @@ enum Command {
     Values(inspect::ValuesArgs),
     /// Write a RoboCup game log (.rcg) as one self-contained HTML page to watch.
     Replay(replay::ReplayArgs),
+    /// Serve the live view's page replaying an MCAP recording (from --record-mcap).
+    View(view::ViewArgs),
     /// What a plan may use in every domain: actions, atoms, reward, episode end.
     Domains,
     /// What a plan may use in one domain (e.g. keepaway-pass).
@@ -116,6 +119,7 @@ fn main() -> ExitCode {
         Some(Command::Plot(args)) => inspect::plot(&args),
         Some(Command::Values(args)) => inspect::values(&args),
         Some(Command::Replay(args)) => replay::run(&args),
+        Some(Command::View(args)) => view::run(&args),
         Some(Command::Domains) => inspect::domains(),
         Some(Command::Domain(args)) => inspect::domain(&args),
         Some(Command::Schema(args)) => schema::run(&args),
