@@ -448,6 +448,7 @@ function report(a) {
     ? JSON.stringify([...drawn.places.values()].filter((p) => p.tokens.textContent).sort((x, y) => x.id - y.id).map((p) => [p.g.dataset.label, Number(p.tokens.textContent)]))
     : "";
   s.tokens = a && a.marking ? a.marking.tokens.join(",") : "";
+  if (s.mode === "replay") s.tNs = String(replay.at);
   const r = $("plan").getBoundingClientRect();
   s.planBox = [r.left + scrollX, r.top + scrollY, r.width, r.height].map((v) => Math.round(v)).join(",");
 }
@@ -620,7 +621,7 @@ function load(buffer, name) {
 // Shows the state at `t` ns after the first message: every record logged at
 // or before it applied, in log-time order.
 function seek(t) {
-  t = Math.max(0, Math.min(replay.span, t));
+  t = Math.round(Math.max(0, Math.min(replay.span, t)));
   if (t < replay.at || replay.next === 0) {
     const keep = selected;
     state = emptyState();
@@ -633,7 +634,6 @@ function seek(t) {
     apply(m.topic, m.record);
   }
   replay.at = t;
-  $("state").dataset.tNs = String(t);
   $("slider").value = String(replay.span ? Math.round((t / replay.span) * 1000) : 1000);
   $("clock").textContent = `${(t / 1e9).toFixed(2)} / ${(replay.span / 1e9).toFixed(2)} s`;
   schedule();

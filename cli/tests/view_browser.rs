@@ -1,0 +1,597 @@
+//! The view's page (crates/view/page) in a real browser: headless Chromium
+//! driven over the DevTools protocol (`--remote-debugging-pipe`), its state
+//! read from the page's `#state` element and its pixels from screenshots.
+//!
+//! - Replay: an MCAP file loaded with `?mcap=URL&t=F`, then the slider moved;
+//!   the marking drawn is the last one recorded at or before that time.
+//!
+//! Needs Debian's `chromium` (or the browser named by `LEARNPNP_CHROMIUM`).
+//! Without one the tests say so and pass, unless `LEARNPNP_REQUIRE_BROWSER`
+//! is set, as `.ci/run` sets it after installing the browser.
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpListener;
+use std::os::fd::AsRawFd;
+use std::os::unix::process::CommandExt;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use serde_json::{Value, json};
+
+/// The page's files, as the view's server embeds them.
+const PAGE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../crates/view/page");
+
+fn browser() -> Option<PathBuf> {
+    let found = std::env::var_os("LEARNPNP_CHROMIUM").map(PathBuf::from).or_else(|| {
+        let path = std::env::var_os("PATH")?;
+        std::env::split_paths(&path)
+            .flat_map(|dir| ["chromium", "chromium-browser"].map(|name| dir.join(name)))
+            .find(|candidate| candidate.is_file())
+    });
+    if found.is_none() {
+        assert!(
+            std::env::var_os("LEARNPNP_REQUIRE_BROWSER").is_none(),
+            "LEARNPNP_REQUIRE_BROWSER is set but no chromium was found"
+        );
+        eprintln!("skipped: no chromium on PATH (install Debian's chromium, or set LEARNPNP_CHROMIUM)");
+    }
+    found
+}
+
+/// A headless Chromium and one page of it, driven over the DevTools protocol
+/// on a pipe (fd 3 the browser reads, fd 4 it writes; NUL-ended JSON).
+struct Browser {
+    child: Child,
+    to: std::io::PipeWriter,
+    from: BufReader<std::io::PipeReader>,
+    next: u64,
+    session: Option<String>,
+    done: Arc<AtomicBool>,
+}
+
+impl Browser {
+    /// Starts the browser with a fresh profile in `profile`; it is killed
+    /// after two minutes whatever happens.
+    fn launch(browser: &Path, profile: &Path) -> Browser {
+        let (browser_reads, to) = std::io::pipe().expect("a pipe");
+        let (from, browser_writes) = std::io::pipe().expect("a pipe");
+        let (r, w) = (browser_reads.as_raw_fd(), browser_writes.as_raw_fd());
+        let mut command = Command::new(browser);
+        command
+            .args([
+                "--headless",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--disable-quic",
+                "--no-first-run",
+                "--disable-background-networking",
+                "--disable-component-update",
+                "--disable-sync",
+                "--hide-scrollbars",
+                "--force-device-scale-factor=1",
+                "--window-size=1400,900",
+                "--remote-debugging-pipe",
+            ])
+            .arg(format!("--user-data-dir={}", profile.display()))
+            .arg("about:blank")
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null());
+        // SAFETY: the closure only calls async-signal-safe functions (fcntl, dup2)
+        // on descriptors the parent keeps open until the child has started.
+        unsafe {
+            command.pre_exec(move || {
+                // Out of the way of 3 and 4 first, then onto them (dup2 clears close-on-exec).
+                let (r, w) = (libc::fcntl(r, libc::F_DUPFD, 10), libc::fcntl(w, libc::F_DUPFD, 10));
+                if r < 0 || w < 0 || libc::dup2(r, 3) < 0 || libc::dup2(w, 4) < 0 {
+                    return Err(std::io::Error::last_os_error());
+                }
+                Ok(())
+            });
+        }
+        let child = command.spawn().expect("the browser starts");
+        drop((browser_reads, browser_writes));
+        let done = Arc::new(AtomicBool::new(false));
+        let (pid, flag) = (child.id() as libc::pid_t, done.clone());
+        std::thread::spawn(move || {
+            let start = Instant::now();
+            while !flag.load(Ordering::Relaxed) {
+                if start.elapsed() > Duration::from_secs(120) {
+                    // SAFETY: a plain kill of the browser this test started (not yet reaped).
+                    unsafe { libc::kill(pid, libc::SIGKILL) };
+                    return;
+                }
+                std::thread::sleep(Duration::from_millis(100));
+            }
+        });
+        Browser {
+            child,
+            to,
+            from: BufReader::new(from),
+            next: 0,
+            session: None,
+            done,
+        }
+    }
+
+    /// Calls `method` (on the page once one is open) and returns its result.
+    fn call(&mut self, method: &str, params: Value) -> Value {
+        self.next += 1;
+        let id = self.next;
+        let mut message = json!({"id": id, "method": method, "params": params});
+        if let Some(session) = &self.session {
+            message["sessionId"] = json!(session);
+        }
+        let mut bytes = serde_json::to_vec(&message).expect("JSON");
+        bytes.push(0);
+        self.to.write_all(&bytes).expect("the browser reads its pipe");
+        loop {
+            let mut reply = Vec::new();
+            let n = self.from.read_until(0, &mut reply).expect("the browser's pipe");
+            assert!(n > 0, "the browser closed its pipe (killed after two minutes?)");
+            reply.pop();
+            let reply: Value = serde_json::from_slice(&reply).expect("the browser sends JSON");
+            if reply["id"] == json!(id) {
+                assert!(reply.get("error").is_none(), "{method}: {}", reply["error"]);
+                return reply["result"].clone();
+            }
+        }
+    }
+
+    /// Opens `url` in a new page and attaches to it.
+    fn open(&mut self, url: &str) {
+        self.session = None;
+        let target = self.call("Target.createTarget", json!({"url": "about:blank"}));
+        let session = self.call(
+            "Target.attachToTarget",
+            json!({"targetId": target["targetId"], "flatten": true}),
+        );
+        self.session = Some(session["sessionId"].as_str().expect("a session").to_string());
+        self.call(
+            "Emulation.setDeviceMetricsOverride",
+            json!({"width": 1400, "height": 900, "deviceScaleFactor": 1, "mobile": false}),
+        );
+        self.call("Page.navigate", json!({"url": url}));
+    }
+
+    /// The value of the JavaScript expression `expr` in the page.
+    fn eval(&mut self, expr: &str) -> Value {
+        let result = self.call(
+            "Runtime.evaluate",
+            json!({"expression": expr, "returnByValue": true, "awaitPromise": true}),
+        );
+        assert!(
+            result.get("exceptionDetails").is_none(),
+            "{expr}: {}",
+            result["exceptionDetails"]
+        );
+        result["result"]["value"].clone()
+    }
+
+    /// The page's `#state` attributes (what it shows), as an object.
+    fn state(&mut self) -> Value {
+        self.eval("document.getElementById('state') ? {...document.getElementById('state').dataset} : null")
+    }
+
+    /// Polls the page's state until `ready` holds of it, for up to `within`.
+    fn wait_for(&mut self, within: Duration, what: &str, ready: impl Fn(&Value) -> bool) -> Value {
+        let start = Instant::now();
+        loop {
+            let state = self.state();
+            if !state.is_null() && ready(&state) {
+                return state;
+            }
+            assert!(
+                start.elapsed() < within,
+                "{what} within {within:?}; the page shows {state}"
+            );
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    }
+
+    /// A PNG screenshot of the page.
+    fn screenshot(&mut self) -> Vec<u8> {
+        let shot = self.call("Page.captureScreenshot", json!({"format": "png"}));
+        base64(shot["data"].as_str().expect("base64 data"))
+    }
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        self.done.store(true, Ordering::Relaxed);
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn base64(text: &str) -> Vec<u8> {
+    let value = |c: u8| match c {
+        b'A'..=b'Z' => c - b'A',
+        b'a'..=b'z' => c - b'a' + 26,
+        b'0'..=b'9' => c - b'0' + 52,
+        b'+' => 62,
+        b'/' => 63,
+        _ => panic!("not base64: {c}"),
+    };
+    let digits: Vec<u8> = text.bytes().filter(|&c| c != b'=').map(value).collect();
+    digits
+        .chunks(4)
+        .flat_map(|q| {
+            let n = q
+                .iter()
+                .enumerate()
+                .fold(0u32, |n, (i, &d)| n | u32::from(d) << (18 - 6 * i));
+            let bytes = n.to_be_bytes();
+            bytes[1..q.len()].to_vec()
+        })
+        .collect()
+}
+
+/// Asserts that the screenshot `png` shows the plan drawn in the page's plan
+/// box (`state.planBox`: x, y, width, height): lines and labels on its white,
+/// and a marked place's fill.
+fn assert_plan_drawn(png: &[u8], state: &Value) {
+    let mut reader = png::Decoder::new(std::io::Cursor::new(png)).read_info().expect("a PNG");
+    let mut buf = vec![0; reader.output_buffer_size().expect("a size")];
+    let info = reader.next_frame(&mut buf).expect("a frame");
+    let channels = info.color_type.samples();
+    let (w, h) = (info.width as usize, info.height as usize);
+    let plan_box: Vec<usize> = state["planBox"]
+        .as_str()
+        .expect("the plan's box")
+        .split(',')
+        .map(|v| v.parse().expect("a number"))
+        .collect();
+    let [x0, y0, bw, bh] = plan_box[..] else {
+        panic!("plan box {plan_box:?}")
+    };
+    assert!(
+        bw > 200 && bh > 200 && x0 + bw <= w && y0 + bh <= h,
+        "plan box {plan_box:?} in {w} x {h}"
+    );
+    let (mut ink, mut marked) = (0usize, 0usize);
+    for y in y0..y0 + bh {
+        for x in x0..x0 + bw {
+            let px = &buf[(y * w + x) * channels..][..3];
+            if px.iter().any(|&c| c < 200) {
+                ink += 1;
+            }
+            // The marked places' fill, #ffd54a (style.css).
+            if px[0].abs_diff(0xff) < 20 && px[1].abs_diff(0xd5) < 20 && px[2].abs_diff(0x4a) < 20 {
+                marked += 1;
+            }
+        }
+    }
+    let area = bw * bh;
+    assert!(ink * 200 > area, "the plan is drawn: {ink} dark pixels of {area}");
+    assert!(marked > 100, "a marked place is filled: {marked} pixels");
+}
+
+/// A static HTTP server on 127.0.0.1 for the page's files and a recording,
+/// as the view's server would serve the page (it does not serve recordings).
+fn serve(files: Vec<(&'static str, Vec<u8>)>) -> String {
+    let listener = TcpListener::bind("127.0.0.1:0").expect("a port");
+    let address = listener.local_addr().expect("an address").to_string();
+    std::thread::spawn(move || {
+        for stream in listener.incoming() {
+            let Ok(mut stream) = stream else { continue };
+            let mut request = Vec::new();
+            let mut buf = [0; 4096];
+            while !request.windows(4).any(|w| w == b"\r\n\r\n") {
+                match stream.read(&mut buf) {
+                    Ok(0) | Err(_) => break,
+                    Ok(n) => request.extend_from_slice(&buf[..n]),
+                }
+            }
+            let request = String::from_utf8_lossy(&request);
+            let path = request.split_whitespace().nth(1).unwrap_or("/");
+            let path = path.split('?').next().unwrap_or("/");
+            let path = if path == "/" { "/index.html" } else { path };
+            let response = match files.iter().find(|(name, _)| path == format!("/{name}")) {
+                Some((name, body)) => {
+                    let kind = match name.rsplit('.').next() {
+                        Some("html") => "text/html; charset=utf-8",
+                        Some("js") => "text/javascript",
+                        Some("css") => "text/css",
+                        _ => "application/octet-stream",
+                    };
+                    let mut r = format!(
+                        "HTTP/1.1 200 OK\r\nContent-Type: {kind}\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
+                        body.len()
+                    )
+                    .into_bytes();
+                    r.extend_from_slice(body);
+                    r
+                }
+                None => b"HTTP/1.1 404 Not Found\r\nContent-Length: 0\r\nConnection: close\r\n\r\n".to_vec(),
+            };
+            let _ = stream.write_all(&response);
+        }
+    });
+    address
+}
+
+fn page_files() -> Vec<(&'static str, Vec<u8>)> {
+    ["index.html", "app.js", "mcap.js", "style.css"]
+        .into_iter()
+        .map(|name| {
+            (
+                name,
+                std::fs::read(Path::new(PAGE).join(name)).expect("the page's file"),
+            )
+        })
+        .collect()
+}
+
+/// One record of an MCAP file (https://mcap.dev/spec): opcode, u64 length, body.
+fn record(out: &mut Vec<u8>, op: u8, body: &[u8]) {
+    out.push(op);
+    out.extend_from_slice(&(body.len() as u64).to_le_bytes());
+    out.extend_from_slice(body);
+}
+
+fn string(out: &mut Vec<u8>, s: &str) {
+    out.extend_from_slice(&(s.len() as u32).to_le_bytes());
+    out.extend_from_slice(s.as_bytes());
+}
+
+const MAGIC: &[u8] = b"\x89MCAP0\r\n";
+
+/// An MCAP file of `messages` (topic, log time in ns, JSON record), the
+/// channels and messages in one uncompressed chunk, as a view records them.
+fn mcap(messages: &[(&str, u64, Value)]) -> Vec<u8> {
+    let mut topics: Vec<&str> = messages.iter().map(|m| m.0).collect();
+    topics.sort_unstable();
+    topics.dedup();
+    let mut chunk = Vec::new();
+    for (i, topic) in topics.iter().enumerate() {
+        let mut body = Vec::new();
+        body.extend_from_slice(&(i as u16 + 1).to_le_bytes());
+        body.extend_from_slice(&0u16.to_le_bytes());
+        string(&mut body, topic);
+        string(&mut body, "json");
+        body.extend_from_slice(&0u32.to_le_bytes());
+        record(&mut chunk, 0x04, &body);
+    }
+    for (seq, (topic, time, value)) in messages.iter().enumerate() {
+        let channel = topics.iter().position(|t| t == topic).expect("a channel") as u16 + 1;
+        let mut body = Vec::new();
+        body.extend_from_slice(&channel.to_le_bytes());
+        body.extend_from_slice(&(seq as u32).to_le_bytes());
+        body.extend_from_slice(&time.to_le_bytes());
+        body.extend_from_slice(&time.to_le_bytes());
+        body.extend_from_slice(&serde_json::to_vec(value).expect("JSON"));
+        record(&mut chunk, 0x05, &body);
+    }
+    let mut out = MAGIC.to_vec();
+    let mut header = Vec::new();
+    string(&mut header, "");
+    string(&mut header, "learnpnp test");
+    record(&mut out, 0x01, &header);
+    let mut body = Vec::new();
+    body.extend_from_slice(&messages.first().map_or(0, |m| m.1).to_le_bytes());
+    body.extend_from_slice(&messages.last().map_or(0, |m| m.1).to_le_bytes());
+    body.extend_from_slice(&(chunk.len() as u64).to_le_bytes());
+    body.extend_from_slice(&0u32.to_le_bytes());
+    string(&mut body, "");
+    body.extend_from_slice(&(chunk.len() as u64).to_le_bytes());
+    body.extend_from_slice(&chunk);
+    record(&mut out, 0x06, &body);
+    record(&mut out, 0x0f, &0u32.to_le_bytes());
+    record(&mut out, 0x02, &[0; 20]);
+    out.extend_from_slice(MAGIC);
+    out
+}
+
+/// The marked places of a MarkingSample as the page reports them drawn:
+/// `[[label, tokens], ...]` in place-id order.
+fn marked(sample: &Value, places: &[&str]) -> Value {
+    let tokens = sample["tokens"].as_array().expect("tokens");
+    Value::Array(
+        tokens
+            .iter()
+            .enumerate()
+            .filter(|(_, n)| n.as_u64() != Some(0))
+            .map(|(id, n)| json!([places[id], n]))
+            .collect(),
+    )
+}
+
+/// SplitMix64 (Steele, Lea and Flood 2014): the test's own seeded numbers.
+struct SplitMix(u64);
+
+impl SplitMix {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+}
+
+/// A recorded run of a small plan with a choice point (seeded, so the same
+/// file every time): its plan, then per episode its markings, its choice,
+/// its end, and a curve point every fifth episode.
+fn recording() -> (Vec<(&'static str, u64, Value)>, Vec<&'static str>) {
+    let places = vec!["init", "choose", "go.exec", "wait.exec", "goal"];
+    let source = json!({"run": 0, "agent": 0});
+    let plan = json!({
+        "source": source, "plan": "test",
+        "places": places.iter().enumerate().map(|(id, label)| json!({"id": id, "label": label})).collect::<Vec<_>>(),
+        "transitions": [
+            {"id": 0, "label": "start", "inputs": [0], "outputs": [1]},
+            {"id": 1, "label": "go.start", "inputs": [1], "outputs": [2]},
+            {"id": 2, "label": "wait.start", "inputs": [1], "outputs": [3]},
+            {"id": 3, "label": "go.end", "inputs": [2], "outputs": [4]},
+            {"id": 4, "label": "wait.end", "inputs": [3], "outputs": [1]},
+        ],
+    });
+    let mut rng = SplitMix(40);
+    let t0 = 1_764_800_000_000_000_000u64;
+    let mut t = t0;
+    let mut messages = vec![("/learnpnp/plan", t, plan)];
+    let mut values = [0.0f64, 0.0];
+    let mut updates = [0u64, 0];
+    for episode in 0..30u64 {
+        let mut step = 0u64;
+        let mut at = 0usize;
+        let mut ret = 0.0;
+        while at != 4 {
+            let mut tokens = vec![0u32; places.len()];
+            tokens[at] = 1;
+            t += 5_000_000 + rng.next() % 35_000_000;
+            let running: Vec<&str> = match at {
+                2 => vec!["go"],
+                3 => vec!["wait"],
+                _ => vec![],
+            };
+            messages.push((
+                "/learnpnp/marking",
+                t,
+                json!({"source": source, "episode": episode, "step": step,
+                       "tokens": tokens, "marked": [{"label": places[at], "tokens": 1}], "running": running}),
+            ));
+            at = match at {
+                0 => 1,
+                1 => {
+                    let greedy = usize::from(values[1] > values[0]);
+                    let explore = rng.next() % 10 < 3;
+                    let taken = if explore { 1 - greedy } else { greedy };
+                    t += 1;
+                    messages.push((
+                        "/learnpnp/choice",
+                        t,
+                        json!({"source": source, "episode": episode, "step": step, "choice_point": "choose",
+                               "options": [
+                                   {"label": "go.start", "value": (updates[0] > 0).then_some(values[0]), "updates": updates[0]},
+                                   {"label": "wait.start", "value": (updates[1] > 0).then_some(values[1]), "updates": updates[1]}],
+                               "taken": taken, "greedy": greedy, "explored": taken != greedy}),
+                    ));
+                    let reward = if taken == 0 { 1.0 } else { -0.1 };
+                    ret += reward;
+                    updates[taken] += 1;
+                    values[taken] += 0.2 * (reward - values[taken]);
+                    2 + taken
+                }
+                2 => 4,
+                _ => 1,
+            };
+            step += 1;
+        }
+        t += 1;
+        messages.push((
+            "/learnpnp/episode",
+            t,
+            json!({"source": source, "episode": episode, "episode_return": ret, "evaluation": false}),
+        ));
+        if episode % 5 == 4 {
+            messages.push((
+                "/learnpnp/curve",
+                t,
+                json!({"run": 0, "episode": episode + 1, "value": values[0]}),
+            ));
+        }
+    }
+    (messages, places)
+}
+
+#[test]
+fn a_recording_replays_at_the_time_asked_and_where_the_slider_is_moved() {
+    let Some(browser) = browser() else { return };
+    let dir = std::env::temp_dir().join(format!("learnpnp-view-replay-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let (messages, places) = recording();
+    let first = messages[0].1;
+    let span = messages.last().expect("messages").1 - first;
+    let mut files = page_files();
+    files.push(("run.mcap", mcap(&messages)));
+    let address = serve(files);
+    let mut page = Browser::launch(&browser, &dir.join("profile"));
+    // The marking on show at `t_ns` after the first record.
+    let expected_at = |t_ns: u64| {
+        messages
+            .iter()
+            .rfind(|(topic, time, _)| *topic == "/learnpnp/marking" && time - first <= t_ns)
+            .map(|(_, _, sample)| sample.clone())
+            .expect("a marking by then")
+    };
+    let check = |state: &Value, what: &str| {
+        let t_ns: u64 = state["tNs"]
+            .as_str()
+            .and_then(|t| t.parse().ok())
+            .expect("the time shown");
+        let sample = expected_at(t_ns);
+        let shown: Value = serde_json::from_str(state["marked"].as_str().expect("the marked places")).expect("JSON");
+        assert_eq!(
+            shown,
+            marked(&sample, &places),
+            "{what}: the places drawn marked at {t_ns} ns"
+        );
+        assert_eq!(state["episode"], json!(sample["episode"].to_string()), "{what}");
+        assert_eq!(state["step"], json!(sample["step"].to_string()), "{what}");
+        t_ns
+    };
+
+    page.open(&format!("http://{address}/?mcap=run.mcap&t=0.5"));
+    let state = page.wait_for(Duration::from_secs(20), "the recording loaded", |s| {
+        s["mode"] == "replay" && !s["tNs"].as_str().unwrap_or("").is_empty() || s["error"] != ""
+    });
+    assert_eq!(state["error"], "", "{state}");
+    assert_eq!(state["spanNs"], json!(span.to_string()));
+    let t = check(&state, "t=0.5");
+    assert!(t.abs_diff(span / 2) <= 1, "t=0.5 shows {t} ns of {span}");
+    let markings = messages
+        .iter()
+        .filter(|m| m.0 == "/learnpnp/marking" && m.1 - first <= t)
+        .count();
+    assert_eq!(state["markings"], json!(markings.to_string()));
+    let shot = page.screenshot();
+    assert_plan_drawn(&shot, &state);
+
+    // The slider moved back to a fifth and forward to nine tenths, as a user drags it.
+    for (at, what) in [(200, "slider at 0.2"), (900, "slider at 0.9")] {
+        page.eval(&format!(
+            "(() => {{ const s = document.getElementById('slider'); s.value = '{at}'; \
+             s.dispatchEvent(new Event('input')); }})()"
+        ));
+        let want = span * at / 1000;
+        let state = page.wait_for(Duration::from_secs(10), what, |s| {
+            s["tNs"]
+                .as_str()
+                .and_then(|t| t.parse::<u64>().ok())
+                .is_some_and(|t| t.abs_diff(want) <= 1)
+        });
+        check(&state, what);
+    }
+
+    // Played at 2x from the start (the recording lasts a few seconds), paused
+    // on the way: the marking shown is the one recorded at the time shown.
+    page.eval(
+        "document.getElementById('speed').value = '2'; \
+         document.getElementById('speed').dispatchEvent(new Event('change')); \
+         document.getElementById('slider').value = '0'; \
+         document.getElementById('slider').dispatchEvent(new Event('input'))",
+    );
+    page.wait_for(Duration::from_secs(10), "back at the start", |s| s["tNs"] == "0");
+    page.eval("document.getElementById('play').click()");
+    page.wait_for(Duration::from_secs(20), "playing", |s| {
+        s["tNs"]
+            .as_str()
+            .and_then(|t| t.parse::<u64>().ok())
+            .is_some_and(|t| t > span / 10)
+    });
+    page.eval("document.getElementById('play').click()");
+    let paused =
+        page.eval("new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(() => done(true))))");
+    assert_eq!(paused, json!(true));
+    let state = page.state();
+    let t = check(&state, "paused after playing");
+    assert!(t < span, "paused before the end: {t} of {span} ns");
+    drop(page);
+    let _ = std::fs::remove_dir_all(&dir);
+}
