@@ -595,3 +595,56 @@ fn a_recording_replays_at_the_time_asked_and_where_the_slider_is_moved() {
     drop(page);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The topic a Foxglove panel reads: a message path's topic, before its
+/// first field or filter.
+fn topic_of(path: &str) -> &str {
+    let end = path[1..].find(['.', '{', '[']).map_or(path.len(), |i| i + 1);
+    &path[..end]
+}
+
+#[test]
+fn the_foxglove_layout_reads_the_feeds_channels_and_places_every_panel() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/foxglove-layout.json"))
+        .expect("docs/foxglove-layout.json");
+    let layout: Value = serde_json::from_str(&text).expect("the layout is JSON");
+    let panels = layout["configById"].as_object().expect("configById");
+    let channels = [
+        "/learnpnp/plan",
+        "/learnpnp/marking",
+        "/learnpnp/choice",
+        "/learnpnp/reward",
+        "/learnpnp/episode",
+        "/learnpnp/curve",
+        "/learnpnp/health",
+        "/learnpnp/latency",
+    ];
+    for (id, config) in panels {
+        let paths: Vec<&str> = match config["paths"].as_array() {
+            Some(paths) => paths.iter().map(|p| p["value"].as_str().expect("a path")).collect(),
+            None => vec![config["topicPath"].as_str().expect("a topic path")],
+        };
+        for path in paths {
+            assert!(
+                channels.contains(&topic_of(path)),
+                "{id} reads {path}, not a channel of the feed"
+            );
+        }
+    }
+    // The mosaic's leaves are exactly the configured panels.
+    fn leaves<'a>(node: &'a Value, out: &mut Vec<&'a str>) {
+        match node {
+            Value::String(id) => out.push(id),
+            _ => {
+                leaves(&node["first"], out);
+                leaves(&node["second"], out);
+            }
+        }
+    }
+    let mut placed = Vec::new();
+    leaves(&layout["layout"], &mut placed);
+    placed.sort_unstable();
+    let mut configured: Vec<&str> = panels.keys().map(String::as_str).collect();
+    configured.sort_unstable();
+    assert_eq!(placed, configured);
+}
