@@ -448,6 +448,7 @@ function report(a) {
     ? JSON.stringify([...drawn.places.values()].filter((p) => p.tokens.textContent).sort((x, y) => x.id - y.id).map((p) => [p.g.dataset.label, Number(p.tokens.textContent)]))
     : "";
   s.tokens = a && a.marking ? a.marking.tokens.join(",") : "";
+  s.lastMarking = a && a.marking ? JSON.stringify(a.marking) : "";
   if (s.mode === "replay") s.tNs = String(replay.at);
   const r = $("plan").getBoundingClientRect();
   s.planBox = [r.left + scrollX, r.top + scrollY, r.width, r.height].map((v) => Math.round(v)).join(",");
