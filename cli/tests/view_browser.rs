@@ -2,6 +2,9 @@
 //! driven over the DevTools protocol (`--remote-debugging-pipe`), its state
 //! read from the page's `#state` element and its pixels from screenshots.
 //!
+//! - Live: `learnpnp experiment --view=127.0.0.1:0`, the page loaded from
+//!   it; a second later it has drawn more markings and more of the curve,
+//!   and the places drawn marked are the last marking's.
 //! - Replay: an MCAP file loaded with `?mcap=URL&t=F`, then the slider moved;
 //!   the marking drawn is the last one recorded at or before that time.
 //!
@@ -593,6 +596,140 @@ fn a_recording_replays_at_the_time_asked_and_where_the_slider_is_moved() {
     let t = check(&state, "paused after playing");
     assert!(t < span, "paused before the end: {t} of {span} ns");
     drop(page);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A `learnpnp experiment` running with its view on a free loopback port;
+/// killed when dropped.
+struct Run {
+    child: Child,
+    address: String,
+}
+
+impl Run {
+    /// Starts `learnpnp experiment ARGS --view=127.0.0.1:0` and waits for the
+    /// address it says the view is served on.
+    fn start(args: &[&str]) -> Run {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_learnpnp"))
+            .args(args)
+            .arg("--view=127.0.0.1:0")
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("the learnpnp command starts");
+        let stderr = child.stderr.take().expect("its standard error");
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+                if let Some(rest) = line.strip_prefix("view: http://") {
+                    let _ = tx.send(rest.split('/').next().unwrap_or_default().to_string());
+                }
+            }
+        });
+        let address = match rx.recv_timeout(Duration::from_secs(60)) {
+            Ok(address) => address,
+            Err(e) => {
+                let _ = child.kill();
+                let status = child.wait();
+                panic!("the view's address was not printed within a minute ({e}); the run: {status:?}");
+            }
+        };
+        Run { child, address }
+    }
+}
+
+impl Drop for Run {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn number(state: &Value, key: &str) -> u64 {
+    state[key]
+        .as_str()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("{key} in {state}"))
+}
+
+#[test]
+fn a_live_run_is_drawn_as_it_learns() {
+    let Some(browser) = browser() else { return };
+    let dir = std::env::temp_dir().join(format!("learnpnp-view-live-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let out = dir.join("out");
+    let run = Run::start(&[
+        "experiment",
+        "keepaway-pass",
+        "--algo",
+        "soft-sosmc",
+        "--runs",
+        "1",
+        "--episodes",
+        "100000",
+        "--eval-every",
+        "20",
+        "--eval-episodes",
+        "1",
+        "--threads",
+        "1",
+        "--out",
+        out.to_str().expect("a path"),
+    ]);
+    let mut page = Browser::launch(&browser, &dir.join("profile"));
+    page.open(&format!("http://{}/", run.address));
+    let grown = |s: &Value| number(s, "markings") > 0 && number(s, "curvePoints") > 0 && s["marked"] != "";
+    let first = page.wait_for(Duration::from_secs(30), "a marking and a curve point", grown);
+    std::thread::sleep(Duration::from_millis(1200));
+    let second = page.state();
+    assert!(
+        number(&second, "markings") > number(&first, "markings"),
+        "more markings a second later: {first} then {second}"
+    );
+    assert!(
+        number(&second, "curvePoints") > number(&first, "curvePoints"),
+        "more curve points a second later: {first} then {second}"
+    );
+    // The places drawn marked are those of the last marking the page received.
+    let sample: Value = serde_json::from_str(second["lastMarking"].as_str().expect("the last marking")).expect("JSON");
+    let drawn: Value = serde_json::from_str(second["marked"].as_str().expect("the places drawn marked")).expect("JSON");
+    let mut drawn: Vec<(String, u64)> = drawn
+        .as_array()
+        .expect("a list")
+        .iter()
+        .map(|p| {
+            (
+                p[0].as_str().expect("a label").to_string(),
+                p[1].as_u64().expect("a count"),
+            )
+        })
+        .collect();
+    let mut recorded: Vec<(String, u64)> = sample["marked"]
+        .as_array()
+        .expect("marked places")
+        .iter()
+        .map(|p| {
+            (
+                p["label"].as_str().expect("a label").to_string(),
+                p["tokens"].as_u64().expect("a count"),
+            )
+        })
+        .collect();
+    drawn.sort();
+    recorded.sort();
+    assert!(!drawn.is_empty(), "a place is marked");
+    assert_eq!(drawn, recorded, "the places drawn marked, and the last marking's");
+    assert_eq!(second["episode"], json!(sample["episode"].to_string()));
+
+    let shot = page.screenshot();
+    assert_plan_drawn(&shot, &second);
+    if let Some(path) = std::env::var_os("LEARNPNP_VIEW_SCREENSHOT") {
+        std::fs::write(path, &shot).expect("the screenshot saved");
+    }
+    drop(page);
+    drop(run);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

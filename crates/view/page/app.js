@@ -70,6 +70,7 @@ function apply(topic, r) {
     }
     case TOPIC.marking: {
       const a = agentOf(r.source);
+      if (!a.shape) missingPlan();
       a.marking = r;
       a.markings += 1;
       a.episode = r.episode;
@@ -521,6 +522,19 @@ function fail(message) {
 
 let socket = null;
 let retry = 0;
+// Asks the server again for the plans it keeps (see `missingPlan`).
+let askForPlans = () => {};
+let askedForPlans = 0;
+
+// A marking came from an agent whose plan has not: the server sends the plans
+// it keeps to each new subscriber of /learnpnp/plan, so subscribe again (at
+// most every two seconds) until the plan comes.
+function missingPlan() {
+  const now = performance.now();
+  if (now - askedForPlans < 2000) return;
+  askedForPlans = now;
+  askForPlans();
+}
 
 function connect() {
   const ws = new WebSocket(`ws://${location.host}/`, ["foxglove.sdk.v1"]);
@@ -530,6 +544,17 @@ function connect() {
   const subscribed = new Map(); // channel id -> subscription id
   let next = 1;
   ws.onopen = () => setStatus("live", "live");
+  askForPlans = () => {
+    for (const [channel, id] of subscribed) {
+      if (topics.get(id) !== TOPIC.plan || ws.readyState !== WebSocket.OPEN) continue;
+      const again = next++;
+      ws.send(JSON.stringify({ op: "unsubscribe", subscriptionIds: [id] }));
+      ws.send(JSON.stringify({ op: "subscribe", subscriptions: [{ id: again, channelId: channel }] }));
+      topics.delete(id);
+      topics.set(again, TOPIC.plan);
+      subscribed.set(channel, again);
+    }
+  };
   ws.onmessage = (event) => {
     if (typeof event.data === "string") {
       const msg = JSON.parse(event.data);
