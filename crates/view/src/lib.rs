@@ -26,7 +26,8 @@
 //!   and renamed to `FILE` when the view closes (so a file under the final
 //!   name is complete). Chunks are not compressed, so that the page's small
 //!   reader can read them without a decompressor.
-//! - **PNP's monitor line**: see [`PNP_MONITOR_PORT`].
+//! - **PNP's monitor line**: the markings of run 0's agent 0 (a PNP observer
+//!   watches one plan); see [`PNP_MONITOR_PORT`].
 
 #![deny(missing_docs)]
 
@@ -53,6 +54,9 @@ pub const DEFAULT_PORT: u16 = 8765;
 
 /// The records a view holds before it drops what is published (see [`View::dropped`]).
 pub const DEFAULT_QUEUE: usize = 8192;
+
+/// The agent whose markings PNP's monitor line follows (a PNP observer watches one plan).
+const MONITORED: Source = Source { run: 0, agent: 0 };
 
 /// The most curve points kept for clients that connect mid-run.
 const CURVE_KEPT: usize = 100_000;
@@ -421,7 +425,8 @@ impl Worker {
         match event {
             FeedEvent::Plan(shape) => self.keep_plan(shape, json),
             FeedEvent::Curve(_) if self.curve.len() < CURVE_KEPT => self.curve.push(json),
-            FeedEvent::Marking(marking) => {
+            // PNP's observer watches one plan: the first agent's of the first run.
+            FeedEvent::Marking(marking) if marking.source == MONITORED => {
                 if let Some((_, format)) = self.plans.get(&marking.source) {
                     let has_clients = !self.clients.lock().unwrap_or_else(PoisonError::into_inner).is_empty();
                     if has_clients {
