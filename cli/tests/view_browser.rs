@@ -670,6 +670,18 @@ fn assert_replays(browser: &Path, dir: &Path, file: Vec<u8>, records: &Records) 
     assert_eq!(paused, json!(true));
     let state = page.state();
     check(&state, "paused after playing");
+
+    // Paused (and its last redraw done), the page asks for no frames and runs
+    // no timers: it does not spin.
+    std::thread::sleep(Duration::from_millis(500));
+    let idle = page.eval(
+        "new Promise((done) => { let frames = 0; let timers = 0; \
+           const raf = window.requestAnimationFrame; const st = window.setTimeout; \
+           window.requestAnimationFrame = (f) => { frames += 1; return raf(f); }; \
+           window.setTimeout = (f, t) => { timers += 1; return st(f, t); }; \
+           st(() => { window.requestAnimationFrame = raf; window.setTimeout = st; done([frames, timers]); }, 1000); })",
+    );
+    assert_eq!(idle, json!([0, 0]), "frames and timers asked for in a second, paused");
 }
 
 #[test]

@@ -457,6 +457,7 @@ function report(a) {
 
 let frame = 0;
 let lastCurve = 0;
+let curveTimer = 0;
 
 // Redraws on the next animation frame, once, whatever came in meanwhile:
 // nothing runs while nothing arrives.
@@ -485,8 +486,11 @@ function render(now) {
       drawCurve(a);
       lastCurve = now;
       dirty.curve = false;
-    } else {
-      setTimeout(schedule, CURVE_REDRAW_MS - (now - lastCurve));
+    } else if (!curveTimer) {
+      curveTimer = setTimeout(() => {
+        curveTimer = 0;
+        schedule();
+      }, CURVE_REDRAW_MS - (now - lastCurve));
     }
   }
   if (dirty.processes) {
