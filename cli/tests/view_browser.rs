@@ -6,16 +6,16 @@
 //!   it; a second later it has drawn more markings and more of the curve,
 //!   and the places drawn marked are the last marking's.
 //! - Replay: an MCAP file (built by the test, and one `learnpnp experiment
-//!   --record-mcap` wrote) loaded with `?mcap=URL&t=F`, then the slider
-//!   moved, then played and paused; the marking drawn is the last one
-//!   recorded at or before the time shown.
+//!   --record-mcap` wrote), served by the view at `/recording.mcap` and
+//!   loaded with `?mcap=/recording.mcap&t=F`, then the slider moved, then
+//!   played and paused; the marking drawn is the last one recorded at or
+//!   before the time shown, and a paused page asks for no frames.
 //!
 //! Needs Debian's `chromium` (or the browser named by `LEARNPNP_CHROMIUM`).
 //! Without one the tests say so and pass, unless `LEARNPNP_REQUIRE_BROWSER`
 //! is set, as `.ci/run` sets it after installing the browser.
 
-use std::io::{BufRead, BufReader, Read, Write};
-use std::net::TcpListener;
+use std::io::{BufRead, BufReader, Write};
 use std::os::fd::AsRawFd;
 use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
@@ -25,9 +25,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use serde_json::{Value, json};
-
-/// The page's files, as the view's server embeds them.
-const PAGE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../crates/view/page");
 
 fn browser() -> Option<PathBuf> {
     let found = std::env::var_os("LEARNPNP_CHROMIUM").map(PathBuf::from).or_else(|| {
@@ -273,62 +270,6 @@ fn assert_plan_drawn(png: &[u8], state: &Value) {
     let area = bw * bh;
     assert!(ink * 200 > area, "the plan is drawn: {ink} dark pixels of {area}");
     assert!(marked > 100, "a marked place is filled: {marked} pixels");
-}
-
-/// A static HTTP server on 127.0.0.1 for the page's files and a recording,
-/// as the view's server would serve the page (it does not serve recordings).
-fn serve(files: Vec<(&'static str, Vec<u8>)>) -> String {
-    let listener = TcpListener::bind("127.0.0.1:0").expect("a port");
-    let address = listener.local_addr().expect("an address").to_string();
-    std::thread::spawn(move || {
-        for stream in listener.incoming() {
-            let Ok(mut stream) = stream else { continue };
-            let mut request = Vec::new();
-            let mut buf = [0; 4096];
-            while !request.windows(4).any(|w| w == b"\r\n\r\n") {
-                match stream.read(&mut buf) {
-                    Ok(0) | Err(_) => break,
-                    Ok(n) => request.extend_from_slice(&buf[..n]),
-                }
-            }
-            let request = String::from_utf8_lossy(&request);
-            let path = request.split_whitespace().nth(1).unwrap_or("/");
-            let path = path.split('?').next().unwrap_or("/");
-            let path = if path == "/" { "/index.html" } else { path };
-            let response = match files.iter().find(|(name, _)| path == format!("/{name}")) {
-                Some((name, body)) => {
-                    let kind = match name.rsplit('.').next() {
-                        Some("html") => "text/html; charset=utf-8",
-                        Some("js") => "text/javascript",
-                        Some("css") => "text/css",
-                        _ => "application/octet-stream",
-                    };
-                    let mut r = format!(
-                        "HTTP/1.1 200 OK\r\nContent-Type: {kind}\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
-                        body.len()
-                    )
-                    .into_bytes();
-                    r.extend_from_slice(body);
-                    r
-                }
-                None => b"HTTP/1.1 404 Not Found\r\nContent-Length: 0\r\nConnection: close\r\n\r\n".to_vec(),
-            };
-            let _ = stream.write_all(&response);
-        }
-    });
-    address
-}
-
-fn page_files() -> Vec<(&'static str, Vec<u8>)> {
-    ["index.html", "app.js", "mcap.js", "style.css"]
-        .into_iter()
-        .map(|name| {
-            (
-                name,
-                std::fs::read(Path::new(PAGE).join(name)).expect("the page's file"),
-            )
-        })
-        .collect()
 }
 
 /// One record of an MCAP file (https://mcap.dev/spec): opcode, u64 length, body.
@@ -583,9 +524,16 @@ fn recording() -> Vec<(&'static str, u64, Value)> {
 fn assert_replays(browser: &Path, dir: &Path, file: Vec<u8>, records: &Records) {
     let first = records[0].1;
     let span = records.last().expect("records").1 - first;
-    let mut files = page_files();
-    files.push(("run.mcap", file));
-    let address = serve(files);
+    // The view's server, serving the page and the recording at /recording.mcap.
+    let path = dir.join("replayed.mcap");
+    std::fs::write(&path, file).expect("the recording written");
+    let view = learnpnp_view::View::start(learnpnp_view::ViewOptions {
+        address: Some("127.0.0.1:0".parse().expect("an address")),
+        replay: Some(path),
+        ..learnpnp_view::ViewOptions::default()
+    })
+    .expect("the view starts");
+    let address = view.address().expect("the view's address");
     let mut page = Browser::launch(browser, &dir.join("profile"));
     let check = |state: &Value, what: &str| {
         let t_ns: u64 = state["tNs"]
@@ -611,7 +559,7 @@ fn assert_replays(browser: &Path, dir: &Path, file: Vec<u8>, records: &Records) 
         t_ns
     };
 
-    page.open(&format!("http://{address}/?mcap=run.mcap&t=0.5"));
+    page.open(&format!("http://{address}/?mcap=/recording.mcap&t=0.5"));
     let state = page.wait_for(Duration::from_secs(20), "the recording loaded", |s| {
         s["mode"] == "replay" && !s["tNs"].as_str().unwrap_or("").is_empty() || s["error"] != ""
     });
@@ -682,6 +630,8 @@ fn assert_replays(browser: &Path, dir: &Path, file: Vec<u8>, records: &Records) 
            st(() => { window.requestAnimationFrame = raf; window.setTimeout = st; done([frames, timers]); }, 1000); })",
     );
     assert_eq!(idle, json!([0, 0]), "frames and timers asked for in a second, paused");
+    drop(page);
+    view.close().expect("the view closes");
 }
 
 #[test]
