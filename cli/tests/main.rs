@@ -29,3 +29,4 @@ mod result_dirs;
 mod schema_cli;
 mod shards;
 mod slurm_cluster;
+mod view_browser;
