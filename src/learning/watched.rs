@@ -169,7 +169,8 @@ impl WatchedLearner {
                 let id = table.find(plan, option);
                 OptionValue {
                     label: labels.gained(state, option).unwrap_or_else(|| format!("option {i}")),
-                    value: id.map(|id| table.value(id)),
+                    // A value never updated is the initial value, not a learned one.
+                    value: id.filter(|&id| table.visits(id) > 0).map(|id| table.value(id)),
                     updates: id.map_or(0, |id| table.visits(id)),
                 }
             })

@@ -142,23 +142,27 @@ fn fox_error(what: impl Into<String>) -> impl FnOnce(foxglove::FoxgloveError) ->
 enum Command {
     /// Log a record.
     Publish(FeedEvent),
-    /// Send the kept records of channel `kind` to one client's sink.
-    Resend(usize, SinkId),
     /// Finish.
     Close,
 }
 
+/// A client that subscribed to a channel whose past the view keeps: the
+/// channel's index in [`CHANNELS`] and the client's sink.
+type Resend = (usize, SinkId);
+
 /// Tells the view's thread when a client subscribes to a channel whose past it keeps.
 struct Subscriptions {
-    commands: Sender<Command>,
+    /// Unbounded, apart from the records' queue: a late client's plan is never
+    /// dropped because the records fill their queue.
+    resends: Sender<Resend>,
 }
 
 impl ServerListener for Subscriptions {
     fn on_subscribe(&self, client: Client, channel: ChannelView) {
         let kind = CHANNELS.iter().position(|c| *c == channel.topic());
         if let (Some(kind @ (0 | 5)), Some(sink)) = (kind, client.sink_id()) {
-            // Full: the client gets the records still to come, not the past.
-            let _ = self.commands.try_send(Command::Resend(kind, sink));
+            // Fails only once the view's thread has finished.
+            let _ = self.resends.send((kind, sink));
         }
     }
 }
@@ -221,6 +225,7 @@ impl View {
             })
             .collect::<Result<Vec<_>, _>>()?;
         let (commands, queue) = crossbeam::channel::bounded(options.queue.max(1));
+        let (resends, resend_queue) = crossbeam::channel::unbounded();
         let mut view = View {
             commands: commands.clone(),
             dropped: AtomicU64::new(0),
@@ -238,9 +243,7 @@ impl View {
                         .message_backlog_size(CLIENT_BACKLOG)
                         .context(&context)
                         .bind(Ipv4Addr::LOCALHOST.to_string(), 0)
-                        .listener(Arc::new(Subscriptions {
-                            commands: commands.clone(),
-                        }))
+                        .listener(Arc::new(Subscriptions { resends }))
                         .tokio_runtime(runtime.handle())
                         .start(),
                 )
@@ -284,7 +287,7 @@ impl View {
         view.worker = Some(
             std::thread::Builder::new()
                 .name("learnpnp-view".into())
-                .spawn(move || worker.run(&queue, recording))
+                .spawn(move || worker.run(&queue, &resend_queue, recording))
                 .map_err(io_error("starting the view's thread"))?,
         );
         view.runtime = Some(runtime);
@@ -397,20 +400,23 @@ struct Worker {
 }
 
 impl Worker {
-    fn run(mut self, queue: &Receiver<Command>, recording: Option<Recording>) -> Result<Counts, ViewError> {
-        while let Ok(command) = queue.recv() {
-            match command {
-                Command::Publish(event) => self.log(&event),
-                Command::Resend(kind, sink) => {
-                    let kept: Vec<&Vec<u8>> = match kind {
-                        0 => self.plans.values().map(|(json, _)| json).collect(),
-                        _ => self.curve.iter().collect(),
-                    };
-                    for json in kept {
-                        self.channels[kind].log_to_sink(json, Some(sink));
+    fn run(
+        mut self,
+        queue: &Receiver<Command>,
+        resends: &Receiver<Resend>,
+        recording: Option<Recording>,
+    ) -> Result<Counts, ViewError> {
+        loop {
+            crossbeam::channel::select! {
+                recv(resends) -> resend => {
+                    if let Ok((kind, sink)) = resend {
+                        self.resend(kind, sink);
                     }
                 }
-                Command::Close => break,
+                recv(queue) -> command => match command {
+                    Ok(Command::Publish(event)) => self.log(&event),
+                    Ok(Command::Close) | Err(_) => break,
+                },
             }
         }
         for channel in &self.channels {
@@ -420,6 +426,17 @@ impl Worker {
             recording.finish()?;
         }
         Ok(self.counts)
+    }
+
+    /// Sends the kept records of channel `kind` (the plans or the curve) to one client.
+    fn resend(&self, kind: usize, sink: SinkId) {
+        let kept: Vec<&Vec<u8>> = match kind {
+            0 => self.plans.values().map(|(json, _)| json).collect(),
+            _ => self.curve.iter().collect(),
+        };
+        for json in kept {
+            self.channels[kind].log_to_sink(json, Some(sink));
+        }
     }
 
     fn log(&mut self, event: &FeedEvent) {

@@ -11,7 +11,7 @@ use futures_util::{SinkExt, StreamExt};
 use learnpnp::experiment::options::{DomainName, ExperimentOptions};
 use learnpnp::experiment::runner::{Completed, RunOptions, run_experiment};
 use learnpnp::experiment::spec::{Algorithm, ExperimentSpec};
-use learnpnp::feed::{CHANNELS, FeedEvent, FeedSink};
+use learnpnp::feed::{CHANNELS, CurvePoint, FeedEvent, FeedSink};
 use learnpnp_view::{View, ViewOptions};
 use tokio_tungstenite::tungstenite::Message;
 use tokio_tungstenite::tungstenite::client::IntoClientRequest;
@@ -67,6 +67,10 @@ fn http_get(address: SocketAddr, path: &str) -> (String, Vec<u8>) {
     let status = head.lines().next().unwrap_or("").to_owned();
     (status, response[end + 4..].to_vec())
 }
+
+/// The run of the marker curve point that tells the test the server took its
+/// subscription (no experiment has that many runs).
+const MARKER_RUN: u32 = u32::MAX;
 
 #[test]
 fn a_client_of_the_foxglove_protocol_sees_markings_and_choices_with_the_plans_labels() {
@@ -139,8 +143,28 @@ fn a_client_of_the_foxglove_protocol_sees_markings_and_choices_with_the_plans_la
             .send(Message::text(subscribe.to_string()))
             .await
             .expect("the subscription is sent");
-        // Let the server take the subscription before the run starts.
-        tokio::time::sleep(Duration::from_millis(200)).await;
+        // The run starts once the server has taken the subscription: a
+        // marker curve point, published until it comes back, says so (the
+        // protocol acknowledges no subscription; a fixed sleep is not enough
+        // on a loaded machine).
+        let marker = FeedEvent::Curve(CurvePoint {
+            run: MARKER_RUN,
+            episode: 0,
+            value: 0.0,
+        });
+        let marker_deadline = Instant::now() + Duration::from_secs(60);
+        'subscribed: while Instant::now() < marker_deadline {
+            view.publish(&marker);
+            while let Ok(Some(Ok(message))) = tokio::time::timeout(Duration::from_millis(100), socket.next()).await {
+                if let Message::Binary(data) = message {
+                    let subscription = u32::from_le_bytes(data[1..5].try_into().expect("4 bytes"));
+                    let topic = &topics[&u64::from(subscription)];
+                    if FeedEvent::from_payload(topic, &data[13..]).as_ref() == Some(&marker) {
+                        break 'subscribed;
+                    }
+                }
+            }
+        }
         let runner = {
             let (view, spec) = (view.clone(), spec.clone());
             std::thread::spawn(move || run_watched(&spec, &view))
@@ -162,7 +186,10 @@ fn a_client_of_the_foxglove_protocol_sees_markings_and_choices_with_the_plans_la
                 assert_eq!(data[0], 1, "message data");
                 let subscription = u32::from_le_bytes(data[1..5].try_into().expect("4 bytes"));
                 let topic = &topics[&u64::from(subscription)];
-                received.push(FeedEvent::from_payload(topic, &data[13..]).expect("a record of the feed"));
+                let event = FeedEvent::from_payload(topic, &data[13..]).expect("a record of the feed");
+                if !matches!(&event, FeedEvent::Curve(c) if c.run == MARKER_RUN) {
+                    received.push(event);
+                }
             }
         }
         runner.join().expect("the run ends");
