@@ -6,10 +6,13 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use learnpnp::agent::stepwise::{ActionOutcome, StepError, StepwiseAgent};
 use learnpnp::experiment::defaults::{Overrides, plan_learner};
 use learnpnp::experiment::spec::Algorithm;
+use learnpnp::feed::Source;
+use learnpnp::learning::WatchedLearner;
 use learnpnp::learning::migrate;
 use learnpnp::learning::persist::{self, SavedValues};
 use learnpnp::rng::seeded;
 use learnpnp::{AtomId, EpisodeMode, Named, Status};
+use learnpnp_view::{View, ViewOptions};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
@@ -31,6 +34,10 @@ pub fn algorithm_names() -> Vec<&'static str> {
 /// `initial_value`, ...), checked against the same ranges. A plan that fails
 /// `learnpnp check` is refused unless `unchecked=True`; `actions`, when given,
 /// lists the environment's actions and the plan may name no other.
+/// `view="127.0.0.1:8765"` serves the live view of the agent learning (the
+/// page and the Foxglove WebSocket protocol; port 0 picks a free one, see
+/// `view_address`); `record_mcap=PATH` records the same channels to an MCAP
+/// file, completed when the agent is deleted.
 ///
 /// Each environment step: `agent.reward(r)` for what the last action earned,
 /// then `agent.act(atoms)` with what holds now returns the action the plan runs
@@ -45,6 +52,40 @@ pub struct PyPlanAgent {
     algo: Algorithm,
     /// What `load` did to carry the values into the plan, as JSON.
     migration: Option<String>,
+    /// The live view the learner publishes to, when one was asked for.
+    view: Option<Arc<View>>,
+}
+
+/// The live view a `PlanAgent` was asked to serve or record.
+#[derive(Default)]
+struct ViewRequest {
+    /// `view=`: the address of the page and the Foxglove protocol.
+    address: Option<String>,
+    /// `record_mcap=`: the MCAP recording's path.
+    record_mcap: Option<PathBuf>,
+}
+
+impl ViewRequest {
+    /// Starts the view, or `None` when none was asked for.
+    fn start(self) -> PyResult<Option<Arc<View>>> {
+        if self.address.is_none() && self.record_mcap.is_none() {
+            return Ok(None);
+        }
+        let address = match self.address {
+            Some(text) => Some(
+                text.parse()
+                    .map_err(|_| value_error(format!("view: '{text}' is not an address such as 127.0.0.1:8765")))?,
+            ),
+            None => None,
+        };
+        let view = View::start(ViewOptions {
+            address,
+            record_mcap: self.record_mcap,
+            ..ViewOptions::default()
+        })
+        .map_err(|e| PyRuntimeError::new_err(format!("the live view did not start: {e}")))?;
+        Ok(Some(Arc::new(view)))
+    }
 }
 
 impl PyPlanAgent {
@@ -70,6 +111,7 @@ impl PyPlanAgent {
         seed: u64,
         unchecked: bool,
         actions: Option<Vec<String>>,
+        view: ViewRequest,
         params: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         let algorithm = Algorithm::from_name(algo).map_err(value_error)?;
@@ -94,7 +136,13 @@ impl PyPlanAgent {
         let mut spec = plan_learner(algorithm);
         overrides.apply(&mut spec);
         spec.validate().map_err(value_error)?;
-        let agent = StepwiseAgent::new(Arc::clone(&plan.inner), spec.build(seeded(seed))).map_err(value_error)?;
+        let view = view.start()?;
+        let mut learner = spec.build(seeded(seed));
+        if let Some(view) = &view {
+            let source = Source { run: 0, agent: 0 };
+            learner = Box::new(WatchedLearner::new(learner, &plan.inner, source, view.clone()));
+        }
+        let agent = StepwiseAgent::new(Arc::clone(&plan.inner), learner).map_err(value_error)?;
         if let Some(known) = actions
             && let Some(missing) = agent.action_names().iter().find(|a| !known.contains(a))
         {
@@ -108,6 +156,7 @@ impl PyPlanAgent {
             plan: Arc::clone(&plan.inner),
             algo: algorithm,
             migration: None,
+            view,
         })
     }
 }
@@ -164,16 +213,30 @@ fn mode_name(mode: EpisodeMode) -> &'static str {
 #[pymethods]
 impl PyPlanAgent {
     #[new]
-    #[pyo3(signature = (plan, algo = "eps-sosmc", seed = 0, unchecked = false, actions = None, **params))]
+    #[pyo3(signature = (plan, algo = "eps-sosmc", seed = 0, unchecked = false, actions = None, view = None, record_mcap = None, **params))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         plan: PyRef<'_, PyPlan>,
         algo: &str,
         seed: u64,
         unchecked: bool,
         actions: Option<Vec<String>>,
+        view: Option<String>,
+        record_mcap: Option<PathBuf>,
         params: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
-        Self::build(&plan, algo, seed, unchecked, actions, params)
+        let view = ViewRequest {
+            address: view,
+            record_mcap,
+        };
+        Self::build(&plan, algo, seed, unchecked, actions, view, params)
+    }
+
+    /// The address the live view is served on (`"127.0.0.1:PORT"`), or `None`
+    /// when the agent was made without `view=`.
+    #[getter]
+    fn view_address(&self) -> Option<String> {
+        self.view.as_ref().and_then(|v| v.address()).map(|a| a.to_string())
     }
 
     /// An agent for `plan` starting from the values saved in `path` (by
@@ -198,7 +261,7 @@ impl PyPlanAgent {
         let (saved, report) = migrate::migrate(&saved, &plan.inner.activation_plans())
             .map_err(|e| value_error(format!("{}: {e}", path.display())))?;
         let algo = algo.unwrap_or(&saved.algorithm);
-        let mut agent = Self::build(&plan, algo, seed, unchecked, actions, params)?;
+        let mut agent = Self::build(&plan, algo, seed, unchecked, actions, ViewRequest::default(), params)?;
         {
             let mut inner = agent.agent()?;
             let learner = inner.learner_mut();

@@ -85,6 +85,8 @@ class PlanAgent:
         seed: int = 0,
         unchecked: bool = False,
         actions: Optional[Sequence[str]] = None,
+        view: Optional[str] = None,
+        record_mcap: Optional[_Path] = None,
         **params: _Param,
     ) -> None: ...
     @staticmethod
@@ -100,6 +102,8 @@ class PlanAgent:
     def act(self, atoms: _Atoms, status: str = "finished") -> Optional[str]: ...
     def reward(self, reward: float) -> None: ...
     def end_episode(self) -> None: ...
+    @property
+    def view_address(self) -> Optional[str]: ...
     mode: str
     greedy: bool
     @property
