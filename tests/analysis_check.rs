@@ -5,13 +5,18 @@ use crate::util::net;
 use learnpnp::analysis::{
     CheckReport, Count, Failure, Limits, Note, Outcome, Property, Stop, Verdict, check, check_within, explore,
 };
-use learnpnp::net::{PetriNet, PlaceId, TransitionId};
-use learnpnp::plan::{AllowedAtoms, Plan, PlanBuilder};
+use learnpnp::net::{NetError, PetriNet, PlaceId, TransitionId};
+use learnpnp::plan::{AllowedAtoms, Plan, PlanBuilder, catalog};
 
 const LIMIT: usize = 10_000;
 
 fn build(b: PlanBuilder) -> Plan {
     b.build(AllowedAtoms::Open).expect("test plan builds")
+}
+
+/// The plan of a net from the catalogue.
+fn catalogued(net: Result<PetriNet, NetError>) -> Plan {
+    Plan::from_net(net.expect("a catalogued net"), AllowedAtoms::Open).expect("a catalogued plan")
 }
 
 fn verdict(report: &CheckReport, property: Property) -> &Verdict {
@@ -231,17 +236,7 @@ fn two_starts_into_one_execution_place_fail_safety() {
 /// Thesis Figure 5.7: each pass of the loop adds a token to `passes`.
 #[test]
 fn the_loop_counter_is_unbounded_by_design_and_passes() {
-    let mut b = PlanBuilder::new("loop_counter");
-    let junction = b.initial_place("junction");
-    let passes = b.memory_place("passes");
-    let moved = b.place("moved");
-    b.action_into(junction, "Left", moved);
-    b.action_into(junction, "Right", moved);
-    let next = b.transition("[not atExit]", &[(moved, 1)], &[(junction, 1)]);
-    b.produce(next, passes, 1);
-    let goal = b.goal_place();
-    b.transition("[atExit]", &[(moved, 1)], &[(goal, 1)]);
-    let report = check(&build(b), LIMIT);
+    let report = check(&catalogued(catalog::loop_counter()), LIMIT);
     assert!(report.passed(), "{report}");
     assert!(report.complete);
     assert_eq!(report.bounds[1].bound, Count::Unbounded);
@@ -291,20 +286,7 @@ fn an_unbounded_place_that_is_read_leaves_effectiveness_inconclusive() {
 /// the memory token before the goal.
 #[test]
 fn the_penalty_kick_memory_place_stays_one_bounded_and_passes() {
-    let mut b = PlanBuilder::new("penalty_kick_memory");
-    let start = b.initial_place("start");
-    let ready = b.place("ready");
-    let walked = b.memory_place("walked");
-    let turned = b.memory_place("turned");
-    let walk = b.action_into(start, "WalkStraight", ready);
-    b.produce(walk.start, walked, 1);
-    let turn = b.action_into(start, "Turn", ready);
-    b.produce(turn.start, turned, 1);
-    let kick = b.action(ready, "Kick");
-    let goal = b.goal_place();
-    b.transition("join", &[(kick.done, 1), (walked, 1)], &[(goal, 1)]);
-    b.transition("join", &[(kick.done, 1), (turned, 1)], &[(goal, 1)]);
-    let report = check(&build(b), LIMIT);
+    let report = check(&catalogued(catalog::penalty_kick_memory()), LIMIT);
     assert!(report.passed(), "{report}");
     assert!(report.notes.is_empty(), "{report}");
     assert_eq!(report.bounds[2].bound, Count::Finite(1));

@@ -8,6 +8,7 @@ use learnpnp::condition::{AtomId, BitKnowledgeBase, KnowledgeBase};
 use learnpnp::executor::{Action, World};
 use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
 use learnpnp::experiment::spec::ExperimentSpec;
+use learnpnp::learning::{Assessment, ExploitPolicy, Schedule, Sigma, SoSmcConfig, StepSize, Unestimated};
 use learnpnp::net::{PetriNet, PlaceNode, TransitionNode};
 use learnpnp_keepaway::world::Player;
 use learnpnp_keepaway::{KeepawayConfig, Vec2, VisionMode};
@@ -45,6 +46,32 @@ pub fn temp_dir(tag: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("a temporary directory");
     dir
+}
+
+/// Writes `contents` to the file `name` in `dir`; returns the file's path.
+pub fn write_in(dir: &Path, name: &str, contents: impl AsRef<[u8]>) -> PathBuf {
+    let file = dir.join(name);
+    std::fs::write(&file, contents).expect("a file in the test's directory");
+    file
+}
+
+/// SoSMC crediting each option with the first-visit return that followed it:
+/// random choices for `initial_phase` episodes, then ε-greedy with ε = 0.1, a
+/// constant step size of 0.1, no assessment.
+pub fn plain_sosmc(initial_phase: u64) -> SoSmcConfig {
+    SoSmcConfig {
+        gamma: 1.0,
+        initial_phase,
+        sigma: Sigma::EpsilonGreedy,
+        initial_parameter: Schedule::constant(1.0),
+        assessing_parameter: Schedule::constant(0.1),
+        assessment: Assessment::Never,
+        step_size: StepSize::Constant(0.1),
+        initial_value: f64::NEG_INFINITY,
+        threshold: None,
+        unestimated: Unestimated::AsBest,
+        exploit: ExploitPolicy::Greedy,
+    }
 }
 
 /// Output bytes as text (lossy).
