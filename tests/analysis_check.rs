@@ -1,7 +1,7 @@
 //! `check`: safety, minimality, effectiveness and dead markings on small plans
 //! built in code (and raw nets malformed by design).
 
-use crate::util::net;
+use crate::util::{looking, net};
 use learnpnp::analysis::{
     CheckReport, Count, Failure, Limits, Note, Outcome, Property, Stop, Verdict, check, check_within, explore,
 };
@@ -105,11 +105,7 @@ fn a_fork_without_join_leaving_a_token_off_the_goal_fails_effectiveness() {
 
 #[test]
 fn a_dead_end_branch_fails_only_the_markings_after_it() {
-    let mut b = PlanBuilder::new("dead_end");
-    let init = b.initial_place("init");
-    let exec = b.place("look.exec");
-    b.transition("look.start", &[(init, 1)], &[(exec, 1)]);
-    let goal = b.goal_place();
+    let (mut b, exec, goal) = looking("dead_end");
     let lost = b.place("lost");
     b.transition("look.end [ok]", &[(exec, 1)], &[(goal, 1)]);
     b.transition("look.end [not ok]", &[(exec, 1)], &[(lost, 1)]);
@@ -141,11 +137,7 @@ fn a_dead_end_branch_fails_only_the_markings_after_it() {
 
 #[test]
 fn fail_markings_are_terminal_and_excluded() {
-    let mut b = PlanBuilder::new("with_fail");
-    let init = b.initial_place("init");
-    let exec = b.place("look.exec");
-    b.transition("look.start", &[(init, 1)], &[(exec, 1)]);
-    let goal = b.goal_place();
+    let (mut b, exec, goal) = looking("with_fail");
     let fail = b.place("fail");
     b.transition("look.end [ok]", &[(exec, 1)], &[(goal, 1)]);
     b.transition("look.end [not ok]", &[(exec, 1)], &[(fail, 1)]);

@@ -10,8 +10,9 @@ use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_
 use learnpnp::experiment::spec::ExperimentSpec;
 use learnpnp::learning::{Assessment, ExploitPolicy, Schedule, Sigma, SoSmcConfig, StepSize, Unestimated};
 use learnpnp::net::{PetriNet, PlaceNode, TransitionNode};
+use learnpnp::plan::{PlaceRef, PlanBuilder};
 use learnpnp_keepaway::world::Player;
-use learnpnp_keepaway::{KeepawayConfig, Vec2, VisionMode};
+use learnpnp_keepaway::{FieldState, KeepawayConfig, Vec2, VisionMode};
 use proptest::test_runner::{Config as ProptestConfig, FileFailurePersistence};
 
 /// The workspace's root directory (where `plans/` and `tests/fixtures/` are).
@@ -74,6 +75,17 @@ pub fn plain_sosmc(initial_phase: u64) -> SoSmcConfig {
     }
 }
 
+/// A plan named `name` that begins by starting the action `look`: its
+/// builder, the place of `look` running and the goal place (the test ends the action).
+pub fn looking(name: &str) -> (PlanBuilder, PlaceRef, PlaceRef) {
+    let mut b = PlanBuilder::new(name);
+    let init = b.initial_place("init");
+    let exec = b.place("look.exec");
+    b.transition("look.start", &[(init, 1)], &[(exec, 1)]);
+    let goal = b.goal_place();
+    (b, exec, goal)
+}
+
 /// Output bytes as text (lossy).
 pub fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
@@ -120,6 +132,16 @@ pub fn player(x: f64, y: f64, body: f64) -> Player {
         vel: Vec2::ZERO,
         body,
     }
+}
+
+/// A field with every player at rest facing +x, in a row along `y` from `x0`,
+/// `dx` apart; the ball at rest at the origin.
+pub fn players_in_a_row(x0: f64, dx: f64, y: f64) -> FieldState {
+    let mut w = FieldState::default();
+    for (i, p) in w.players.iter_mut().enumerate() {
+        *p = player(x0 + dx * i as f64, y, 0.0);
+    }
+    w
 }
 
 /// A world that logs every action call and pays a fixed reward per step.
