@@ -10,9 +10,12 @@
 //! Episode `i` of every policy starts from seed `1000 + i` (1000 episodes by
 //! default). A measurement program: it prints numbers and checks nothing.
 
+#[path = "common/args.rs"]
+mod args;
+
 use std::process::ExitCode;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use learnpnp_keepaway::policies::BaselinePolicy;
 use learnpnp_keepaway::{EndReason, KeepawayConfig, VisionMode, run_episode};
 
@@ -43,18 +46,7 @@ fn report(name: &str, cfg: &KeepawayConfig, n: u64, make: &dyn Fn(u64) -> Baseli
 }
 
 fn run() -> Result<()> {
-    let mut args = std::env::args().skip(1);
-    let n: u64 = match args.next() {
-        Some(a) => a
-            .parse()
-            .ok()
-            .filter(|&n| n > 0)
-            .with_context(|| format!("EPISODES must be a positive integer, got `{a}`"))?,
-        None => 1000,
-    };
-    if let Some(extra) = args.next() {
-        bail!("unexpected argument `{extra}` (usage: keepaway_baselines [EPISODES])");
-    }
+    let n = args::positive_count("EPISODES", 1000, "keepaway_baselines [EPISODES]")?;
     let framework = KeepawayConfig::default();
     let with = |vision| KeepawayConfig { vision, ..framework };
     let (full, quantised) = (with(VisionMode::FullState), with(VisionMode::Quantised));
@@ -73,11 +65,5 @@ fn run() -> Result<()> {
 }
 
 fn main() -> ExitCode {
-    match run() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            ExitCode::from(2)
-        }
-    }
+    args::exit_code(run())
 }

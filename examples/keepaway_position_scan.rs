@@ -11,9 +11,12 @@
 //! plays five times as many). A measurement program: it prints numbers and
 //! checks nothing.
 
+#[path = "common/args.rs"]
+mod args;
+
 use std::process::ExitCode;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use learnpnp_keepaway::features::{DEFAULT_HOLD_THRESHOLD, PassLineDistances};
 use learnpnp_keepaway::keeper::{KeeperAction, KeeperPolicy, SupportAction};
 use learnpnp_keepaway::params::KeepawayConfig;
@@ -57,18 +60,7 @@ fn assignment(i: usize) -> [PositioningPoint; 3] {
 }
 
 fn run() -> Result<()> {
-    let mut args = std::env::args().skip(1);
-    let episodes: u64 = match args.next() {
-        Some(a) => a
-            .parse()
-            .ok()
-            .filter(|&n| n > 0)
-            .with_context(|| format!("EPISODES must be a positive integer, got `{a}`"))?,
-        None => 40,
-    };
-    if let Some(extra) = args.next() {
-        bail!("unexpected argument `{extra}` (usage: keepaway_position_scan [EPISODES])");
-    }
+    let episodes = args::positive_count("EPISODES", 40, "keepaway_position_scan [EPISODES]")?;
     let cfg = KeepawayConfig::default();
     let get_open = mean(&cfg, None, 5 * episodes)?;
     // Two workers, each taking every other assignment.
@@ -121,11 +113,5 @@ fn run() -> Result<()> {
 }
 
 fn main() -> ExitCode {
-    match run() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            ExitCode::from(2)
-        }
-    }
+    args::exit_code(run())
 }

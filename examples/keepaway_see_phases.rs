@@ -13,10 +13,13 @@
 //! and takers are late, then by the keepers' and the takers' phases (sorted). A measurement program: it prints
 //! numbers and checks nothing.
 
+#[path = "common/args.rs"]
+mod args;
+
 use std::collections::BTreeMap;
 use std::process::ExitCode;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use learnpnp::named::Named;
 use learnpnp_keepaway::policies::BaselinePolicy;
 use learnpnp_keepaway::timing::{SeeArrival, SeePhase, see_arrival};
@@ -46,18 +49,7 @@ fn print_row(label: &str, xs: &[f64]) {
 }
 
 fn run() -> Result<()> {
-    let mut args = std::env::args().skip(1);
-    let runs: u64 = match args.next() {
-        Some(a) => a
-            .parse()
-            .ok()
-            .filter(|&n| n > 0)
-            .with_context(|| format!("RUNS must be a positive integer, got `{a}`"))?,
-        None => 2000,
-    };
-    if let Some(extra) = args.next() {
-        bail!("unexpected argument `{extra}` (usage: keepaway_see_phases [RUNS])");
-    }
+    let runs = args::positive_count("RUNS", 2000, "keepaway_see_phases [RUNS]")?;
     for timer in [ServerTimer::RealTime, ServerTimer::Synchronous] {
         let cfg = KeepawayConfig {
             timer,
@@ -104,11 +96,5 @@ fn run() -> Result<()> {
 }
 
 fn main() -> ExitCode {
-    match run() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            ExitCode::from(2)
-        }
-    }
+    args::exit_code(run())
 }

@@ -141,19 +141,24 @@ pub struct ReadmeDoctests;
 
 pub mod agent;
 pub mod analysis;
+/// Guard conditions.
 pub mod condition;
 pub mod domains;
 pub mod dot;
 pub mod executor;
+/// Experiments over many seeded runs.
+pub mod experiment;
 /// The live feed's records and sink (the `learnpnp-feed` crate).
 pub use learnpnp_feed as feed;
-pub mod experiment;
 pub(crate) mod json_float;
+/// Learners at the executor's choice points.
 pub mod learning;
 /// Enumerations picked by name (from the `learnpnp-common` crate).
 pub use learnpnp_common::named;
 pub mod net;
+/// Petri Net Plans.
 pub mod plan;
+/// Loading plan files of either kind.
 pub mod plan_file;
 pub mod pnml;
 /// Seeded, reproducible random numbers (from the `learnpnp-common` crate).

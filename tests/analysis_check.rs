@@ -1,17 +1,22 @@
 //! `check`: safety, minimality, effectiveness and dead markings on small plans
 //! built in code (and raw nets malformed by design).
 
-use crate::util::net;
+use crate::util::{looking, net};
 use learnpnp::analysis::{
     CheckReport, Count, Failure, Limits, Note, Outcome, Property, Stop, Verdict, check, check_within, explore,
 };
-use learnpnp::net::{PetriNet, PlaceId, TransitionId};
-use learnpnp::plan::{AllowedAtoms, Plan, PlanBuilder};
+use learnpnp::net::{NetError, PetriNet, PlaceId, TransitionId};
+use learnpnp::plan::{AllowedAtoms, Plan, PlanBuilder, catalog};
 
 const LIMIT: usize = 10_000;
 
 fn build(b: PlanBuilder) -> Plan {
     b.build(AllowedAtoms::Open).expect("test plan builds")
+}
+
+/// The plan of a net from the catalogue.
+fn catalogued(net: Result<PetriNet, NetError>) -> Plan {
+    Plan::from_net(net.expect("a catalogued net"), AllowedAtoms::Open).expect("a catalogued plan")
 }
 
 fn verdict(report: &CheckReport, property: Property) -> &Verdict {
@@ -100,11 +105,7 @@ fn a_fork_without_join_leaving_a_token_off_the_goal_fails_effectiveness() {
 
 #[test]
 fn a_dead_end_branch_fails_only_the_markings_after_it() {
-    let mut b = PlanBuilder::new("dead_end");
-    let init = b.initial_place("init");
-    let exec = b.place("look.exec");
-    b.transition("look.start", &[(init, 1)], &[(exec, 1)]);
-    let goal = b.goal_place();
+    let (mut b, exec, goal) = looking("dead_end");
     let lost = b.place("lost");
     b.transition("look.end [ok]", &[(exec, 1)], &[(goal, 1)]);
     b.transition("look.end [not ok]", &[(exec, 1)], &[(lost, 1)]);
@@ -136,11 +137,7 @@ fn a_dead_end_branch_fails_only_the_markings_after_it() {
 
 #[test]
 fn fail_markings_are_terminal_and_excluded() {
-    let mut b = PlanBuilder::new("with_fail");
-    let init = b.initial_place("init");
-    let exec = b.place("look.exec");
-    b.transition("look.start", &[(init, 1)], &[(exec, 1)]);
-    let goal = b.goal_place();
+    let (mut b, exec, goal) = looking("with_fail");
     let fail = b.place("fail");
     b.transition("look.end [ok]", &[(exec, 1)], &[(goal, 1)]);
     b.transition("look.end [not ok]", &[(exec, 1)], &[(fail, 1)]);
@@ -231,17 +228,7 @@ fn two_starts_into_one_execution_place_fail_safety() {
 /// Thesis Figure 5.7: each pass of the loop adds a token to `passes`.
 #[test]
 fn the_loop_counter_is_unbounded_by_design_and_passes() {
-    let mut b = PlanBuilder::new("loop_counter");
-    let junction = b.initial_place("junction");
-    let passes = b.memory_place("passes");
-    let moved = b.place("moved");
-    b.action_into(junction, "Left", moved);
-    b.action_into(junction, "Right", moved);
-    let next = b.transition("[not atExit]", &[(moved, 1)], &[(junction, 1)]);
-    b.produce(next, passes, 1);
-    let goal = b.goal_place();
-    b.transition("[atExit]", &[(moved, 1)], &[(goal, 1)]);
-    let report = check(&build(b), LIMIT);
+    let report = check(&catalogued(catalog::loop_counter()), LIMIT);
     assert!(report.passed(), "{report}");
     assert!(report.complete);
     assert_eq!(report.bounds[1].bound, Count::Unbounded);
@@ -291,20 +278,7 @@ fn an_unbounded_place_that_is_read_leaves_effectiveness_inconclusive() {
 /// the memory token before the goal.
 #[test]
 fn the_penalty_kick_memory_place_stays_one_bounded_and_passes() {
-    let mut b = PlanBuilder::new("penalty_kick_memory");
-    let start = b.initial_place("start");
-    let ready = b.place("ready");
-    let walked = b.memory_place("walked");
-    let turned = b.memory_place("turned");
-    let walk = b.action_into(start, "WalkStraight", ready);
-    b.produce(walk.start, walked, 1);
-    let turn = b.action_into(start, "Turn", ready);
-    b.produce(turn.start, turned, 1);
-    let kick = b.action(ready, "Kick");
-    let goal = b.goal_place();
-    b.transition("join", &[(kick.done, 1), (walked, 1)], &[(goal, 1)]);
-    b.transition("join", &[(kick.done, 1), (turned, 1)], &[(goal, 1)]);
-    let report = check(&build(b), LIMIT);
+    let report = check(&catalogued(catalog::penalty_kick_memory()), LIMIT);
     assert!(report.passed(), "{report}");
     assert!(report.notes.is_empty(), "{report}");
     assert_eq!(report.bounds[2].bound, Count::Finite(1));

@@ -1,5 +1,6 @@
 //! Choice points: places whose output transitions can be executable together.
 
+use crate::util::looking;
 use learnpnp::analysis::{ChoicePoint, choice_points, explore, structural_choice_points};
 use learnpnp::net::{PlaceId, TransitionId};
 use learnpnp::plan::{AllowedAtoms, Plan, PlanBuilder};
@@ -35,11 +36,7 @@ fn the_choice_operator_is_a_choice_point() {
 
 #[test]
 fn a_sensing_action_with_complementary_guards_is_no_choice_point() {
-    let mut b = PlanBuilder::new("sensing");
-    let init = b.initial_place("init");
-    let exec = b.place("look.exec");
-    b.transition("look.start", &[(init, 1)], &[(exec, 1)]);
-    let goal = b.goal_place();
+    let (mut b, exec, goal) = looking("sensing");
     b.transition("look.end [ballSeen]", &[(exec, 1)], &[(goal, 1)]);
     b.transition("look.end [not ballSeen]", &[(exec, 1)], &[(goal, 1)]);
     let plan = build(b);

@@ -1,5 +1,6 @@
 //! Graphviz DOT export: node shapes, colours, weights and escaping.
 
+use crate::util::looking;
 use learnpnp::dot::to_dot;
 use learnpnp::plan::{AllowedAtoms, Plan, PlanBuilder};
 
@@ -92,11 +93,7 @@ fn nodes_have_their_shapes_and_colours() {
 
 #[test]
 fn complementary_sensing_outcomes_are_no_choice_point() {
-    let mut b = PlanBuilder::new("sensing");
-    let init = b.initial_place("init");
-    let exec = b.place("look.exec");
-    b.transition("look.start", &[(init, 1)], &[(exec, 1)]);
-    let goal = b.goal_place();
+    let (mut b, exec, goal) = looking("sensing");
     b.transition("look.end [seen]", &[(exec, 1)], &[(goal, 1)]);
     b.transition("look.end [not seen]", &[(exec, 1)], &[(goal, 1)]);
     let dot = to_dot(&b.build(AllowedAtoms::Open).expect("plan builds"));

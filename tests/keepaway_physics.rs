@@ -1,23 +1,15 @@
 //! The server's physics against closed forms (motion noise off).
 
+use crate::util::players_in_a_row;
 use learnpnp::rng::seeded;
-use learnpnp_keepaway::world::{Ball, NUM_PLAYERS, Player};
+use learnpnp_keepaway::world::NUM_PLAYERS;
 use learnpnp_keepaway::{Command, FieldState, ServerParams, Vec2};
 
 const NONE: [Command; NUM_PLAYERS] = [Command::None; NUM_PLAYERS];
 
 /// Players far apart and away from the origin, at rest, facing +x; ball at rest at the origin.
 fn spread_world() -> FieldState {
-    let mut w = FieldState::default();
-    for (i, p) in w.players.iter_mut().enumerate() {
-        *p = Player {
-            pos: Vec2::new(-40.0 + 10.0 * i as f64, 30.0),
-            vel: Vec2::ZERO,
-            body: 0.0,
-        };
-    }
-    w.ball = Ball::default();
-    w
+    players_in_a_row(-40.0, 10.0, 30.0)
 }
 
 fn step(w: &mut FieldState, cmds: &[Command; NUM_PLAYERS]) {

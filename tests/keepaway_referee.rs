@@ -1,21 +1,13 @@
 //! The keepaway referee: end conditions, the possession counter, the reset.
 
-use crate::util::noiseless;
+use crate::util::{noiseless, players_in_a_row};
 use learnpnp_keepaway::referee::{Referee, TURNOVER_TIME};
-use learnpnp_keepaway::world::{NUM_PLAYERS, Player};
+use learnpnp_keepaway::world::NUM_PLAYERS;
 use learnpnp_keepaway::{Command, EndReason, FieldState, KeepawayConfig, RefereeRule, Simulator, Vec2};
 
 /// Everybody at rest in a row far from the ball at the origin.
 fn quiet_world() -> FieldState {
-    let mut w = FieldState::default();
-    for (i, p) in w.players.iter_mut().enumerate() {
-        *p = Player {
-            pos: Vec2::new(-8.0 + 4.0 * i as f64, 8.0),
-            vel: Vec2::ZERO,
-            body: 0.0,
-        };
-    }
-    w
+    players_in_a_row(-8.0, 4.0, 8.0)
 }
 
 const NONE: [Command; NUM_PLAYERS] = [Command::None; NUM_PLAYERS];

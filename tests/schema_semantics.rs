@@ -4,14 +4,12 @@
 //! absorbing; sub-machines learn on their own and their reward accrues to the
 //! calling state.
 
-use crate::util::{LogWorld as Log, Timed};
+use crate::util::{LogWorld as Log, Timed, plain_sosmc};
 use std::sync::Arc;
 
 use learnpnp::condition::{AtomId, AtomTable, BitKnowledgeBase};
 use learnpnp::executor::{Chooser, ExecError, Executor, PlanKey, Registry, Status};
-use learnpnp::learning::{
-    Assessment, EpisodeStart, ExploitPolicy, Learner, Schedule, Sigma, SoSmc, SoSmcConfig, StepSize, Unestimated,
-};
+use learnpnp::learning::{EpisodeStart, Learner, SoSmc};
 use learnpnp::net::Marking;
 use learnpnp::plan::{AllowedAtoms, Plan};
 use learnpnp::rng::seeded;
@@ -505,19 +503,7 @@ fn each_machine_learns_on_its_own() {
     // the slow one (5 steps). The sub-machine's values are its own (plan key
     // 1), learned from the reward it collected; the root has no choice.
     let plan = plan(HIERARCHY);
-    let config = SoSmcConfig {
-        gamma: 1.0,
-        initial_phase: 10,
-        sigma: Sigma::EpsilonGreedy,
-        initial_parameter: Schedule::constant(1.0),
-        assessing_parameter: Schedule::constant(0.1),
-        assessment: Assessment::Never,
-        step_size: StepSize::Constant(0.1),
-        initial_value: f64::NEG_INFINITY,
-        threshold: None,
-        unestimated: Unestimated::AsBest,
-        exploit: ExploitPolicy::Greedy,
-    };
+    let config = plain_sosmc(10);
     let mut learner = SoSmc::new(config, seeded(3));
     let mut exec = Executor::new(Arc::clone(&plan), &registry()).unwrap();
     let mut world = Log::new();

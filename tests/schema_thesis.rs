@@ -2,7 +2,7 @@
 //! (Figures 3.1 - 3.5), the penalty kick's non-Markovian reward (Figures 3.6
 //! and 3.7), and a schema learning exactly as the equivalent Petri Net Plan.
 
-use crate::util::shipped;
+use crate::util::{plain_sosmc, shipped};
 use std::sync::Arc;
 
 use learnpnp::condition::{Expr, parse_condition};
@@ -12,10 +12,7 @@ use learnpnp::domains::penalty_kick::{PenaltyKick, PenaltyKickConfig};
 use learnpnp::executor::PlanKey;
 use learnpnp::experiment::defaults::default_learner;
 use learnpnp::experiment::spec::{Algorithm, DomainSpec};
-use learnpnp::learning::{
-    Assessment, EpisodeMode, ExploitPolicy, Exploration, Learner, Schedule, Scope, Sigma, SoSmc, SoSmcConfig, StepSize,
-    Target, TdConfig, TdLearner, Unestimated,
-};
+use learnpnp::learning::{EpisodeMode, Exploration, Learner, Schedule, Scope, SoSmc, Target, TdConfig, TdLearner};
 use learnpnp::net::{Marking, PlaceId};
 use learnpnp::plan::{AllowedAtoms, Plan};
 use learnpnp::plan_file::load_plan;
@@ -253,19 +250,7 @@ fn figure_3_6_one_step_q_learning_values_both_first_choices_equally() {
 #[test]
 fn figure_3_6_sosmc_learns_to_walk_straight() {
     // First-visit returns credit each option with what followed it.
-    let config = SoSmcConfig {
-        gamma: 1.0,
-        initial_phase: 20,
-        sigma: Sigma::EpsilonGreedy,
-        initial_parameter: Schedule::constant(1.0),
-        assessing_parameter: Schedule::constant(0.1),
-        assessment: Assessment::Never,
-        step_size: StepSize::Constant(0.1),
-        initial_value: f64::NEG_INFINITY,
-        threshold: None,
-        unestimated: Unestimated::AsBest,
-        exploit: ExploitPolicy::Greedy,
-    };
+    let config = plain_sosmc(20);
     for seed in 0..SEEDS {
         let (walk, turn, greedy) = kick("penalty_kick", Box::new(SoSmc::new(config, seeded(seed))), 100);
         assert_eq!((walk, turn), (10.0, 0.0), "seed {seed}");

@@ -8,9 +8,11 @@ use learnpnp::condition::{AtomId, BitKnowledgeBase, KnowledgeBase};
 use learnpnp::executor::{Action, World};
 use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
 use learnpnp::experiment::spec::ExperimentSpec;
+use learnpnp::learning::{Assessment, ExploitPolicy, Schedule, Sigma, SoSmcConfig, StepSize, Unestimated};
 use learnpnp::net::{PetriNet, PlaceNode, TransitionNode};
+use learnpnp::plan::{PlaceRef, PlanBuilder};
 use learnpnp_keepaway::world::Player;
-use learnpnp_keepaway::{KeepawayConfig, Vec2, VisionMode};
+use learnpnp_keepaway::{FieldState, KeepawayConfig, Vec2, VisionMode};
 use proptest::test_runner::{Config as ProptestConfig, FileFailurePersistence};
 
 /// The workspace's root directory (where `plans/` and `tests/fixtures/` are).
@@ -45,6 +47,43 @@ pub fn temp_dir(tag: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("a temporary directory");
     dir
+}
+
+/// Writes `contents` to the file `name` in `dir`; returns the file's path.
+pub fn write_in(dir: &Path, name: &str, contents: impl AsRef<[u8]>) -> PathBuf {
+    let file = dir.join(name);
+    std::fs::write(&file, contents).expect("a file in the test's directory");
+    file
+}
+
+/// SoSMC crediting each option with the first-visit return that followed it:
+/// random choices for `initial_phase` episodes, then ε-greedy with ε = 0.1, a
+/// constant step size of 0.1, no assessment.
+pub fn plain_sosmc(initial_phase: u64) -> SoSmcConfig {
+    SoSmcConfig {
+        gamma: 1.0,
+        initial_phase,
+        sigma: Sigma::EpsilonGreedy,
+        initial_parameter: Schedule::constant(1.0),
+        assessing_parameter: Schedule::constant(0.1),
+        assessment: Assessment::Never,
+        step_size: StepSize::Constant(0.1),
+        initial_value: f64::NEG_INFINITY,
+        threshold: None,
+        unestimated: Unestimated::AsBest,
+        exploit: ExploitPolicy::Greedy,
+    }
+}
+
+/// A plan named `name` that begins by starting the action `look`: its
+/// builder, the place of `look` running and the goal place (the test ends the action).
+pub fn looking(name: &str) -> (PlanBuilder, PlaceRef, PlaceRef) {
+    let mut b = PlanBuilder::new(name);
+    let init = b.initial_place("init");
+    let exec = b.place("look.exec");
+    b.transition("look.start", &[(init, 1)], &[(exec, 1)]);
+    let goal = b.goal_place();
+    (b, exec, goal)
 }
 
 /// Output bytes as text (lossy).
@@ -94,6 +133,16 @@ pub fn player(x: f64, y: f64, body: f64) -> Player {
         vel: Vec2::ZERO,
         body,
     }
+}
+
+/// A field with every player at rest facing +x, in a row along `y` from `x0`,
+/// `dx` apart; the ball at rest at the origin.
+pub fn players_in_a_row(x0: f64, dx: f64, y: f64) -> FieldState {
+    let mut w = FieldState::default();
+    for (i, p) in w.players.iter_mut().enumerate() {
+        *p = player(x0 + dx * i as f64, y, 0.0);
+    }
+    w
 }
 
 /// A world that logs every action call and pays a fixed reward per step.

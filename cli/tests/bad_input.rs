@@ -2,8 +2,8 @@
 //! corrupt value tables, closed pipes. Each gets one clear error (exit 2) or
 //! a correct result.
 
-use crate::learnpnp;
-use crate::util::{temp_dir, text};
+use crate::util::{temp_dir, text, write_in};
+use crate::{learnpnp, short_experiment};
 use std::io::Read;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
@@ -29,15 +29,8 @@ fn one_step_plan(initial: u8, guard: &str) -> String {
 
 /// A short penalty-kick experiment learning in `plan`.
 fn experiment_on(plan: &Path, out: &Path, extra: &[&str]) -> Output {
-    let mut args = vec![
-        "experiment",
-        "penalty-kick",
-        "--algo",
-        "sarsa0",
-        "--runs",
-        "1",
-        "--episodes",
-        "10",
+    let mut args = short_experiment("penalty-kick", "sarsa0", "1", "10");
+    args.extend([
         "--eval-every",
         "10",
         "--threads",
@@ -46,7 +39,7 @@ fn experiment_on(plan: &Path, out: &Path, extra: &[&str]) -> Output {
         path(plan),
         "--out",
         path(out),
-    ];
+    ]);
     args.extend_from_slice(extra);
     learnpnp(&args)
 }
@@ -54,8 +47,7 @@ fn experiment_on(plan: &Path, out: &Path, extra: &[&str]) -> Output {
 #[test]
 fn plans_that_fail_their_checks_are_refused_unless_unchecked() {
     let dir = temp_dir("checks");
-    let no_token = dir.join("no_token.pnml");
-    std::fs::write(&no_token, one_step_plan(0, "[]")).expect("write");
+    let no_token = write_in(&dir, "no_token.pnml", one_step_plan(0, "[]"));
     let out = experiment_on(&no_token, &dir.join("out"), &[]);
     let err = text(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
@@ -69,8 +61,7 @@ fn plans_that_fail_their_checks_are_refused_unless_unchecked() {
     let out = experiment_on(&no_token, &dir.join("out"), &["--unchecked"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     // A plan that passes runs without the flag.
-    let fine = dir.join("fine.pnml");
-    std::fs::write(&fine, one_step_plan(1, "[]")).expect("write");
+    let fine = write_in(&dir, "fine.pnml", one_step_plan(1, "[]"));
     let out = experiment_on(&fine, &dir.join("fine-out"), &[]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let _ = std::fs::remove_dir_all(&dir);
@@ -79,8 +70,7 @@ fn plans_that_fail_their_checks_are_refused_unless_unchecked() {
 #[test]
 fn empty_and_hostile_xml_is_refused_by_every_command() {
     let dir = temp_dir("xml");
-    let empty = dir.join("empty.pnml");
-    std::fs::write(&empty, "<pnml><net id='n'></net></pnml>").expect("write");
+    let empty = write_in(&dir, "empty.pnml", "<pnml><net id='n'></net></pnml>");
     // Deeply nested elements that hold no plan.
     let nested = dir.join("nested.pnml");
     let depth = 5000;
@@ -114,8 +104,7 @@ fn empty_and_hostile_xml_is_refused_by_every_command() {
     let full = std::fs::read_to_string(crate::util::root().join("plans").join("penalty_kick_plain.pnml"))
         .expect("shipped plan");
     let cut = &full[..full.len() / 2];
-    let truncated = dir.join("truncated.pnml");
-    std::fs::write(&truncated, cut).expect("write");
+    let truncated = write_in(&dir, "truncated.pnml", cut);
     let out = learnpnp(&["check", path(&truncated)]);
     let err = text(&out.stderr);
     let lines = cut.lines().count();
@@ -130,8 +119,7 @@ fn empty_and_hostile_xml_is_refused_by_every_command() {
 #[test]
 fn errors_are_printed_once() {
     let dir = temp_dir("once");
-    let bad_guard = dir.join("bad_guard.pnml");
-    std::fs::write(&bad_guard, one_step_plan(1, "[and a]")).expect("write");
+    let bad_guard = write_in(&dir, "bad_guard.pnml", one_step_plan(1, "[and a]"));
     for out in [
         learnpnp(&["dot", path(&bad_guard)]),
         experiment_on(&bad_guard, &dir.join("out"), &[]),
@@ -141,8 +129,7 @@ fn errors_are_printed_once() {
         assert_eq!(err.matches("needs at least two operands").count(), 1, "{err}");
         assert!(err.contains("bad_guard.pnml") && err.contains("t1"), "{err}");
     }
-    let file = dir.join("a-file");
-    std::fs::write(&file, "x").expect("write");
+    let file = write_in(&dir, "a-file", "x");
     let out = experiment_on(&bad_guard, &file.join("sub"), &[]);
     let err = text(&out.stderr);
     assert_eq!(out.status.code(), Some(2));
@@ -210,20 +197,8 @@ fn a_closed_pipe_is_no_error() {
 fn a_corrupt_value_table_is_an_error_unless_the_fallback_is_asked_for() {
     let dir = temp_dir("values");
     let learn = |out: &Path, extra: &[&str]| {
-        let mut args = vec![
-            "experiment",
-            "parr-russell",
-            "--algo",
-            "eps-sosmc",
-            "--runs",
-            "1",
-            "--episodes",
-            "40",
-            "--eval-every",
-            "20",
-            "--out",
-            path(out),
-        ];
+        let mut args = short_experiment("parr-russell", "eps-sosmc", "1", "40");
+        args.extend(["--eval-every", "20", "--out", path(out)]);
         args.extend_from_slice(extra);
         learnpnp(&args)
     };

@@ -1,7 +1,7 @@
 //! The `learnpnp` binary end to end: exit codes and the files it writes.
 
-use crate::learnpnp;
-use crate::util::{shipped_arg, temp_dir, text};
+use crate::util::{shipped_arg, temp_dir, text, write_in};
+use crate::{learnpnp, short_experiment};
 use std::path::Path;
 
 use learnpnp::plan::PlanBuilder;
@@ -29,12 +29,11 @@ fn check_exit_codes() {
     assert_eq!(fails.status.code(), Some(1), "{}", text(&fails.stdout));
     assert!(text(&fails.stdout).contains("safety"), "{}", text(&fails.stdout));
 
-    let garbage = dir.join("garbage.pnml");
-    std::fs::write(
-        &garbage,
+    let garbage = write_in(
+        &dir,
+        "garbage.pnml",
         "<pnml><net><place id='p1'><name><value>[oops</value></name></place></net></pnml>",
-    )
-    .unwrap();
+    );
     let unreadable = learnpnp(&["check", garbage.to_str().unwrap()]);
     assert_eq!(unreadable.status.code(), Some(2));
     let err = text(&unreadable.stderr);
@@ -258,15 +257,8 @@ fn dot_marks_choice_points() {
 fn an_experiment_writes_its_results_and_replays_with_its_seed() {
     let dir = temp_dir("experiment");
     let run = |out: &Path, threads: &str| {
-        let o = learnpnp(&[
-            "experiment",
-            "parr-russell",
-            "--algo",
-            "eps-sosmc",
-            "--runs",
-            "4",
-            "--episodes",
-            "200",
+        let mut args = short_experiment("parr-russell", "eps-sosmc", "4", "200");
+        args.extend([
             "--eval-every",
             "50",
             "--seed",
@@ -276,6 +268,7 @@ fn an_experiment_writes_its_results_and_replays_with_its_seed() {
             "--out",
             out.to_str().unwrap(),
         ]);
+        let o = learnpnp(&args);
         assert!(o.status.success(), "{}", text(&o.stderr));
     };
     let (a, b) = (dir.join("a"), dir.join("b"));
@@ -331,37 +324,22 @@ fn an_experiment_writes_its_results_and_replays_with_its_seed() {
     // a plan that shares nothing with the experiment's is refused.
     let resumed = dir.join("resumed");
     let values_file = a.join("values.bin");
-    let o = learnpnp(&[
-        "experiment",
-        "parr-russell",
-        "--algo",
-        "eps-sosmc",
-        "--runs",
-        "2",
-        "--episodes",
-        "50",
+    let mut args = short_experiment("parr-russell", "eps-sosmc", "2", "50");
+    let (values_arg, resumed_arg) = (values_file.to_str().unwrap(), resumed.to_str().unwrap());
+    args.extend([
         "--eval-every",
         "50",
         "--initial-values",
-        values_file.to_str().unwrap(),
+        values_arg,
         "--out",
-        resumed.to_str().unwrap(),
+        resumed_arg,
     ]);
+    let o = learnpnp(&args);
     assert!(o.status.success(), "{}", text(&o.stderr));
-    let o = learnpnp(&[
-        "experiment",
-        "sutton",
-        "--algo",
-        "eps-sosmc",
-        "--runs",
-        "1",
-        "--episodes",
-        "10",
-        "--initial-values",
-        values_file.to_str().unwrap(),
-        "--out",
-        dir.join("wrong").to_str().unwrap(),
-    ]);
+    let wrong = dir.join("wrong");
+    let mut args = short_experiment("sutton", "eps-sosmc", "1", "10");
+    args.extend(["--initial-values", values_arg, "--out", wrong.to_str().unwrap()]);
+    let o = learnpnp(&args);
     assert_eq!(o.status.code(), Some(2));
     assert!(
         text(&o.stderr).contains("share nothing with plan 'sutton'"),
@@ -385,8 +363,7 @@ fn an_experiment_writes_its_results_and_replays_with_its_seed() {
 #[test]
 fn bad_arguments_and_corrupt_tables_are_reported() {
     let dir = temp_dir("bad");
-    let corrupt = dir.join("values.bin");
-    std::fs::write(&corrupt, b"not a value table").unwrap();
+    let corrupt = write_in(&dir, "values.bin", b"not a value table");
     let out = learnpnp(&["values", corrupt.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2));
     assert!(text(&out.stderr).contains("values.bin"));

@@ -2,7 +2,7 @@
 //! domain offers, and what they say matches the domains' own plans; a plan
 //! naming an action no domain registers is refused with the registered names.
 
-use crate::learnpnp;
+use crate::{learnpnp, short_experiment};
 
 use learnpnp::domains::describe::{domain, domains};
 use learnpnp::plan::{AllowedAtoms, PlanBuilder};
@@ -60,20 +60,15 @@ fn an_unknown_action_lists_the_registered_ones() {
     b.action_into(start, "Fly", goal);
     let file = dir.join("fly.pnml");
     pnml::write_file(&b.build_net().expect("a net"), Dialect::Jarp, &file).expect("written");
-    let out = learnpnp(&[
-        "experiment",
-        "parr-russell",
-        "--algo",
-        "sarsa0",
-        "--runs",
-        "1",
-        "--episodes",
-        "10",
+    let out_dir = dir.join("out");
+    let mut args = short_experiment("parr-russell", "sarsa0", "1", "10");
+    args.extend([
         "--plan",
         file.to_str().expect("a path"),
         "--out",
-        dir.join("out").to_str().expect("a path"),
+        out_dir.to_str().expect("a path"),
     ]);
+    let out = learnpnp(&args);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(

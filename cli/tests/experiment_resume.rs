@@ -60,18 +60,22 @@ fn assert_same_files(a: &Path, b: &Path) {
 #[test]
 fn a_resumed_experiment_ends_with_the_numbers_of_an_uninterrupted_one() {
     let dir = temp_dir("lib");
-    let spec = spec(&[
-        "--algo",
-        "eps-sosmc",
-        "--runs",
-        "6",
-        "--episodes",
-        "150",
-        "--eval-every",
-        "50",
-        "--seed",
-        "11",
-    ]);
+    // Six runs of 150 episodes, seeded: this one and another that differs only in its seed.
+    let seeded = |seed: &str| {
+        self::spec(&[
+            "--algo",
+            "eps-sosmc",
+            "--runs",
+            "6",
+            "--episodes",
+            "150",
+            "--eval-every",
+            "50",
+            "--seed",
+            seed,
+        ])
+    };
+    let spec = seeded("11");
     let whole = run(&spec, 2, None, Completed::default());
     assert!(whole.is_complete());
     let mut reference = ResultDir::open(dir.join("reference")).expect("usable");
@@ -116,18 +120,7 @@ fn a_resumed_experiment_ends_with_the_numbers_of_an_uninterrupted_one() {
     assert!(matches!(resume_point(&out, &spec), Ok(ResumePoint::Complete)));
 
     // Another experiment does not resume from these results.
-    let other = self::spec(&[
-        "--algo",
-        "eps-sosmc",
-        "--runs",
-        "6",
-        "--episodes",
-        "150",
-        "--eval-every",
-        "50",
-        "--seed",
-        "12",
-    ]);
+    let other = seeded("12");
     let err = resume_point(&out, &other).expect_err("another seed");
     assert!(err.to_string().contains("another experiment"), "{err}");
     write_results(&partial, &mut out).expect("written");

@@ -3,8 +3,8 @@
 //! `learnpnp dot --values` writes each option's value and updates on the plan,
 //! marking the greedy one; both read the same grouping.
 
-use crate::learnpnp;
 use crate::util::{shipped_arg, temp_dir};
+use crate::{learnpnp, short_experiment};
 
 fn ok(args: &[&str]) -> String {
     let out = learnpnp(args);
@@ -98,20 +98,9 @@ fn a_table_without_its_plan_is_listed_per_marking_with_a_warning() {
     let dir = temp_dir("bare");
     let out = dir.join("pr");
     let out = out.to_str().expect("a path");
-    ok(&[
-        "experiment",
-        "parr-russell",
-        "--algo",
-        "eps-sosmc",
-        "--runs",
-        "1",
-        "--episodes",
-        "50",
-        "--threads",
-        "1",
-        "--out",
-        out,
-    ]);
+    let mut args = short_experiment("parr-russell", "eps-sosmc", "1", "50");
+    args.extend(["--threads", "1", "--out", out]);
+    ok(&args);
     let moved = dir.join("moved.bin");
     std::fs::copy(format!("{out}/values.bin"), &moved).expect("copied");
     let listed = learnpnp(&["values", moved.to_str().expect("a path")]);

@@ -15,6 +15,20 @@ fn learnpnp(args: &[&str]) -> Output {
         .expect("the learnpnp command runs")
 }
 
+/// A short experiment's command line, `experiment DOMAIN --algo ALGO --runs RUNS --episodes EPISODES`, to extend.
+fn short_experiment<'a>(domain: &'a str, algo: &'a str, runs: &'a str, episodes: &'a str) -> Vec<&'a str> {
+    vec![
+        "experiment",
+        domain,
+        "--algo",
+        algo,
+        "--runs",
+        runs,
+        "--episodes",
+        episodes,
+    ]
+}
+
 mod bad_input;
 mod cli;
 mod domain_descriptions;

@@ -14,6 +14,8 @@ use std::time::{Duration, Instant};
 
 use learnpnp_keepaway::rcg::{GameLog, KeeperNote};
 
+use crate::short_experiment;
+
 fn learnpnp(args: &[&str]) -> Output {
     let out = Command::new(env!("CARGO_BIN_EXE_learnpnp"))
         .args(args)
@@ -146,15 +148,8 @@ fn a_recorded_episode_is_drawn_where_the_log_puts_it() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("a temporary directory");
     let out = dir.join("kp");
-    learnpnp(&[
-        "experiment",
-        "keepaway-pass",
-        "--algo",
-        "soft-sosmc",
-        "--runs",
-        "1",
-        "--episodes",
-        "40",
+    let mut args = short_experiment("keepaway-pass", "soft-sosmc", "1", "40");
+    args.extend([
         "--eval-every",
         "40",
         "--eval-episodes",
@@ -168,6 +163,7 @@ fn a_recorded_episode_is_drawn_where_the_log_puts_it() {
         "--out",
         out.to_str().expect("a path"),
     ]);
+    learnpnp(&args);
     let rcg = out.join("replays").join("episode-1.rcg");
     let log = GameLog::read_file(&rcg).expect("the recorded log reads back");
     assert!(log.frames.len() > 20, "a short episode: {} shows", log.frames.len());

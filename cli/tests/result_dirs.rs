@@ -1,8 +1,8 @@
 //! Result directories through the binary: one writer per directory, checked
 //! before any work, and never a mix of two runs whatever is killed when.
 
-use crate::learnpnp;
-use crate::util::{temp_dir, text};
+use crate::util::{temp_dir, text, write_in};
+use crate::{learnpnp, short_experiment};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -20,26 +20,11 @@ fn spawn(args: &[&str]) -> Child {
 
 /// A short Parr-Russell experiment with this seed into `out`.
 fn experiment_args(out: &Path, seed: u64, episodes: u64) -> Vec<String> {
-    [
-        "experiment",
-        "parr-russell",
-        "--algo",
-        "eps-sosmc",
-        "--runs",
-        "4",
-        "--episodes",
-        &episodes.to_string(),
-        "--eval-every",
-        "50",
-        "--threads",
-        "1",
-        "--seed",
-        &seed.to_string(),
-        "--out",
-        out.to_str().expect("utf-8 path"),
-    ]
-    .map(String::from)
-    .to_vec()
+    let (episodes, seed) = (episodes.to_string(), seed.to_string());
+    let mut args = short_experiment("parr-russell", "eps-sosmc", "4", &episodes);
+    let out = out.to_str().expect("utf-8 path");
+    args.extend(["--eval-every", "50", "--threads", "1", "--seed", &seed, "--out", out]);
+    args.into_iter().map(String::from).collect()
 }
 
 fn as_strs(args: &[String]) -> Vec<&str> {
@@ -100,8 +85,7 @@ fn a_second_experiment_on_the_same_directory_is_refused_at_once() {
 #[test]
 fn unusable_output_directories_are_refused_before_any_work() {
     let dir = temp_dir("unusable");
-    let file = dir.join("a-file");
-    std::fs::write(&file, "x").expect("write");
+    let file = write_in(&dir, "a-file", "x");
     let foreign = dir.join("documents");
     std::fs::create_dir(&foreign).expect("mkdir");
     std::fs::write(foreign.join("notes.txt"), "precious").expect("write");

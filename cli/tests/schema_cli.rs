@@ -2,7 +2,7 @@
 //! checks, and experiments in every domain with a schema as the plan.
 
 use crate::learnpnp;
-use crate::util::{SHIPPED_SCHEMAS, shipped_arg, temp_dir, text};
+use crate::util::{SHIPPED_SCHEMAS, shipped_arg, temp_dir, text, write_in};
 use std::path::Path;
 
 #[test]
@@ -46,12 +46,11 @@ fn check_exit_codes_on_schemas() {
         assert!(text(&out.stdout).contains("result: passed"));
     }
     let dir = temp_dir("check");
-    let failing = dir.join("failing.schema");
-    std::fs::write(
-        &failing,
+    let failing = write_in(
+        &dir,
+        "failing.schema",
         "machine m\n  initial s\n  state lonely {A}\n  state stuck\n  final f\n  s -> stuck\n  s -> f [x]\n",
-    )
-    .unwrap();
+    );
     let out = learnpnp(&["check", failing.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(1), "{}", text(&out.stdout));
     let report = text(&out.stdout);
@@ -62,8 +61,7 @@ fn check_exit_codes_on_schemas() {
     assert!(report.contains("FAIL no dead states"), "{report}");
     assert!(report.contains("FAIL effective"), "{report}");
 
-    let malformed = dir.join("malformed.schema");
-    std::fs::write(&malformed, "machine m\n  initial s\n  s -> t\n").unwrap();
+    let malformed = write_in(&dir, "malformed.schema", "machine m\n  initial s\n  s -> t\n");
     for command in ["check", "schema", "dot"] {
         let out = learnpnp(&[command, malformed.to_str().unwrap()]);
         assert_eq!(out.status.code(), Some(2), "{command}");
@@ -136,12 +134,11 @@ fn schemas_learn_in_every_domain() {
 #[test]
 fn a_schema_with_atoms_the_domain_lacks_is_refused() {
     let dir = temp_dir("atoms");
-    let schema = dir.join("grid.schema");
-    std::fs::write(
-        &schema,
+    let schema = write_in(
+        &dir,
+        "grid.schema",
         "machine grid\n  initial s {MoveNorth}\n  final f\n  s -> f on MoveNorth.finished [AtTheGoal]\n",
-    )
-    .unwrap();
+    );
     let out = learnpnp(&[
         "experiment",
         "parr-russell",

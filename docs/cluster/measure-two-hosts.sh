@@ -21,16 +21,16 @@ R=${1:-/tmp/mh}; rm -rf $R; mkdir -p $R
 # The run's CA and each host's certificates (host A's names 198.18.7.1).
 $S link-certs --dir $R/certs --host-a 198.18.7.1 > $R/link-certs.log || { cat $R/link-certs.log; exit 1; }
 CA="--link-certs $R/certs/host-a"; CB="--link-certs $R/certs/host-b"
-LOCK="--episodes 2000 --seed 2011"
-echo "== lock-step, one host"; LEARNPNP_IPC_DIR=$R/i1 $S $LOCK --out $R/lock-one 2>&1 | grep -E "round trip|floor|cycles/s|^  keeper"
-echo "== lock-step, keeper 3 on host B"
-(LEARNPNP_IPC_DIR=$R/ia ip netns exec lpma $S $LOCK --remote-agents 3 --bridge-listen quic/198.18.7.1:7447 $CA --out $R/lock-two > $R/lock-two.log 2>&1 &)
-sleep 0.5; LEARNPNP_IPC_DIR=$R/ib ip netns exec lpmb $S remote --bridge-connect quic/198.18.7.1:7447 $CB --out $R/lock-b > /dev/null 2>&1
-sleep 2; grep -E "round trip|floor|remote host|cycles/s|^  keeper" $R/lock-two.log
+# One experiment (NAME, the supervisor's ARGS) on one host, then with keeper 3
+# on host B, its bridge on PORT; SHOW: the report's lines to print; LABEL: its heading.
+one_then_two() {
+  local name=$1 args=$2 port=$3 show=$4 label=$5
+  echo "== $label, one host"; LEARNPNP_IPC_DIR=$R/i-$name $S $args --out $R/$name-one 2>&1 | grep -E "$show|^  keeper"
+  echo "== $label, keeper 3 on host B"
+  (LEARNPNP_IPC_DIR=$R/ia ip netns exec lpma $S $args --remote-agents 3 --bridge-listen quic/198.18.7.1:$port $CA --out $R/$name-two > $R/$name-two.log 2>&1 &)
+  sleep 0.5; LEARNPNP_IPC_DIR=$R/ib ip netns exec lpmb $S remote --bridge-connect quic/198.18.7.1:$port $CB --out $R/$name-b > /dev/null 2>&1
+  sleep 2; grep -E "$show|remote host|^  keeper" $R/$name-two.log
+}
+one_then_two lock "--episodes 2000 --seed 2011" 7447 "round trip|floor|cycles/s" "lock-step"
 cmp $R/lock-one/episodes.csv $R/lock-two/episodes.csv && echo "episodes.csv identical"
-RT="soak --duration 60 --mode realtime --seed 2011"
-echo "== real time, one host"; LEARNPNP_IPC_DIR=$R/i2 $S $RT --out $R/rt-one 2>&1 | grep -E "round trip|floor|cycles/s|missed|^  keeper"
-echo "== real time, keeper 3 on host B"
-(LEARNPNP_IPC_DIR=$R/ia ip netns exec lpma $S $RT --remote-agents 3 --bridge-listen quic/198.18.7.1:7448 $CA --out $R/rt-two > $R/rt-two.log 2>&1 &)
-sleep 0.5; LEARNPNP_IPC_DIR=$R/ib ip netns exec lpmb $S remote --bridge-connect quic/198.18.7.1:7448 $CB --out $R/rt-b > /dev/null 2>&1
-sleep 2; grep -E "round trip|floor|remote host|cycles/s|missed|^  keeper" $R/rt-two.log
+one_then_two rt "soak --duration 60 --mode realtime --seed 2011" 7448 "round trip|floor|cycles/s|missed" "real time"

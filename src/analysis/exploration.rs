@@ -123,7 +123,7 @@ impl Exploration {
     }
 
     /// The part holding transition `t`.
-    pub fn part_of_transition(&self, t: TransitionId) -> &Reachability {
+    pub(crate) fn part_of_transition(&self, t: TransitionId) -> &Reachability {
         &self.parts[self.transition_part[t.index()] as usize]
     }
 

@@ -430,7 +430,7 @@ pub struct CheckReport {
     /// What is unusual in the plan but accepted (as the PNP library accepts it).
     pub warnings: Vec<String>,
     /// Whether the plan has goal places (a plan without runs until stopped).
-    pub has_goal: bool,
+    pub(crate) has_goal: bool,
 }
 
 impl CheckReport {

@@ -27,7 +27,7 @@ pub struct DomainDescription {
     /// What an episode earns.
     pub reward: String,
     /// When an episode ends.
-    pub episode_end: String,
+    pub(crate) episode_end: String,
 }
 
 fn entries<W>(registry: &Registry<W>) -> Vec<Registered> {

@@ -4,12 +4,19 @@
 //! A domain is a [`Task`]: it runs episodes of a plan with a learner choosing at
 //! its choice points, and reports what each episode earned.
 
+/// What a plan for each domain may use.
 pub mod describe;
+/// What the grid worlds share.
 pub mod grid;
+/// Keepaway 3 vs 2 with plan-driven keepers.
 pub mod keepaway;
+/// The small N-MDP of thesis Figure 4.3.
 pub mod nmdp;
+/// Parr and Russell's 4 x 3 grid.
 pub mod parr_russell;
+/// The penalty kick.
 pub mod penalty_kick;
+/// Sutton's 9 x 6 grid.
 pub mod sutton;
 mod task;
 

@@ -6,6 +6,7 @@
 //! obstacle or the border stays. Every action costs 0.04. The agent observes
 //! only whether a wall (obstacle or border) is immediately west and east.
 
+/// The exact value of each memoryless policy in Parr and Russell's grid.
 pub mod optimum;
 
 use std::sync::Arc;

@@ -37,7 +37,7 @@ pub struct Estimate {
     /// Seconds left over the families with a rate.
     pub seconds: f64,
     /// Families still to run without a rate yet.
-    pub untimed: Vec<&'static str>,
+    pub(crate) untimed: Vec<&'static str>,
 }
 
 impl Rates {

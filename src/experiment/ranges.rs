@@ -14,11 +14,11 @@ pub struct RealRange {
     /// Lower end (may be negative infinity: no bound).
     pub low: f64,
     /// Whether `low` itself is excluded.
-    pub low_open: bool,
+    pub(crate) low_open: bool,
     /// Upper end (may be infinity: no bound, but infinity itself excluded).
     pub high: f64,
     /// Whether `high` itself is excluded.
-    pub high_open: bool,
+    pub(crate) high_open: bool,
 }
 
 impl RealRange {

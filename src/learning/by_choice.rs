@@ -43,7 +43,7 @@ pub struct ChoiceValues {
     /// The choice point.
     pub place: PlaceId,
     /// Its name (label, or id when blank).
-    pub place_name: String,
+    pub(crate) place_name: String,
     /// The marking where the choice is made.
     pub at: Marking,
     /// That marking as the labels of its marked places.
@@ -83,11 +83,11 @@ pub struct PlanMismatch {
     /// The saved plan's name.
     pub saved: String,
     /// Its place names.
-    pub saved_places: Vec<String>,
+    pub(crate) saved_places: Vec<String>,
     /// The given plan's name.
     pub given: String,
     /// Its place names.
-    pub given_places: Vec<String>,
+    pub(crate) given_places: Vec<String>,
 }
 
 /// Finds the choices whose options lead to a marking, remembering the

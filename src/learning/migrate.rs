@@ -125,9 +125,9 @@ pub struct SharesNothing {
     /// counterpart in the given plan (keys, or names for a version 1 file).
     pub missing: Vec<String>,
     /// The saved plan's first choice points (or places, for a version 1 file).
-    pub saved_choices: Vec<String>,
+    pub(crate) saved_choices: Vec<String>,
     /// The given plan's first choice points.
-    pub given_choices: Vec<String>,
+    pub(crate) given_choices: Vec<String>,
 }
 
 /// Where a saved place goes in the new plan.

@@ -201,7 +201,7 @@ impl Plan {
     }
 
     /// The compiled pre/post sets.
-    pub fn incidence(&self) -> &Incidence {
+    pub(crate) fn incidence(&self) -> &Incidence {
         &self.incidence
     }
 

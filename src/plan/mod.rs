@@ -2,6 +2,7 @@
 //! builder with the thesis's operators.
 
 mod builder;
+/// The thesis's example plans.
 pub mod catalog;
 mod definition;
 mod error;

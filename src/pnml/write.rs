@@ -6,7 +6,7 @@ use xmlwriter::{Indent, Options, XmlWriter};
 
 use super::Dialect;
 use super::read::PLAN_NAME_PREFIX;
-use crate::net::{PetriNet, Position};
+use crate::net::{ArcNode, PetriNet, Position};
 
 /// The namespace of the 2009 PNML grammar.
 const PNML_NAMESPACE: &str = "http://www.pnml.org/version-2009/grammar/pnml";
@@ -65,10 +65,7 @@ fn write_jarp(w: &mut XmlWriter, net: &PetriNet, ids: &mut FreshIds) {
         w.end_element();
     }
     for arc in net.arcs() {
-        w.start_element("arc");
-        attribute(w, "id", &arc.id);
-        attribute(w, "source", net.node_id(arc.source));
-        attribute(w, "target", net.node_id(arc.target));
+        start_arc(w, net, arc);
         named(w, "inscription", "value", &format!("Default,{}", arc.weight));
         w.end_element();
     }
@@ -107,10 +104,7 @@ fn write_standard(w: &mut XmlWriter, net: &PetriNet, ids: &mut FreshIds) {
         w.end_element();
     }
     for arc in net.arcs() {
-        w.start_element("arc");
-        attribute(w, "id", &arc.id);
-        attribute(w, "source", net.node_id(arc.source));
-        attribute(w, "target", net.node_id(arc.target));
+        start_arc(w, net, arc);
         if arc.weight != 1 {
             named(w, "inscription", "text", &arc.weight.to_string());
         }
@@ -169,6 +163,14 @@ fn named(w: &mut XmlWriter, outer: &str, inner: &str, text: &str) {
 }
 
 /// An attribute with its value fully escaped.
+/// Opens `arc`'s element with its id and its two ends, as both dialects write it.
+fn start_arc(w: &mut XmlWriter, net: &PetriNet, arc: &ArcNode) {
+    w.start_element("arc");
+    attribute(w, "id", &arc.id);
+    attribute(w, "source", net.node_id(arc.source));
+    attribute(w, "target", net.node_id(arc.target));
+}
+
 fn attribute(w: &mut XmlWriter, name: &str, value: &str) {
     w.write_attribute(name, &escape(value, true));
 }

@@ -138,6 +138,16 @@ pub fn to_dot(process: &DecisionProcess) -> String {
         let _ = writeln!(out, "  subgraph \"cluster_{m}\" {{");
         let _ = writeln!(out, "    label=\"{}\";", dot_escape(mp.name()));
         let node = |id: usize| format!("m{m}s{id}");
+        // An edge between two states of this machine, with more attributes before its label.
+        let edge = |out: &mut String, from: usize, to: usize, attributes: &str, label: &str| {
+            let _ = writeln!(
+                out,
+                "    {} -> {} [{attributes}label=\"{}\"];",
+                node(from),
+                node(to),
+                dot_escape(label)
+            );
+        };
         for (s, state) in mp.machine().states().iter().enumerate() {
             let shape = if state.kind.is_final() {
                 "box, peripheries=2"
@@ -171,32 +181,16 @@ pub fn to_dot(process: &DecisionProcess) -> String {
                         node(to),
                         dot_escape(mp.label(to))
                     );
-                    let _ = writeln!(
-                        out,
-                        "    {} -> {} [label=\"{}\"];",
-                        node(state),
-                        node(to),
-                        dot_escape(event_name(mp, state, group))
-                    );
+                    edge(&mut out, state, to, "", event_name(mp, state, group));
                 }
                 ProcessTransition::Loop { state, group } => {
-                    let _ = writeln!(
-                        out,
-                        "    {} -> {} [label=\"{} (none holds)\"];",
-                        node(state),
-                        node(state),
-                        dot_escape(event_name(mp, state, group))
-                    );
+                    let label = format!("{} (none holds)", event_name(mp, state, group));
+                    edge(&mut out, state, state, "", &label);
                 }
                 ProcessTransition::PlanAction { from, action } => {
                     let actions = &mp.machine().states()[action.target].actions;
-                    let _ = writeln!(
-                        out,
-                        "    {} -> {} [style=dashed, label=\"{{{}}}\"];",
-                        node(from),
-                        node(action.target),
-                        dot_escape(&actions.join(", "))
-                    );
+                    let label = format!("{{{}}}", actions.join(", "));
+                    edge(&mut out, from, action.target, "style=dashed, ", &label);
                 }
             }
         }

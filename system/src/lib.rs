@@ -16,4 +16,5 @@ pub mod hosts;
 pub mod ipc;
 pub mod latency;
 pub mod multiprocess;
+/// Resident memory that follows what a process holds.
 pub mod resident_memory;

@@ -16,14 +16,11 @@ use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 use serde_json::{Value, json};
-use shm_layouts::{
-    AgentReport, Control, EpisodeEvent, Header, KeeperCommand, SENDER_SIMULATOR, SENDER_SUPERVISOR, command, control,
-    episode, report,
-};
+use shm_layouts::{AgentReport, Control, Header, KeeperCommand, SENDER_SUPERVISOR, command, control, episode, report};
 use zenoh::{Config, Session, Wait};
 
 use crate::hosts::{Certs, Hosts, SHORT, finished, host_a, keeper_3_remote, remote, remote_summary};
-use crate::multiprocess::{Sandbox, prefixes, summary, wait_until};
+use crate::multiprocess::{Sandbox, first_episode_event, prefixes, summary, wait_until};
 use crate::util::text;
 
 /// What an intruder holds.
@@ -252,17 +249,7 @@ fn attack(session: &Session, attack: Attack) -> Value {
             );
         }
         Attack::ReplayBegin => {
-            let begin = EpisodeEvent {
-                header: Header::new(SENDER_SIMULATOR, run_id),
-                episode: 1,
-                kind: episode::BEGIN,
-                mode: 0,
-                forced_exploration: 0,
-                reserved: [0; 2],
-                cycles: 0,
-                reserved2: 0,
-                seconds: 0.0,
-            };
+            let begin = first_episode_event(run_id, episode::BEGIN);
             forge(session, &key("learnpnp/episode"), "learnpnp::EpisodeEvent", &begin);
         }
         Attack::ShipFiles => {

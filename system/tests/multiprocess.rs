@@ -200,6 +200,21 @@ fn finish(child: Child) -> Output {
     child.wait_with_output().expect("the supervisor runs")
 }
 
+/// Episode 1's event of this kind from run `run_id`'s simulator, every other field zero.
+pub(crate) fn first_episode_event(run_id: u64, kind: u32) -> EpisodeEvent {
+    EpisodeEvent {
+        header: Header::new(SENDER_SIMULATOR, run_id),
+        episode: 1,
+        kind,
+        mode: 0,
+        forced_exploration: 0,
+        reserved: [0; 2],
+        cycles: 0,
+        reserved2: 0,
+        seconds: 0.0,
+    }
+}
+
 const SHORT: &[&str] = &[
     "--episodes",
     "40",
@@ -437,16 +452,8 @@ fn foreign_node(sandbox: &Sandbox, prefix: &str) -> Node<ipc::Service> {
 fn garbage_on_the_services_is_rejected_and_never_applied() {
     let sandbox = Sandbox::new("garbage");
     let out = sandbox.out("system");
-    let protocol = [
-        "--episodes",
-        "150",
-        "--eval-every",
-        "50",
-        "--eval-episodes",
-        "3",
-        "--greedy-episodes",
-        "3",
-    ];
+    // The hosts' short protocol without its seed and algorithm.
+    let protocol = &crate::hosts::SHORT[..8];
     let child = sandbox
         .supervisor("system", &["--seed", "7", "--algo", "soft-sosmc"])
         .args(protocol)
@@ -513,17 +520,7 @@ fn garbage_on_the_services_is_rejected_and_never_applied() {
         snapshot.me = 1;
         snapshot.players[4].pos[0] = f64::NAN;
         garbage.snapshots[1] = vec![snapshot, KeeperSnapshot { me: 7, ..snapshot }];
-        let event = EpisodeEvent {
-            header: Header::new(SENDER_SIMULATOR, run_id),
-            episode: 1,
-            kind: 77,
-            mode: 0,
-            forced_exploration: 0,
-            reserved: [0; 2],
-            cycles: 0,
-            reserved2: 0,
-            seconds: 0.0,
-        };
+        let event = first_episode_event(run_id, 77);
         garbage.episode = vec![
             event,
             EpisodeEvent {
@@ -565,13 +562,7 @@ fn garbage_on_the_services_is_rejected_and_never_applied() {
     }
     let output = finish(child);
     assert!(output.status.success(), "{}", text(&output.stderr));
-    in_process(
-        "keepaway-position",
-        "soft-sosmc",
-        "7",
-        &protocol,
-        &sandbox.out("inproc"),
-    );
+    in_process("keepaway-position", "soft-sosmc", "7", protocol, &sandbox.out("inproc"));
     assert_same_files(
         &out,
         &sandbox.out("inproc"),

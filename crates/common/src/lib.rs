@@ -4,5 +4,6 @@
 
 #![deny(missing_docs)]
 
+/// Enumerations a user picks by name.
 pub mod named;
 pub mod rng;

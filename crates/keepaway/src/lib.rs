@@ -24,25 +24,35 @@
 
 use learnpnp_common::{named, rng};
 
+/// The server's primitive body commands.
 pub mod command;
 pub mod episode;
+/// The thesis's abstraction for the keeper with the ball.
 pub mod features;
 pub mod game;
 pub mod geometry;
+/// The keepers' fixed procedure around a pluggable decision.
 pub mod keeper;
+/// Parameters: physics, skills and the task.
 pub mod params;
 pub mod perception;
 #[cfg(test)]
 mod played_views;
+/// Baseline decisions for the keeper with the ball.
 pub mod policies;
 pub mod positions;
 pub mod rcg;
+/// The keepaway referee.
 pub mod referee;
+/// A game log as one self-contained HTML page.
 pub mod replay;
 pub mod see;
+/// The simulator behind one step function.
 pub mod simulator;
 pub mod skills;
+/// The 13 state variables of the original keepaway benchmark.
 pub mod state_vars;
+/// The takers' fixed policy.
 pub mod taker;
 pub mod timing;
 pub mod view;

@@ -13,6 +13,8 @@ pub mod convert;
 pub mod namespace;
 pub mod port;
 pub mod protocol;
+/// The run's iceoryx2 services and the ports each process holds.
 pub mod services;
+/// How a process waits for a message that has not arrived yet.
 pub mod wait;
 pub mod world;

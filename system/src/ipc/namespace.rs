@@ -237,7 +237,7 @@ impl Namespace {
 
     /// iceoryx2's cleanup of the nodes of this namespace whose process is
     /// dead (their ports, so that a replacement finds its port's slot free).
-    pub fn remove_dead_nodes(&self) -> Result<(), NamespaceError> {
+    pub(crate) fn remove_dead_nodes(&self) -> Result<(), NamespaceError> {
         let config = self.config()?;
         Node::<iceoryx2::prelude::ipc::Service>::list(&config, |state| {
             if let NodeState::Dead(node) = state {

@@ -184,7 +184,7 @@ impl Roster {
     }
 
     /// The role of a header's sender, if it is one of the run's processes.
-    pub fn role_of(self, sender: u32) -> Option<Role> {
+    pub(crate) fn role_of(self, sender: u32) -> Option<Role> {
         match sender {
             SENDER_SIMULATOR => Some(self.host()),
             k if (k as usize) < self.agents() => Some(self.agent(k as usize)),
@@ -326,7 +326,7 @@ impl Rejections {
     }
 
     /// From the heartbeat's array.
-    pub fn from_array(a: [u64; reject::COUNT]) -> Self {
+    pub(crate) fn from_array(a: [u64; reject::COUNT]) -> Self {
         Rejections {
             version: a[reject::VERSION],
             run: a[reject::RUN],

@@ -332,7 +332,7 @@ impl<T: ZeroCopySend + Debug + 'static> Outlet<T> {
     }
 
     /// Publishes each of `values`, then wakes the receivers once.
-    pub fn send_each(&self, values: impl IntoIterator<Item = T>) -> Result<(), IpcError> {
+    pub(crate) fn send_each(&self, values: impl IntoIterator<Item = T>) -> Result<(), IpcError> {
         for value in values {
             send(&self.publisher, value)?;
         }

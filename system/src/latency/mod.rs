@@ -5,6 +5,7 @@
 //! Values are recorded in nanoseconds with three significant digits and
 //! reported in microseconds.
 
+/// The percentile plot of latency histograms.
 pub mod plot;
 
 use std::fmt::Write as _;
@@ -111,7 +112,7 @@ impl Latency {
     }
 
     /// The value at `quantile` (0..=1), in microseconds.
-    pub fn quantile_us(&self, quantile: f64) -> f64 {
+    pub(crate) fn quantile_us(&self, quantile: f64) -> f64 {
         self.histogram.value_at_quantile(quantile) as f64 / 1000.0
     }
 
@@ -141,7 +142,7 @@ impl Latency {
 
     /// HdrHistogram's percentile-distribution text (as its tools print and
     /// plot it), values in microseconds.
-    pub fn to_hgrm(&self) -> String {
+    pub(crate) fn to_hgrm(&self) -> String {
         let h = &self.histogram;
         let mut text = String::from("       Value     Percentile TotalCount 1/(1-Percentile)\n\n");
         let mut total = 0u64;

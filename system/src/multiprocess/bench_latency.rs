@@ -55,7 +55,7 @@ pub struct Figures {
     /// Values recorded.
     pub count: u64,
     /// p50 over the floor's p50 (of the same configuration).
-    pub ratio_to_floor_p50: f64,
+    pub(crate) ratio_to_floor_p50: f64,
 }
 
 /// What one configuration measured.

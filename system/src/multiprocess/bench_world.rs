@@ -28,21 +28,21 @@ pub struct WorldFigures {
     /// Lock-step cycles (world steps) per second.
     pub cycles_per_second: f64,
     /// Round trip, median, microseconds.
-    pub round_trip_p50: f64,
+    pub(crate) round_trip_p50: f64,
     /// Round trip, 99th percentile.
-    pub round_trip_p99: f64,
+    pub(crate) round_trip_p99: f64,
     /// The floor's median.
-    pub floor_p50: f64,
+    pub(crate) floor_p50: f64,
     /// The floor's mean (its back-to-back round trips per second are the inverse).
-    pub floor_mean: f64,
+    pub(crate) floor_mean: f64,
     /// A cycle's mean duration (1 / cycles per second) over the floor's mean:
     /// lock-step cycles per second against bare round trips per second.
-    pub cycle_over_floor: f64,
+    pub(crate) cycle_over_floor: f64,
     /// The agents' compute time per cycle (executor and learner), median.
-    pub compute_p50: f64,
+    pub(crate) compute_p50: f64,
     /// The world's turnaround (reading a command to publishing the next
     /// snapshot), median.
-    pub world_p50: f64,
+    pub(crate) world_p50: f64,
 }
 
 /// A column of the table and the CSV: its header, its CSV name, its width

@@ -30,9 +30,9 @@ pub struct Garbage {
     /// On the supervisor's control service.
     pub control: Vec<Control>,
     /// A world run: snapshots on agent a's service (index a).
-    pub world_snapshots: Vec<Vec<WorldSnapshot>>,
+    pub(crate) world_snapshots: Vec<Vec<WorldSnapshot>>,
     /// A world run: commands on agent a's service (index a).
-    pub world_commands: Vec<Vec<WorldCommand>>,
+    pub(crate) world_commands: Vec<Vec<WorldCommand>>,
     /// A world run: vocabulary parts.
     pub vocabulary: Vec<WorldVocabulary>,
 }

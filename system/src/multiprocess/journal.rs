@@ -137,7 +137,7 @@ impl Journal {
     }
 
     /// Writes the lines waiting if the gathering time has passed.
-    pub fn flush_if_due(&mut self) -> Result<(), JournalError> {
+    pub(crate) fn flush_if_due(&mut self) -> Result<(), JournalError> {
         if self.last_write.elapsed() >= self.gather_for {
             self.flush()
         } else {

@@ -26,7 +26,7 @@ pub(crate) const AGENT_BINARY: &str = "learnpnp-agent";
 /// The variables that give a world process its run (`shm_layouts/README.md`).
 pub mod world_env {
     /// The run's iceoryx2 prefix.
-    pub const PREFIX: &str = "LEARNPNP_IPC_PREFIX";
+    pub(crate) const PREFIX: &str = "LEARNPNP_IPC_PREFIX";
     /// The run's iceoryx2 root directory, ending in `/`.
     pub const ROOT: &str = "LEARNPNP_IPC_ROOT";
     /// The run id.
@@ -34,11 +34,11 @@ pub mod world_env {
     /// How many agents.
     pub const AGENTS: &str = "LEARNPNP_AGENTS";
     /// `lockstep` or `realtime`.
-    pub const CLOCK: &str = "LEARNPNP_CLOCK";
+    pub(crate) const CLOCK: &str = "LEARNPNP_CLOCK";
     /// Real time: the cycle in milliseconds.
-    pub const PERIOD_MS: &str = "LEARNPNP_PERIOD_MS";
+    pub(crate) const PERIOD_MS: &str = "LEARNPNP_PERIOD_MS";
     /// The wait strategy.
-    pub const WAIT: &str = "LEARNPNP_WAIT";
+    pub(crate) const WAIT: &str = "LEARNPNP_WAIT";
     /// The world's seed for the run.
     pub const SEED: &str = "LEARNPNP_SEED";
 }

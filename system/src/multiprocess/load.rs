@@ -39,7 +39,7 @@ impl CpuLoad {
     }
 
     /// One busy thread per core of this machine.
-    pub fn on_every_core() -> Self {
+    pub(crate) fn on_every_core() -> Self {
         Self::start(std::thread::available_parallelism().map_or(2, |n| n.get()))
     }
 }

@@ -24,18 +24,27 @@
 pub mod agent_chassis;
 pub mod agent_process;
 pub mod background_save;
+/// The latency benchmark.
 pub mod bench_latency;
+/// How the generic path's cost grows with the agents.
 pub mod bench_world;
+/// Faults injected at seeded random times during a soak.
 pub mod chaos;
 pub mod floor_probe;
 pub mod garbage;
+/// A journal of whole episodes.
 pub mod journal;
+/// Starting the run's processes.
 pub mod launch;
+/// CPU load beside a run.
 pub mod load;
+/// A host of remote agents.
 pub mod remote_host;
+/// What a multi-process run writes.
 pub mod report;
 pub mod sim_process;
 pub mod soak;
+/// The supervisor of a run's processes.
 pub mod supervisor;
 pub mod world_agent;
 pub mod world_host;
@@ -105,7 +114,7 @@ impl RunContext {
 
     /// Reads and checks the experiment spec ([`ExperimentSpec::from_json`]:
     /// every parameter in its range).
-    pub fn load_spec(&self) -> Result<ExperimentSpec, ProcessError> {
+    pub(crate) fn load_spec(&self) -> Result<ExperimentSpec, ProcessError> {
         let text = std::fs::read_to_string(&self.spec).map_err(|source| ProcessError::Io {
             path: self.spec.clone(),
             source,

@@ -59,7 +59,7 @@ pub struct SystemSummary {
     /// Real time: commands that missed their cycle.
     pub missed_deadlines: u64,
     /// Real time: commands that arrived after their cycle.
-    pub late_commands: u64,
+    pub(crate) late_commands: u64,
     /// Agents restarted.
     pub restarts: u32,
     /// Every restarted agent resumed with exactly the values checkpointed before it was lost.
@@ -84,13 +84,13 @@ pub struct SystemSummary {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub remote_host_floor_us: Option<Percentiles>,
     /// The agents' compute time per cycle (executor and learner), microseconds.
-    pub compute_us: Percentiles,
+    pub(crate) compute_us: Percentiles,
     /// A world run: the world's turnaround per cycle as its agents saw it,
     /// microseconds (see [`WORLD_TURNAROUND`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub world_turnaround_us: Option<Percentiles>,
     /// Median round trip as a multiple of the median floor.
-    pub round_trip_over_floor_p50: f64,
+    pub(crate) round_trip_over_floor_p50: f64,
     /// Messages from shared memory refused, by process and reason.
     pub rejected_messages: BTreeMap<String, Rejections>,
     /// Checkpoint writes that failed (the previous checkpoint kept).

@@ -88,11 +88,11 @@ pub(crate) struct JournalEntry {
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct SimTotals {
     /// The last episode's sequence number (every episode played, aborted ones included).
-    pub episode_seq: u64,
+    pub(crate) episode_seq: u64,
     /// The last cycle's sequence number.
     pub cycle_seq: u64,
     /// Learning episodes completed.
-    pub learning_episodes: u64,
+    pub(crate) learning_episodes: u64,
     /// Cycles played (every episode, aborted ones included).
     pub cycles: u64,
     /// Wall-clock seconds of the episode loop (from the first episode on).
@@ -100,7 +100,7 @@ pub struct SimTotals {
     /// Real time: commands that missed their cycle (counted per keeper and cycle).
     pub missed_deadlines: u64,
     /// Real time: commands that arrived after their cycle was stepped.
-    pub late_commands: u64,
+    pub(crate) late_commands: u64,
     /// Episodes discarded because a keeper was lost.
     pub aborted: Vec<AbortedEpisode>,
     /// Messages refused.

@@ -97,7 +97,7 @@ pub struct SoakReport {
     /// Largest resident-memory growth of a process after warm-up, percent.
     pub rss_growth_percent: f64,
     /// The process it was.
-    pub rss_growth_process: String,
+    pub(crate) rss_growth_process: String,
     /// Largest growth of a process's open file descriptors after warm-up,
     /// counting a descriptor when two samples in a row find it open (a file
     /// held while it is written, as a checkpoint writer does, is no leak).

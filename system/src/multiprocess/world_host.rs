@@ -84,7 +84,7 @@ const HOUSEKEEPING_EVERY: Duration = Duration::from_millis(1);
 
 /// The run as the world process's environment gives it.
 #[derive(Debug, Clone)]
-pub struct WorldRun {
+pub(crate) struct WorldRun {
     /// The run's namespace.
     pub namespace: Namespace,
     /// The run id.
@@ -103,7 +103,7 @@ pub struct WorldRun {
 
 impl WorldRun {
     /// Reads the run from the environment the supervisor gives a world.
-    pub fn from_env() -> Result<Self, WorldHostError> {
+    pub(crate) fn from_env() -> Result<Self, WorldHostError> {
         fn var(name: &'static str) -> Result<String, WorldHostError> {
             std::env::var(name).map_err(|_| WorldHostError::Environment {
                 name,

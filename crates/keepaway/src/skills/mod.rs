@@ -8,13 +8,21 @@
 //! `BasicPlayer`), collected in [`crate::params::SkillParams`]; each skill
 //! documents where it deviates.
 
+/// Who gets to the ball first.
 pub mod fastest;
+/// Getting open for a pass.
 pub mod get_open;
+/// Holding the ball.
 pub mod hold;
+/// Intercepting the ball.
 pub mod intercept;
+/// Ball-kicking skills.
 pub mod kick;
+/// Turning and moving.
 pub mod movement;
+/// Passing.
 pub mod pass;
+/// The framework's world-model predictions.
 pub mod predict;
 
 pub use get_open::{get_open, get_open_from, go_to_support_point};

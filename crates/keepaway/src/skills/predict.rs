@@ -368,12 +368,26 @@ pub(crate) fn move_command(k: &Kinematics, target: Vec2, cycles: u32, dist_back:
     Mover::new(k).move_command(target, cycles, dist_back, sp)
 }
 
-impl Mover {
-    /// [`turn_towards`].
-    fn turn_towards(&self, target: Vec2, cycles: u32, dist_back: f64, sp: &ServerParams) -> Option<f64> {
+/// The framework's test of a body direction when moving towards a target
+/// (`predictCommandTurnTowards`): how far off the line to the target, and
+/// whether that calls for a turn.
+struct TurnNeed {
+    /// From the position predicted after up to four cycles to the target.
+    to: Vec2,
+    /// The kickable distance.
+    reach: f64,
+    /// How many kickable distances off the line need a turn (3 beyond 20 m, 2 beyond 10 m, else 0.9).
+    ratio: f64,
+    /// Whether the target is beyond the dash-back distance.
+    far: bool,
+}
+
+impl TurnNeed {
+    /// The test for `m` moving to `target` in `cycles`, dashing back within `dist_back`.
+    fn new(m: &Mover, target: Vec2, cycles: u32, dist_back: f64, sp: &ServerParams) -> Self {
         let reach = sp.kickable_distance();
-        let pos_pred = self.pos_after(cycles.min(4), 0.0, sp);
-        let d2 = self.pos.dist_sq(target);
+        let pos_pred = m.pos_after(cycles.min(4), 0.0, sp);
+        let d2 = m.pos.dist_sq(target);
         let ratio = if d2 > 400.0 {
             3.0
         } else if d2 > 100.0 {
@@ -383,12 +397,31 @@ impl Mover {
         };
         let to = target - pos_pred;
         let far = to.norm_sq() > dist_back * dist_back;
-        // Off the body line; more than 90 degrees off the body direction; exactly on it.
-        let off = |u: Vec2| to.cross(u).abs();
-        let behind = |u: Vec2| to.dot(u) < 0.0;
-        let needs_turn = |u: Vec2| off(u) > ratio * reach || (far && behind(u));
-        let on_body_direction = to.cross(self.u) == 0.0 && to.dot(self.u) > 0.0;
-        if on_body_direction || !needs_turn(self.u) {
+        TurnNeed { to, reach, ratio, far }
+    }
+
+    /// How far the body line along `u` passes from the target.
+    fn off(&self, u: Vec2) -> f64 {
+        self.to.cross(u).abs()
+    }
+
+    /// Whether facing `u` needs a turn: too far off the line, or (far away) more than 90 degrees off.
+    fn needs_turn(&self, u: Vec2) -> bool {
+        self.off(u) > self.ratio * self.reach || (self.far && self.to.dot(u) < 0.0)
+    }
+
+    /// Whether `u` points exactly at the target.
+    fn on_direction(&self, u: Vec2) -> bool {
+        self.to.cross(u) == 0.0 && self.to.dot(u) > 0.0
+    }
+}
+
+impl Mover {
+    /// [`turn_towards`].
+    fn turn_towards(&self, target: Vec2, cycles: u32, dist_back: f64, sp: &ServerParams) -> Option<f64> {
+        let need = TurnNeed::new(self, target, cycles, dist_back, sp);
+        let (to, reach) = (need.to, need.reach);
+        if need.on_direction(self.u) || !need.needs_turn(self.u) {
             return None;
         }
         let dir_to = to.dir();
@@ -396,9 +429,9 @@ impl Mover {
         // The framework simulates up to five turns, but only the first is sent,
         // and the others only tell whether more than one is needed, which matters
         // only close to the target with fewer than four cycles left.
-        if cycles < 4 && to.norm_sq() < dist_back * dist_back && needs_turn(self.turn(first, sp).u) {
+        if cycles < 4 && to.norm_sq() < dist_back * dist_back && need.needs_turn(self.turn(first, sp).u) {
             let moment = angle_for_turn(normalize_deg(dir_to + 180.0 - self.body), self.vel.norm(), sp);
-            if off(self.turn(moment, sp).u) < 0.9 * reach {
+            if need.off(self.turn(moment, sp).u) < 0.9 * reach {
                 return Some(moment);
             }
         }
@@ -633,26 +666,14 @@ mod tests {
     /// `predictCommandTurnTowards` as the framework writes it: up to five turns
     /// simulated, their count deciding the turn of the back to a close target.
     fn five_turn_loop(m: &Mover, target: Vec2, cycles: u32, dist_back: f64, sp: &ServerParams) -> Option<f64> {
-        let reach = sp.kickable_distance();
-        let pos_pred = m.pos_after(cycles.min(4), 0.0, sp);
-        let d2 = m.pos.dist_sq(target);
-        let ratio = if d2 > 400.0 {
-            3.0
-        } else if d2 > 100.0 {
-            2.0
-        } else {
-            0.9
-        };
-        let to = target - pos_pred;
-        let far = to.norm_sq() > dist_back * dist_back;
-        let off = |u: Vec2| to.cross(u).abs();
-        let needs_turn = |u: Vec2| off(u) > ratio * reach || (far && to.dot(u) < 0.0);
-        if (to.cross(m.u) == 0.0 && to.dot(m.u) > 0.0) || !needs_turn(m.u) {
+        let need = TurnNeed::new(m, target, cycles, dist_back, sp);
+        let (to, reach) = (need.to, need.reach);
+        if need.on_direction(m.u) || !need.needs_turn(m.u) {
             return None;
         }
         let dir_to = to.dir();
         let (mut cur, mut first, mut turns) = (*m, None, 0);
-        while needs_turn(cur.u) && turns < 5 {
+        while need.needs_turn(cur.u) && turns < 5 {
             let moment = angle_for_turn(normalize_deg(dir_to - cur.body), cur.vel.norm(), sp);
             first.get_or_insert(moment);
             cur = cur.turn(moment, sp);
@@ -660,7 +681,7 @@ mod tests {
         }
         if turns > 1 && cycles < 4 && to.norm_sq() < dist_back * dist_back {
             let moment = angle_for_turn(normalize_deg(dir_to + 180.0 - m.body), m.vel.norm(), sp);
-            if off(m.turn(moment, sp).u) < 0.9 * reach {
+            if need.off(m.turn(moment, sp).u) < 0.9 * reach {
                 return Some(moment);
             }
         }
