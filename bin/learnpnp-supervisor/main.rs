@@ -218,7 +218,7 @@ struct RunArgs {
     /// The live view: a process of its own (`learnpnp-view`, read-only, off
     /// the learners' path, its address in runs/run-N/view.log) serves the
     /// agents' live feeds and every process's health; with several runs,
-    /// run r > 0 records to FILE-run<r>.mcap.
+    /// run r > 0 records to `FILE-run<r>.mcap`.
     #[command(flatten)]
     view: ViewFlags,
     /// Write every record the view serves as a line of JSON to this file (appended).

@@ -85,7 +85,7 @@ impl FeedServices {
 const PLAN_AGAIN: Duration = Duration::from_secs(1);
 
 /// An agent's feed publisher: a [`FeedSink`] that never waits. The plan's
-/// shape, sent once by the agent, is sent again every [`PLAN_AGAIN`] with
+/// shape, sent once by the agent, is sent again every second with
 /// the records that follow.
 pub struct FeedPublisher {
     publisher: Publisher<FeedIpc, [u8], FeedHeader>,
