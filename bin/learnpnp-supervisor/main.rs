@@ -18,6 +18,7 @@ use learnpnp::experiment::spec::{Algorithm, DomainSpec};
 use learnpnp::named::Named;
 use learnpnp_cli::args::{ExperimentFlags, named};
 use learnpnp_cli::interrupt::Interrupt;
+use learnpnp_cli::view::ViewFlags;
 use learnpnp_system::hosts::PLAIN_TCP_WARNING;
 use learnpnp_system::hosts::certs::{self, CertRequest, HostFiles};
 use learnpnp_system::ipc::namespace::{Namespace, clean_stale};
@@ -29,7 +30,9 @@ use learnpnp_system::multiprocess::chaos::{Chaos, GARBAGE_COMMAND, SoakLength, p
 use learnpnp_system::multiprocess::launch::Binaries;
 use learnpnp_system::multiprocess::remote_host::{RemoteConfig, join};
 use learnpnp_system::multiprocess::soak::{Soak, SoakLimits};
-use learnpnp_system::multiprocess::supervisor::{Cluster, Progress, RunObserver, SupervisorConfig, supervise};
+use learnpnp_system::multiprocess::supervisor::{
+    Cluster, Progress, RunObserver, SupervisorConfig, ViewConfig, supervise,
+};
 
 /// The Keepaway experiments the system runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -212,6 +215,15 @@ struct RunArgs {
     /// normally scheduled and its report says why.
     #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u8).range(0..=99))]
     rt_priority: u8,
+    /// The live view: a process of its own (`learnpnp-view`, read-only, off
+    /// the learners' path, its address in runs/run-N/view.log) serves the
+    /// agents' live feeds and every process's health; with several runs,
+    /// run r > 0 records to `FILE-run<r>.mcap`.
+    #[command(flatten)]
+    view: ViewFlags,
+    /// Write every record the view serves as a line of JSON to this file (appended).
+    #[arg(long, value_name = "FILE")]
+    view_jsonl: Option<PathBuf>,
     #[command(flatten)]
     flags: ExperimentFlags,
 }
@@ -374,6 +386,12 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
                 link_certs: args.link.certs()?,
             }),
         },
+        view: (args.view.options().is_some() || args.view_jsonl.is_some()).then(|| ViewConfig {
+            address: args.view.view,
+            record_mcap: args.view.record_mcap.clone(),
+            pnp_monitor: args.view.pnp_monitor,
+            jsonl: args.view_jsonl.clone(),
+        }),
     };
     let p = config.spec.protocol;
     eprintln!(

@@ -19,6 +19,7 @@ use crate::multiprocess::agent_chassis::{checkpoint_name, resumed_file};
 use crate::multiprocess::agent_process::compute_histogram;
 use crate::multiprocess::floor_probe::REMOTE_HOST_FLOOR;
 use crate::multiprocess::sim_process::{FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult, keeper_round_trip_histogram};
+use crate::multiprocess::view_process::ViewCounts;
 use crate::multiprocess::world_agent::{WORLD_TURNAROUND, agent_compute_histogram, agent_result_file};
 use learnpnp::learning::persist::{self, SavedValues};
 
@@ -73,6 +74,8 @@ pub struct RunRecord {
     pub scheduling: String,
     /// A run across hosts: what this host's bridge carried and refused.
     pub link: Option<LinkReport>,
+    /// A run with a view: what it read of the agents' feeds, refused and lost.
+    pub view: Option<ViewCounts>,
 }
 
 /// How an exit status reads in a report.
@@ -203,6 +206,7 @@ impl Watch<'_> {
             prefix: String::new(),
             scheduling: self.scheduling(),
             link,
+            view: self.config.view.as_ref().map(|_| ViewCounts::load(work_dir)),
         })
     }
 
