@@ -326,6 +326,29 @@ pub struct Control {
     pub reserved: u32,
 }
 
+/// The most bytes of one encoded feed record (a [`FeedHeader`]'s payload): a
+/// record that does not fit is dropped by its sender and counted.
+pub const MAX_FEED_BYTES: usize = 64 * 1024;
+
+/// The header of one record of an agent's live feed, on
+/// [`services::feed`]: the payload is a byte slice holding one record of the
+/// `learnpnp-feed` crate (`FeedEvent`) encoded as JSON, at most
+/// [`MAX_FEED_BYTES`] long.
+#[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
+#[type_name("learnpnp::FeedHeader")]
+#[repr(C)]
+pub struct FeedHeader {
+    /// [`PROTOCOL_VERSION`] of the sender.
+    pub version: u32,
+    /// The agent (0-based) whose feed this is.
+    pub sender: u32,
+    /// The run this record belongs to.
+    pub run_id: u64,
+    /// Records this publisher has tried to send, from 1 (a gap is a record
+    /// lost: dropped by the sender or overwritten before it was read).
+    pub sequence: u64,
+}
+
 /// The most atoms a world has: [`WorldSnapshot::atoms`] is a bitset of this many bits.
 pub const MAX_ATOMS: usize = 256;
 
@@ -525,6 +548,12 @@ pub mod services {
         format!("learnpnp/world/agent/{a}/command")
     }
 
+    /// Agent `a`'s live feed to the view process: a byte slice with a
+    /// [`super::FeedHeader`] (only in a run that has a view).
+    pub fn feed(a: usize) -> String {
+        format!("learnpnp/feed/agent/{a}")
+    }
+
     /// The event service that wakes a blocked process (`sim`, `keeper-0`,
     /// `world`, `agent-0`, ...).
     pub fn wake(process: &str) -> String {
@@ -679,6 +708,15 @@ mod tests {
         assert_eq!(offset_of!(WorldVocabulary, names), 48);
     }
 
+    #[test]
+    fn feed_header_layout() {
+        assert_eq!((size_of::<FeedHeader>(), align_of::<FeedHeader>()), (24, 8));
+        assert_eq!(offset_of!(FeedHeader, version), 0);
+        assert_eq!(offset_of!(FeedHeader, sender), 4);
+        assert_eq!(offset_of!(FeedHeader, run_id), 8);
+        assert_eq!(offset_of!(FeedHeader, sequence), 16);
+    }
+
     /// A type's size and its fields' offsets, as `layouts.json` lists them.
     macro_rules! layout {
         ($t:ty, $($field:ident),+) => {
@@ -799,6 +837,7 @@ mod tests {
                 WorldSnapshot::type_name(),
                 WorldCommand::type_name(),
                 WorldVocabulary::type_name(),
+                FeedHeader::type_name(),
             ]
         };
         assert_eq!(
@@ -813,6 +852,7 @@ mod tests {
                 "learnpnp::WorldSnapshot",
                 "learnpnp::WorldCommand",
                 "learnpnp::WorldVocabulary",
+                "learnpnp::FeedHeader",
             ]
         );
     }

@@ -36,6 +36,9 @@ pub struct RunContextArgs {
     /// Where the process writes its files (histograms, results, checkpoints).
     #[arg(long)]
     pub work_dir: PathBuf,
+    /// The run has a view: publish the agent's live feed.
+    #[arg(long)]
+    pub feed: bool,
 }
 
 impl From<RunContextArgs> for RunContext {
@@ -48,6 +51,7 @@ impl From<RunContextArgs> for RunContext {
             wait: args.wait,
             spec: args.spec,
             work_dir: args.work_dir,
+            feed: args.feed,
         }
     }
 }
@@ -67,11 +71,11 @@ mod tests {
     /// What the supervisor writes on a child's command line is what the child reads.
     #[test]
     fn the_supervisors_arguments_parse_back_into_the_same_context() {
-        for (clock, wait) in [
-            (Clock::Lockstep, WaitStrategy::Yield),
-            (Clock::Realtime, WaitStrategy::Hybrid),
-            (Clock::Lockstep, WaitStrategy::Spin),
-            (Clock::Realtime, WaitStrategy::Block),
+        for (clock, wait, feed) in [
+            (Clock::Lockstep, WaitStrategy::Yield, false),
+            (Clock::Realtime, WaitStrategy::Hybrid, true),
+            (Clock::Lockstep, WaitStrategy::Spin, true),
+            (Clock::Realtime, WaitStrategy::Block, false),
         ] {
             let context = RunContext {
                 run_id: u64::MAX - 3,
@@ -81,6 +85,7 @@ mod tests {
                 wait,
                 spec: "/tmp/a b/spec.json".into(),
                 work_dir: "/tmp/run-7".into(),
+                feed,
             };
             let args = std::iter::once("child".into()).chain(context.to_args());
             let parsed: RunContext = Child::try_parse_from(args).unwrap().context.into();

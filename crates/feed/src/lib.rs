@@ -23,6 +23,7 @@ pub const MARKINGS_PER_SECOND: u32 = 30;
 /// Where a record comes from: the run and the agent within it
 /// (for example run 0, agent 2), or a process of the system.
 #[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct Source {
     /// The run (0-based) of the experiment.
     pub run: u32,
@@ -32,15 +33,20 @@ pub struct Source {
 
 /// A place of a plan, as a view draws it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct PlaceShape {
     /// The place's index in the plan (the order of PNP's monitor line).
     pub id: u32,
     /// The place's label in the plan file.
     pub label: String,
+    /// The place's id in the plan file (PNP's monitor line orders places by it).
+    #[serde(default)]
+    pub file_id: String,
 }
 
 /// A transition of a plan and the places it takes tokens from and gives them to.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct TransitionShape {
     /// The transition's index in the plan.
     pub id: u32,
@@ -54,6 +60,7 @@ pub struct TransitionShape {
 
 /// A plan's structure, sent once per agent before its first marking.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct PlanShape {
     /// The agent running the plan.
     pub source: Source,
@@ -67,6 +74,7 @@ pub struct PlanShape {
 
 /// The tokens in one place.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct PlaceTokens {
     /// The place's label.
     pub label: String,
@@ -76,6 +84,7 @@ pub struct PlaceTokens {
 
 /// A plan's marking at one moment: the marked places and the actions running.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct MarkingSample {
     /// The agent.
     pub source: Source,
@@ -93,6 +102,7 @@ pub struct MarkingSample {
 
 /// One option at a choice: what the learner knows of it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct OptionValue {
     /// The option, by the label of the transition or marking it leads to.
     pub label: String,
@@ -104,6 +114,7 @@ pub struct OptionValue {
 
 /// A choice the learner made at a choice point.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct ChoiceMade {
     /// The agent.
     pub source: Source,
@@ -125,6 +136,7 @@ pub struct ChoiceMade {
 
 /// A reward the agent received.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct RewardSample {
     /// The agent.
     pub source: Source,
@@ -138,6 +150,7 @@ pub struct RewardSample {
 
 /// The end of an episode and what it returned.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct EpisodeEnd {
     /// The agent.
     pub source: Source,
@@ -151,6 +164,7 @@ pub struct EpisodeEnd {
 
 /// A point of the learning curve, as the experiment records it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct CurvePoint {
     /// The run (0-based).
     pub run: u32,
@@ -162,6 +176,7 @@ pub struct CurvePoint {
 
 /// One process's health, as its supervisor sees it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct ProcessHealth {
     /// The process's name (`simulator`, `agent-2`, `world`, `bridge`, ...).
     pub process: String,
@@ -179,6 +194,7 @@ pub struct ProcessHealth {
 
 /// A process's latency percentiles, in microseconds.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct LatencySummary {
     /// The process's name.
     pub process: String,
@@ -217,20 +233,92 @@ pub enum FeedEvent {
     Latency(LatencySummary),
 }
 
+/// Every topic of the feed, one per kind of [`FeedEvent`], in the order of its variants.
+pub const CHANNELS: [&str; 8] = [
+    "/learnpnp/plan",
+    "/learnpnp/marking",
+    "/learnpnp/choice",
+    "/learnpnp/reward",
+    "/learnpnp/episode",
+    "/learnpnp/curve",
+    "/learnpnp/health",
+    "/learnpnp/latency",
+];
+
 impl FeedEvent {
-    /// The topic (Foxglove channel, MCAP channel) the record is published on.
-    pub fn channel(&self) -> &'static str {
+    /// The index of the record's kind in [`CHANNELS`].
+    pub fn kind(&self) -> usize {
         match self {
-            FeedEvent::Plan(_) => "/learnpnp/plan",
-            FeedEvent::Marking(_) => "/learnpnp/marking",
-            FeedEvent::Choice(_) => "/learnpnp/choice",
-            FeedEvent::Reward(_) => "/learnpnp/reward",
-            FeedEvent::Episode(_) => "/learnpnp/episode",
-            FeedEvent::Curve(_) => "/learnpnp/curve",
-            FeedEvent::Health(_) => "/learnpnp/health",
-            FeedEvent::Latency(_) => "/learnpnp/latency",
+            FeedEvent::Plan(_) => 0,
+            FeedEvent::Marking(_) => 1,
+            FeedEvent::Choice(_) => 2,
+            FeedEvent::Reward(_) => 3,
+            FeedEvent::Episode(_) => 4,
+            FeedEvent::Curve(_) => 5,
+            FeedEvent::Health(_) => 6,
+            FeedEvent::Latency(_) => 7,
         }
     }
+
+    /// The record itself (without the kind's tag) as JSON: what a channel carries.
+    pub fn payload_json(&self) -> serde_json::Result<Vec<u8>> {
+        match self {
+            FeedEvent::Plan(r) => serde_json::to_vec(r),
+            FeedEvent::Marking(r) => serde_json::to_vec(r),
+            FeedEvent::Choice(r) => serde_json::to_vec(r),
+            FeedEvent::Reward(r) => serde_json::to_vec(r),
+            FeedEvent::Episode(r) => serde_json::to_vec(r),
+            FeedEvent::Curve(r) => serde_json::to_vec(r),
+            FeedEvent::Health(r) => serde_json::to_vec(r),
+            FeedEvent::Latency(r) => serde_json::to_vec(r),
+        }
+    }
+
+    /// Reads back a record from its channel's JSON payload; `None` for an
+    /// unknown topic or a payload that is not that channel's record.
+    pub fn from_payload(channel: &str, payload: &[u8]) -> Option<FeedEvent> {
+        let event = match channel {
+            "/learnpnp/plan" => FeedEvent::Plan(serde_json::from_slice(payload).ok()?),
+            "/learnpnp/marking" => FeedEvent::Marking(serde_json::from_slice(payload).ok()?),
+            "/learnpnp/choice" => FeedEvent::Choice(serde_json::from_slice(payload).ok()?),
+            "/learnpnp/reward" => FeedEvent::Reward(serde_json::from_slice(payload).ok()?),
+            "/learnpnp/episode" => FeedEvent::Episode(serde_json::from_slice(payload).ok()?),
+            "/learnpnp/curve" => FeedEvent::Curve(serde_json::from_slice(payload).ok()?),
+            "/learnpnp/health" => FeedEvent::Health(serde_json::from_slice(payload).ok()?),
+            "/learnpnp/latency" => FeedEvent::Latency(serde_json::from_slice(payload).ok()?),
+            _ => return None,
+        };
+        Some(event)
+    }
+
+    /// The topic (Foxglove channel, MCAP channel) the record is published on.
+    pub fn channel(&self) -> &'static str {
+        CHANNELS[self.kind()]
+    }
+}
+
+/// The JSON schema of each channel's record, in the order of [`CHANNELS`]:
+/// (topic, schema name, schema as JSON text).
+#[cfg(feature = "schema")]
+pub fn channel_schemas() -> Vec<(&'static str, &'static str, String)> {
+    fn of<T: schemars::JsonSchema>() -> String {
+        serde_json::to_string(&schemars::schema_for!(T)).unwrap_or_else(|_| "{}".into())
+    }
+    let schemas = [
+        ("learnpnp.PlanShape", of::<PlanShape>()),
+        ("learnpnp.MarkingSample", of::<MarkingSample>()),
+        ("learnpnp.ChoiceMade", of::<ChoiceMade>()),
+        ("learnpnp.RewardSample", of::<RewardSample>()),
+        ("learnpnp.EpisodeEnd", of::<EpisodeEnd>()),
+        ("learnpnp.CurvePoint", of::<CurvePoint>()),
+        ("learnpnp.ProcessHealth", of::<ProcessHealth>()),
+        ("learnpnp.LatencySummary", of::<LatencySummary>()),
+    ];
+    CHANNELS
+        .iter()
+        .zip(schemas)
+        .map(|(topic, (name, schema))| (*topic, name, schema))
+        .collect()
 }
 
 /// Where feed records go: a view's server, a recording, a shared-memory
@@ -271,5 +359,7 @@ mod tests {
         let text = serde_json::to_string(&event).unwrap();
         assert_eq!(serde_json::from_str::<FeedEvent>(&text).unwrap(), event);
         assert_eq!(event.channel(), "/learnpnp/choice");
+        let payload = event.payload_json().unwrap();
+        assert_eq!(FeedEvent::from_payload(event.channel(), &payload), Some(event));
     }
 }

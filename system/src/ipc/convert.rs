@@ -333,7 +333,7 @@ pub(crate) fn control_message(order: Order, target: Option<Role>, sequence: u64,
 fn agents_of(me: Role) -> usize {
     match me {
         Role::Simulator | Role::Keeper(_) => NUM_KEEPERS,
-        Role::World | Role::Agent(_) | Role::Bridge => shm_layouts::MAX_AGENTS,
+        Role::World | Role::Agent(_) | Role::Bridge | Role::View => shm_layouts::MAX_AGENTS,
     }
 }
 

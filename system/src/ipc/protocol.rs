@@ -73,8 +73,9 @@ pub enum AgentNews {
     },
 }
 
-/// The `sender` a bridge would have: none of the run's messages carries it
-/// (the bridge forwards the other processes' messages as they are).
+/// The `sender` a bridge or a view would have: none of the run's messages
+/// carries it (the bridge forwards the other processes' messages as they
+/// are, the view sends none).
 pub(crate) const SENDER_BRIDGE: u32 = 300;
 
 /// Who a process of the run is.
@@ -91,6 +92,8 @@ pub enum Role {
     Agent(usize),
     /// The host's bridge to the run's other hosts (it sends no message of its own).
     Bridge,
+    /// The run's view (it only reads).
+    View,
 }
 
 impl Role {
@@ -99,7 +102,7 @@ impl Role {
         match self {
             Role::Simulator | Role::World => SENDER_SIMULATOR,
             Role::Keeper(k) | Role::Agent(k) => k as u32,
-            Role::Bridge => SENDER_BRIDGE,
+            Role::Bridge | Role::View => SENDER_BRIDGE,
         }
     }
 
@@ -112,7 +115,7 @@ impl Role {
     pub fn agent_index(self) -> Option<usize> {
         match self {
             Role::Keeper(k) | Role::Agent(k) => Some(k),
-            Role::Simulator | Role::World | Role::Bridge => None,
+            Role::Simulator | Role::World | Role::Bridge | Role::View => None,
         }
     }
 }
@@ -125,6 +128,7 @@ impl std::fmt::Display for Role {
             Role::World => write!(f, "world"),
             Role::Agent(a) => write!(f, "agent {}", a + 1),
             Role::Bridge => write!(f, "bridge"),
+            Role::View => write!(f, "view"),
         }
     }
 }

@@ -126,6 +126,7 @@ pub fn wake_name(role: Role) -> String {
         Role::World => WORLD_PROCESS.to_string(),
         Role::Agent(a) => agent_process(a),
         Role::Bridge => "bridge".to_string(),
+        Role::View => "view".to_string(),
     }
 }
 
@@ -544,6 +545,22 @@ impl SupervisorPorts {
         Ok(SupervisorPorts {
             heartbeats: subscriber(node, services::HEARTBEAT, SHARED)?,
             control: Outlet::open(node, services::CONTROL, SHARED, &everyone, wait)?,
+        })
+    }
+}
+
+/// The view process's ports beside the agents' feeds ([`super::feed`]): it
+/// only reads.
+pub(crate) struct ViewPorts {
+    /// Every process's heartbeats.
+    pub heartbeats: Sub<Heartbeat>,
+}
+
+impl ViewPorts {
+    /// Opens the view's ports on `node`.
+    pub fn open(node: &Node<Ipc>) -> Result<Self, IpcError> {
+        Ok(ViewPorts {
+            heartbeats: subscriber(node, services::HEARTBEAT, SHARED)?,
         })
     }
 }

@@ -68,7 +68,10 @@ pub enum LaunchError {
 /// The bridge's binary (runs across hosts).
 pub(crate) const BRIDGE_BINARY: &str = "learnpnp-bridge";
 
-/// The simulator's, the agents' and the bridge's binaries.
+/// The view's binary (a run with a view).
+pub(crate) const VIEW_BINARY: &str = "learnpnp-view";
+
+/// The simulator's, the agents', the bridge's and the view's binaries.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Binaries {
     /// `learnpnp-sim`.
@@ -77,6 +80,8 @@ pub struct Binaries {
     pub agent: PathBuf,
     /// `learnpnp-bridge`.
     pub bridge: PathBuf,
+    /// `learnpnp-view`.
+    pub view: PathBuf,
 }
 
 impl Binaries {
@@ -87,6 +92,7 @@ impl Binaries {
             sim: dir.join(SIM_BINARY),
             agent: dir.join(AGENT_BINARY),
             bridge: dir.join(BRIDGE_BINARY),
+            view: dir.join(VIEW_BINARY),
         };
         for path in [&binaries.sim, &binaries.agent] {
             if !path.is_file() {
@@ -105,6 +111,15 @@ impl Binaries {
         }
     }
 
+    /// The view's binary, if it is there.
+    pub fn view(&self) -> Result<&Path, LaunchError> {
+        if self.view.is_file() {
+            Ok(&self.view)
+        } else {
+            Err(LaunchError::Missing(self.view.clone()))
+        }
+    }
+
     /// The binaries next to the running executable. Under `cargo run`, which
     /// builds only the binary it runs, missing ones are built first with the
     /// same cargo and profile.
@@ -115,7 +130,9 @@ impl Binaries {
         })?;
         let dir = exe.parent().map(Path::to_path_buf).unwrap_or_default();
         let binaries = Self::in_dir(&dir);
-        let missing = binaries.as_ref().map_or(true, |b| b.bridge().is_err());
+        let missing = binaries
+            .as_ref()
+            .map_or(true, |b| b.bridge().is_err() || b.view().is_err());
         if missing && std::env::var_os("CARGO").is_some() {
             build_with_cargo(&dir)?;
             return Self::in_dir(&dir);
@@ -138,6 +155,8 @@ fn build_with_cargo(dir: &Path) -> Result<(), LaunchError> {
         SIM_BINARY,
         "--bin",
         AGENT_BINARY,
+        "--bin",
+        VIEW_BINARY,
         "-p",
         "learnpnp-bridge",
         "--bin",
@@ -151,7 +170,9 @@ fn build_with_cargo(dir: &Path) -> Result<(), LaunchError> {
             .arg("--manifest-path")
             .arg(Path::new(&manifest).join("Cargo.toml"));
     }
-    eprintln!("building {SIM_BINARY}, {AGENT_BINARY} and {BRIDGE_BINARY} (cargo run builds only the supervisor)");
+    eprintln!(
+        "building {SIM_BINARY}, {AGENT_BINARY}, {VIEW_BINARY} and {BRIDGE_BINARY} (cargo run builds only the supervisor)"
+    );
     let status = command.status().map_err(LaunchError::Cargo)?;
     if status.success() {
         Ok(())
@@ -179,6 +200,9 @@ impl RunContext {
         args.push(self.spec.clone().into());
         args.push("--work-dir".into());
         args.push(self.work_dir.clone().into());
+        if self.feed {
+            args.push("--feed".into());
+        }
         args
     }
 }

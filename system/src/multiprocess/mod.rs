@@ -15,6 +15,7 @@
 //!   on the stepwise executor, and a world written in Rust (the corridor);
 //!   [`floor_probe`]: the floor of a world run;
 //! - [`remote_host`]: a host of remote agents joining a run across hosts;
+//! - [`view_process`]: a run's view, reading the agents' live feeds;
 //! - [`report`]: what a run writes (summary, episodes, latency files and plot);
 //! - [`soak`], [`chaos`] (with [`garbage`] and [`load`]), [`bench_latency`],
 //!   [`bench_world`]: long runs, fault injection and the benchmarks.
@@ -37,6 +38,7 @@ pub mod report;
 pub mod sim_process;
 pub mod soak;
 pub mod supervisor;
+pub mod view_process;
 pub mod world_agent;
 pub mod world_host;
 
@@ -95,6 +97,10 @@ pub struct RunContext {
     pub spec: PathBuf,
     /// Where the process writes its files (histograms, results, checkpoints).
     pub work_dir: PathBuf,
+    /// The run has a view: each agent publishes its live feed
+    /// ([`crate::ipc::feed`]); without one nothing of it is created.
+    #[serde(default)]
+    pub feed: bool,
 }
 
 impl RunContext {

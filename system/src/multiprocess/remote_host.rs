@@ -486,6 +486,8 @@ fn run_here(host: &mut Host<'_>, stop: &AtomicBool) -> Result<bool, SupervisorEr
         wait: info.wait,
         spec: spec_path,
         work_dir: host.work_dir.clone(),
+        // A remote host's agents publish no feed: the view reads this host's services only.
+        feed: false,
     });
     host.info = Some(info.clone());
     host.measure_floor(&node, &info)?;

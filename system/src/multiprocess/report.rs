@@ -10,6 +10,7 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
+use super::view_process::ViewCounts;
 use super::Clock;
 use super::agent_process::compute_histogram;
 use super::floor_probe::REMOTE_HOST_FLOOR;
@@ -101,6 +102,11 @@ pub struct SystemSummary {
     /// carried and what it refused, by reason (runs summed).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub link: Option<LinkReport>,
+    /// A run with a view: the agents' feed records it read, refused (by
+    /// reason) and lost (dropped by an agent or the view, or overwritten
+    /// before it read them), runs summed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub view: Option<ViewCounts>,
     /// Files of the runs' iceoryx2 namespaces left after cleanup (0 expected).
     pub leftover_shm_files: usize,
     /// The runs' iceoryx2 prefixes.
@@ -224,6 +230,10 @@ pub(crate) fn summarize(
             refused: a.refused.plus(&b.refused),
             ..a
         }),
+        view: records
+            .iter()
+            .filter_map(|r| r.view.clone())
+            .reduce(|a, b| a.add(&b)),
         leftover_shm_files: records.iter().map(|r| r.leftover_files).sum(),
         ipc_prefixes: records.iter().map(|r| r.prefix.clone()).collect(),
         wall_seconds,

@@ -58,6 +58,33 @@ pub struct SupervisorConfig {
     pub world_period: Duration,
     /// A run across hosts: the agents on other hosts and this host's bridge.
     pub cluster: Option<Cluster>,
+    /// The run's view (`learnpnp-view`, fed by the agents' live feeds); none: nothing of it is created.
+    pub view: Option<ViewConfig>,
+}
+
+/// A run's view: where it serves and what it records.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ViewConfig {
+    /// Where it serves the page and the Foxglove WebSocket protocol (`None`: it only records).
+    pub address: Option<std::net::SocketAddr>,
+    /// An MCAP recording of the feed (run `r` > 0: `NAME-run<r>.mcap` beside it).
+    pub record_mcap: Option<PathBuf>,
+}
+
+impl ViewConfig {
+    /// The recording of run `run`, if there is one.
+    pub fn recording(&self, run: usize) -> Option<PathBuf> {
+        let file = self.record_mcap.as_ref()?;
+        if run == 0 {
+            return Some(file.clone());
+        }
+        let stem = file.file_stem().unwrap_or_default().to_string_lossy();
+        let name = match file.extension() {
+            Some(ext) => format!("{stem}-run{run}.{}", ext.to_string_lossy()),
+            None => format!("{stem}-run{run}"),
+        };
+        Some(file.with_file_name(name))
+    }
 }
 
 /// A run across hosts, seen from host A (the simulator's or world's).

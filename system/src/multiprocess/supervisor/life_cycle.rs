@@ -24,6 +24,7 @@ use crate::ipc::services::{Ipc, SupervisorPorts, receive};
 use crate::multiprocess::agent_chassis::checkpoint_name;
 use crate::multiprocess::floor_probe::FloorProbe;
 use crate::multiprocess::launch::{Process, set_fifo_priority, spawn, spawn_world};
+use crate::multiprocess::view_process::view_args;
 use crate::multiprocess::world_agent::EXIT_PLAN_DOES_NOT_FIT;
 use crate::multiprocess::{Clock, RunContext};
 use iceoryx2::node::Node;
@@ -34,6 +35,9 @@ use learnpnp::learning::persist;
 /// notice a hung agent, kill it and start another, here or on another host).
 pub const STALL_TIMEOUTS: u32 = 3;
 
+/// How long a view asked to stop may take to write its last counts.
+const VIEW_STOP_GRACE: Duration = Duration::from_secs(2);
+
 impl Watch<'_> {
     pub(super) fn log(&self, role: Role) -> PathBuf {
         let name = match role {
@@ -42,6 +46,7 @@ impl Watch<'_> {
             Role::World => "world.log".to_string(),
             Role::Agent(a) => format!("agent{}.log", a + 1),
             Role::Bridge => "bridge.log".to_string(),
+            Role::View => "view.log".to_string(),
         };
         self.context.work_dir.join(name)
     }
@@ -75,6 +80,18 @@ impl Watch<'_> {
                 let args = self.bridge_args();
                 let process = spawn(self.config.binaries.bridge()?, role, &args, &self.log(role))?;
                 // The bridge sends no heartbeat: its exit is what is watched.
+                self.fleet.processes.insert(role, process);
+                return Ok(());
+            }
+            Role::View => {
+                let Some(view) = &self.config.view else {
+                    return Ok(());
+                };
+                // A restarted view resumes nothing but its counts (from its file).
+                let mut args = self.context.to_args();
+                args.extend(view_args(view.address, view.recording(self.context.run).as_ref()));
+                let process = spawn(self.config.binaries.view()?, role, &args, &self.log(role))?;
+                // The view sends no heartbeat: its exit is what is watched.
                 self.fleet.processes.insert(role, process);
                 return Ok(());
             }
@@ -446,6 +463,18 @@ impl Watch<'_> {
                     self.start(Role::Bridge, true)?;
                     self.fault(what, "restarted; the link is joined again".into());
                 }
+                // The view is off the learners' path: its failure never stops the run.
+                Role::View => {
+                    let what = format!("the view exited: {}", describe(status));
+                    if self.count_restart(Role::View) > self.config.max_restarts {
+                        let outcome = format!("not restarted: {} restarts already", self.config.max_restarts);
+                        self.fault(what, outcome);
+                    } else if let Err(e) = self.start(Role::View, true) {
+                        self.fault(what, format!("not restarted: {e}"));
+                    } else {
+                        self.fault(what, "restarted".into());
+                    }
+                }
                 Role::Agent(a) if status.success() => {
                     // Its protocol is complete; once every agent's is, the world stops.
                     self.done.push(a);
@@ -504,11 +533,18 @@ impl Watch<'_> {
                         return Err(RunFailure::SimulatorHung { what }.into());
                     }
                     Role::Keeper(k) | Role::Agent(k) => self.restart(k, what)?,
-                    Role::Bridge => {}
+                    Role::Bridge | Role::View => {}
                 }
             }
         }
         Ok(())
+    }
+
+    /// Stops the view, if the run has one (asked, it writes its last counts).
+    pub(super) fn stop_view(&mut self) {
+        if let Some(mut view) = self.fleet.processes.remove(&Role::View) {
+            let _ = view.stop(VIEW_STOP_GRACE);
+        }
     }
 
     /// Asks every agent to stop (each checkpoints) and waits for them, killing
@@ -516,10 +552,12 @@ impl Watch<'_> {
     pub(super) fn stop_agents(&mut self, grace: Duration) -> Result<(), SupervisorError> {
         self.order(Order::Stop, None)?;
         let deadline = Instant::now() + grace;
-        // The bridge carries the stop to the other hosts: it stays.
-        while self.fleet.processes.keys().any(|r| *r != Role::Bridge) {
+        // The bridge carries the stop to the other hosts: it stays; so does
+        // the view, which reads the agents' last records.
+        let stays = |r: &Role| matches!(r, Role::Bridge | Role::View);
+        while self.fleet.processes.keys().any(|r| !stays(r)) {
             let mut done = Vec::new();
-            for (role, process) in self.fleet.processes.iter_mut().filter(|(r, _)| **r != Role::Bridge) {
+            for (role, process) in self.fleet.processes.iter_mut().filter(|(r, _)| !stays(r)) {
                 if let Some(status) = process.exited().map_err(io_error(Path::new("waitpid")))? {
                     done.push((*role, status));
                 }
@@ -572,6 +610,7 @@ impl<'a> Watch<'a> {
             wait: config.wait,
             spec: spec_path.to_path_buf(),
             work_dir: work_dir.to_path_buf(),
+            feed: config.view.is_some(),
         };
         let identity = serde_json::json!({ "ipc_prefix": context.ipc_prefix, "run_id": context.run_id });
         let identity_path = work_dir.join(IDENTITY_FILE);
@@ -605,6 +644,10 @@ impl<'a> Watch<'a> {
         if let Some(cluster) = &config.cluster {
             watch.describe_for_other_hosts(cluster)?;
             watch.start(Role::Bridge, false)?;
+        }
+        if config.view.is_some() {
+            // First, so that it reads the agents' records from their first.
+            watch.start(Role::View, false)?;
         }
         let local: Vec<usize> = (0..watch.roster.agents()).filter(|&k| !watch.is_remote(k)).collect();
         if watch.roster == Roster::Keepaway {

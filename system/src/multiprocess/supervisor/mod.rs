@@ -21,7 +21,9 @@ pub(crate) mod watch;
 
 pub use crate::multiprocess::launch::world_env;
 pub(crate) use config::json_error;
-pub use config::{Cluster, EXIT_CANNOT_RESUME, IDENTITY_FILE, RunFailure, SupervisorConfig, SupervisorError};
+pub use config::{
+    Cluster, EXIT_CANNOT_RESUME, IDENTITY_FILE, RunFailure, SupervisorConfig, SupervisorError, ViewConfig,
+};
 pub use hand_off::{BRIDGE_STOP_GRACE, REMOTE_FILES_TIMEOUT, RUN_INFO_FILE};
 pub use life_cycle::STALL_TIMEOUTS;
 pub use observe::{Progress, Request, RunObserver, RunView};
@@ -35,6 +37,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use crate::ipc::namespace::{Namespace, NamespaceOwner};
+use crate::ipc::feed::FeedServices;
 use crate::ipc::services::{RunServices, node};
 use config::{RUNS_DIR, io_error};
 use watch::Watch;
@@ -78,9 +81,14 @@ fn run_in(
     let namespace = owner.namespace();
     let node = node(namespace, "supervisor")?;
     let _services = RunServices::create(&node, config.roster())?;
+    let _feeds = match config.view {
+        Some(_) => Some(FeedServices::create(&node, config.roster().agents())?),
+        None => None,
+    };
     let mut watch = Watch::launch(config, namespace, &node, run, work_dir, spec_path)?;
     let watched = watch.watch(stop, observer);
     watch.stop_agents(Duration::from_secs(10))?;
+    watch.stop_view();
     watch.await_remote_files()?;
     watch.collect(watched)
 }

@@ -9,6 +9,7 @@ use std::process::ExitStatus;
 
 use serde::Serialize;
 
+use crate::multiprocess::view_process::ViewCounts;
 use super::config::{SupervisorError, io_error, json_error};
 use super::watch::{Fault, Watch};
 use crate::hosts::report::LinkReport;
@@ -73,6 +74,8 @@ pub struct RunRecord {
     pub scheduling: String,
     /// A run across hosts: what this host's bridge carried and refused.
     pub link: Option<LinkReport>,
+    /// A run with a view: what it read of the agents' feeds, refused and lost.
+    pub view: Option<ViewCounts>,
 }
 
 /// How an exit status reads in a report.
@@ -203,6 +206,7 @@ impl Watch<'_> {
             prefix: String::new(),
             scheduling: self.scheduling(),
             link,
+            view: self.config.view.as_ref().map(|_| ViewCounts::load(work_dir)),
         })
     }
 

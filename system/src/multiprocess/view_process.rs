@@ -1,0 +1,270 @@
+//! The view process of a run with a view (`learnpnp-view`, started by the
+//! supervisor): read-only, off the learners' path. It reads every agent's
+//! live feed ([`crate::ipc::feed`]: each record checked, what is refused or
+//! lost counted) and the heartbeats, and hands to its sink (the view's
+//! server) the agents' records and, once a second, every process's health
+//! and the latency percentiles of the histograms the processes write into
+//! the run's directory. It takes nothing from the agents or the simulator
+//! but what they publish, and sends them nothing; killed, it loses only what
+//! the view shows, and a restarted one carries its predecessor's counts on.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use learnpnp_feed::{FeedEvent, FeedSink, LatencySummary, ProcessHealth};
+use serde::{Deserialize, Serialize};
+
+use super::{ProcessError, RunContext};
+use crate::ipc::convert::read_heartbeat;
+use crate::ipc::feed::{FeedCounts, FeedReader};
+use crate::ipc::protocol::{Pulse, Role, Roster};
+use crate::ipc::services::{ViewPorts, node, receive};
+use crate::latency::Latency;
+
+/// The view's counts in the run's directory, rewritten every second and at
+/// the end; the supervisor's summary reports them.
+pub const VIEW_COUNTS_FILE: &str = "view.json";
+
+/// How often the feeds are read: the feed services' buffers hold far more
+/// than the records of this long.
+const POLL: Duration = Duration::from_millis(20);
+
+/// How often health, latency and the counts are published.
+const SUMMARY_EVERY: Duration = Duration::from_secs(1);
+
+/// A process silent for this long is shown as not alive (ten heartbeats).
+const SILENT: Duration = Duration::from_secs(1);
+
+/// What a view counted over the run (its restarts included).
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ViewCounts {
+    /// The agents' feeds: records passed on, refused, lost.
+    pub feed: FeedCounts,
+    /// Records the view's server dropped (a client or recording too slow).
+    pub served_dropped: u64,
+    /// Heartbeats that did not read (a foreign process's).
+    pub heartbeats_rejected: u64,
+}
+
+impl ViewCounts {
+    /// Feed records lost anywhere: in shared memory or in the server.
+    pub fn dropped(&self) -> u64 {
+        self.feed.dropped + self.served_dropped
+    }
+
+    /// Reads the counts a view wrote in `work_dir` (none: zero).
+    pub fn load(work_dir: &Path) -> Self {
+        std::fs::read(work_dir.join(VIEW_COUNTS_FILE))
+            .ok()
+            .and_then(|bytes| serde_json::from_slice(&bytes).ok())
+            .unwrap_or_default()
+    }
+
+    /// The sum of two counts.
+    pub fn add(&self, other: &ViewCounts) -> ViewCounts {
+        ViewCounts {
+            feed: FeedCounts {
+                received: self.feed.received + other.feed.received,
+                rejected: self.feed.rejected.plus(&other.feed.rejected),
+                dropped: self.feed.dropped + other.feed.dropped,
+            },
+            served_dropped: self.served_dropped + other.served_dropped,
+            heartbeats_rejected: self.heartbeats_rejected + other.heartbeats_rejected,
+        }
+    }
+}
+
+/// What the view knows of one process from its heartbeats.
+#[derive(Debug)]
+struct Seen {
+    pulse: Pulse,
+    heard: Instant,
+    /// Process ids seen in this role (a new one is a restart).
+    pids: Vec<u32>,
+}
+
+/// Runs the view of `context`'s run into `sink` until `stop` is set;
+/// `sink_dropped` says how many records the sink has dropped. Returns the
+/// counts (its predecessors' included), also written to [`VIEW_COUNTS_FILE`].
+pub fn run(
+    context: &RunContext,
+    sink: &dyn FeedSink,
+    sink_dropped: &dyn Fn() -> u64,
+    stop: &AtomicBool,
+) -> Result<ViewCounts, ProcessError> {
+    let spec = context.load_spec()?;
+    let roster = Roster::of(&spec.domain);
+    let namespace = context.namespace()?;
+    let node = node(&namespace, "view")?;
+    let mut reader = FeedReader::open(&node, roster.agents(), context.run_id, context.run)?;
+    let ports = ViewPorts::open(&node)?;
+    let before = ViewCounts::load(&context.work_dir);
+    let mut seen: BTreeMap<Role, Seen> = BTreeMap::new();
+    let mut heartbeats_rejected = 0;
+    let mut summary_due = Instant::now();
+    loop {
+        let stopping = stop.load(Ordering::Relaxed);
+        reader.read(|event| sink.publish(&event))?;
+        while let Some(reading) = receive(&ports.heartbeats, |m| read_heartbeat(m, context.run_id, roster))? {
+            match reading {
+                Ok(pulse) => {
+                    let entry = seen.entry(pulse.role).or_insert_with(|| Seen {
+                        pulse,
+                        heard: Instant::now(),
+                        pids: Vec::new(),
+                    });
+                    if !entry.pids.contains(&pulse.pid) {
+                        entry.pids.push(pulse.pid);
+                    }
+                    entry.pulse = pulse;
+                    entry.heard = Instant::now();
+                }
+                Err(_) => heartbeats_rejected += 1,
+            }
+        }
+        let counts = before.add(&ViewCounts {
+            feed: reader.counts().clone(),
+            served_dropped: sink_dropped(),
+            heartbeats_rejected,
+        });
+        if stopping || summary_due.elapsed() >= SUMMARY_EVERY {
+            summary_due = Instant::now();
+            for (role, process) in &seen {
+                sink.publish(&FeedEvent::Health(health(*role, process)));
+            }
+            sink.publish(&FeedEvent::Health(ProcessHealth {
+                process: "view".into(),
+                pid: Some(std::process::id()),
+                alive: true,
+                heartbeat_age_ms: 0,
+                restarts: 0,
+                rejections: counts.feed.rejected.total() + counts.heartbeats_rejected,
+            }));
+            for summary in latency_summaries(&context.work_dir) {
+                sink.publish(&FeedEvent::Latency(summary));
+            }
+            write_counts(&context.work_dir, &counts)?;
+        }
+        if stopping {
+            return Ok(counts);
+        }
+        std::thread::sleep(POLL);
+    }
+}
+
+/// One process's health from its last heartbeat.
+fn health(role: Role, seen: &Seen) -> ProcessHealth {
+    let age = seen.heard.elapsed();
+    ProcessHealth {
+        process: role.to_string(),
+        pid: Some(seen.pulse.pid),
+        alive: age < SILENT,
+        heartbeat_age_ms: u64::try_from(age.as_millis()).unwrap_or(u64::MAX),
+        restarts: u32::try_from(seen.pids.len().saturating_sub(1)).unwrap_or(u32::MAX),
+        rejections: seen.pulse.rejected.total(),
+    }
+}
+
+/// Writes `counts` into `work_dir` (atomically).
+fn write_counts(work_dir: &Path, counts: &ViewCounts) -> Result<(), ProcessError> {
+    let path = work_dir.join(VIEW_COUNTS_FILE);
+    let json = serde_json::to_vec(counts).unwrap_or_default();
+    atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })
+}
+
+/// The latency percentiles of every histogram in `work_dir`
+/// (`<name>.<pid>.hdr`, each incarnation of a process writing its own:
+/// merged by name); a file that does not read is passed over.
+fn latency_summaries(work_dir: &Path) -> Vec<LatencySummary> {
+    let mut merged: BTreeMap<String, Latency> = BTreeMap::new();
+    let entries = std::fs::read_dir(work_dir).into_iter().flatten().flatten();
+    for path in entries.map(|e| e.path()) {
+        let Some(name) = histogram_name(&path) else {
+            continue;
+        };
+        let Ok(bytes) = std::fs::read(&path) else {
+            continue;
+        };
+        let Ok(histogram) = Latency::from_bytes(name.clone(), &bytes) else {
+            continue;
+        };
+        let total = merged.entry(name.clone()).or_insert_with(|| Latency::new(name));
+        // Histograms of one name have the same bounds; one that does not merge is passed over.
+        let _ = total.merge(&histogram);
+    }
+    merged
+        .into_iter()
+        .map(|(name, histogram)| {
+            let p = histogram.percentiles();
+            let (process, measure) = match name.strip_prefix("compute-") {
+                Some(process) => (process.to_string(), "compute".to_string()),
+                None => ("host".to_string(), name),
+            };
+            LatencySummary {
+                process,
+                measure,
+                count: histogram.count(),
+                p50_us: p.p50 as u64,
+                p90_us: p.p90 as u64,
+                p99_us: p.p99 as u64,
+                max_us: p.max as u64,
+            }
+        })
+        .collect()
+}
+
+/// The histogram's name of a file `<name>.<pid>.hdr`.
+fn histogram_name(path: &Path) -> Option<String> {
+    let file = path.file_name()?.to_str()?;
+    let stem = file.strip_suffix(".hdr")?;
+    let (name, pid) = stem.rsplit_once('.')?;
+    pid.parse::<u32>().ok().map(|_| name.to_string())
+}
+
+/// The view process's command line beyond the run's: where it serves.
+pub fn view_args(address: Option<std::net::SocketAddr>, record_mcap: Option<&PathBuf>) -> Vec<std::ffi::OsString> {
+    let mut args = Vec::new();
+    if let Some(address) = address {
+        args.push("--listen".into());
+        args.push(address.to_string().into());
+    }
+    if let Some(file) = record_mcap {
+        args.push("--record-mcap".into());
+        args.push(file.clone().into());
+    }
+    args
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn histogram_files_are_named_by_their_histogram() {
+        assert_eq!(
+            histogram_name(Path::new("/r/compute-keeper1.4242.hdr")).as_deref(),
+            Some("compute-keeper1")
+        );
+        assert_eq!(histogram_name(Path::new("/r/roundtrip.17.hdr")).as_deref(), Some("roundtrip"));
+        assert_eq!(histogram_name(Path::new("/r/view.json")), None);
+        assert_eq!(histogram_name(Path::new("/r/a.b.hdr")), None);
+    }
+
+    #[test]
+    fn a_restarted_view_carries_the_counts_on() {
+        let mut a = ViewCounts::default();
+        a.feed.received = 5;
+        a.feed.rejected.content = 2;
+        a.served_dropped = 1;
+        let mut b = ViewCounts::default();
+        b.feed.received = 3;
+        b.feed.dropped = 4;
+        b.feed.rejected.content = 1;
+        let sum = a.add(&b);
+        assert_eq!(sum.feed.received, 8);
+        assert_eq!(sum.feed.rejected.content, 3);
+        assert_eq!(sum.dropped(), 5);
+    }
+}
