@@ -145,6 +145,8 @@ pub mod condition;
 pub mod domains;
 pub mod dot;
 pub mod executor;
+/// The live feed's records and sink (the `learnpnp-feed` crate).
+pub use learnpnp_feed as feed;
 pub mod experiment;
 pub(crate) mod json_float;
 pub mod learning;

@@ -59,6 +59,7 @@ pub fn run_quietly(spec: &ExperimentSpec, threads: usize) -> ExperimentOutput {
         progress: false,
         stop: None,
         only: None,
+        feed: None,
     };
     run_experiment(spec, options, Completed::default()).expect("the experiment runs")
 }

@@ -29,7 +29,9 @@ use learnpnp_system::multiprocess::chaos::{Chaos, GARBAGE_COMMAND, SoakLength, p
 use learnpnp_system::multiprocess::launch::Binaries;
 use learnpnp_system::multiprocess::remote_host::{RemoteConfig, join};
 use learnpnp_system::multiprocess::soak::{Soak, SoakLimits};
-use learnpnp_system::multiprocess::supervisor::{Cluster, Progress, RunObserver, SupervisorConfig, supervise};
+use learnpnp_system::multiprocess::supervisor::{
+    Cluster, Progress, RunObserver, SupervisorConfig, ViewConfig, supervise,
+};
 
 /// The Keepaway experiments the system runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -212,6 +214,18 @@ struct RunArgs {
     /// normally scheduled and its report says why.
     #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u8).range(0..=99))]
     rt_priority: u8,
+    /// Watch the run live: a view process (`learnpnp-view`, read-only, off
+    /// the learners' path) serves the agents' live feed and every process's
+    /// health as a page and the Foxglove WebSocket protocol at ADDR
+    /// (default 127.0.0.1:8765; port 0: any free port, named in the view's log).
+    #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = "127.0.0.1:8765")]
+    view: Option<std::net::SocketAddr>,
+    /// Record the view's channels to this MCAP file (run r > 0: FILE-run<r>.mcap).
+    #[arg(long, value_name = "FILE")]
+    record_mcap: Option<PathBuf>,
+    /// Write every record the view serves as a line of JSON to this file (appended).
+    #[arg(long, value_name = "FILE")]
+    view_jsonl: Option<PathBuf>,
     #[command(flatten)]
     flags: ExperimentFlags,
 }
@@ -374,6 +388,11 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
                 link_certs: args.link.certs()?,
             }),
         },
+        view: (args.view.is_some() || args.record_mcap.is_some() || args.view_jsonl.is_some()).then(|| ViewConfig {
+            address: args.view,
+            record_mcap: args.record_mcap.clone(),
+            jsonl: args.view_jsonl.clone(),
+        }),
     };
     let p = config.spec.protocol;
     eprintln!(

@@ -1,6 +1,7 @@
 //! `learnpnp experiment`: one domain, one algorithm, many runs.
 
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use anyhow::{Context, Result};
 use clap::Args;
@@ -12,8 +13,10 @@ use learnpnp::experiment::result_dir::{Contents, ResultDir};
 use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_experiment};
 use learnpnp::experiment::shard::{Shard, ShardRecord};
 use learnpnp::experiment::spec::ExperimentSpec;
+use learnpnp::feed::FeedSink;
 use learnpnp_cli::args::{ExperimentFlags, named};
 use learnpnp_cli::interrupt::Interrupt;
+use learnpnp_cli::view::ViewFlags;
 
 use super::Interrupted;
 
@@ -40,6 +43,8 @@ pub struct ExperimentArgs {
     /// the seeds the whole experiment gives it), for `learnpnp merge` to combine.
     #[arg(long)]
     shard: Option<Shard>,
+    #[command(flatten)]
+    view: ViewFlags,
 }
 
 /// The default worker count: every core.
@@ -61,7 +66,8 @@ pub enum Finished {
 }
 
 /// Runs `spec` (continuing a partial result in `dir` when `resume`; only
-/// `shard`'s runs when one is given) and writes its results into `dir`. A
+/// `shard`'s runs when one is given; publishing to `feed` when given) and
+/// writes its results into `dir`. A
 /// signal stops it: the completed runs are written as a partial result and
 /// [`Interrupted`] is returned.
 pub fn run_into(
@@ -71,6 +77,7 @@ pub fn run_into(
     threads: usize,
     interrupt: &Interrupt,
     shard: Option<Shard>,
+    feed: Option<&Arc<dyn FeedSink>>,
 ) -> Result<Finished> {
     let completed = if resume {
         match resume_point(dir, spec)? {
@@ -109,6 +116,7 @@ pub fn run_into(
         progress: true,
         stop: Some(interrupt.flag()),
         only: record.as_ref().map(|r| r.runs.as_slice()),
+        feed,
     };
     let migration = initial_values_migration(spec)?;
     let output = run_experiment(spec, options, completed).context("experiment failed")?;
@@ -188,7 +196,26 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
         "configuration ({threads} worker threads; saved in {} with the results):\n{configuration}",
         args.out.join("summary.json").display()
     );
-    match run_into(&spec, &mut dir, args.resume, threads, &interrupt, args.shard)? {
+    let view = args.view.start().context("starting the view")?.map(Arc::new);
+    let feed = view.clone().map(|v| v as Arc<dyn FeedSink>);
+    let finished = run_into(
+        &spec,
+        &mut dir,
+        args.resume,
+        threads,
+        &interrupt,
+        args.shard,
+        feed.as_ref(),
+    );
+    drop(feed);
+    if let Some(view) = view.and_then(Arc::into_inner) {
+        let dropped = view.dropped();
+        view.close().context("closing the view")?;
+        if dropped > 0 {
+            eprintln!("view: {dropped} records dropped (the view could not keep up)");
+        }
+    }
+    match finished? {
         Finished::AlreadyComplete => println!(
             "{} already holds the complete results of this experiment; nothing to do",
             args.out.display()

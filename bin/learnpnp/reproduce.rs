@@ -202,7 +202,7 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
                 clock(started.elapsed()),
                 spec.label
             );
-            let finished = run_into(spec, curve_dir, args.resume, threads, &interrupt, args.shard)
+            let finished = run_into(spec, curve_dir, args.resume, threads, &interrupt, args.shard, None)
                 .with_context(|| format!("figure {}: {}", figure.id, spec.label))?;
             if args.shard.is_some() {
                 // A shard's curve is a share of the runs: merged, then drawn.

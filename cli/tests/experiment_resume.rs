@@ -26,6 +26,7 @@ fn run(spec: &ExperimentSpec, threads: usize, stop: Option<&AtomicBool>, complet
         progress: false,
         stop,
         only: None,
+        feed: None,
     };
     run_experiment(spec, options, completed).expect("the experiment runs")
 }

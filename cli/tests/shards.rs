@@ -113,6 +113,7 @@ fn a_partial_shard_is_refused_with_the_runs_it_lacks() {
             progress: false,
             stop: None,
             only: Some(played),
+            feed: None,
         };
         let output: ExperimentOutput = run_experiment(&spec, options, Default::default()).unwrap();
         let path = dir.join(format!("s{index}"));

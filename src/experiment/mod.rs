@@ -15,3 +15,4 @@ pub mod runner;
 pub mod shard;
 pub mod spec;
 pub(crate) mod stats;
+mod watched;

@@ -14,8 +14,9 @@ use serde::{Deserialize, Serialize};
 
 use super::spec::{ExperimentError, ExperimentSpec};
 use crate::domains::{EpisodeOutcome, Task};
+use crate::feed::{FeedSink, Source};
 use crate::learning::persist::SavedValues;
-use crate::learning::{EpisodeMode, Learner};
+use crate::learning::{EpisodeMode, Learner, WatchedLearner};
 use crate::plan::Plan;
 use crate::rng::{SimRng, derive_seed, seeded};
 
@@ -112,17 +113,34 @@ pub fn run_task_rng(seed: u64, run: usize) -> SimRng {
 }
 
 /// Runs run `run` of `spec` with the plan already loaded; `None` if `stop`
-/// said so before it finished (checked before every learning episode).
+/// said so before it finished (checked before every learning episode). With
+/// a `feed`, every learner of a plan is watched and the curve is published.
 pub(crate) fn run_one(
     spec: &ExperimentSpec,
     plan: Option<Arc<Plan>>,
     initial: &[SavedValues],
     run: usize,
+    feed: Option<&Arc<dyn FeedSink>>,
     progress: impl FnMut(u64),
     stop: impl Fn() -> bool,
 ) -> Result<Option<RunOutput>, ExperimentError> {
-    let mut learner = |agent: usize| learner_for(spec, run, agent, initial.get(agent));
+    let mut learner = |agent: usize| {
+        let learner = learner_for(spec, run, agent, initial.get(agent));
+        match (feed, plan.as_deref()) {
+            (Some(sink), Some(plan)) => {
+                let source = Source {
+                    run: run as u32,
+                    agent: agent as u32,
+                };
+                Box::new(WatchedLearner::new(learner, plan, source, sink.clone()))
+            }
+            _ => learner,
+        }
+    };
     let mut task = spec.domain.task(plan.clone(), &mut learner, task_rng(spec, run))?;
+    if let Some(sink) = feed {
+        task = Box::new(super::watched::WatchedTask::new(task, run, sink.clone()));
+    }
     let mut out = RunOutput::default();
     if !run_protocol(spec, task.as_mut(), run, true, &mut out, progress, stop)? {
         return Ok(None);
@@ -199,7 +217,7 @@ pub fn run_protocol(
 }
 
 /// How the runs of an experiment are executed.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Clone, Copy, Default)]
 pub struct RunOptions<'a> {
     /// Worker threads (at least one is used, and no more than there are runs).
     pub threads: usize,
@@ -210,6 +228,21 @@ pub struct RunOptions<'a> {
     pub stop: Option<&'a AtomicBool>,
     /// Play only these runs (a shard's, [`super::shard::Shard::runs`]); all when `None`.
     pub only: Option<&'a [usize]>,
+    /// Where the live feed goes (a view): every learner is watched
+    /// ([`WatchedLearner`]) and the curve published; nothing is when `None`.
+    pub feed: Option<&'a Arc<dyn FeedSink>>,
+}
+
+impl std::fmt::Debug for RunOptions<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RunOptions")
+            .field("threads", &self.threads)
+            .field("progress", &self.progress)
+            .field("stop", &self.stop)
+            .field("only", &self.only)
+            .field("feed", &self.feed.is_some())
+            .finish()
+    }
 }
 
 /// Runs completed in an earlier session of the same experiment (read back
@@ -283,6 +316,7 @@ pub fn run_experiment(
                         plan.clone(),
                         initial,
                         run,
+                        options.feed,
                         |n| {
                             let _ = ptx.send(n);
                         },

@@ -17,6 +17,7 @@ mod sosmc;
 mod td;
 mod trajectory;
 mod values;
+mod watched;
 
 pub use mcesp::{Mcesp, McespConfig};
 pub use monte_carlo::{MonteCarlo, MonteCarloConfig};
@@ -26,6 +27,7 @@ pub use sosmc::{Assessment, ExploitPolicy, Sigma, SoSmc, SoSmcConfig, StepSize, 
 pub use td::{Scope, Target, TdConfig, TdLearner};
 pub use trajectory::{Trajectory, discount};
 pub use values::{KeyId, StateKey, ValueTable, blend};
+pub use watched::{WatchedLearner, plan_shape};
 
 use crate::executor::{Chooser, PendingReward};
 

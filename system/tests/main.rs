@@ -9,4 +9,5 @@ mod hosts;
 mod intruders;
 mod ipc_wait;
 mod multiprocess;
+mod view;
 mod world;

@@ -196,7 +196,7 @@ fn wait_for_progress(out: &Path) {
     );
 }
 
-fn finish(child: Child) -> Output {
+pub(crate) fn finish(child: Child) -> Output {
     child.wait_with_output().expect("the supervisor runs")
 }
 
@@ -212,7 +212,7 @@ const SHORT: &[&str] = &[
 ];
 
 /// The same experiment in one process, written as `learnpnp experiment` writes it.
-fn in_process(domain: &str, algo: &str, seed: &str, protocol: &[&str], out: &Path) {
+pub(crate) fn in_process(domain: &str, algo: &str, seed: &str, protocol: &[&str], out: &Path) {
     let mut flags = vec!["--algo", algo, "--runs", "1", "--seed", seed];
     flags.extend_from_slice(protocol);
     let domain = DomainName::from_name(domain).expect("a domain");
@@ -224,7 +224,7 @@ fn in_process(domain: &str, algo: &str, seed: &str, protocol: &[&str], out: &Pat
     write_results(&output, &mut ResultDir::open(out).expect("a result directory")).expect("results written");
 }
 
-fn assert_same_files(a: &Path, b: &Path, files: &[&str]) {
+pub(crate) fn assert_same_files(a: &Path, b: &Path, files: &[&str]) {
     for file in files {
         let (x, y) = (fs::read(a.join(file)).unwrap(), fs::read(b.join(file)).unwrap());
         assert!(x == y, "{file} differs between {} and {}", a.display(), b.display());
@@ -428,7 +428,7 @@ fn killed_supervisor_is_cleaned_up_by_the_next_launch() {
 }
 
 /// A foreign process's port on the run's services.
-fn foreign_node(sandbox: &Sandbox, prefix: &str) -> Node<ipc::Service> {
+pub(crate) fn foreign_node(sandbox: &Sandbox, prefix: &str) -> Node<ipc::Service> {
     let namespace = Namespace::at(&sandbox.ipc(), prefix).unwrap();
     learnpnp_system::ipc::services::node(&namespace, "foreign").unwrap()
 }

@@ -134,7 +134,9 @@ pub struct ChoiceMade {
     pub explored: bool,
 }
 
-/// A reward the agent received.
+/// Rewards the agent received: sent with the marking samples (at most
+/// [`MARKINGS_PER_SECOND`] a second) and at an episode's end, each the sum of
+/// the rewards since the previous one, so their sum over an episode is its return.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct RewardSample {
@@ -144,7 +146,7 @@ pub struct RewardSample {
     pub episode: u64,
     /// The executor's step within the episode.
     pub step: u64,
-    /// The reward.
+    /// The rewards received since the agent's previous reward sample.
     pub reward: f64,
 }
 

@@ -1,1 +1,445 @@
-//! The live view of a learnpnp run.
+//! The live view of a learnpnp run: the feed ([`learnpnp_feed`]) served over
+//! the Foxglove WebSocket protocol with a page of its own, recorded to MCAP,
+//! and written as PNP's monitor line.
+//!
+//! [`View::start`] starts what [`ViewOptions`] asks for; the view is a
+//! [`FeedSink`]: publish records to it from any thread (a
+//! `WatchedLearner` of the `learnpnp` crate does so for a learner). Publishing
+//! never blocks: a record goes into a bounded queue (dropped and counted when
+//! it is full), and one thread of the view encodes each record as JSON and
+//! logs it on its channel.
+//!
+//! - **WebSocket and page**: the Foxglove SDK's server (`foxglove` crate)
+//!   listens on an ephemeral loopback port; the view's own address (loopback,
+//!   port [`DEFAULT_PORT`] unless told otherwise) takes HTTP: a WebSocket
+//!   upgrade (subprotocol `foxglove.sdk.v1` or `foxglove.sdk.v1.1`) is passed
+//!   on to the SDK's server, any other GET serves the page (`/`, `/app.js`,
+//!   `/mcap.js`, `/style.css`, embedded in the binary) and, when the view
+//!   replays a recording, the file at `/recording.mcap`.
+//! - **Channels**: one per kind of record, named by
+//!   [`FeedEvent::channel`], with the record's JSON schema; a message is the
+//!   record itself as JSON (without the enum's tag: the channel says which
+//!   kind it is; [`FeedEvent::from_payload`] reads it back). A client that
+//!   subscribes to `/learnpnp/plan` or `/learnpnp/curve` is sent the plans and
+//!   the curve published so far, so a page opened mid-run can draw them.
+//! - **MCAP**: the same channels, written by the SDK's writer to `FILE.part`
+//!   and renamed to `FILE` when the view closes (so a file under the final
+//!   name is complete). Chunks are not compressed, so that the page's small
+//!   reader can read them without a decompressor.
+//! - **PNP's monitor line**: the markings of run 0's agent 0 (a PNP observer
+//!   watches one plan); see [`PNP_MONITOR_PORT`].
+
+#![deny(missing_docs)]
+
+mod http;
+mod pnp_monitor;
+
+use std::collections::HashMap;
+use std::io::{BufWriter, Write};
+use std::net::{IpAddr, Ipv4Addr, SocketAddr};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, PoisonError};
+use std::thread::JoinHandle;
+
+use crossbeam::channel::{Receiver, Sender, TrySendError};
+use foxglove::websocket::{ChannelView, Client, ServerListener};
+use foxglove::{ChannelBuilder, Context, McapWriteOptions, McapWriter, McapWriterHandle, RawChannel, Schema, SinkId};
+use learnpnp_feed::{CHANNELS, FeedEvent, FeedSink, PlanShape, Source};
+
+pub use pnp_monitor::PNP_MONITOR_PORT;
+
+/// The view's default port (Foxglove's usual WebSocket port).
+pub const DEFAULT_PORT: u16 = 8765;
+
+/// The records a view holds before it drops what is published (see [`View::dropped`]).
+pub const DEFAULT_QUEUE: usize = 8192;
+
+/// The agent whose markings PNP's monitor line follows (a PNP observer watches one plan).
+const MONITORED: Source = Source { run: 0, agent: 0 };
+
+/// The most curve points kept for clients that connect mid-run.
+const CURVE_KEPT: usize = 100_000;
+
+/// The view's default address: loopback, [`DEFAULT_PORT`].
+pub const fn default_address() -> SocketAddr {
+    SocketAddr::new(IpAddr::V4(Ipv4Addr::LOCALHOST), DEFAULT_PORT)
+}
+
+/// PNP's monitor line's default address: loopback, [`PNP_MONITOR_PORT`].
+pub const fn default_pnp_monitor_address() -> SocketAddr {
+    SocketAddr::new(IpAddr::V4(Ipv4Addr::LOCALHOST), PNP_MONITOR_PORT)
+}
+
+/// What a view serves and writes; each part is off when `None`.
+#[derive(Debug, Clone)]
+pub struct ViewOptions {
+    /// The page and the Foxglove WebSocket protocol, on this address (port 0: any free port).
+    pub address: Option<SocketAddr>,
+    /// An MCAP recording of every channel, written to this file.
+    pub record_mcap: Option<PathBuf>,
+    /// PNP's monitor line, on this address.
+    pub pnp_monitor: Option<SocketAddr>,
+    /// A recording the page replays, served at `/recording.mcap`.
+    pub replay: Option<PathBuf>,
+    /// The records held before publishing drops them.
+    pub queue: usize,
+}
+
+impl Default for ViewOptions {
+    fn default() -> Self {
+        ViewOptions {
+            address: None,
+            record_mcap: None,
+            pnp_monitor: None,
+            replay: None,
+            queue: DEFAULT_QUEUE,
+        }
+    }
+}
+
+/// Why a view could not start or close.
+#[derive(Debug, thiserror::Error)]
+pub enum ViewError {
+    /// A socket or file could not be opened, written or renamed.
+    #[error("{what}: {source}")]
+    Io {
+        /// What was being done.
+        what: String,
+        /// Why it failed.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The Foxglove SDK refused (a channel, the server, the MCAP writer).
+    #[error("{what}: {source}")]
+    Foxglove {
+        /// What was being done.
+        what: String,
+        /// Why it failed.
+        #[source]
+        source: foxglove::FoxgloveError,
+    },
+    /// The view's thread stopped abnormally.
+    #[error("the view's thread panicked")]
+    Thread,
+}
+
+fn io_error(what: impl Into<String>) -> impl FnOnce(std::io::Error) -> ViewError {
+    let what = what.into();
+    move |source| ViewError::Io { what, source }
+}
+
+fn fox_error(what: impl Into<String>) -> impl FnOnce(foxglove::FoxgloveError) -> ViewError {
+    let what = what.into();
+    move |source| ViewError::Foxglove { what, source }
+}
+
+/// What the view's thread is asked to do.
+enum Command {
+    /// Log a record.
+    Publish(FeedEvent),
+    /// Send the kept records of channel `kind` to one client's sink.
+    Resend(usize, SinkId),
+    /// Finish.
+    Close,
+}
+
+/// Tells the view's thread when a client subscribes to a channel whose past it keeps.
+struct Subscriptions {
+    commands: Sender<Command>,
+}
+
+impl ServerListener for Subscriptions {
+    fn on_subscribe(&self, client: Client, channel: ChannelView) {
+        let kind = CHANNELS.iter().position(|c| *c == channel.topic());
+        if let (Some(kind @ (0 | 5)), Some(sink)) = (kind, client.sink_id()) {
+            // Full: the client gets the records still to come, not the past.
+            let _ = self.commands.try_send(Command::Resend(kind, sink));
+        }
+    }
+}
+
+/// A running view: a [`FeedSink`] serving and recording what is published to it.
+///
+/// Closing it ([`View::close`], or dropping it) stops the servers and
+/// completes the recording.
+pub struct View {
+    commands: Sender<Command>,
+    dropped: AtomicU64,
+    address: Option<SocketAddr>,
+    pnp_monitor: Option<SocketAddr>,
+    worker: Option<JoinHandle<Result<Counts, ViewError>>>,
+    server: Option<foxglove::WebSocketServerHandle>,
+    runtime: Option<tokio::runtime::Runtime>,
+}
+
+impl std::fmt::Debug for View {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("View")
+            .field("address", &self.address)
+            .field("pnp_monitor", &self.pnp_monitor)
+            .field("dropped", &self.dropped())
+            .finish_non_exhaustive()
+    }
+}
+
+/// How many records a view logged on each channel, in the order of [`CHANNELS`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Counts(pub [u64; CHANNELS.len()]);
+
+impl Counts {
+    /// The records logged on `channel`; 0 for a topic that is not the feed's.
+    pub fn of(&self, channel: &str) -> u64 {
+        CHANNELS.iter().position(|c| *c == channel).map_or(0, |i| self.0[i])
+    }
+}
+
+impl View {
+    /// Starts what `options` asks for (nothing listens unless asked).
+    pub fn start(options: ViewOptions) -> Result<View, ViewError> {
+        let runtime = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(1)
+            .thread_name("learnpnp-view")
+            .enable_all()
+            .build()
+            .map_err(io_error("starting the view's runtime"))?;
+        let context = Context::new();
+        let channels = CHANNELS
+            .iter()
+            .zip(learnpnp_feed::channel_schemas())
+            .map(|(topic, (_, name, schema))| {
+                ChannelBuilder::new(*topic)
+                    .context(&context)
+                    .message_encoding("json")
+                    .schema(Schema::new(name, "jsonschema", schema.into_bytes()))
+                    .build_raw()
+                    .map_err(fox_error(format!("creating channel {topic}")))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let (commands, queue) = crossbeam::channel::bounded(options.queue.max(1));
+        let mut view = View {
+            commands: commands.clone(),
+            dropped: AtomicU64::new(0),
+            address: None,
+            pnp_monitor: None,
+            worker: None,
+            server: None,
+            runtime: None,
+        };
+        if let Some(address) = options.address {
+            let server = runtime
+                .block_on(
+                    foxglove::WebSocketServer::new()
+                        .name("learnpnp")
+                        .context(&context)
+                        .bind(Ipv4Addr::LOCALHOST.to_string(), 0)
+                        .listener(Arc::new(Subscriptions {
+                            commands: commands.clone(),
+                        }))
+                        .tokio_runtime(runtime.handle())
+                        .start(),
+                )
+                .map_err(fox_error("starting the Foxglove WebSocket server"))?;
+            let upstream = SocketAddr::new(IpAddr::V4(Ipv4Addr::LOCALHOST), server.port());
+            view.server = Some(server);
+            let listener = runtime
+                .block_on(tokio::net::TcpListener::bind(address))
+                .map_err(io_error(format!("listening on {address}")))?;
+            view.address = Some(listener.local_addr().map_err(io_error("reading the view's address"))?);
+            let front = Arc::new(http::Front {
+                upstream,
+                recording: options.replay.clone(),
+            });
+            runtime.spawn(http::serve(listener, front));
+        }
+        let clients = pnp_monitor::Clients::default();
+        if let Some(address) = options.pnp_monitor {
+            let listener = runtime
+                .block_on(tokio::net::TcpListener::bind(address))
+                .map_err(io_error(format!("listening on {address}")))?;
+            view.pnp_monitor = Some(
+                listener
+                    .local_addr()
+                    .map_err(io_error("reading the monitor's address"))?,
+            );
+            runtime.spawn(pnp_monitor::accept(listener, clients.clone()));
+        }
+        let recording = match &options.record_mcap {
+            Some(file) => Some(Recording::start(file, &context)?),
+            None => None,
+        };
+        let worker = Worker {
+            channels,
+            plans: HashMap::new(),
+            curve: Vec::new(),
+            clients,
+            counts: Counts::default(),
+            _context: context,
+        };
+        view.worker = Some(
+            std::thread::Builder::new()
+                .name("learnpnp-view".into())
+                .spawn(move || worker.run(&queue, recording))
+                .map_err(io_error("starting the view's thread"))?,
+        );
+        view.runtime = Some(runtime);
+        Ok(view)
+    }
+
+    /// The address of the page and the WebSocket protocol, if served.
+    pub fn address(&self) -> Option<SocketAddr> {
+        self.address
+    }
+
+    /// The address of PNP's monitor line, if served.
+    pub fn pnp_monitor_address(&self) -> Option<SocketAddr> {
+        self.pnp_monitor
+    }
+
+    /// How many records were dropped because the view could not keep up.
+    pub fn dropped(&self) -> u64 {
+        self.dropped.load(Ordering::Relaxed)
+    }
+
+    /// Stops serving, completes the recording, and returns what was logged on each channel.
+    pub fn close(mut self) -> Result<Counts, ViewError> {
+        self.shutdown()
+    }
+
+    fn shutdown(&mut self) -> Result<Counts, ViewError> {
+        let Some(worker) = self.worker.take() else {
+            return Ok(Counts::default());
+        };
+        // The queue may be full: this one waits for room, the worker drains it.
+        let _ = self.commands.send(Command::Close);
+        let counts = worker.join().map_err(|_| ViewError::Thread);
+        if let Some(server) = self.server.take() {
+            server.stop().wait_blocking();
+        }
+        if let Some(runtime) = self.runtime.take() {
+            runtime.shutdown_background();
+        }
+        counts?
+    }
+}
+
+impl Drop for View {
+    fn drop(&mut self) {
+        let _ = self.shutdown();
+    }
+}
+
+impl FeedSink for View {
+    fn publish(&self, event: &FeedEvent) {
+        if let Err(TrySendError::Full(_) | TrySendError::Disconnected(_)) =
+            self.commands.try_send(Command::Publish(event.clone()))
+        {
+            self.dropped.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+}
+
+/// The MCAP file being written.
+struct Recording {
+    handle: McapWriterHandle<BufWriter<std::fs::File>>,
+    part: PathBuf,
+    file: PathBuf,
+}
+
+impl Recording {
+    fn start(file: &Path, context: &Arc<Context>) -> Result<Recording, ViewError> {
+        let mut part = file.as_os_str().to_owned();
+        part.push(".part");
+        let part = PathBuf::from(part);
+        let out = std::fs::File::create(&part).map_err(io_error(format!("creating {}", part.display())))?;
+        let handle = McapWriter::with_options(McapWriteOptions::new().compression(None))
+            .context(context)
+            .create(BufWriter::new(out))
+            .map_err(fox_error(format!("starting the MCAP recording {}", part.display())))?;
+        Ok(Recording {
+            handle,
+            part,
+            file: file.to_owned(),
+        })
+    }
+
+    fn finish(self) -> Result<(), ViewError> {
+        let what = format!("completing the MCAP recording {}", self.part.display());
+        let mut out = self.handle.close().map_err(fox_error(what.clone()))?;
+        out.flush().map_err(io_error(what.clone()))?;
+        out.get_ref().sync_all().map_err(io_error(what))?;
+        std::fs::rename(&self.part, &self.file).map_err(io_error(format!(
+            "renaming {} to {}",
+            self.part.display(),
+            self.file.display()
+        )))
+    }
+}
+
+/// The view's thread: encodes and logs records, keeps what late clients are sent.
+struct Worker {
+    channels: Vec<Arc<RawChannel>>,
+    /// The latest plan of each agent, as JSON, and its monitor line's format.
+    plans: HashMap<Source, (Vec<u8>, pnp_monitor::LineFormat)>,
+    /// The curve so far, as JSON.
+    curve: Vec<Vec<u8>>,
+    clients: pnp_monitor::Clients,
+    counts: Counts,
+    /// Keeps the channels' context (and so its sinks) alive.
+    _context: Arc<Context>,
+}
+
+impl Worker {
+    fn run(mut self, queue: &Receiver<Command>, recording: Option<Recording>) -> Result<Counts, ViewError> {
+        while let Ok(command) = queue.recv() {
+            match command {
+                Command::Publish(event) => self.log(&event),
+                Command::Resend(kind, sink) => {
+                    let kept: Vec<&Vec<u8>> = match kind {
+                        0 => self.plans.values().map(|(json, _)| json).collect(),
+                        _ => self.curve.iter().collect(),
+                    };
+                    for json in kept {
+                        self.channels[kind].log_to_sink(json, Some(sink));
+                    }
+                }
+                Command::Close => break,
+            }
+        }
+        for channel in &self.channels {
+            channel.close();
+        }
+        if let Some(recording) = recording {
+            recording.finish()?;
+        }
+        Ok(self.counts)
+    }
+
+    fn log(&mut self, event: &FeedEvent) {
+        let Ok(json) = event.payload_json() else {
+            return;
+        };
+        let kind = event.kind();
+        self.channels[kind].log(&json);
+        self.counts.0[kind] += 1;
+        match event {
+            FeedEvent::Plan(shape) => self.keep_plan(shape, json),
+            FeedEvent::Curve(_) if self.curve.len() < CURVE_KEPT => self.curve.push(json),
+            // PNP's observer watches one plan: the first agent's of the first run.
+            FeedEvent::Marking(marking) if marking.source == MONITORED => {
+                if let Some((_, format)) = self.plans.get(&marking.source) {
+                    let has_clients = !self.clients.lock().unwrap_or_else(PoisonError::into_inner).is_empty();
+                    if has_clients {
+                        pnp_monitor::broadcast(&self.clients, &format.line(marking));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn keep_plan(&mut self, shape: &PlanShape, json: Vec<u8>) {
+        self.plans
+            .insert(shape.source.clone(), (json, pnp_monitor::LineFormat::new(shape)));
+    }
+}

@@ -10,6 +10,8 @@
 
 use std::fmt::Debug;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Mutex, PoisonError};
+use std::time::{Duration, Instant};
 
 use iceoryx2::identifiers::UniquePublisherId;
 use iceoryx2::node::Node;
@@ -78,13 +80,21 @@ impl FeedServices {
     }
 }
 
-/// An agent's feed publisher: a [`FeedSink`] that never waits.
+/// How often an agent sends its plan's shape again, so that a view that
+/// starts (or is restarted) after the agent still draws the plan.
+const PLAN_AGAIN: Duration = Duration::from_secs(1);
+
+/// An agent's feed publisher: a [`FeedSink`] that never waits. The plan's
+/// shape, sent once by the agent, is sent again every [`PLAN_AGAIN`] with
+/// the records that follow.
 pub struct FeedPublisher {
     publisher: Publisher<FeedIpc, [u8], FeedHeader>,
     agent: u32,
     run_id: u64,
     sequence: AtomicU64,
     dropped: AtomicU64,
+    /// The plan's shape, encoded, and when it was last sent.
+    plan: Mutex<Option<(Vec<u8>, Instant)>>,
     _node: Node<FeedIpc>,
 }
 
@@ -116,6 +126,7 @@ impl FeedPublisher {
             run_id,
             sequence: AtomicU64::new(0),
             dropped: AtomicU64::new(0),
+            plan: Mutex::new(None),
             _node: node,
         })
     }
@@ -125,11 +136,9 @@ impl FeedPublisher {
         self.dropped.load(Ordering::Relaxed)
     }
 
-    fn send(&self, event: &FeedEvent) -> bool {
+    /// Sends one encoded record; whether it went.
+    fn send(&self, bytes: &[u8]) -> bool {
         let sequence = self.sequence.fetch_add(1, Ordering::Relaxed) + 1;
-        let Ok(bytes) = serde_json::to_vec(event) else {
-            return false;
-        };
         if bytes.len() > MAX_FEED_BYTES {
             return false;
         }
@@ -142,14 +151,32 @@ impl FeedPublisher {
             run_id: self.run_id,
             sequence,
         };
-        sample.write_from_slice(&bytes).send().is_ok()
+        sample.write_from_slice(bytes).send().is_ok()
+    }
+
+    /// Sends one encoded record, counting it if it was dropped.
+    fn send_or_count(&self, bytes: &[u8]) {
+        if !self.send(bytes) {
+            self.dropped.fetch_add(1, Ordering::Relaxed);
+        }
     }
 }
 
 impl FeedSink for FeedPublisher {
     fn publish(&self, event: &FeedEvent) {
-        if !self.send(event) {
+        let Ok(bytes) = serde_json::to_vec(event) else {
             self.dropped.fetch_add(1, Ordering::Relaxed);
+            return;
+        };
+        self.send_or_count(&bytes);
+        let mut plan = self.plan.lock().unwrap_or_else(PoisonError::into_inner);
+        if let FeedEvent::Plan(_) = event {
+            *plan = Some((bytes, Instant::now()));
+        } else if let Some((shape, sent)) = plan.as_mut()
+            && sent.elapsed() >= PLAN_AGAIN
+        {
+            *sent = Instant::now();
+            self.send_or_count(shape);
         }
     }
 }

@@ -3,16 +3,18 @@
 //! the heartbeat and its counts, the supervisor's orders, the checkpoints
 //! (written by a background thread, every N learning episodes and on
 //! request) with the compute histogram, the resumed values a restart
-//! reports, and the agent's "ready". What an agent decides with, and the
-//! messages of its world, are its own. Publishers of an agent's live state
-//! belong here, beside its heartbeat.
+//! reports, the agent's "ready", and in a run with a view its live feed
+//! ([`crate::ipc::feed`]). What an agent decides with, and the messages of
+//! its world, are its own.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use super::background_save::{BackgroundSave, CHECKPOINT_SPACING, Checkpoint};
 use super::sim_process::histogram_file;
 use super::{Pacemaker, ProcessError, RunContext};
 use crate::ipc::convert::{Rejection, agent_report, read_control};
+use crate::ipc::feed::FeedPublisher;
 use crate::ipc::protocol::{AgentNews, Order, ProcessState, Role};
 use crate::ipc::services::{IpcError, Outlet, Pub, Sub, receive};
 use crate::latency::Latency;
@@ -90,6 +92,8 @@ pub(crate) struct Chassis {
     saver: BackgroundSave,
     /// Learning episodes played (and replayed) since the agent started.
     pub(crate) learning_episodes: u64,
+    /// A run with a view: the agent's live feed (none otherwise: nothing of it exists).
+    pub(crate) feed: Option<Arc<FeedPublisher>>,
 }
 
 impl Chassis {
@@ -112,6 +116,14 @@ impl Chassis {
             checkpoint_every,
             saver: BackgroundSave::start(CHECKPOINT_SPACING).map_err(ProcessError::Writer)?,
             learning_episodes: 0,
+            feed: match context.feed {
+                true => Some(Arc::new(FeedPublisher::open(
+                    &context.namespace()?,
+                    index,
+                    context.run_id,
+                )?)),
+                false => None,
+            },
         })
     }
 

@@ -10,7 +10,6 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use super::view_process::ViewCounts;
 use super::Clock;
 use super::agent_process::compute_histogram;
 use super::floor_probe::REMOTE_HOST_FLOOR;
@@ -18,6 +17,7 @@ use super::sim_process::{AbortedEpisode, FLOOR, ROUND_TRIP, keeper_round_trip_hi
 use super::supervisor::config::{SupervisorConfig, SupervisorError, json_error};
 use super::supervisor::results::{ResumeCheck, RunRecord};
 use super::supervisor::watch::Fault;
+use super::view_process::ViewCounts;
 use super::world_agent::WORLD_TURNAROUND;
 use crate::hosts::report::LinkReport;
 use crate::ipc::convert::Rejections;
@@ -230,10 +230,7 @@ pub(crate) fn summarize(
             refused: a.refused.plus(&b.refused),
             ..a
         }),
-        view: records
-            .iter()
-            .filter_map(|r| r.view.clone())
-            .reduce(|a, b| a.add(&b)),
+        view: records.iter().filter_map(|r| r.view.clone()).reduce(|a, b| a.add(&b)),
         leftover_shm_files: records.iter().map(|r| r.leftover_files).sum(),
         ipc_prefixes: records.iter().map(|r| r.prefix.clone()).collect(),
         wall_seconds,

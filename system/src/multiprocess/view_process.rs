@@ -9,13 +9,14 @@
 //! the view shows, and a restarted one carries its predecessor's counts on.
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use learnpnp_feed::{FeedEvent, FeedSink, LatencySummary, ProcessHealth};
 use serde::{Deserialize, Serialize};
 
+use super::supervisor::ViewConfig;
 use super::{ProcessError, RunContext};
 use crate::ipc::convert::read_heartbeat;
 use crate::ipc::feed::{FeedCounts, FeedReader};
@@ -103,7 +104,7 @@ pub fn run(
     let before = ViewCounts::load(&context.work_dir);
     let mut seen: BTreeMap<Role, Seen> = BTreeMap::new();
     let mut heartbeats_rejected = 0;
-    let mut summary_due = Instant::now();
+    let mut last_summary: Option<Instant> = None;
     loop {
         let stopping = stop.load(Ordering::Relaxed);
         reader.read(|event| sink.publish(&event))?;
@@ -129,8 +130,8 @@ pub fn run(
             served_dropped: sink_dropped(),
             heartbeats_rejected,
         });
-        if stopping || summary_due.elapsed() >= SUMMARY_EVERY {
-            summary_due = Instant::now();
+        if stopping || last_summary.is_none_or(|t| t.elapsed() >= SUMMARY_EVERY) {
+            last_summary = Some(Instant::now());
             for (role, process) in &seen {
                 sink.publish(&FeedEvent::Health(health(*role, process)));
             }
@@ -223,15 +224,19 @@ fn histogram_name(path: &Path) -> Option<String> {
     pid.parse::<u32>().ok().map(|_| name.to_string())
 }
 
-/// The view process's command line beyond the run's: where it serves.
-pub fn view_args(address: Option<std::net::SocketAddr>, record_mcap: Option<&PathBuf>) -> Vec<std::ffi::OsString> {
+/// The view process's command line beyond the run's for run `run` of `view`.
+pub(crate) fn view_args(view: &ViewConfig, run: usize) -> Vec<std::ffi::OsString> {
     let mut args = Vec::new();
-    if let Some(address) = address {
+    if let Some(address) = view.address {
         args.push("--listen".into());
         args.push(address.to_string().into());
     }
-    if let Some(file) = record_mcap {
+    if let Some(file) = view.recording(run) {
         args.push("--record-mcap".into());
+        args.push(file.into());
+    }
+    if let Some(file) = &view.jsonl {
+        args.push("--jsonl".into());
         args.push(file.clone().into());
     }
     args
@@ -247,7 +252,10 @@ mod tests {
             histogram_name(Path::new("/r/compute-keeper1.4242.hdr")).as_deref(),
             Some("compute-keeper1")
         );
-        assert_eq!(histogram_name(Path::new("/r/roundtrip.17.hdr")).as_deref(), Some("roundtrip"));
+        assert_eq!(
+            histogram_name(Path::new("/r/roundtrip.17.hdr")).as_deref(),
+            Some("roundtrip")
+        );
         assert_eq!(histogram_name(Path::new("/r/view.json")), None);
         assert_eq!(histogram_name(Path::new("/r/a.b.hdr")), None);
     }

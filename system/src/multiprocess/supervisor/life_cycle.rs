@@ -89,7 +89,7 @@ impl Watch<'_> {
                 };
                 // A restarted view resumes nothing but its counts (from its file).
                 let mut args = self.context.to_args();
-                args.extend(view_args(view.address, view.recording(self.context.run).as_ref()));
+                args.extend(view_args(view, self.context.run));
                 let process = spawn(self.config.binaries.view()?, role, &args, &self.log(role))?;
                 // The view sends no heartbeat: its exit is what is watched.
                 self.fleet.processes.insert(role, process);

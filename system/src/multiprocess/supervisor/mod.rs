@@ -36,8 +36,8 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use crate::ipc::namespace::{Namespace, NamespaceOwner};
 use crate::ipc::feed::FeedServices;
+use crate::ipc::namespace::{Namespace, NamespaceOwner};
 use crate::ipc::services::{RunServices, node};
 use config::{RUNS_DIR, io_error};
 use watch::Watch;

@@ -9,7 +9,6 @@ use std::process::ExitStatus;
 
 use serde::Serialize;
 
-use crate::multiprocess::view_process::ViewCounts;
 use super::config::{SupervisorError, io_error, json_error};
 use super::watch::{Fault, Watch};
 use crate::hosts::report::LinkReport;
@@ -20,6 +19,7 @@ use crate::multiprocess::agent_chassis::{checkpoint_name, resumed_file};
 use crate::multiprocess::agent_process::compute_histogram;
 use crate::multiprocess::floor_probe::REMOTE_HOST_FLOOR;
 use crate::multiprocess::sim_process::{FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult, keeper_round_trip_histogram};
+use crate::multiprocess::view_process::ViewCounts;
 use crate::multiprocess::world_agent::{WORLD_TURNAROUND, agent_compute_histogram, agent_result_file};
 use learnpnp::learning::persist::{self, SavedValues};
 
