@@ -18,6 +18,7 @@ use learnpnp::experiment::spec::{Algorithm, DomainSpec};
 use learnpnp::named::Named;
 use learnpnp_cli::args::{ExperimentFlags, named};
 use learnpnp_cli::interrupt::Interrupt;
+use learnpnp_cli::view::ViewFlags;
 use learnpnp_system::hosts::PLAIN_TCP_WARNING;
 use learnpnp_system::hosts::certs::{self, CertRequest, HostFiles};
 use learnpnp_system::ipc::namespace::{Namespace, clean_stale};
@@ -214,15 +215,12 @@ struct RunArgs {
     /// normally scheduled and its report says why.
     #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u8).range(0..=99))]
     rt_priority: u8,
-    /// Watch the run live: a view process (`learnpnp-view`, read-only, off
-    /// the learners' path) serves the agents' live feed and every process's
-    /// health as a page and the Foxglove WebSocket protocol at ADDR
-    /// (default 127.0.0.1:8765; port 0: any free port, named in the view's log).
-    #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = "127.0.0.1:8765")]
-    view: Option<std::net::SocketAddr>,
-    /// Record the view's channels to this MCAP file (run r > 0: FILE-run<r>.mcap).
-    #[arg(long, value_name = "FILE")]
-    record_mcap: Option<PathBuf>,
+    /// The live view: a process of its own (`learnpnp-view`, read-only, off
+    /// the learners' path, its address in runs/run-N/view.log) serves the
+    /// agents' live feeds and every process's health; with several runs,
+    /// run r > 0 records to FILE-run<r>.mcap.
+    #[command(flatten)]
+    view: ViewFlags,
     /// Write every record the view serves as a line of JSON to this file (appended).
     #[arg(long, value_name = "FILE")]
     view_jsonl: Option<PathBuf>,
@@ -388,9 +386,10 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
                 link_certs: args.link.certs()?,
             }),
         },
-        view: (args.view.is_some() || args.record_mcap.is_some() || args.view_jsonl.is_some()).then(|| ViewConfig {
-            address: args.view,
-            record_mcap: args.record_mcap.clone(),
+        view: (args.view.options().is_some() || args.view_jsonl.is_some()).then(|| ViewConfig {
+            address: args.view.view,
+            record_mcap: args.view.record_mcap.clone(),
+            pnp_monitor: args.view.pnp_monitor,
             jsonl: args.view_jsonl.clone(),
         }),
         // A ROS 2 world republishes the agents' feed as the plan's state.

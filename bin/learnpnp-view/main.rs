@@ -1,14 +1,17 @@
 //! `learnpnp-view`: the view of a multi-process run (started by
 //! `learnpnp-supervisor --view`, which passes every argument). Read-only: it
 //! reads the agents' live feeds and the heartbeats on the run's iceoryx2
-//! services and serves them; SIGTERM or Ctrl-C ends it with its last counts
-//! written.
+//! services and serves them with the `learnpnp-view` crate's server (the
+//! page and the Foxglove WebSocket protocol, an MCAP recording, PNP's
+//! monitor line); SIGTERM or Ctrl-C ends it with its last counts written
+//! and its recording closed.
 
 use std::fs::File;
 use std::io::{BufWriter, Write as _};
+use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 use anyhow::{Context, Result};
 use clap::Parser;
@@ -16,6 +19,7 @@ use learnpnp_cli::interrupt::Interrupt;
 use learnpnp_feed::{FeedEvent, FeedSink};
 use learnpnp_system::child_args::RunContextArgs;
 use learnpnp_system::multiprocess::{RunContext, view_process};
+use learnpnp_view::{View, ViewOptions};
 
 /// The view of a run: the agents' live feeds and every process's health.
 #[derive(Parser)]
@@ -23,6 +27,15 @@ use learnpnp_system::multiprocess::{RunContext, view_process};
 struct Args {
     #[command(flatten)]
     context: RunContextArgs,
+    /// Serve the page and the Foxglove WebSocket protocol on this address (port 0: any free port).
+    #[arg(long)]
+    listen: Option<SocketAddr>,
+    /// Record every channel to this MCAP file.
+    #[arg(long)]
+    record_mcap: Option<PathBuf>,
+    /// Write PNP's monitor line to TCP clients on this address.
+    #[arg(long)]
+    pnp_monitor: Option<SocketAddr>,
     /// Also write every record served as a line of JSON to FILE.
     #[arg(long)]
     jsonl: Option<PathBuf>,
@@ -43,7 +56,7 @@ impl FeedSink for JsonLines {
 }
 
 /// Every sink the view hands its records to.
-struct Sinks(Vec<Box<dyn FeedSink>>);
+struct Sinks(Vec<Arc<dyn FeedSink>>);
 
 impl FeedSink for Sinks {
     fn publish(&self, event: &FeedEvent) {
@@ -56,17 +69,42 @@ impl FeedSink for Sinks {
 fn run(args: Args) -> Result<()> {
     let interrupt = Interrupt::install().context("installing the signal handlers")?;
     let context = RunContext::from(args.context);
-    let mut sinks: Vec<Box<dyn FeedSink>> = Vec::new();
+    let mut sinks: Vec<Arc<dyn FeedSink>> = Vec::new();
+    let view = if args.listen.is_some() || args.record_mcap.is_some() || args.pnp_monitor.is_some() {
+        let view = View::start(ViewOptions {
+            address: args.listen,
+            record_mcap: args.record_mcap.clone(),
+            pnp_monitor: args.pnp_monitor,
+            ..ViewOptions::default()
+        })
+        .context("starting the view's server")?;
+        if let Some(address) = view.address() {
+            eprintln!("view: http://{address}/ (Foxglove: ws://{address})");
+        }
+        if let Some(address) = view.pnp_monitor_address() {
+            eprintln!("PNP monitor line: tcp://{address}");
+        }
+        let view = Arc::new(view);
+        sinks.push(view.clone());
+        Some(view)
+    } else {
+        None
+    };
     if let Some(path) = &args.jsonl {
         let file = File::options()
             .create(true)
             .append(true)
             .open(path)
             .with_context(|| format!("opening {}", path.display()))?;
-        sinks.push(Box::new(JsonLines(Mutex::new(BufWriter::new(file)))));
+        sinks.push(Arc::new(JsonLines(Mutex::new(BufWriter::new(file)))));
     }
     let sinks = Sinks(sinks);
-    let counts = view_process::run(&context, &sinks, &|| 0, interrupt.flag())?;
+    let dropped = || view.as_ref().map_or(0, |v| v.dropped());
+    let counts = view_process::run(&context, &sinks, &dropped, interrupt.flag())?;
+    drop(sinks);
+    if let Some(view) = view.and_then(Arc::into_inner) {
+        view.close().context("closing the view")?;
+    }
     eprintln!(
         "learnpnp-view: {} feed records served, {} refused, {} lost",
         counts.feed.received,

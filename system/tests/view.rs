@@ -3,10 +3,17 @@
 //! same episodes as without one, garbage on a feed is refused and counted,
 //! and a killed view does not stop the run.
 
+use std::collections::HashMap;
 use std::fs;
+use std::net::SocketAddr;
 use std::path::Path;
 use std::process::Stdio;
-use std::time::Duration;
+use std::time::{Duration, Instant};
+
+use futures_util::{SinkExt, StreamExt};
+use learnpnp::feed::FeedEvent;
+use tokio_tungstenite::tungstenite::Message;
+use tokio_tungstenite::tungstenite::client::IntoClientRequest;
 
 use learnpnp_system::ipc::feed::feed_service;
 use learnpnp_system::multiprocess::supervisor::{IDENTITY_FILE, run_work_dir};
@@ -33,22 +40,6 @@ const LONGER: &[&str] = &[
 /// The learner and seed of every run here.
 const LEARNER: &[&str] = &["--seed", "3", "--algo", "soft-sosmc"];
 
-/// A short lock-step run (its episodes those of `in_process` with the same flags).
-const SHORT: &[&str] = &[
-    "--seed",
-    "3",
-    "--algo",
-    "soft-sosmc",
-    "--episodes",
-    "60",
-    "--eval-every",
-    "30",
-    "--eval-episodes",
-    "3",
-    "--greedy-episodes",
-    "3",
-];
-
 /// The records of a view's JSON lines, by kind (`Plan`, `Marking`, `Health`, ...).
 fn records(path: &Path) -> Vec<(String, Value)> {
     fs::read_to_string(path)
@@ -73,43 +64,129 @@ fn identity(out: &Path) -> (String, u64) {
     )
 }
 
+/// The address run 0's view serves on, once its log names it.
+fn view_address(out: &Path) -> SocketAddr {
+    let line = || {
+        let log = fs::read_to_string(run_work_dir(out, 0).join("view.log")).unwrap_or_default();
+        log.lines()
+            .find_map(|l| l.strip_prefix("view: http://"))
+            .and_then(|rest| rest.split('/').next())
+            .and_then(|address| address.parse().ok())
+    };
+    assert!(
+        wait_until(Duration::from_secs(60), || line().is_some()),
+        "the view names its address"
+    );
+    line().unwrap()
+}
+
+/// What a client of the view's Foxglove WebSocket protocol receives on
+/// `wanted` channels until `enough` says so (or a minute passes).
+fn watch(address: SocketAddr, wanted: &[&str], enough: impl Fn(&[FeedEvent]) -> bool) -> Vec<FeedEvent> {
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .unwrap();
+    runtime.block_on(async {
+        let mut request = format!("ws://{address}/").into_client_request().unwrap();
+        request
+            .headers_mut()
+            .insert("Sec-WebSocket-Protocol", "foxglove.sdk.v1".parse().unwrap());
+        let (mut socket, _) = tokio_tungstenite::connect_async(request).await.unwrap();
+        let mut topics: HashMap<u64, String> = HashMap::new();
+        let mut received = Vec::new();
+        let deadline = Instant::now() + Duration::from_secs(60);
+        let mut subscribed = false;
+        while Instant::now() < deadline && !enough(&received) {
+            let Ok(Some(Ok(message))) = tokio::time::timeout(Duration::from_secs(5), socket.next()).await else {
+                continue;
+            };
+            match message {
+                Message::Text(text) => {
+                    let json: Value = serde_json::from_str(&text).unwrap();
+                    if json["op"] == "advertise" {
+                        for channel in json["channels"].as_array().unwrap() {
+                            let topic = channel["topic"].as_str().unwrap().to_owned();
+                            topics.insert(channel["id"].as_u64().unwrap(), topic);
+                        }
+                    }
+                    if !subscribed && topics.len() >= wanted.len() {
+                        let subscriptions: Vec<Value> = topics
+                            .iter()
+                            .filter(|(_, topic)| wanted.contains(&topic.as_str()))
+                            .map(|(id, _)| serde_json::json!({ "id": id, "channelId": id }))
+                            .collect();
+                        let subscribe = serde_json::json!({ "op": "subscribe", "subscriptions": subscriptions });
+                        socket.send(Message::text(subscribe.to_string())).await.unwrap();
+                        subscribed = true;
+                    }
+                }
+                Message::Binary(data) if data.len() > 13 && data[0] == 1 => {
+                    let subscription = u32::from_le_bytes(data[1..5].try_into().unwrap());
+                    let topic = &topics[&u64::from(subscription)];
+                    received.push(FeedEvent::from_payload(topic, &data[13..]).expect("a record of the feed"));
+                }
+                _ => {}
+            }
+        }
+        received
+    })
+}
+
 #[test]
-fn a_view_serves_every_process_and_changes_no_episode() {
+fn a_client_sees_every_agent_and_process_and_the_run_plays_the_same_episodes() {
     let sandbox = Sandbox::new("view");
     let out = sandbox.out("system");
-    let jsonl = sandbox.out("feed.jsonl");
-    let output = sandbox
-        .supervisor("system", SHORT)
-        .arg("--view-jsonl")
-        .arg(&jsonl)
-        .output()
+    let child = sandbox
+        .supervisor("system", LEARNER)
+        .args(LONGER)
+        .arg("--view=127.0.0.1:0")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
         .unwrap();
-    assert!(output.status.success(), "{}", text(&output.stderr));
-    in_process(
-        "keepaway-position",
-        "soft-sosmc",
-        "3",
-        &SHORT[4..],
-        &sandbox.out("inproc"),
+    let address = view_address(&out);
+    assert!(address.ip().is_loopback());
+    let processes = ["simulator", "keeper 1", "keeper 2", "keeper 3", "view"];
+    let seen = |received: &[FeedEvent]| {
+        let agents = |kind: usize| {
+            (0..3).all(|a| {
+                received.iter().any(|e| match e {
+                    FeedEvent::Marking(m) => kind == 1 && m.source.agent == a,
+                    FeedEvent::Choice(c) => kind == 2 && c.source.agent == a,
+                    _ => false,
+                })
+            })
+        };
+        let healthy = processes.iter().all(|p| {
+            received
+                .iter()
+                .any(|e| matches!(e, FeedEvent::Health(h) if h.process == *p))
+        });
+        agents(1) && agents(2) && healthy
+    };
+    let received = watch(
+        address,
+        &["/learnpnp/marking", "/learnpnp/choice", "/learnpnp/health"],
+        seen,
     );
+    assert!(
+        seen(&received),
+        "markings and choices of every agent, every process's health"
+    );
+    let output = finish(child);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    in_process("keepaway-position", "soft-sosmc", "3", LONGER, &sandbox.out("inproc"));
     assert_same_files(
         &out,
         &sandbox.out("inproc"),
         &["episodes.csv", "curve.csv", "values.bin"],
     );
-    let records = records(&jsonl);
-    for process in ["simulator", "keeper 1", "keeper 2", "keeper 3", "view"] {
-        assert!(
-            records
-                .iter()
-                .any(|(kind, r)| kind == "Health" && r["process"] == process),
-            "no health of {process}"
-        );
-    }
     let s = summary(&out);
     assert_eq!(s["complete"], true);
     assert_eq!(s["restarts"], 0);
     let view = &s["view"];
+    assert!(view["feed"]["received"].as_u64().unwrap() > 0, "{view}");
     assert_eq!(view["feed"]["rejected"]["content"], 0, "{view}");
     sandbox.assert_clean(&prefixes(&s));
 }
@@ -147,7 +224,12 @@ fn garbage_on_a_feed_is_refused_and_counted_and_the_view_serves_on() {
     ];
     {
         let node = foreign_node(&sandbox, &prefix);
-        let publisher = feed_service(&node, 0).unwrap().publisher_builder().create().unwrap();
+        let publisher = feed_service(&node, 0)
+            .unwrap()
+            .publisher_builder()
+            .initial_max_slice_len(4096)
+            .create()
+            .unwrap();
         for (sequence, (version, sender, run_id, bytes)) in garbage.iter().enumerate() {
             let mut sample = publisher.loan_slice_uninit(bytes.len()).unwrap();
             *sample.user_header_mut() = FeedHeader {

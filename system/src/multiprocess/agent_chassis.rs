@@ -18,7 +18,9 @@ use crate::ipc::feed::FeedPublisher;
 use crate::ipc::protocol::{AgentNews, Order, ProcessState, Role};
 use crate::ipc::services::{IpcError, Outlet, Pub, Sub, receive};
 use crate::latency::Latency;
+use learnpnp::feed::{FeedSink, Source};
 use learnpnp::learning::persist::{self, PlanLabels, SavedValues};
+use learnpnp::learning::{Learner, WatchedLearner};
 use learnpnp::plan::Plan;
 use shm_layouts::{AgentReport, Control, Heartbeat};
 
@@ -125,6 +127,21 @@ impl Chassis {
                 false => None,
             },
         })
+    }
+
+    /// `learner`, the agent's learner running `plan`, watched by the run's
+    /// view if it has one (its plan, markings, choices, rewards and episodes
+    /// published on the agent's feed); as it is otherwise.
+    pub(crate) fn watched(&self, learner: Box<dyn Learner>, plan: &Plan) -> Box<dyn Learner> {
+        let Some(feed) = &self.feed else {
+            return learner;
+        };
+        let source = Source {
+            run: self.context.run as u32,
+            agent: self.index as u32,
+        };
+        let sink: Arc<dyn FeedSink> = feed.clone();
+        Box::new(WatchedLearner::new(learner, plan, source, sink))
     }
 
     /// Counts a refused message in the heartbeat.

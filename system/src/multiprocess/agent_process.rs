@@ -8,7 +8,6 @@
 //! snapshot is due ([`EXPECT_EARLY`]).
 
 use learnpnp::named::Named;
-use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -135,14 +134,16 @@ fn begins_next(last_begun: Option<u64>, clock: Clock, episode: u64) -> bool {
     }
 }
 
-/// Builds keeper `k`'s brain for run `context.run` of `spec`.
+/// Builds keeper `k`'s brain for run `context.run` of `spec` (its learner
+/// watched by the run's view, if it has one).
 fn brain(
     spec: &ExperimentSpec,
     config: &KeepawayDomainConfig,
     context: &RunContext,
     settings: &AgentSettings,
-    checkpoint: &Path,
+    chassis: &Chassis,
 ) -> Result<Brain, ProcessError> {
+    let checkpoint = &chassis.checkpoint;
     let k = settings.keeper;
     let sim_config = config.simulator();
     if k >= config.learning_keepers() {
@@ -159,7 +160,7 @@ fn brain(
     } else {
         spec.load_initial_values(Some(&plan))?.into_iter().nth(k)
     };
-    let learner = learner_for(spec, context.run, k, start.as_ref());
+    let learner = chassis.watched(learner_for(spec, context.run, k, start.as_ref()), &plan);
     let keeper = PlanKeeper::new(
         Arc::clone(&plan),
         &registry(&sim_config),
@@ -464,7 +465,7 @@ pub fn run(context: &RunContext, settings: &AgentSettings) -> Result<(), Process
         settings.checkpoint_every,
         compute_histogram(k),
     )?;
-    let brain = brain(&spec, &config, context, settings, &chassis.checkpoint)?;
+    let brain = brain(&spec, &config, context, settings, &chassis)?;
     let namespace = context.namespace()?;
     let node = node(&namespace, &format!("keeper-{k}"))?;
     let ports = AgentPorts::open(&node, k, context.wait)?;

@@ -235,6 +235,10 @@ pub(crate) fn view_args(view: &ViewConfig, run: usize) -> Vec<std::ffi::OsString
         args.push("--record-mcap".into());
         args.push(file.into());
     }
+    if let Some(address) = view.pnp_monitor {
+        args.push("--pnp-monitor".into());
+        args.push(address.to_string().into());
+    }
     if let Some(file) = &view.jsonl {
         args.push("--jsonl".into());
         args.push(file.clone().into());

@@ -605,7 +605,7 @@ pub fn run(context: &RunContext, settings: &WorldAgentSettings) -> Result<(), Pr
     } else {
         spec.load_initial_values(Some(&plan))?.into_iter().nth(a)
     };
-    let learner = learner_for(&spec, context.run, a, start.as_ref());
+    let learner = chassis.watched(learner_for(&spec, context.run, a, start.as_ref()), &plan);
     let stepwise = StepwiseAgent::new(Arc::clone(&plan), learner).map_err(|e| ProcessError::Task(e.into()))?;
     let namespace = context.namespace()?;
     let node = node(&namespace, &format!("agent-{a}"))?;

@@ -72,6 +72,8 @@ pub struct ViewConfig {
     pub address: Option<std::net::SocketAddr>,
     /// An MCAP recording of the feed (run `r` > 0: `NAME-run<r>.mcap` beside it).
     pub record_mcap: Option<PathBuf>,
+    /// PNP's monitor line, on this address.
+    pub pnp_monitor: Option<std::net::SocketAddr>,
     /// Every record served, as lines of JSON appended to this file.
     pub jsonl: Option<PathBuf>,
 }
