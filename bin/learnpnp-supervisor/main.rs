@@ -392,6 +392,8 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
             pnp_monitor: args.view.pnp_monitor,
             jsonl: args.view_jsonl.clone(),
         }),
+        // A ROS 2 world republishes the agents' feed as the plan's state.
+        agents_feed: args.ros2.is_some(),
     };
     let p = config.spec.protocol;
     eprintln!(

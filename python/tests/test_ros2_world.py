@@ -13,11 +13,17 @@ The corridor has five cells and costs -1 a step, so the best return is -4
 (four steps forward); the greedy episodes after learning must all earn it.
 A robot that sends a malformed CDR payload and a message under a wrong type
 hash gets both refused and counted, and the run goes on to the optimum.
+
+The plan's state reaches the same independent peer as ROS 2 topics, as
+PNPros published it: the robot subscribes with zenoh-ros2-sdk to
+``/learnpnp/agent1/pnp/currentActivePlaces``, ``.../runningActions`` and
+``.../choices``, which the world republishes from the agent's live feed.
 """
 
 import json
 import os
 import pathlib
+import re
 import socket
 import subprocess
 import sys
@@ -120,7 +126,8 @@ def learn(supervisor, sandbox, port, name, seed, mapping_name="corridor.toml", e
 def test_a_ros2_corridor_robot_is_learned_to_the_optimum_and_bad_messages_are_refused(
     supervisor, ros2_world, sandbox, router
 ):
-    robot = start_robot(router, sandbox, "--faults", "3")
+    echoed = sandbox / "plan_state.jsonl"
+    robot = start_robot(router, sandbox, "--faults", "3", "--plan-state", str(echoed))
     try:
         summary, counts = learn(supervisor, sandbox, router, "corridor", "1")
     finally:
@@ -131,6 +138,42 @@ def test_a_ros2_corridor_robot_is_learned_to_the_optimum_and_bad_messages_are_re
     assert counts["timeouts"] == 0, counts
     assert counts["steps"] >= 150 * 4, counts
     assert counts["resets"] >= 150 + GREEDY, counts
+    check_plan_state(echoed, counts["plan_state"])
+
+
+def check_plan_state(echoed, counts):
+    """What the robot received of the agent's plan state, against the plan's
+    own labels (read from its PNML here) and the world's counts."""
+    pnml = (ROOT / "plans" / "ros2" / "corridor.pnml").read_text()
+    places = set(re.findall(r"<place id=[^>]*>.*?<name>\s*<value>([^<]*)</value>", pnml, re.S))
+    actions = {p[: -len(".exec")] for p in places if p.endswith(".exec")}
+    assert actions == {"forward", "back"}, places
+    got = {"currentActivePlaces": [], "runningActions": [], "choices": []}
+    for line in echoed.read_text().splitlines():
+        message = json.loads(line)
+        got[message["topic"]].append(message["data"])
+    assert got["currentActivePlaces"], counts
+    for data in got["currentActivePlaces"]:
+        assert data and set(data.split(",")) <= places, data
+    # The markings are sampled where the learner sees them (at most 30 a
+    # second): the actions' names when any runs, empty otherwise.
+    assert abs(len(got["runningActions"]) - len(got["currentActivePlaces"])) <= 1, got
+    assert {a for data in got["runningActions"] for a in data.split(",") if a} <= actions, got
+    choices = [json.loads(data) for data in got["choices"]]
+    assert choices, counts
+    for choice in choices:
+        names = [o["name"] for o in choice["options"]]
+        assert choice["choice"] in places and choice["chosen"] in names, choice
+        assert all(o["value"] is None or isinstance(o["value"], float) for o in choice["options"]), choice
+    # Once learned, the options have values, and going forward is worth more than going back.
+    last = [c for c in choices if all(o["value"] is not None for o in c["options"])][-1]
+    value = {o["name"]: o["value"] for o in last["options"]}
+    assert value["forward"] > value["back"], last
+    assert counts["unreadable"] is None, counts
+    assert counts["feed"]["received"] > 0, counts
+    assert sum(counts["feed"]["rejected"].values()) == 0, counts
+    assert counts["republished"]["choices"] >= len(choices), counts
+    assert counts["republished"]["refused"] == counts["republished"]["failed"] == 0, counts
 
 
 def test_plan_actions_as_ros2_action_goals_run_to_their_results_on_an_sdk_robot(

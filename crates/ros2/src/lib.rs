@@ -5,9 +5,11 @@
 //! ([`node`], opened by the secure link's code: [`link`]); the mapping file
 //! ([`mapping`]) and the world it makes ([`world`], served by the
 //! `learnpnp-ros2-world` binary); the plan's state as ROS 2 topics
-//! ([`plan_state`]). `docs/ROS2.md` is the user's guide.
+//! ([`plan_state`]), republished from the agents' live feed ([`feed`]).
+//! `docs/ROS2.md` is the user's guide.
 
 pub mod cdr;
+pub mod feed;
 pub mod keys;
 pub mod link;
 pub mod mapping;

@@ -89,6 +89,36 @@ impl Default for RosSection {
     }
 }
 
+fn default_publish() -> bool {
+    true
+}
+fn default_plan_namespace() -> String {
+    "/learnpnp".into()
+}
+
+/// `[plan_state]`: the agents' plan state as ROS 2 topics, as PNPros
+/// published it (`pnp/currentActivePlaces`, `pnp/runningActions`,
+/// `pnp/choices`, agent `n`'s under `{namespace}/agent{n}`).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlanStateSection {
+    /// Whether the world republishes the agents' plan state.
+    #[serde(default = "default_publish")]
+    pub publish: bool,
+    /// The namespace the agents' namespaces are in (absolute).
+    #[serde(default = "default_plan_namespace")]
+    pub namespace: String,
+}
+
+impl Default for PlanStateSection {
+    fn default() -> Self {
+        PlanStateSection {
+            publish: default_publish(),
+            namespace: default_plan_namespace(),
+        }
+    }
+}
+
 /// `[zenoh]`: where the Zenoh router (rmw_zenohd or zenohd) is.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -261,6 +291,9 @@ pub struct Mapping {
     pub ros: RosSection,
     /// The Zenoh session.
     pub zenoh: ZenohSection,
+    /// The plan's state as ROS 2 topics.
+    #[serde(default)]
+    pub plan_state: PlanStateSection,
     /// Interface files.
     #[serde(default)]
     pub interfaces: Vec<Interface>,
@@ -392,6 +425,20 @@ pub fn parse(file: &Path, text: &str) -> Result<Loaded, MappingError> {
     }
     if let Some(a) = &mapping.answer {
         check.msg_type("[answer]", &a.type_name)?;
+    }
+    let namespace = &mapping.plan_state.namespace;
+    if !namespace.starts_with('/')
+        || namespace.len() > 1 && namespace.ends_with('/')
+        || namespace.contains("//")
+        || !namespace
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '/')
+    {
+        return Err(entry(
+            "[plan_state]".into(),
+            namespace,
+            "a namespace is absolute, of letters, digits, '_' and '/' (\"/learnpnp\")".into(),
+        ));
     }
     if mapping.zenoh.connect.is_empty() && mapping.zenoh.listen.is_empty() {
         return Err(entry(
@@ -651,6 +698,12 @@ type = "std_srvs/srv/Empty"
         assert!(!near.holds(&range(0.75)));
         assert!(l.mapping.atoms[0].holds(&Value::fields([("data", Value::Bool(true))])));
         assert!(!l.mapping.atoms[0].holds(&Value::fields([("data", Value::Bool(false))])));
+        assert!(l.mapping.plan_state.publish);
+        assert_eq!(l.mapping.plan_state.namespace, "/learnpnp");
+        let off = format!("{GOOD}\n[plan_state]\npublish = false\nnamespace = \"/robot_1/plan\"\n");
+        let off = parse(Path::new("m.toml"), &off).unwrap().mapping.plan_state;
+        assert!(!off.publish);
+        assert_eq!(off.namespace, "/robot_1/plan");
     }
 
     #[test]
@@ -676,6 +729,11 @@ type = "std_srvs/srv/Empty"
         assert!(e.contains("[[action]] 'forward': 'dta'"), "{e}");
         let e = err(&GOOD.replace("name = \"position\"", "name = \"at_end\""));
         assert!(e.contains("'at_end': named twice"), "{e}");
+        let e = err(&format!("{GOOD}\n[plan_state]\nnamespace = \"learnpnp\"\n"));
+        assert!(
+            e.contains("m.toml: [plan_state]: 'learnpnp': a namespace is absolute"),
+            "{e}"
+        );
         let e = err(&GOOD.replace("[reset]", "[rest]"));
         assert!(e.starts_with("m.toml: ") && e.contains("rest"), "{e}");
         let e = err(&GOOD.replace("std_srvs/srv/Empty", "std_msgs/msg/Empty"));

@@ -1,9 +1,11 @@
 //! The plan's state as ROS 2 topics, as PNPros published it (its
 //! `pnp/currentActivePlaces`): the marked places, the running actions, and
 //! each choice with its values, as `std_msgs/msg/String` so that `ros2 topic
-//! echo` and Foxglove show them with nothing to install. The agent process
-//! calls a [`PlanStatePublisher`] on its node.
+//! echo` and Foxglove show them with nothing to install. The ROS 2 world
+//! process republishes the agents' live feed through a
+//! [`PlanStatePublisher`] per agent ([`Republisher`]).
 
+use learnpnp_feed::{ChoiceMade, FeedEvent, MarkingSample};
 use serde::Serialize;
 
 use crate::node::{Node, Publisher, Ros2Error};
@@ -34,8 +36,8 @@ pub struct Choice {
 pub struct OptionValue {
     /// The option (its transition's name).
     pub name: String,
-    /// Its value.
-    pub value: f64,
+    /// Its value (`null` while the learner has none for it).
+    pub value: Option<f64>,
 }
 
 /// Publishes the plan's state on a node (one `MP` token per topic).
@@ -59,6 +61,18 @@ impl PlanStatePublisher {
         })
     }
 
+    /// Declares the three publishers on `node` under `namespace` (absolute,
+    /// e.g. `/learnpnp/agent1`: its `pnp/currentActivePlaces` and the others).
+    pub fn in_namespace(node: &Node, namespace: &str) -> Result<Self, Ros2Error> {
+        let namespace = namespace.trim_end_matches('/');
+        let topic = |name: &str| format!("{namespace}/{name}");
+        Ok(PlanStatePublisher {
+            places: node.publisher(&topic(ACTIVE_PLACES), STRING)?,
+            actions: node.publisher(&topic(RUNNING_ACTIONS), STRING)?,
+            choices: node.publisher(&topic(CHOICES), STRING)?,
+        })
+    }
+
     /// The marked places' names.
     pub fn marking(&self, places: &[&str]) -> Result<(), Ros2Error> {
         self.places.publish(&text(places.join(",")))
@@ -73,6 +87,103 @@ impl PlanStatePublisher {
     pub fn choice(&self, choice: &Choice) -> Result<(), Ros2Error> {
         let json = serde_json::to_string(choice).map_err(|e| Ros2Error::Zenoh(e.to_string()))?;
         self.choices.publish(&text(json))
+    }
+}
+
+/// What the republishing of the agents' feed did.
+#[derive(Debug, Default, Clone, Serialize, PartialEq, Eq)]
+pub struct Republished {
+    /// Markings published (each on the places' and the actions' topics).
+    pub markings: u64,
+    /// Choices published.
+    pub choices: u64,
+    /// Records refused here: from an agent the run does not have, or a
+    /// choice whose option taken is not among its options.
+    pub refused: u64,
+    /// Publications that failed (the session's error, said on stderr).
+    pub failed: u64,
+}
+
+/// The agents' plan state republished as PNPros did: one
+/// [`PlanStatePublisher`] per agent, each in its own namespace.
+pub struct Republisher {
+    agents: Vec<PlanStatePublisher>,
+    counts: Republished,
+}
+
+impl Republisher {
+    /// Agent `a`'s publishers on `node` under `{namespace}/agent{a + 1}`, for `agents` agents.
+    pub fn new(node: &Node, namespace: &str, agents: usize) -> Result<Self, Ros2Error> {
+        let namespace = namespace.trim_end_matches('/');
+        Ok(Republisher {
+            agents: (0..agents)
+                .map(|a| PlanStatePublisher::in_namespace(node, &format!("{namespace}/agent{}", a + 1)))
+                .collect::<Result<_, _>>()?,
+            counts: Republished::default(),
+        })
+    }
+
+    /// What was republished so far.
+    pub fn counts(&self) -> &Republished {
+        &self.counts
+    }
+
+    /// Republishes one record of the feed (markings and choices; the rest is not plan state).
+    pub fn event(&mut self, event: &FeedEvent) {
+        let done = match event {
+            FeedEvent::Marking(m) => self.marking(m),
+            FeedEvent::Choice(c) => self.choice(c),
+            _ => return,
+        };
+        if let Err(e) = done {
+            self.counts.failed += 1;
+            eprintln!("learnpnp-ros2-world: the plan's state: {e}");
+        }
+    }
+
+    fn publisher(&mut self, agent: u32) -> Option<&PlanStatePublisher> {
+        let publisher = self.agents.get(agent as usize);
+        if publisher.is_none() {
+            self.counts.refused += 1;
+        }
+        publisher
+    }
+
+    fn marking(&mut self, m: &MarkingSample) -> Result<(), Ros2Error> {
+        let Some(publisher) = self.publisher(m.source.agent) else {
+            return Ok(());
+        };
+        let places: Vec<&str> = m.marked.iter().map(|p| p.label.as_str()).collect();
+        let running: Vec<&str> = m.running.iter().map(String::as_str).collect();
+        publisher.marking(&places)?;
+        publisher.running(&running)?;
+        self.counts.markings += 1;
+        Ok(())
+    }
+
+    fn choice(&mut self, c: &ChoiceMade) -> Result<(), Ros2Error> {
+        let Some(taken) = c.options.get(c.taken as usize) else {
+            self.counts.refused += 1;
+            return Ok(());
+        };
+        let choice = Choice {
+            choice: c.choice_point.clone(),
+            options: c
+                .options
+                .iter()
+                .map(|o| OptionValue {
+                    name: o.label.clone(),
+                    value: o.value,
+                })
+                .collect(),
+            chosen: taken.label.clone(),
+        };
+        let Some(publisher) = self.publisher(c.source.agent) else {
+            return Ok(());
+        };
+        publisher.choice(&choice)?;
+        self.counts.choices += 1;
+        Ok(())
     }
 }
 
@@ -120,7 +231,7 @@ mod tests {
                 choice: "choose".into(),
                 options: vec![OptionValue {
                     name: "forward".into(),
-                    value: -4.0,
+                    value: Some(-4.0),
                 }],
                 chosen: "forward".into(),
             })

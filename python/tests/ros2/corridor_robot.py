@@ -27,6 +27,12 @@ status canceled); the robot prints ``canceled K`` for the K-th goal it cancels.
 With ``--log FILE``, the robot appends the wall-clock time (ns) of each
 command, one a line.
 
+With ``--plan-state FILE``, the robot also subscribes, as ``ros2 topic echo``
+would, to the agent's plan state (``std_msgs/String`` on
+``/learnpnp/agent1/pnp/currentActivePlaces``, ``.../runningActions`` and
+``.../choices``) and appends each message to FILE as a line of JSON
+(``{"topic": ..., "data": ...}``).
+
 With ``--faults N``, after its N-th command the robot also sends, once, a
 ``Bool`` whose CDR byte is 7 (malformed) and a ``Bool`` under a wrong type
 hash, before its true state; with ``--action``, the N-th goal's status list
@@ -36,6 +42,7 @@ Message definitions come from ``msgs/`` beside this file: nothing is fetched.
 """
 
 import argparse
+import json
 import os
 import pathlib
 import signal
@@ -54,6 +61,7 @@ def main():
     parser.add_argument("--action", action="store_true", help="take commands as goals of the /corridor/move action")
     parser.add_argument("--log", help="append each command's time (ns) to this file")
     parser.add_argument("--stall", type=int, default=0, help="with --action: hold this goal until canceled (0: none)")
+    parser.add_argument("--plan-state", help="append the agent's plan-state messages to this file")
     args = parser.parse_args()
     # Contact nothing but the router on 127.0.0.1: no multicast, no gossip, no listener.
     os.environ["ZENOH_CONFIG_OVERRIDE"] = (
@@ -131,6 +139,20 @@ def main():
     else:
         ROS2Subscriber("/corridor/cmd", "std_msgs/msg/Int32", lambda msg: move(int(msg.data)), **where)
     server = ROS2ServiceServer("/corridor/reset", "corridor_msgs/srv/Reset", callback=on_reset, **where)
+    if args.plan_state:
+        echo = open(args.plan_state, "a", buffering=1)
+        echo_lock = threading.Lock()
+
+        def echoed(topic):
+            def write(msg):
+                with echo_lock:
+                    echo.write(json.dumps({"topic": topic, "data": msg.data}) + "\n")
+
+            return write
+
+        for topic in ("currentActivePlaces", "runningActions", "choices"):
+            name = f"/learnpnp/agent1/pnp/{topic}"
+            ROS2Subscriber(name, "std_msgs/msg/String", echoed(topic), **where)
     print("ready", flush=True)
     stop = threading.Event()
     signal.signal(signal.SIGTERM, lambda *_: stop.set())

@@ -31,6 +31,8 @@ pub mod world_env {
     pub const ROOT: &str = "LEARNPNP_IPC_ROOT";
     /// The run id.
     pub const RUN_ID: &str = "LEARNPNP_RUN_ID";
+    /// The run's index in the experiment (0-based; the agents' feed records carry it).
+    pub const RUN: &str = "LEARNPNP_RUN";
     /// How many agents.
     pub const AGENTS: &str = "LEARNPNP_AGENTS";
     /// `lockstep` or `realtime`.
@@ -327,6 +329,7 @@ pub(crate) fn spawn_world(
         .env(world_env::PREFIX, namespace.prefix())
         .env(world_env::ROOT, format!("{}/", namespace.root().display()))
         .env(world_env::RUN_ID, context.run_id.to_string())
+        .env(world_env::RUN, context.run.to_string())
         .env(world_env::AGENTS, plans.len().to_string())
         .env(world_env::CLOCK, context.clock.name())
         .env(world_env::PERIOD_MS, period.as_millis().to_string())

@@ -89,6 +89,8 @@ pub(crate) struct WorldRun {
     pub namespace: Namespace,
     /// The run id.
     pub run_id: u64,
+    /// The run's index in the experiment (0-based).
+    pub run: usize,
     /// How many agents.
     pub agents: usize,
     /// Lock-step or real time.
@@ -132,6 +134,7 @@ impl WorldRun {
         Ok(WorldRun {
             namespace: Namespace::at(&base, &var(world_env::PREFIX)?)?,
             run_id: number(world_env::RUN_ID)?,
+            run: number(world_env::RUN)?,
             agents: number(world_env::AGENTS)?,
             clock: named(world_env::CLOCK)?,
             period: Duration::from_millis(number(world_env::PERIOD_MS)?),

@@ -60,6 +60,9 @@ pub struct SupervisorConfig {
     pub cluster: Option<Cluster>,
     /// The run's view (`learnpnp-view`, fed by the agents' live feeds); none: nothing of it is created.
     pub view: Option<ViewConfig>,
+    /// The agents publish their live feed even without a view: a ROS 2
+    /// world (`--ros2`) republishes it as the plan's state.
+    pub agents_feed: bool,
 }
 
 /// A run's view: where it serves and what it records.
@@ -108,6 +111,11 @@ impl SupervisorConfig {
     /// The run's processes: Keepaway's, or a world's and its agents.
     pub fn roster(&self) -> Roster {
         Roster::of(&self.spec.domain)
+    }
+
+    /// Whether the agents publish their live feed (a view, or a world that reads it).
+    pub fn feeds(&self) -> bool {
+        self.view.is_some() || self.agents_feed
     }
 }
 

@@ -610,7 +610,7 @@ impl<'a> Watch<'a> {
             wait: config.wait,
             spec: spec_path.to_path_buf(),
             work_dir: work_dir.to_path_buf(),
-            feed: config.view.is_some(),
+            feed: config.feeds(),
         };
         let identity = serde_json::json!({ "ipc_prefix": context.ipc_prefix, "run_id": context.run_id });
         let identity_path = work_dir.join(IDENTITY_FILE);

@@ -81,9 +81,9 @@ fn run_in(
     let namespace = owner.namespace();
     let node = node(namespace, "supervisor")?;
     let _services = RunServices::create(&node, config.roster())?;
-    let _feeds = match config.view {
-        Some(_) => Some(FeedServices::create(&node, config.roster().agents())?),
-        None => None,
+    let _feeds = match config.feeds() {
+        true => Some(FeedServices::create(&node, config.roster().agents())?),
+        false => None,
     };
     let mut watch = Watch::launch(config, namespace, &node, run, work_dir, spec_path)?;
     let watched = watch.watch(stop, observer);
