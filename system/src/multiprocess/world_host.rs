@@ -84,7 +84,7 @@ const HOUSEKEEPING_EVERY: Duration = Duration::from_millis(1);
 
 /// The run as the world process's environment gives it.
 #[derive(Debug, Clone)]
-pub(crate) struct WorldRun {
+pub struct WorldRun {
     /// The run's namespace.
     pub namespace: Namespace,
     /// The run id.
@@ -105,7 +105,7 @@ pub(crate) struct WorldRun {
 
 impl WorldRun {
     /// Reads the run from the environment the supervisor gives a world.
-    pub(crate) fn from_env() -> Result<Self, WorldHostError> {
+    pub fn from_env() -> Result<Self, WorldHostError> {
         fn var(name: &'static str) -> Result<String, WorldHostError> {
             std::env::var(name).map_err(|_| WorldHostError::Environment {
                 name,
