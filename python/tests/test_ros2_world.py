@@ -27,6 +27,7 @@ import re
 import socket
 import subprocess
 import sys
+import time
 
 import pytest
 
@@ -236,3 +237,60 @@ def test_in_real_time_the_robot_is_commanded_at_its_rate_and_latencies_are_recor
     for histogram in ("roundtrip", "world-turnaround", "compute", "floor"):
         assert (latency / f"{histogram}.hgrm").stat().st_size > 0, histogram
     assert summary["latency_us"]["p50"] > 0, summary
+
+
+def ros2_world_pids(marker):
+    """The `learnpnp-ros2-world` processes whose command line names `marker`."""
+    pids = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                argv = (pathlib.Path("/proc") / entry / "cmdline").read_bytes().split(b"\0")
+            except OSError:
+                continue
+            if argv and argv[0].endswith(b"learnpnp-ros2-world") and any(marker.encode() in a for a in argv):
+                pids.append(int(entry))
+    return pids
+
+
+def test_a_killed_ros2_world_is_restarted_and_the_robot_is_still_learned(supervisor, ros2_world, sandbox, router):
+    """The ROS 2 world restarts as any world does: killed mid-run, the
+    supervisor starts another, which reconnects to the robot, and the agent
+    still learns the optimum."""
+    robot = start_robot(router, sandbox, "--log", str(sandbox / "commands.log"))
+    name, episodes = "restarted", 600
+    out, ipc = sandbox / name, sandbox / "ipc"
+    plan = str(ROOT / "plans" / "ros2" / "corridor.pnml")
+    mapping_file = mapping(sandbox, router, "corridor.toml")
+    command = [supervisor, "--ros2", str(mapping_file), "--plan", plan, "--algo", "q-learning"]
+    command += ["--episodes", str(episodes), "--eval-every", str(episodes), "--eval-episodes", "0"]
+    command += ["--greedy-episodes", str(GREEDY), "--seed", "4", "--out", str(out), "--floor-round-trips", "200"]
+    run = subprocess.Popen(
+        command,
+        env={**os.environ, "LEARNPNP_IPC_DIR": str(ipc)},
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        log = sandbox / "commands.log"
+        deadline = time.time() + 60
+        # Killed once the robot has been commanded for a while.
+        while not (log.exists() and len(log.read_text().split()) >= 200):
+            assert time.time() < deadline and run.poll() is None, "the run never commanded the robot"
+            time.sleep(0.05)
+        pids = ros2_world_pids(str(mapping_file))
+        assert len(pids) == 1, pids
+        os.kill(pids[0], 9)
+        _, stderr = run.communicate(timeout=120)
+    finally:
+        if run.poll() is None:
+            run.kill()
+        stop(robot)
+    assert run.returncode == 0, stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["complete"], summary
+    assert summary["restarts"] >= 1, summary
+    assert summary["experiment"]["final_greedy_mean"] == -4.0, summary
+    left = [f for f in os.listdir("/dev/shm") if any(f.startswith(p) for p in summary["ipc_prefixes"])]
+    assert left == [], left
