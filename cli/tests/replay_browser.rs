@@ -8,7 +8,7 @@
 //! Without one the test says so and passes, unless `LEARNPNP_REQUIRE_BROWSER`
 //! is set, as `.ci/run` sets it after installing the browser.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
@@ -29,33 +29,11 @@ fn learnpnp(args: &[&str]) -> Output {
     out
 }
 
-fn browser() -> Option<PathBuf> {
-    if let Some(path) = std::env::var_os("LEARNPNP_CHROMIUM") {
-        return Some(PathBuf::from(path));
-    }
-    let path = std::env::var_os("PATH")?;
-    std::env::split_paths(&path)
-        .flat_map(|dir| ["chromium", "chromium-browser"].map(|name| dir.join(name)))
-        .find(|candidate| candidate.is_file())
-}
-
 /// Runs the browser headless on `url` with `extra` flags (a fresh profile,
 /// no network of its own), killing it after two minutes.
 fn chromium(browser: &Path, profile: &Path, url: &str, extra: &[&str]) -> String {
     let mut child = Command::new(browser)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-quic",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--hide-scrollbars",
-            "--force-device-scale-factor=1",
-            "--window-size=1400,900",
-        ])
+        .args(crate::headless::FLAGS)
         .arg(format!("--user-data-dir={}", profile.display()))
         .args(extra)
         .arg(url)
@@ -136,7 +114,7 @@ const FIELD: [u8; 3] = [0x2f, 0x8a, 0x3a];
 
 #[test]
 fn a_recorded_episode_is_drawn_where_the_log_puts_it() {
-    let Some(browser) = browser() else {
+    let Some(browser) = crate::headless::find() else {
         assert!(
             std::env::var_os("LEARNPNP_REQUIRE_BROWSER").is_none(),
             "LEARNPNP_REQUIRE_BROWSER is set but no chromium was found"

@@ -27,12 +27,7 @@ use std::time::{Duration, Instant};
 use serde_json::{Value, json};
 
 fn browser() -> Option<PathBuf> {
-    let found = std::env::var_os("LEARNPNP_CHROMIUM").map(PathBuf::from).or_else(|| {
-        let path = std::env::var_os("PATH")?;
-        std::env::split_paths(&path)
-            .flat_map(|dir| ["chromium", "chromium-browser"].map(|name| dir.join(name)))
-            .find(|candidate| candidate.is_file())
-    });
+    let found = crate::headless::find();
     if found.is_none() {
         assert!(
             std::env::var_os("LEARNPNP_REQUIRE_BROWSER").is_none(),
@@ -63,20 +58,8 @@ impl Browser {
         let (r, w) = (browser_reads.as_raw_fd(), browser_writes.as_raw_fd());
         let mut command = Command::new(browser);
         command
-            .args([
-                "--headless",
-                "--no-sandbox",
-                "--disable-gpu",
-                "--disable-quic",
-                "--no-first-run",
-                "--disable-background-networking",
-                "--disable-component-update",
-                "--disable-sync",
-                "--hide-scrollbars",
-                "--force-device-scale-factor=1",
-                "--window-size=1400,900",
-                "--remote-debugging-pipe",
-            ])
+            .args(crate::headless::FLAGS)
+            .arg("--remote-debugging-pipe")
             .arg(format!("--user-data-dir={}", profile.display()))
             .arg("about:blank")
             .stdin(Stdio::null())
