@@ -40,14 +40,14 @@ dir_of() { if [ "$1" = base ]; then echo "$BASE"; else echo "$HEAD"; fi; }
 for round in $(seq 1 "$ROUNDS"); do
   for bench in $BENCHES; do
     for side in $(order "$round"); do
-      dir=$(dir_of $side)
+      dir=$(dir_of "$side")
       bin=$(bench_bin "$dir" "$bench")
       [ -n "$bin" ] || { echo "no $bench binary in $dir" >&2; exit 1; }
       log=$OUT/raw/bench-$round-$side-$bench.txt
       echo "# $(date -u +%FT%TZ) $(uptime)" > "$log"
       # From the checkout: criterion keeps its files under its target/criterion.
-      # shellcheck disable=SC2086
       rm -rf "$dir/target/criterion"
+      # shellcheck disable=SC2086
       (cd "$dir" && $NICE "$bin" --bench $CRITERION_ARGS) >> "$log" 2>&1
       # Criterion prints the mean; its median is in estimates.json.
       (cd "$dir/target/criterion" 2>/dev/null && find . -path '*/new/estimates.json' | while read -r e; do
@@ -60,7 +60,7 @@ done
 
 for round in $(seq 1 "$SUPERVISOR_ROUNDS"); do
   for side in $(order "$round"); do
-    dir=$(dir_of $side)
+    dir=$(dir_of "$side")
     run=$OUT/raw/supervisor-$round-$side
     rm -rf "$run"
     echo "# $(date -u +%FT%TZ) $(uptime)" > "$run.log"
