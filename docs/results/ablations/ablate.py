@@ -35,6 +35,7 @@ SOFT_6_10 = "parr-russell --algo soft-sosmc --assess per-decision --runs 1 --epi
 SOSMC_6_3 = "parr-russell --algo eps-sosmc --runs 200 --episodes 1000 --eval-every 20 --eval-episodes 20 --greedy-episodes 100 --epsilon 0.1 --initial-parameter 1 --assess never --alpha 0.01"
 # 6.13: Sutton's grid, 50 runs.
 SUTTON = "sutton --runs 50 --episodes 40000 --eval-every 200 --eval-episodes 0 --greedy-episodes 0"
+SUTTON_200 = SUTTON.replace("--runs 50", "--runs 200")
 
 # Chapter 7, shortened: 10 runs of 3000 episodes (the figures run 20 x 10,000 and 20 x 6000).
 PASS = "keepaway-pass --runs 10 --episodes 3000 --eval-every 500 --eval-episodes 20 --greedy-episodes 50"
@@ -81,11 +82,9 @@ SARSA_7_3 = [
     # decision per episode there); the TD schedule counts decisions, so here
     # 4500 episodes at the preset's 8 decisions per learning episode (run 0 of
     # docs/results/fig7.3/sarsa-0.9: 80,271 updates in 10,000 episodes):
-    # 36,000 decisions. The 7.5 preset's schedule as written is the next row.
+    # 36,000 decisions. The 7.5 preset's schedule as written is the last row.
     ("Figure 7.5's schedule: epsilon 0.2 -> 0 over 4500 episodes (36,000 decisions), alpha 0.125",
      "--epsilon 0.2:0:36000"),
-    ("the 7.5 preset's schedule as written: epsilon 0.2 -> 0 over 4500 decisions, alpha 0.125",
-     "--epsilon 0.2:0:4500"),
     # Section 6.1.2's optimistic Sarsa: greedy, alpha 0.01, from a value above
     # every return (6.1.2's 1 in its grid). Here: 60 s, above the longest
     # episode the hand-coded team holds in the committed baseline run
@@ -96,6 +95,8 @@ SARSA_7_3 = [
     # traces also clear the other actions' traces; with lambda 0 no trace
     # outlives a decision, so that difference does not arise in this row.
     ("keepaway framework's learner: Sarsa(0), alpha 0.125, epsilon 0.01, from 0", "--lambda 0"),
+    ("the 7.5 preset's schedule as written: epsilon 0.2 -> 0 over 4500 decisions, alpha 0.125",
+     "--epsilon 0.2:0:4500"),
 ]
 # The learning curve's level at these episodes (from each row's curve.csv).
 LEVELS_7_3 = (500, 1000, 2500, 5000, 10000)
@@ -150,6 +151,14 @@ SWEEPS = {
     "6.13-text": ("curve", [
         (f"sarsa-lambda; {label}", f"{SUTTON} --algo sarsa-lambda {flags}") for label, flags in SARSA_6_1_2
     ], None),
+    # 6.13's order with 200 runs per row (runs 0-49 are sweep 6.13's and
+    # 6.13-text's: a run's seed depends on the base seed and its index only);
+    # every row is also compared with the first (Soft-SoSMC) run by run.
+    "6.13-runs": ("compare", [
+        ("soft-sosmc; defaults (tau 4, every 20)", f"{SUTTON_200} --algo soft-sosmc"),
+        ("sarsa-lambda; defaults", f"{SUTTON_200} --algo sarsa-lambda"),
+        *[(f"sarsa-lambda; {label}", f"{SUTTON_200} --algo sarsa-lambda {flags}") for label, flags in SARSA_6_1_2],
+    ], None),
     # (kind, [(row label, flags)], seeds)
     "one-step": ("trace", [
         (f"{name}; {factor}", f"{TRACE_BASE} {flags} {extra}")
@@ -199,6 +208,11 @@ SWEEPS = {
 
 
 def run(learnpnp, flags, out, seed=None):
+    # A setting whose directory already holds a complete result is not run
+    # again (an interrupted sweep resumes; delete OUT to measure anew).
+    done = [r for r, _, files in os.walk(out) if "summary.json" in files]
+    if done and json.load(open(os.path.join(done[0], "summary.json"))).get("complete"):
+        return done[0]
     # One worker thread: the results are the same whatever the number (runner.rs).
     args = [learnpnp, "experiment", *flags.split(), "--threads", "1", "--out", out]
     if seed is not None:
@@ -286,6 +300,39 @@ def levels_sweep(learnpnp, out, rows):
         sys.stdout.flush()
 
 
+def final_scores(curve_dir):
+    """Each run's score at its last evaluation (runs.csv), in run order."""
+    last = {}
+    with open(os.path.join(curve_dir, "runs.csv")) as f:
+        for r in csv.DictReader(f):
+            run_, episode = int(r["run"]), int(r["episode"])
+            if run_ not in last or episode >= last[run_][0]:
+                last[run_] = (episode, float(r["score"]))
+    return [last[k][1] for k in sorted(last)]
+
+
+def compare_sweep(learnpnp, out, rows):
+    """Like curve_sweep, plus each row's final score minus the first row's, with
+    a 95% CI (normal approximation) over runs: Welch's for independent rows."""
+    print("| setting | runs | final score | 95% CI over runs | minus the first row | its 95% CI |")
+    print("|---|---|---|---|---|---|")
+    first = None
+    for label, flags in rows:
+        d = run(learnpnp, flags, os.path.join(out, slug(label)))
+        s = json.load(open(os.path.join(d, "summary.json")))
+        xs = final_scores(d)
+        lo, hi = s["final_ci95"]
+        if first is None:
+            first, diff = xs, "-"
+            dci = "-"
+        else:
+            m = statistics.mean(xs) - statistics.mean(first)
+            h = 1.96 * math.sqrt(statistics.variance(xs) / len(xs) + statistics.variance(first) / len(first))
+            diff, dci = f"{m:+.3f}", f"{m - h:+.3f} .. {m + h:+.3f}"
+        print(f"| {label} | {len(xs)} | {s['final_mean']:.3f} | {lo:.3f} .. {hi:.3f} | {diff} | {dci} |")
+        sys.stdout.flush()
+
+
 def slug(text):
     return "".join(c if c.isalnum() else "-" for c in text).strip("-")[:60]
 
@@ -301,6 +348,8 @@ def main():
         print(f"\n### Sweep {name}\n")
         if kind == "trace":
             trace_sweep(learnpnp, os.path.join(out, name), rows, seeds)
+        elif kind == "compare":
+            compare_sweep(learnpnp, os.path.join(out, name), rows)
         elif kind == "levels":
             levels_sweep(learnpnp, os.path.join(out, name), rows)
         else:
