@@ -148,6 +148,12 @@ SWEEPS = {
         ("Sarsa(0.9); fixed keepers pass at 3 m", f"{PASS} --algo sarsa-lambda --hold-threshold 3"),
     ], None),
     "7.3-sarsa": ("levels", [(f"Sarsa; {label}", f"{PASS_7_3} --algo sarsa-lambda {flags}") for label, flags in SARSA_7_3], None),
+    # The rows that stay near 9 s over ten more runs (base seed 2), pooled
+    # with 7.3-sarsa's ten when those are in OUT.
+    "7.3-sarsa-seed2": ("levels", [
+        (f"Sarsa; {label}", f"{PASS_7_3} --algo sarsa-lambda --seed 2 {flags}")
+        for label, flags in SARSA_7_3 if "--alpha 0.01" in flags and "--greedy" not in flags
+    ], None),
     "6.13-text": ("curve", [
         (f"sarsa-lambda; {label}", f"{SUTTON} --algo sarsa-lambda {flags}") for label, flags in SARSA_6_1_2
     ], None),
@@ -282,8 +288,35 @@ def curve_sweep(learnpnp, out, rows):
         sys.stdout.flush()
 
 
+def run_scores(curve_dir):
+    """Each evaluation's score by episode, one list over runs (runs.csv)."""
+    by = defaultdict(list)
+    with open(os.path.join(curve_dir, "runs.csv")) as f:
+        for r in csv.DictReader(f):
+            by[int(r["episode"])].append(float(r["score"]))
+    return by
+
+
+def pooled(dirs):
+    """The runs of several result directories of one setting, pooled: the
+    final score's mean and 95% CI (t with 19 df for 20 runs, else normal),
+    and the mean at LEVELS_7_3."""
+    by = defaultdict(list)
+    for d in dirs:
+        for e, xs in run_scores(d).items():
+            by[e] += xs
+    final = by[max(by)]
+    n = len(final)
+    h = (2.093 if n == 20 else 1.96) * statistics.stdev(final) / math.sqrt(n)
+    m = statistics.mean(final)
+    levels = " | ".join(f"{statistics.mean(by[e]):.2f}" if e in by else "-" for e in LEVELS_7_3)
+    return n, m, m - h, m + h, levels
+
+
 def levels_sweep(learnpnp, out, rows):
-    """Like curve_sweep, plus the curve's level at LEVELS_7_3 episodes."""
+    """Like curve_sweep, plus the curve's level at LEVELS_7_3 episodes; a row
+    also in 7.3-sarsa (same label, in OUT) is then shown pooled with it."""
+    pooled_rows = []
     heads = " | ".join(f"at {n}" for n in LEVELS_7_3)
     print(f"| setting | final score | 95% CI over runs | greedy policy's score | {heads} |")
     print("|---|---|---|---|" + "---|" * len(LEVELS_7_3))
@@ -298,6 +331,15 @@ def levels_sweep(learnpnp, out, rows):
         levels = " | ".join(f"{curve[n]:.2f}" if n in curve else "-" for n in LEVELS_7_3)
         print(f"| {label} | {s['final_mean']:.3f} | {lo:.3f} .. {hi:.3f} | {gtext} | {levels} |")
         sys.stdout.flush()
+        other = os.path.join(os.path.dirname(out), "7.3-sarsa", slug(label))
+        if os.path.basename(out) != "7.3-sarsa" and os.path.exists(os.path.join(other, "summary.json")):
+            pooled_rows.append((label, pooled([other, d])))
+    if pooled_rows:
+        print("\nPooled with sweep 7.3-sarsa's runs of the same setting:\n")
+        print("| setting | runs | final score | 95% CI over runs | " + " | ".join(f"at {n}" for n in LEVELS_7_3) + " |")
+        print("|---|---|---|---|" + "---|" * len(LEVELS_7_3))
+        for label, (n, m, lo, hi, levels) in pooled_rows:
+            print(f"| {label} | {n} | {m:.3f} | {lo:.3f} .. {hi:.3f} | {levels} |")
 
 
 def final_scores(curve_dir):
