@@ -16,7 +16,7 @@ use std::sync::{Arc, Mutex};
 use anyhow::{Context, Result};
 use clap::Parser;
 use learnpnp_cli::interrupt::Interrupt;
-use learnpnp_feed::{FeedEvent, FeedSink};
+use learnpnp_feed::{FeedEvent, FeedSink, KINDS};
 use learnpnp_system::child_args::RunContextArgs;
 use learnpnp_system::multiprocess::{RunContext, view_process};
 use learnpnp_view::{View, ViewOptions};
@@ -53,6 +53,18 @@ impl FeedSink for JsonLines {
         // A full disk loses lines, not the view.
         let _ = writeln!(file, "{line}").and_then(|()| file.flush());
     }
+
+    /// The line of the record as serde writes it (`{"Kind":payload}`), without decoding it.
+    fn publish_payload(&self, kind: usize, payload: &[u8]) {
+        let Some(tag) = KINDS.get(kind) else {
+            return;
+        };
+        let mut file = self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let _ = write!(file, "{{\"{tag}\":")
+            .and_then(|()| file.write_all(payload))
+            .and_then(|()| file.write_all(b"}\n"))
+            .and_then(|()| file.flush());
+    }
 }
 
 /// Every sink the view hands its records to.
@@ -62,6 +74,12 @@ impl FeedSink for Sinks {
     fn publish(&self, event: &FeedEvent) {
         for sink in &self.0 {
             sink.publish(event);
+        }
+    }
+
+    fn publish_payload(&self, kind: usize, payload: &[u8]) {
+        for sink in &self.0 {
+            sink.publish_payload(kind, payload);
         }
     }
 }

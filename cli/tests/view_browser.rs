@@ -401,6 +401,14 @@ fn marked(sample: &Value, records: &Records) -> Value {
     )
 }
 
+/// A fresh temporary directory for the test `name` (emptied if it was there).
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("learnpnp-view-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    dir
+}
+
 /// SplitMix64 (Steele, Lea and Flood 2014): the test's own seeded numbers.
 struct SplitMix(u64);
 
@@ -415,8 +423,8 @@ impl SplitMix {
 }
 
 /// A recorded run of a small plan with a choice point (seeded, so the same
-/// file every time): its plan, then per episode its markings, its choice,
-/// its end, and a curve point every fifth episode.
+/// file every time): its plan, then per episode its markings (and its
+/// sub-plan `go`'s), its choice, its end, and a curve point every fifth episode.
 fn recording() -> Vec<(&'static str, u64, Value)> {
     let places = ["init", "choose", "go.exec", "wait.exec", "goal"];
     let source = json!({"run": 0, "agent": 0});
@@ -456,6 +464,16 @@ fn recording() -> Vec<(&'static str, u64, Value)> {
                 json!({"source": source, "episode": episode, "step": step,
                        "tokens": tokens, "marked": [{"label": places[at], "tokens": 1}], "running": running}),
             ));
+            if at == 2 {
+                // The action `go` is a sub-plan: its marking too, which the page does not draw.
+                t += 1;
+                messages.push((
+                    "/learnpnp/marking",
+                    t,
+                    json!({"source": source, "sub_plan": "go", "episode": episode, "step": step,
+                           "tokens": [0, 1], "marked": [{"label": "stepping", "tokens": 1}], "running": ["step"]}),
+                ));
+            }
             at = match at {
                 0 => 1,
                 1 => {
@@ -524,11 +542,31 @@ fn assert_replays(browser: &Path, dir: &Path, file: Vec<u8>, records: &Records) 
             .and_then(|t| t.parse().ok())
             .expect("the time shown");
         let agent = state["agent"].as_str().expect("the agent shown");
-        let sample = records
-            .iter()
-            .rfind(|(topic, time, r)| topic == "/learnpnp/marking" && time - first <= t_ns && agent_of(r) == agent)
-            .map(|(_, _, sample)| sample)
-            .expect("a marking by then");
+        let by_then = |sub_plan: bool| {
+            records.iter().rfind(|(topic, time, r)| {
+                topic == "/learnpnp/marking"
+                    && time - first <= t_ns
+                    && agent_of(r) == agent
+                    && r.get("sub_plan").is_some() == sub_plan
+            })
+        };
+        let sample = by_then(false).map(|(_, _, sample)| sample).expect("a marking by then");
+        // A sub-plan's marking is shown on its own line, never drawn on the plan.
+        let sub_plan = by_then(true).map_or_else(
+            || "-".to_string(),
+            |(_, _, r)| {
+                format!(
+                    "{}: {}",
+                    r["sub_plan"].as_str().expect("a name"),
+                    r["marked"][0]["label"].as_str().expect("a label")
+                )
+            },
+        );
+        assert_eq!(
+            state["subPlan"],
+            json!(sub_plan),
+            "{what}: the sub-plan's marking at {t_ns} ns"
+        );
         let shown: Value = serde_json::from_str(state["marked"].as_str().expect("the marked places")).expect("JSON");
         assert_eq!(
             shown,
@@ -550,11 +588,14 @@ fn assert_replays(browser: &Path, dir: &Path, file: Vec<u8>, records: &Records) 
     assert_eq!(state["spanNs"], json!(span.to_string()));
     let t = check(&state, "t=0.5");
     assert!(t.abs_diff(span / 2) <= 1, "t=0.5 shows {t} ns of {span}");
-    let markings = records
-        .iter()
-        .filter(|m| m.0 == "/learnpnp/marking" && m.1 - first <= t)
-        .count();
-    assert_eq!(state["markings"], json!(markings.to_string()));
+    let markings = |sub_plan: bool| {
+        records
+            .iter()
+            .filter(|m| m.0 == "/learnpnp/marking" && m.1 - first <= t && m.2.get("sub_plan").is_some() == sub_plan)
+            .count()
+    };
+    assert_eq!(state["markings"], json!(markings(false).to_string()));
+    assert_eq!(state["subPlanMarkings"], json!(markings(true).to_string()));
     let shot = page.screenshot();
     assert_plan_drawn(&shot, &state);
 
@@ -620,9 +661,7 @@ fn assert_replays(browser: &Path, dir: &Path, file: Vec<u8>, records: &Records) 
 #[test]
 fn a_recording_replays_at_the_time_asked_and_where_the_slider_is_moved() {
     let Some(browser) = browser() else { return };
-    let dir = std::env::temp_dir().join(format!("learnpnp-view-replay-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let dir = scratch("replay");
     let messages = recording();
     let file = mcap(&messages);
     let records = read_mcap(&file);
@@ -634,9 +673,7 @@ fn a_recording_replays_at_the_time_asked_and_where_the_slider_is_moved() {
 #[test]
 fn a_run_recorded_by_learnpnp_experiment_replays() {
     let Some(browser) = browser() else { return };
-    let dir = std::env::temp_dir().join(format!("learnpnp-view-recorded-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let dir = scratch("recorded");
     let file = dir.join("run.mcap");
     let out = Command::new(env!("CARGO_BIN_EXE_learnpnp"))
         .args([
@@ -723,9 +760,7 @@ fn number(state: &Value, key: &str) -> u64 {
 #[test]
 fn a_live_run_is_drawn_as_it_learns() {
     let Some(browser) = browser() else { return };
-    let dir = std::env::temp_dir().join(format!("learnpnp-view-live-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let dir = scratch("live");
     let out = dir.join("out");
     let run = Run::start(&[
         "experiment",
@@ -812,16 +847,7 @@ fn the_foxglove_layout_reads_the_feeds_channels_and_places_every_panel() {
         .expect("docs/foxglove-layout.json");
     let layout: Value = serde_json::from_str(&text).expect("the layout is JSON");
     let panels = layout["configById"].as_object().expect("configById");
-    let channels = [
-        "/learnpnp/plan",
-        "/learnpnp/marking",
-        "/learnpnp/choice",
-        "/learnpnp/reward",
-        "/learnpnp/episode",
-        "/learnpnp/curve",
-        "/learnpnp/health",
-        "/learnpnp/latency",
-    ];
+    let channels = learnpnp::feed::CHANNELS;
     for (id, config) in panels {
         let paths: Vec<&str> = match config["paths"].as_array() {
             Some(paths) => paths.iter().map(|p| p["value"].as_str().expect("a path")).collect(),

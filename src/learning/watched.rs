@@ -18,6 +18,8 @@ use crate::plan::Plan;
 /// The labels a view reads of one plan (the root plan or a sub-plan).
 #[derive(Debug, Clone)]
 struct PlanLabels {
+    /// The plan's name.
+    name: String,
     /// Each place's name (its label, or its id when the label is blank).
     places: Vec<String>,
     /// Each action's name and its execution places.
@@ -27,6 +29,7 @@ struct PlanLabels {
 impl PlanLabels {
     fn new(plan: &Plan) -> Self {
         PlanLabels {
+            name: plan.name().to_owned(),
             places: (0..plan.net().places().len())
                 .map(|i| plan.place_name(PlaceId::new(i)).to_owned())
                 .collect(),
@@ -58,8 +61,9 @@ impl PlanLabels {
     }
 }
 
-/// A [`Learner`] that publishes to a feed: its plan's shape once, the root
-/// plan's markings (at most [`MARKINGS_PER_SECOND`] a second, with the rewards
+/// A [`Learner`] that publishes to a feed: its plan's shape once, the
+/// markings of the plan and its sub-plans (at most [`MARKINGS_PER_SECOND`] a
+/// second in all, each naming its sub-plan, with the rewards
 /// received since the previous one), every choice with the options' values
 /// and update counts, and every episode's end and return.
 pub struct WatchedLearner {
@@ -89,6 +93,7 @@ impl std::fmt::Debug for WatchedLearner {
 
 /// The labels of a plan the learner was not told of (places named by index).
 static UNKNOWN_PLAN: PlanLabels = PlanLabels {
+    name: String::new(),
     places: Vec::new(),
     actions: Vec::new(),
 };
@@ -116,14 +121,15 @@ impl WatchedLearner {
         }
     }
 
-    fn sample(&mut self, marking: &Marking) {
+    /// Publishes `plan`'s marking if the agent's budget of markings allows
+    /// (one clock read; the root plan and its sub-plans share the budget).
+    fn sample(&mut self, plan: PlanKey, marking: &Marking) {
         let now = Instant::now();
         if now < self.next_sample {
             return;
         }
         self.next_sample = now + SAMPLE_PERIOD;
-        let labels = &self.plans[0];
-        let tokens = marking.tokens();
+        let labels = self.plans.get(usize::from(plan.0)).unwrap_or(&UNKNOWN_PLAN);
         let running = labels
             .actions
             .iter()
@@ -132,9 +138,10 @@ impl WatchedLearner {
             .collect();
         self.sink.publish(&FeedEvent::Marking(MarkingSample {
             source: self.source.clone(),
+            sub_plan: (plan != PlanKey::ROOT).then(|| labels.name.clone()),
             episode: self.episode,
             step: self.step,
-            tokens: tokens.iter().map(|&n| u32::from(n)).collect(),
+            tokens: marking.tokens().iter().map(|&n| u32::from(n)).collect(),
             marked: marking
                 .marked()
                 .map(|(p, n)| PlaceTokens {
@@ -255,15 +262,13 @@ impl Chooser for WatchedLearner {
             self.step += u64::from(elapsed);
             self.episode_return += reward;
             self.unsent_reward += reward;
-            self.sample(marking);
         }
+        self.sample(plan, marking);
     }
 
     fn plan_started(&mut self, plan: PlanKey, marking: &Marking) {
         self.inner.plan_started(plan, marking);
-        if plan == PlanKey::ROOT {
-            self.sample(marking);
-        }
+        self.sample(plan, marking);
     }
 }
 
@@ -302,5 +307,79 @@ impl Learner for WatchedLearner {
 
     fn values_mut(&mut self) -> &mut ValueTable {
         self.inner.values_mut()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+    use std::sync::Mutex;
+
+    use super::*;
+    use crate::learning::{Exploration, MonteCarlo, MonteCarloConfig, Schedule};
+    use crate::plan::AllowedAtoms;
+    use crate::plan_file::load_plan;
+    use crate::rng::seeded;
+
+    /// A sink that keeps what is published.
+    #[derive(Default)]
+    struct Kept(Mutex<Vec<FeedEvent>>);
+
+    impl FeedSink for Kept {
+        fn publish(&self, event: &FeedEvent) {
+            self.0.lock().unwrap().push(event.clone());
+        }
+    }
+
+    /// A marking of `places` places with one token in the first.
+    fn first_marked(places: usize) -> Marking {
+        let mut tokens = vec![0; places];
+        tokens[0] = 1;
+        Marking::from_tokens(tokens)
+    }
+
+    #[test]
+    fn sub_plans_markings_are_sampled_within_the_agents_budget_and_name_their_sub_plan() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("plans/keepaway_position.schema");
+        let plan = load_plan(&path, AllowedAtoms::Open).unwrap();
+        let plans = plan.activation_plans();
+        let sub = plans[1];
+        let kept = Arc::new(Kept::default());
+        let learner = MonteCarlo::new(
+            MonteCarloConfig {
+                gamma: 1.0,
+                alpha: 0.1,
+                exploration: Exploration::EpsilonGreedy(Schedule::constant(0.1)),
+                initial_value: 0.0,
+            },
+            seeded(1),
+        );
+        let mut watched = WatchedLearner::new(Box::new(learner), &plan, Source { run: 0, agent: 1 }, kept.clone());
+        let root = first_marked(plan.net().places().len());
+        let inner = first_marked(sub.net().places().len());
+        watched.plan_started(PlanKey::ROOT, &root);
+        // Within the same period: the agent's budget is spent, nothing is sampled.
+        watched.plan_started(PlanKey(1), &inner);
+        std::thread::sleep(SAMPLE_PERIOD + Duration::from_millis(5));
+        watched.transition(PlanKey(1), &inner, 0.0, 1);
+        let markings: Vec<MarkingSample> = kept
+            .0
+            .lock()
+            .unwrap()
+            .iter()
+            .filter_map(|e| match e {
+                FeedEvent::Marking(m) => Some(m.clone()),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(markings.len(), 2, "{markings:?}");
+        assert_eq!(markings[0].sub_plan, None);
+        assert_eq!(markings[0].marked[0].label, plan.place_name(PlaceId::new(0)));
+        assert_eq!(markings[1].sub_plan.as_deref(), Some(sub.name()));
+        assert_eq!(markings[1].marked[0].label, sub.place_name(PlaceId::new(0)));
+        assert_eq!(markings[1].tokens.len(), sub.net().places().len());
+        // The root plan's marking is written as before (no `sub_plan` key).
+        let root_json = String::from_utf8(FeedEvent::Marking(markings[0].clone()).payload_json().unwrap()).unwrap();
+        assert!(!root_json.contains("sub_plan"), "{root_json}");
     }
 }

@@ -168,7 +168,7 @@ pub(crate) fn kill(pid: i32, signal: i32) {
 /// Stops process `pid` (SIGSTOP) and waits until every thread of it has
 /// stopped: a thread running on another core at the signal may still make a
 /// call (its checkpoint writer, a rename) before the stop reaches it.
-fn stop(pid: i32) {
+pub(crate) fn stop(pid: i32) {
     kill(pid, libc::SIGSTOP);
     let stopped = || {
         fs::read_dir(format!("/proc/{pid}/task")).is_ok_and(|tasks| {
@@ -237,6 +237,38 @@ pub(crate) fn in_process(domain: &str, algo: &str, seed: &str, protocol: &[&str]
         .expect("a spec");
     let output = run_quietly(&spec, 2);
     write_results(&output, &mut ResultDir::open(out).expect("a result directory")).expect("results written");
+}
+
+/// Waits for `child`, the supervisor of `sandbox`'s run `system` (keepaway-position,
+/// Soft-SoSMC, `seed`, `protocol`), and checks that it succeeded and played the
+/// episodes of the same experiment in one process: `episodes.csv`, `curve.csv`
+/// and `values.bin` byte-identical.
+pub(crate) fn assert_plays_in_process(child: Child, sandbox: &Sandbox, seed: &str, protocol: &[&str]) {
+    let output = finish(child);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    in_process(
+        "keepaway-position",
+        "soft-sosmc",
+        seed,
+        protocol,
+        &sandbox.out("inproc"),
+    );
+    assert_same_files(
+        &sandbox.out("system"),
+        &sandbox.out("inproc"),
+        &["episodes.csv", "curve.csv", "values.bin"],
+    );
+}
+
+/// The identity of run 0 of `out` (its prefix and id), once it exists.
+pub(crate) fn identity(out: &Path) -> (String, u64) {
+    let path = || run_work_dir(out, 0).join(IDENTITY_FILE);
+    assert!(wait_until(Duration::from_secs(60), || path().exists()));
+    let identity: Value = serde_json::from_str(&fs::read_to_string(path()).unwrap()).unwrap();
+    (
+        identity["ipc_prefix"].as_str().unwrap().to_string(),
+        identity["run_id"].as_u64().unwrap(),
+    )
 }
 
 pub(crate) fn assert_same_files(a: &Path, b: &Path, files: &[&str]) {
@@ -560,14 +592,7 @@ fn garbage_on_the_services_is_rejected_and_never_applied() {
             assert!(d.subscribers > 0, "no subscriber on {}", d.service);
         }
     }
-    let output = finish(child);
-    assert!(output.status.success(), "{}", text(&output.stderr));
-    in_process("keepaway-position", "soft-sosmc", "7", protocol, &sandbox.out("inproc"));
-    assert_same_files(
-        &out,
-        &sandbox.out("inproc"),
-        &["episodes.csv", "curve.csv", "values.bin"],
-    );
+    assert_plays_in_process(child, &sandbox, "7", protocol);
     let s = summary(&out);
     let sim = &s["rejected_messages"]["simulator"];
     assert!(sim["version"].as_u64().unwrap() >= 1, "{sim}");

@@ -1,7 +1,8 @@
 //! A run with a view: the agents publish their live feed on iceoryx2, the
 //! read-only view process (`learnpnp-view`) serves it; the run plays the
 //! same episodes as without one, garbage on a feed is refused and counted,
-//! and a killed view does not stop the run.
+//! and a killed view does not stop the run. The runs are short (150
+//! episodes): each is held (its simulator stopped) until the test is ready.
 
 use std::collections::HashMap;
 use std::fs;
@@ -16,29 +17,51 @@ use tokio_tungstenite::tungstenite::Message;
 use tokio_tungstenite::tungstenite::client::IntoClientRequest;
 
 use learnpnp_system::ipc::feed::feed_service;
-use learnpnp_system::multiprocess::supervisor::{IDENTITY_FILE, run_work_dir};
+use learnpnp_system::multiprocess::supervisor::run_work_dir;
+use learnpnp_system::multiprocess::view_process::ViewCounts;
 use serde_json::Value;
 use shm_layouts::{FeedHeader, PROTOCOL_VERSION};
 
 use crate::multiprocess::{
-    Sandbox, assert_same_files, finish, foreign_node, in_process, kill, pids_with_all, prefixes, summary, wait_until,
+    Sandbox, assert_plays_in_process, foreign_node, identity, kill, pids_with_all, prefixes, stop, summary, wait_until,
 };
-use crate::util::text;
 
-/// A longer run's protocol, for what happens while it runs.
-const LONGER: &[&str] = &[
-    "--episodes",
-    "1000",
-    "--eval-every",
-    "500",
-    "--eval-episodes",
-    "3",
-    "--greedy-episodes",
-    "3",
-];
+/// The runs' protocol: the hosts' short one (150 episodes) without its seed and algorithm.
+fn protocol() -> &'static [&'static str] {
+    &crate::hosts::SHORT[..8]
+}
 
 /// The learner and seed of every run here.
 const LEARNER: &[&str] = &["--seed", "3", "--algo", "soft-sosmc"];
+
+/// Starts run `system` of `sandbox` with a view (`view_args`), and stops its
+/// simulator (SIGSTOP) before it has played the run out: the test does what
+/// it must while the run waits, then lets it go on with [`resume`]. Lock-step,
+/// the run plays the same episodes however long it waits.
+fn start_held(sandbox: &Sandbox, view_args: &[&std::ffi::OsStr]) -> (std::process::Child, i32) {
+    let child = sandbox
+        .supervisor("system", LEARNER)
+        .args(protocol())
+        // Held, the simulator sends no heartbeat: not taken as hung on a loaded machine.
+        .args(["--heartbeat-timeout", "60"])
+        .args(view_args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The work directory is found anew: it appears when the supervisor starts.
+    let work = || run_work_dir(&sandbox.out("system"), 0);
+    let simulator = || pids_with_all(&["learnpnp-sim", &work().to_string_lossy()]);
+    assert!(wait_until(Duration::from_secs(60), || simulator().len() == 1));
+    let pid = simulator()[0];
+    stop(pid);
+    (child, pid)
+}
+
+/// Lets a run held by [`start_held`] go on.
+fn resume(simulator: i32) {
+    kill(simulator, libc::SIGCONT);
+}
 
 /// The records of a view's JSON lines, by kind (`Plan`, `Marking`, `Health`, ...).
 fn records(path: &Path) -> Vec<(String, Value)> {
@@ -51,17 +74,6 @@ fn records(path: &Path) -> Vec<(String, Value)> {
             Some((kind.clone(), body.clone()))
         })
         .collect()
-}
-
-/// The run's prefix and id, once its supervisor has named them.
-fn identity(out: &Path) -> (String, u64) {
-    let path = || run_work_dir(out, 0).join(IDENTITY_FILE);
-    assert!(wait_until(Duration::from_secs(60), || path().exists()));
-    let identity: Value = serde_json::from_str(&fs::read_to_string(path()).unwrap()).unwrap();
-    (
-        identity["ipc_prefix"].as_str().unwrap().to_string(),
-        identity["run_id"].as_u64().unwrap(),
-    )
 }
 
 /// The address run 0's view serves on, once its log names it.
@@ -81,8 +93,14 @@ fn view_address(out: &Path) -> SocketAddr {
 }
 
 /// What a client of the view's Foxglove WebSocket protocol receives on
-/// `wanted` channels until `enough` says so (or a minute passes).
-fn watch(address: SocketAddr, wanted: &[&str], enough: impl Fn(&[FeedEvent]) -> bool) -> Vec<FeedEvent> {
+/// `wanted` channels until `enough` says so, the view closes, or a minute
+/// passes; `subscribed` is called once it has subscribed.
+fn watch(
+    address: SocketAddr,
+    wanted: &[&str],
+    subscribed: impl FnOnce(),
+    enough: impl Fn(&[FeedEvent]) -> bool,
+) -> Vec<FeedEvent> {
     let runtime = tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()
@@ -96,10 +114,12 @@ fn watch(address: SocketAddr, wanted: &[&str], enough: impl Fn(&[FeedEvent]) -> 
         let mut topics: HashMap<u64, String> = HashMap::new();
         let mut received = Vec::new();
         let deadline = Instant::now() + Duration::from_secs(60);
-        let mut subscribed = false;
+        let mut subscribed = Some(subscribed);
         while Instant::now() < deadline && !enough(&received) {
-            let Ok(Some(Ok(message))) = tokio::time::timeout(Duration::from_secs(5), socket.next()).await else {
-                continue;
+            let message = match tokio::time::timeout(Duration::from_secs(5), socket.next()).await {
+                Ok(Some(Ok(message))) => message,
+                Ok(None | Some(Err(_))) => break,
+                Err(_) => continue,
             };
             match message {
                 Message::Text(text) => {
@@ -110,7 +130,7 @@ fn watch(address: SocketAddr, wanted: &[&str], enough: impl Fn(&[FeedEvent]) -> 
                             topics.insert(channel["id"].as_u64().unwrap(), topic);
                         }
                     }
-                    if !subscribed && topics.len() >= wanted.len() {
+                    if subscribed.is_some() && topics.len() >= wanted.len() {
                         let subscriptions: Vec<Value> = topics
                             .iter()
                             .filter(|(_, topic)| wanted.contains(&topic.as_str()))
@@ -118,7 +138,9 @@ fn watch(address: SocketAddr, wanted: &[&str], enough: impl Fn(&[FeedEvent]) -> 
                             .collect();
                         let subscribe = serde_json::json!({ "op": "subscribe", "subscriptions": subscriptions });
                         socket.send(Message::text(subscribe.to_string())).await.unwrap();
-                        subscribed = true;
+                        if let Some(subscribed) = subscribed.take() {
+                            subscribed();
+                        }
                     }
                 }
                 Message::Binary(data) if data.len() > 13 && data[0] == 1 => {
@@ -126,6 +148,7 @@ fn watch(address: SocketAddr, wanted: &[&str], enough: impl Fn(&[FeedEvent]) -> 
                     let topic = &topics[&u64::from(subscription)];
                     received.push(FeedEvent::from_payload(topic, &data[13..]).expect("a record of the feed"));
                 }
+                Message::Close(_) => break,
                 _ => {}
             }
         }
@@ -137,14 +160,7 @@ fn watch(address: SocketAddr, wanted: &[&str], enough: impl Fn(&[FeedEvent]) -> 
 fn a_client_sees_every_agent_and_process_and_the_run_plays_the_same_episodes() {
     let sandbox = Sandbox::new("view");
     let out = sandbox.out("system");
-    let child = sandbox
-        .supervisor("system", LEARNER)
-        .args(LONGER)
-        .arg("--view=127.0.0.1:0")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let (child, simulator) = start_held(&sandbox, &["--view=127.0.0.1:0".as_ref()]);
     let address = view_address(&out);
     assert!(address.ip().is_loopback());
     let processes = ["simulator", "keeper 1", "keeper 2", "keeper 3", "view"];
@@ -165,23 +181,19 @@ fn a_client_sees_every_agent_and_process_and_the_run_plays_the_same_episodes() {
         });
         agents(1) && agents(2) && healthy
     };
+    // Subscribed, the client lets the run go on; it reads until it has seen
+    // enough or the view closes at the run's end (its last records sent).
     let received = watch(
         address,
         &["/learnpnp/marking", "/learnpnp/choice", "/learnpnp/health"],
+        || resume(simulator),
         seen,
     );
     assert!(
         seen(&received),
         "markings and choices of every agent, every process's health"
     );
-    let output = finish(child);
-    assert!(output.status.success(), "{}", text(&output.stderr));
-    in_process("keepaway-position", "soft-sosmc", "3", LONGER, &sandbox.out("inproc"));
-    assert_same_files(
-        &out,
-        &sandbox.out("inproc"),
-        &["episodes.csv", "curve.csv", "values.bin"],
-    );
+    assert_plays_in_process(child, &sandbox, "3", protocol());
     let s = summary(&out);
     assert_eq!(s["complete"], true);
     assert_eq!(s["restarts"], 0);
@@ -192,19 +204,11 @@ fn a_client_sees_every_agent_and_process_and_the_run_plays_the_same_episodes() {
 }
 
 #[test]
-fn garbage_on_a_feed_is_refused_and_counted_and_the_view_serves_on() {
+fn garbage_on_a_feed_is_refused_and_counted_and_a_killed_view_does_not_stop_the_run() {
     let sandbox = Sandbox::new("view-garbage");
     let out = sandbox.out("system");
     let jsonl = sandbox.out("feed.jsonl");
-    let child = sandbox
-        .supervisor("system", LEARNER)
-        .args(LONGER)
-        .arg("--view-jsonl")
-        .arg(&jsonl)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let (child, simulator) = start_held(&sandbox, &["--view-jsonl".as_ref(), jsonl.as_os_str()]);
     let (prefix, run_id) = identity(&out);
     // The view subscribes before it serves its first health record.
     let healths = || records(&jsonl).iter().filter(|(kind, _)| kind == "Health").count();
@@ -242,14 +246,28 @@ fn garbage_on_a_feed_is_refused_and_counted_and_the_view_serves_on() {
         }
         std::thread::sleep(Duration::from_millis(300));
     }
+    // The view serves on, and has written what it refused.
     let served = healths();
     assert!(
         wait_until(Duration::from_secs(10), || healths() > served),
         "the view serves on"
     );
-    let output = finish(child);
-    assert!(output.status.success(), "{}", text(&output.stderr));
+    let work = run_work_dir(&out, 0);
+    let refused = || ViewCounts::load(&work).feed.rejected.total();
+    assert!(wait_until(Duration::from_secs(10), || refused() == 5), "{}", refused());
+    // Killed, the view does not stop the run.
+    let views = pids_with_all(&["learnpnp-view", &work.to_string_lossy()]);
+    assert_eq!(views.len(), 1, "{views:?}");
+    kill(views[0], libc::SIGKILL);
+    resume(simulator);
+    assert_plays_in_process(child, &sandbox, "3", protocol());
     let s = summary(&out);
+    assert_eq!(s["complete"], true);
+    let fault = &s["faults"][0];
+    assert!(
+        fault["kind"].as_str().unwrap().contains("the view exited: signal 9"),
+        "{fault}"
+    );
     let rejected = &s["view"]["feed"]["rejected"];
     assert_eq!(rejected["version"], 1, "{rejected}");
     assert_eq!(rejected["run"], 1, "{rejected}");
@@ -257,45 +275,6 @@ fn garbage_on_a_feed_is_refused_and_counted_and_the_view_serves_on() {
     assert_eq!(
         rejected["content"], 2,
         "random bytes, a health record from an agent: {rejected}"
-    );
-    sandbox.assert_clean(&prefixes(&s));
-}
-
-#[test]
-fn a_killed_view_does_not_stop_the_run() {
-    let sandbox = Sandbox::new("view-kill");
-    let out = sandbox.out("system");
-    let jsonl = sandbox.out("feed.jsonl");
-    let child = sandbox
-        .supervisor("system", LEARNER)
-        .args(LONGER)
-        .arg("--view-jsonl")
-        .arg(&jsonl)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    identity(&out);
-    assert!(wait_until(Duration::from_secs(60), || fs::metadata(&jsonl)
-        .is_ok_and(|m| m.len() > 0)));
-    let work = run_work_dir(&out, 0);
-    let views = pids_with_all(&["learnpnp-view", &work.to_string_lossy()]);
-    assert_eq!(views.len(), 1, "{views:?}");
-    kill(views[0], libc::SIGKILL);
-    let output = finish(child);
-    assert!(output.status.success(), "{}", text(&output.stderr));
-    in_process("keepaway-position", "soft-sosmc", "3", LONGER, &sandbox.out("inproc"));
-    assert_same_files(
-        &out,
-        &sandbox.out("inproc"),
-        &["episodes.csv", "curve.csv", "values.bin"],
-    );
-    let s = summary(&out);
-    assert_eq!(s["complete"], true);
-    let fault = &s["faults"][0];
-    assert!(
-        fault["kind"].as_str().unwrap().contains("the view exited: signal 9"),
-        "{fault}"
     );
     sandbox.assert_clean(&prefixes(&s));
 }

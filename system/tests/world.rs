@@ -10,12 +10,12 @@ use std::path::Path;
 use std::process::{Child, Output, Stdio};
 use std::time::Duration;
 
-use crate::multiprocess::{Sandbox, kill, pids_with_all, prefixes, summary, wait_until};
+use crate::multiprocess::{Sandbox, identity, kill, pids_with_all, prefixes, summary, wait_until};
 use crate::util::{shipped_arg, text};
 use learnpnp_system::ipc::namespace::Namespace;
 use learnpnp_system::ipc::services::node;
 use learnpnp_system::multiprocess::garbage::Garbage;
-use learnpnp_system::multiprocess::supervisor::{IDENTITY_FILE, run_work_dir};
+use learnpnp_system::multiprocess::supervisor::run_work_dir;
 use serde_json::Value;
 
 const CORRIDOR: &str = env!("CARGO_BIN_EXE_learnpnp-corridor");
@@ -151,17 +151,6 @@ fn world_pid(prefix: &str) -> Option<i32> {
             .map(|env| text(&env).contains(&format!("LEARNPNP_IPC_PREFIX={prefix}")))
             .unwrap_or(false)
     })
-}
-
-/// The identity of run 0 of `out` (its prefix and id), once it exists.
-fn identity(out: &Path) -> (String, u64) {
-    let path = || run_work_dir(out, 0).join(IDENTITY_FILE);
-    assert!(wait_until(Duration::from_secs(60), || path().exists()));
-    let identity: Value = serde_json::from_str(&fs::read_to_string(path()).unwrap()).unwrap();
-    (
-        identity["ipc_prefix"].as_str().unwrap().to_string(),
-        identity["run_id"].as_u64().unwrap(),
-    )
 }
 
 /// Waits until agent 1 has journaled `episodes` whole episodes.

@@ -82,12 +82,18 @@ pub struct PlaceTokens {
     pub tokens: u32,
 }
 
-/// A plan's marking at one moment: the marked places and the actions running.
+/// A plan's marking at one moment (the root plan's or a sub-plan's): the
+/// marked places and the actions running.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct MarkingSample {
     /// The agent.
     pub source: Source,
+    /// The sub-plan the marking is of, by name; absent for the agent's root
+    /// plan (the one its [`PlanShape`] draws). A sub-plan's marking carries
+    /// the root plan's `episode` and `step` at the time.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sub_plan: Option<String>,
     /// The episode (0-based) within the run.
     pub episode: u64,
     /// The executor's step within the episode.
@@ -247,7 +253,25 @@ pub const CHANNELS: [&str; 8] = [
     "/learnpnp/latency",
 ];
 
+/// The tag of each kind of [`FeedEvent`] in the record's JSON
+/// (`{"Choice":{...}}`), in the order of [`CHANNELS`].
+pub const KINDS: [&str; 8] = [
+    "Plan", "Marking", "Choice", "Reward", "Episode", "Curve", "Health", "Latency",
+];
+
 impl FeedEvent {
+    /// Splits a record's compact JSON (`{"Kind":payload}`, as serde_json
+    /// writes a [`FeedEvent`]) into its kind's index in [`CHANNELS`] and its
+    /// payload (what the kind's channel carries), without reading the
+    /// payload; `None` for anything else.
+    pub fn split_json(bytes: &[u8]) -> Option<(usize, &[u8])> {
+        let rest = bytes.strip_prefix(b"{\"")?.strip_suffix(b"}")?;
+        KINDS.iter().enumerate().find_map(|(kind, tag)| {
+            let payload = rest.strip_prefix(tag.as_bytes())?.strip_prefix(b"\":")?;
+            Some((kind, payload))
+        })
+    }
+
     /// The index of the record's kind in [`CHANNELS`].
     pub fn kind(&self) -> usize {
         match self {
@@ -279,15 +303,22 @@ impl FeedEvent {
     /// Reads back a record from its channel's JSON payload; `None` for an
     /// unknown topic or a payload that is not that channel's record.
     pub fn from_payload(channel: &str, payload: &[u8]) -> Option<FeedEvent> {
-        let event = match channel {
-            "/learnpnp/plan" => FeedEvent::Plan(serde_json::from_slice(payload).ok()?),
-            "/learnpnp/marking" => FeedEvent::Marking(serde_json::from_slice(payload).ok()?),
-            "/learnpnp/choice" => FeedEvent::Choice(serde_json::from_slice(payload).ok()?),
-            "/learnpnp/reward" => FeedEvent::Reward(serde_json::from_slice(payload).ok()?),
-            "/learnpnp/episode" => FeedEvent::Episode(serde_json::from_slice(payload).ok()?),
-            "/learnpnp/curve" => FeedEvent::Curve(serde_json::from_slice(payload).ok()?),
-            "/learnpnp/health" => FeedEvent::Health(serde_json::from_slice(payload).ok()?),
-            "/learnpnp/latency" => FeedEvent::Latency(serde_json::from_slice(payload).ok()?),
+        FeedEvent::from_kind_payload(CHANNELS.iter().position(|c| *c == channel)?, payload)
+    }
+
+    /// Reads back a record of kind `kind` (its index in [`CHANNELS`]) from
+    /// its channel's JSON payload; `None` for an unknown kind or a payload
+    /// that is not that kind's record.
+    pub fn from_kind_payload(kind: usize, payload: &[u8]) -> Option<FeedEvent> {
+        let event = match kind {
+            0 => FeedEvent::Plan(serde_json::from_slice(payload).ok()?),
+            1 => FeedEvent::Marking(serde_json::from_slice(payload).ok()?),
+            2 => FeedEvent::Choice(serde_json::from_slice(payload).ok()?),
+            3 => FeedEvent::Reward(serde_json::from_slice(payload).ok()?),
+            4 => FeedEvent::Episode(serde_json::from_slice(payload).ok()?),
+            5 => FeedEvent::Curve(serde_json::from_slice(payload).ok()?),
+            6 => FeedEvent::Health(serde_json::from_slice(payload).ok()?),
+            7 => FeedEvent::Latency(serde_json::from_slice(payload).ok()?),
             _ => return None,
         };
         Some(event)
@@ -329,6 +360,16 @@ pub fn channel_schemas() -> Vec<(&'static str, &'static str, String)> {
 pub trait FeedSink: Send + Sync {
     /// Publishes one record.
     fn publish(&self, event: &FeedEvent);
+
+    /// Publishes one record already encoded: `payload` is what channel
+    /// `CHANNELS[kind]` carries, checked by the caller to be such a record.
+    /// By default it is decoded and [published](FeedSink::publish); a sink
+    /// that sends JSON on passes it through as it is.
+    fn publish_payload(&self, kind: usize, payload: &[u8]) {
+        if let Some(event) = FeedEvent::from_kind_payload(kind, payload) {
+            self.publish(&event);
+        }
+    }
 }
 
 #[cfg(test)]
@@ -362,6 +403,16 @@ mod tests {
         assert_eq!(serde_json::from_str::<FeedEvent>(&text).unwrap(), event);
         assert_eq!(event.channel(), "/learnpnp/choice");
         let payload = event.payload_json().unwrap();
+        assert_eq!(FeedEvent::split_json(text.as_bytes()), Some((2, &payload[..])));
         assert_eq!(FeedEvent::from_payload(event.channel(), &payload), Some(event));
+        for not_a_record in [
+            &b""[..],
+            b"{}",
+            b"{\"Choice\"}",
+            b"{\"Choose\":{}}",
+            b" {\"Choice\":{}}",
+        ] {
+            assert_eq!(FeedEvent::split_json(not_a_record), None);
+        }
     }
 }

@@ -108,6 +108,7 @@ mod tests {
     fn marking(agent: u32) -> FeedEvent {
         FeedEvent::Marking(MarkingSample {
             source: Source { run: 0, agent },
+            sub_plan: None,
             episode: 0,
             step: 3,
             tokens: vec![1, 0],

@@ -131,7 +131,8 @@ impl Republisher {
     /// Republishes one record of the feed (markings and choices; the rest is not plan state).
     pub fn event(&mut self, event: &FeedEvent) {
         let done = match event {
-            FeedEvent::Marking(m) => self.marking(m),
+            // The plan's state is the root plan's (a sub-plan's marking is not it).
+            FeedEvent::Marking(m) if m.sub_plan.is_none() => self.marking(m),
             FeedEvent::Choice(c) => self.choice(c),
             _ => return,
         };

@@ -38,6 +38,7 @@ function emptyState() {
     health: new Map(), // process -> ProcessHealth
     latency: new Map(), // process -> Map(measure -> LatencySummary)
     markings: 0,
+    subMarkings: 0,
     choices: 0,
   };
 }
@@ -50,7 +51,7 @@ function agentOf(source) {
   const key = `${source.run}/${source.agent}`;
   let a = state.agents.get(key);
   if (!a) {
-    a = { key, shape: null, marking: null, markings: 0, choices: new Map(), returns: [], episode: null };
+    a = { key, shape: null, marking: null, subMarking: null, markings: 0, choices: new Map(), returns: [], episode: null };
     state.agents.set(key, a);
     dirty.agents = true;
     if (!selected) selected = key;
@@ -70,6 +71,13 @@ function apply(topic, r) {
     }
     case TOPIC.marking: {
       const a = agentOf(r.source);
+      // A sub-plan's marking: its places are not the drawn plan's; shown as a line.
+      if (r.sub_plan) {
+        a.subMarking = r;
+        state.subMarkings += 1;
+        if (a.key === selected) dirty.marking = true;
+        break;
+      }
       if (!a.shape) missingPlan();
       a.marking = r;
       a.markings += 1;
@@ -289,6 +297,8 @@ function drawMarking(a) {
   $("step").textContent = m ? m.step : "-";
   $("marking").textContent = m ? m.marked.map((p) => (p.tokens === 1 ? p.label : `${p.label}×${p.tokens}`)).join(", ") || "(empty)" : "no marking yet";
   $("running").textContent = m && m.running.length ? m.running.join(", ") : "-";
+  const sub = a && a.subMarking;
+  $("sub-plan").textContent = sub ? `${sub.sub_plan}: ${sub.marked.map((p) => (p.tokens === 1 ? p.label : `${p.label}×${p.tokens}`)).join(", ") || "(empty)"}` : "-";
   if (drawn) {
     const tokens = tokensByLabel(a);
     for (const [label, p] of drawn.places) {
@@ -438,6 +448,8 @@ function drawAgents() {
 function report(a) {
   const s = $("state").dataset;
   s.markings = String(state.markings);
+  s.subPlanMarkings = String(state.subMarkings);
+  s.subPlan = $("sub-plan").textContent;
   s.choices = String(state.choices);
   s.agent = selected;
   s.episode = a && a.episode !== null ? String(a.episode) : "";

@@ -26,8 +26,8 @@
 //!   and renamed to `FILE` when the view closes (so a file under the final
 //!   name is complete). Chunks are not compressed, so that the page's small
 //!   reader can read them without a decompressor.
-//! - **PNP's monitor line**: the markings of run 0's agent 0 (a PNP observer
-//!   watches one plan); see [`PNP_MONITOR_PORT`].
+//! - **PNP's monitor line**: the root plan's markings of run 0's agent 0 (a
+//!   PNP observer watches one plan); see [`PNP_MONITOR_PORT`].
 
 #![deny(missing_docs)]
 
@@ -45,7 +45,7 @@ use std::thread::JoinHandle;
 use crossbeam::channel::{Receiver, Sender, TrySendError};
 use foxglove::websocket::{ChannelView, Client, ServerListener};
 use foxglove::{ChannelBuilder, Context, McapWriteOptions, McapWriter, McapWriterHandle, RawChannel, Schema, SinkId};
-use learnpnp_feed::{CHANNELS, FeedEvent, FeedSink, PlanShape, Source};
+use learnpnp_feed::{CHANNELS, FeedEvent, FeedSink, MarkingSample, PlanShape, Source};
 
 pub use pnp_monitor::PNP_MONITOR_PORT;
 
@@ -55,12 +55,20 @@ pub const DEFAULT_PORT: u16 = 8765;
 /// The records a view holds before it drops what is published (see [`View::dropped`]).
 pub const DEFAULT_QUEUE: usize = 8192;
 
+/// The kinds of record the view reads (their indexes in [`CHANNELS`]).
+const PLAN: usize = 0;
+const MARKING: usize = 1;
+const CURVE: usize = 5;
+
 /// The agent whose markings PNP's monitor line follows (a PNP observer watches one plan).
 const MONITORED: Source = Source { run: 0, agent: 0 };
 
 /// The messages the SDK's server holds for a slow client before it drops
 /// the oldest (its default is 1024: a burst of choices would push out a curve point).
 const CLIENT_BACKLOG: usize = 65_536;
+
+/// How long a closing view lets its clients receive its last records.
+const CLOSE_GRACE: std::time::Duration = std::time::Duration::from_millis(200);
 
 /// The most curve points kept for clients that connect mid-run.
 const CURVE_KEPT: usize = 100_000;
@@ -142,6 +150,8 @@ fn fox_error(what: impl Into<String>) -> impl FnOnce(foxglove::FoxgloveError) ->
 enum Command {
     /// Log a record.
     Publish(FeedEvent),
+    /// Log a record already encoded: its kind and its channel's payload.
+    Payload(usize, Vec<u8>),
     /// Finish.
     Close,
 }
@@ -160,7 +170,7 @@ struct Subscriptions {
 impl ServerListener for Subscriptions {
     fn on_subscribe(&self, client: Client, channel: ChannelView) {
         let kind = CHANNELS.iter().position(|c| *c == channel.topic());
-        if let (Some(kind @ (0 | 5)), Some(sink)) = (kind, client.sink_id()) {
+        if let (Some(kind @ (PLAN | CURVE)), Some(sink)) = (kind, client.sink_id()) {
             // Fails only once the view's thread has finished.
             let _ = self.resends.send((kind, sink));
         }
@@ -324,6 +334,11 @@ impl View {
             None => Ok(Ok(Counts::default())),
         };
         if let Some(server) = self.server.take() {
+            // Stopping, the SDK's server drops what its clients have not been
+            // sent yet: they are given a moment for the view's last records.
+            if server.client_count() > 0 {
+                std::thread::sleep(CLOSE_GRACE);
+            }
             server.stop().wait_blocking();
         }
         if let Some(runtime) = self.runtime.take() {
@@ -339,11 +354,25 @@ impl Drop for View {
     }
 }
 
+impl View {
+    /// Queues `command` for the view's thread, or counts it dropped.
+    fn queue(&self, command: Command) {
+        if let Err(TrySendError::Full(_) | TrySendError::Disconnected(_)) = self.commands.try_send(command) {
+            self.dropped.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+}
+
 impl FeedSink for View {
     fn publish(&self, event: &FeedEvent) {
-        if let Err(TrySendError::Full(_) | TrySendError::Disconnected(_)) =
-            self.commands.try_send(Command::Publish(event.clone()))
-        {
+        self.queue(Command::Publish(event.clone()));
+    }
+
+    /// Passes the payload on as it is (the view's thread does not encode it again).
+    fn publish_payload(&self, kind: usize, payload: &[u8]) {
+        if kind < CHANNELS.len() {
+            self.queue(Command::Payload(kind, payload.to_vec()));
+        } else {
             self.dropped.fetch_add(1, Ordering::Relaxed);
         }
     }
@@ -414,7 +443,12 @@ impl Worker {
                     }
                 }
                 recv(queue) -> command => match command {
-                    Ok(Command::Publish(event)) => self.log(&event),
+                    Ok(Command::Publish(event)) => {
+                        if let Ok(json) = event.payload_json() {
+                            self.log(event.kind(), json);
+                        }
+                    }
+                    Ok(Command::Payload(kind, json)) => self.log(kind, json),
                     Ok(Command::Close) | Err(_) => break,
                 },
             }
@@ -431,7 +465,7 @@ impl Worker {
     /// Sends the kept records of channel `kind` (the plans or the curve) to one client.
     fn resend(&self, kind: usize, sink: SinkId) {
         let kept: Vec<&Vec<u8>> = match kind {
-            0 => self.plans.values().map(|(json, _)| json).collect(),
+            PLAN => self.plans.values().map(|(json, _)| json).collect(),
             _ => self.curve.iter().collect(),
         };
         for json in kept {
@@ -439,27 +473,37 @@ impl Worker {
         }
     }
 
-    fn log(&mut self, event: &FeedEvent) {
-        let Ok(json) = event.payload_json() else {
-            return;
-        };
-        let kind = event.kind();
+    /// Logs the payload `json` of a record of kind `kind` on its channel;
+    /// keeps the plans and the curve for late clients, and writes PNP's
+    /// monitor line. Only what needs a record's fields reads them: a plan, and
+    /// a marking while the monitor line has clients.
+    fn log(&mut self, kind: usize, json: Vec<u8>) {
         self.channels[kind].log(&json);
         self.counts.0[kind] += 1;
-        match event {
-            FeedEvent::Plan(shape) => self.keep_plan(shape, json),
-            FeedEvent::Curve(_) if self.curve.len() < CURVE_KEPT => self.curve.push(json),
-            // PNP's observer watches one plan: the first agent's of the first run.
-            FeedEvent::Marking(marking) if marking.source == MONITORED => {
-                if let Some((_, format)) = self.plans.get(&marking.source) {
-                    let has_clients = !self.clients.lock().unwrap_or_else(PoisonError::into_inner).is_empty();
-                    if has_clients {
-                        pnp_monitor::broadcast(&self.clients, &format.line(marking));
-                    }
+        match kind {
+            PLAN => {
+                if let Ok(shape) = serde_json::from_slice::<PlanShape>(&json) {
+                    self.keep_plan(&shape, json);
+                }
+            }
+            CURVE if self.curve.len() < CURVE_KEPT => self.curve.push(json),
+            MARKING if self.monitored() => {
+                // PNP's observer watches one plan: the first agent's root plan of the first run.
+                if let Ok(marking) = serde_json::from_slice::<MarkingSample>(&json)
+                    && marking.source == MONITORED
+                    && marking.sub_plan.is_none()
+                    && let Some((_, format)) = self.plans.get(&marking.source)
+                {
+                    pnp_monitor::broadcast(&self.clients, &format.line(&marking));
                 }
             }
             _ => {}
         }
+    }
+
+    /// Whether PNP's monitor line has clients.
+    fn monitored(&self) -> bool {
+        !self.clients.lock().unwrap_or_else(PoisonError::into_inner).is_empty()
     }
 
     fn keep_plan(&mut self, shape: &PlanShape, json: Vec<u8>) {

@@ -99,6 +99,7 @@ mod tests {
         };
         let marking = MarkingSample {
             source: shape.source.clone(),
+            sub_plan: None,
             episode: 0,
             step: 0,
             tokens: vec![1, 2, 3],

@@ -84,6 +84,15 @@ impl FeedServices {
 /// starts (or is restarted) after the agent still draws the plan.
 const PLAN_AGAIN: Duration = Duration::from_secs(1);
 
+/// What a publisher keeps between records.
+#[derive(Default)]
+struct Encoding {
+    /// The record being sent, as JSON (reused: no allocation per record).
+    buffer: Vec<u8>,
+    /// The plan's shape, encoded, and when it was last sent.
+    plan: Option<(Vec<u8>, Instant)>,
+}
+
 /// An agent's feed publisher: a [`FeedSink`] that never waits. The plan's
 /// shape, sent once by the agent, is sent again every second with
 /// the records that follow.
@@ -93,8 +102,8 @@ pub struct FeedPublisher {
     run_id: u64,
     sequence: AtomicU64,
     dropped: AtomicU64,
-    /// The plan's shape, encoded, and when it was last sent.
-    plan: Mutex<Option<(Vec<u8>, Instant)>>,
+    /// The encoder's buffer and the plan's shape.
+    encoding: Mutex<Encoding>,
     _node: Node<FeedIpc>,
 }
 
@@ -126,7 +135,7 @@ impl FeedPublisher {
             run_id,
             sequence: AtomicU64::new(0),
             dropped: AtomicU64::new(0),
-            plan: Mutex::new(None),
+            encoding: Mutex::new(Encoding::default()),
             _node: node,
         })
     }
@@ -164,14 +173,16 @@ impl FeedPublisher {
 
 impl FeedSink for FeedPublisher {
     fn publish(&self, event: &FeedEvent) {
-        let Ok(bytes) = serde_json::to_vec(event) else {
+        let mut encoding = self.encoding.lock().unwrap_or_else(PoisonError::into_inner);
+        let Encoding { buffer, plan } = &mut *encoding;
+        buffer.clear();
+        if serde_json::to_writer(&mut *buffer, event).is_err() {
             self.dropped.fetch_add(1, Ordering::Relaxed);
             return;
-        };
-        self.send_or_count(&bytes);
-        let mut plan = self.plan.lock().unwrap_or_else(PoisonError::into_inner);
+        }
+        self.send_or_count(buffer);
         if let FeedEvent::Plan(_) = event {
-            *plan = Some((bytes, Instant::now()));
+            *plan = Some((buffer.clone(), Instant::now()));
         } else if let Some((shape, sent)) = plan.as_mut()
             && sent.elapsed() >= PLAN_AGAIN
         {
@@ -181,16 +192,29 @@ impl FeedSink for FeedPublisher {
     }
 }
 
+/// A record of an agent's feed that passed the checks.
+#[derive(Debug, PartialEq)]
+pub struct CheckedRecord<'a> {
+    /// Its kind: the index of its channel in [`learnpnp_feed::CHANNELS`].
+    pub kind: usize,
+    /// What its channel carries, as the agent encoded it (the record
+    /// without the kind's tag): a view passes it on without encoding it again.
+    pub payload: &'a [u8],
+    /// The record, read from the payload.
+    pub event: FeedEvent,
+}
+
 /// Checks one record read from agent `agent`'s feed of run `run_id` (run
-/// index `run`): the header (version, run, sender), the size, the JSON, and
-/// what it says (a record an agent publishes, about itself in this run).
-pub fn check_record(
+/// index `run`): the header (version, run, sender), the size, the JSON (the
+/// compact form of a [`FeedEvent`], read in full into its record), and what
+/// it says (a record an agent publishes, about itself in this run).
+pub fn check_record<'a>(
     header: &FeedHeader,
-    bytes: &[u8],
+    bytes: &'a [u8],
     agent: usize,
     run_id: u64,
     run: usize,
-) -> Result<FeedEvent, Rejection> {
+) -> Result<CheckedRecord<'a>, Rejection> {
     if header.version != PROTOCOL_VERSION {
         return Err(Rejection::Version);
     }
@@ -203,7 +227,8 @@ pub fn check_record(
     if bytes.len() > MAX_FEED_BYTES {
         return Err(Rejection::Content);
     }
-    let event: FeedEvent = serde_json::from_slice(bytes).map_err(|_| Rejection::Content)?;
+    let (kind, payload) = FeedEvent::split_json(bytes).ok_or(Rejection::Content)?;
+    let event = FeedEvent::from_kind_payload(kind, payload).ok_or(Rejection::Content)?;
     let source = match &event {
         FeedEvent::Plan(r) => &r.source,
         FeedEvent::Marking(r) => &r.source,
@@ -215,7 +240,7 @@ pub fn check_record(
     if source.agent as usize != agent || source.run as usize != run {
         return Err(Rejection::Sender);
     }
-    Ok(event)
+    Ok(CheckedRecord { kind, payload, event })
 }
 
 /// What a view has read of the agents' feeds.
@@ -277,6 +302,13 @@ impl FeedReader {
     /// Reads what has come on every feed, handing each record that passes
     /// the checks to `each`; refused and lost records are counted.
     pub fn read(&mut self, mut each: impl FnMut(FeedEvent)) -> Result<(), IpcError> {
+        self.read_records(|record| each(record.event))
+    }
+
+    /// Reads what has come on every feed, handing each record that passes
+    /// the checks, with its payload as the agent encoded it, to `each`;
+    /// refused and lost records are counted.
+    pub fn read_records(&mut self, mut each: impl FnMut(CheckedRecord<'_>)) -> Result<(), IpcError> {
         for (agent, feed) in self.feeds.iter_mut().enumerate() {
             for _ in 0..READ_BATCH {
                 let Some(sample) = feed.subscriber.receive().map_err(fail("receiving a feed record"))? else {
@@ -284,7 +316,7 @@ impl FeedReader {
                 };
                 let header = *sample.user_header();
                 match check_record(&header, sample.payload(), agent, self.run_id, self.run) {
-                    Ok(event) => {
+                    Ok(record) => {
                         let origin = sample.origin();
                         match feed.last {
                             Some((last_origin, last)) if last_origin == origin => {
@@ -299,7 +331,7 @@ impl FeedReader {
                         }
                         feed.last = Some((origin, header.sequence));
                         self.counts.received += 1;
-                        each(event);
+                        each(record);
                     }
                     Err(why) => self.counts.rejected.count(why),
                 }
@@ -377,6 +409,22 @@ mod tests {
             ),
         ] {
             assert_eq!(check_record(&header, bytes, 0, 7, 0), Err(why));
+        }
+        // A record as an agent writes it passes, its payload as it was written.
+        let record = reward(0, 1);
+        let bytes = serde_json::to_vec(&record).unwrap();
+        let checked = check_record(&header, &bytes, 0, 7, 0).unwrap();
+        assert_eq!(
+            (checked.kind, checked.payload),
+            (3, &record.payload_json().unwrap()[..])
+        );
+        assert_eq!(checked.event, record);
+        // Well-formed JSON, but not as an agent writes a record.
+        for bytes in [
+            &br#" {"Reward":{}}"#[..],
+            br#"{"Reward":{"source":{"run":0,"agent":0}}}"#,
+        ] {
+            assert_eq!(check_record(&header, bytes, 0, 7, 0), Err(Rejection::Content));
         }
         drop((agent, reader, view, _services, supervisor));
         owner.release().unwrap();

@@ -107,7 +107,8 @@ pub fn run(
     let mut last_summary: Option<Instant> = None;
     loop {
         let stopping = stop.load(Ordering::Relaxed);
-        reader.read(|event| sink.publish(&event))?;
+        // The agents' records go on as they encoded them (checked, not encoded again).
+        reader.read_records(|record| sink.publish_payload(record.kind, record.payload))?;
         while let Some(reading) = receive(&ports.heartbeats, |m| read_heartbeat(m, context.run_id, roster))? {
             match reading {
                 Ok(pulse) => {
