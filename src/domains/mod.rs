@@ -20,7 +20,7 @@ pub mod penalty_kick;
 pub mod sutton;
 mod task;
 
-pub use task::{EpisodeOutcome, TaskError};
+pub use task::{EpisodeOutcome, EpisodeWorld, PlanTask, TaskError};
 
 use crate::learning::{EpisodeMode, Learner};
 

@@ -32,7 +32,7 @@ mod registry;
 
 use std::sync::Arc;
 
-pub use action::{Action, World};
+pub use action::{Action, OneStep, World};
 pub use activation::{PendingReward, Status};
 pub use chooser::{Chooser, PlanKey, RandomChooser};
 pub use error::ExecError;
