@@ -8,6 +8,8 @@ import tempfile
 
 import pytest
 
+import learnpnp
+
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 PLANS = ROOT / "plans"
 sys.path.insert(0, str(PLANS / "python"))
@@ -17,6 +19,20 @@ sys.path.insert(0, str(PLANS / "python"))
 def plans():
     """The repository's plans/ folder."""
     return PLANS
+
+
+@pytest.fixture
+def doors():
+    """Builds the plan of two doors from the start: Left pays 1, Right 0."""
+
+    def build():
+        b = learnpnp.PlanBuilder("doors")
+        start, goal = b.initial_place("start"), b.goal_place()
+        b.action_into(start, "Left", goal)
+        b.action_into(start, "Right", goal)
+        return b.build(atoms=["Open"])
+
+    return build
 
 
 @pytest.fixture

@@ -23,7 +23,7 @@ use crate::ipc::protocol::{Order, ProcessState, Role, Roster};
 use crate::ipc::services::{Ipc, SupervisorPorts, receive};
 use crate::multiprocess::agent_chassis::checkpoint_name;
 use crate::multiprocess::floor_probe::FloorProbe;
-use crate::multiprocess::launch::{Process, set_fifo_priority, spawn, spawn_world};
+use crate::multiprocess::launch::{Process, agent_args, set_fifo_priority, spawn, spawn_world};
 use crate::multiprocess::view_process::view_args;
 use crate::multiprocess::world_agent::EXIT_PLAN_DOES_NOT_FIT;
 use crate::multiprocess::{Clock, RunContext};
@@ -63,17 +63,7 @@ impl Watch<'_> {
                 &self.config.binaries.sim
             }
             Role::Keeper(k) | Role::Agent(k) => {
-                args.push(
-                    if role == Role::Keeper(k) {
-                        "--keeper"
-                    } else {
-                        "--world-agent"
-                    }
-                    .into(),
-                );
-                args.push((k + 1).to_string().into());
-                args.push("--checkpoint-every".into());
-                args.push(self.config.checkpoint_every.to_string().into());
+                args.extend(agent_args(role, k, self.config.checkpoint_every));
                 &self.config.binaries.agent
             }
             Role::Bridge => {
