@@ -12,7 +12,6 @@ use super::task::{EpisodeWorld, PlanTask, TaskError, root_key};
 use crate::condition::{AtomId, KnowledgeBase};
 use crate::executor::{Action, OneStep, Registry, World};
 use crate::learning::Learner;
-use crate::named::Named;
 use crate::net::{NetError, PetriNet};
 use crate::plan::{AllowedAtoms, Plan, catalog};
 
@@ -38,26 +37,17 @@ const SCHEMA: &str = include_str!("../../plans/penalty_kick.schema");
 /// The plan schema of Figure 3.7, as shipped.
 const SCHEMA_RESTRUCTURED: &str = include_str!("../../plans/penalty_kick_restructured.schema");
 
-impl Named for Variant {
-    const KIND: &'static str = "variant";
-    const ALL: &'static [Self] = &[
-        Variant::Plain,
-        Variant::Tree,
-        Variant::Memory,
-        Variant::Schema,
-        Variant::SchemaRestructured,
-    ];
-
-    fn name(self) -> &'static str {
-        match self {
-            Variant::Plain => "plain",
-            Variant::Tree => "tree",
-            Variant::Memory => "memory",
-            Variant::Schema => "schema",
-            Variant::SchemaRestructured => "schema-restructured",
-        }
-    }
-}
+crate::named::impl_named!(
+    Variant,
+    "variant",
+    [
+        Plain => "plain",
+        Tree => "tree",
+        Memory => "memory",
+        Schema => "schema",
+        SchemaRestructured => "schema-restructured",
+    ]
+);
 
 impl Variant {
     /// The variant's Petri Net Plan; `None` for the plan schemas (see [`plan`]).

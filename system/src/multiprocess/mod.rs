@@ -62,7 +62,6 @@ use crate::ipc::protocol::{ProcessState, Pulse, Role};
 use crate::ipc::services::{IpcError, Pub, send};
 use crate::ipc::wait::WaitStrategy;
 use learnpnp::experiment::spec::ExperimentSpec;
-use learnpnp::named::Named;
 
 /// How the simulator's clock advances.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -75,17 +74,14 @@ pub enum Clock {
     Realtime,
 }
 
-impl Named for Clock {
-    const KIND: &'static str = "clock";
-    const ALL: &'static [Self] = &[Clock::Lockstep, Clock::Realtime];
-
-    fn name(self) -> &'static str {
-        match self {
-            Clock::Lockstep => "lockstep",
-            Clock::Realtime => "realtime",
-        }
-    }
-}
+learnpnp::named::impl_named!(
+    Clock,
+    "clock",
+    [
+        Lockstep => "lockstep",
+        Realtime => "realtime",
+    ]
+);
 
 /// What every process of a run shares: who the run is and how its processes
 /// talk. The supervisor passes it to its children on their command lines
