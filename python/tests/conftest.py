@@ -51,12 +51,22 @@ def learnpnp_cli():
 
 
 @pytest.fixture
-def supervisor(learnpnp_cli):
+def built_beside(learnpnp_cli):
+    """Finds a binary built beside the `learnpnp` command by its name (skips if it is not built)."""
+
+    def find(name):
+        path = pathlib.Path(learnpnp_cli).parent / name
+        if not path.is_file():
+            pytest.skip(f"{path} is not built")
+        return str(path)
+
+    return find
+
+
+@pytest.fixture
+def supervisor(built_beside):
     """The `learnpnp-supervisor` built beside the `learnpnp` command."""
-    path = pathlib.Path(learnpnp_cli).parent / "learnpnp-supervisor"
-    if not path.is_file():
-        pytest.skip(f"{path} is not built")
-    return str(path)
+    return built_beside("learnpnp-supervisor")
 
 
 @pytest.fixture
