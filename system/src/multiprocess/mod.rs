@@ -63,6 +63,14 @@ use crate::ipc::services::{IpcError, Pub, send};
 use crate::ipc::wait::WaitStrategy;
 use learnpnp::experiment::spec::ExperimentSpec;
 
+/// What every process of a run does first in `main`: freed large blocks go
+/// back to the system at once ([`crate::resident_memory`]), and iceoryx2 logs
+/// warnings and worse unless its environment variable asks for another level.
+pub fn start_process() {
+    crate::resident_memory::return_large_blocks_when_freed();
+    iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
+}
+
 /// How the simulator's clock advances.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
