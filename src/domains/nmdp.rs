@@ -15,8 +15,7 @@ use std::sync::Arc;
 use rand_distr::{Distribution, Normal};
 
 use super::task::{EpisodeWorld, PlanTask, TaskError, root_key};
-use crate::condition::{AtomId, KnowledgeBase};
-use crate::executor::{OneStep, Registry, World};
+use crate::executor::{OneStep, Registry};
 use crate::learning::Learner;
 use crate::plan::{AllowedAtoms, Plan, PlanBuilder};
 use crate::rng::SimRng;
@@ -62,17 +61,7 @@ pub struct NmdpWorld {
     ret: f64,
 }
 
-impl KnowledgeBase for NmdpWorld {
-    fn holds(&self, _: AtomId) -> bool {
-        false
-    }
-}
-
-impl World for NmdpWorld {
-    fn take_reward(&mut self) -> f64 {
-        std::mem::take(&mut self.pending)
-    }
-}
+reward_only_world!(NmdpWorld);
 
 impl NmdpWorld {
     /// One of the four actions, by its index in [`ACTIONS`]: the first state's

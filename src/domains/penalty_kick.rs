@@ -9,8 +9,7 @@
 use std::sync::Arc;
 
 use super::task::{EpisodeWorld, PlanTask, TaskError, root_key};
-use crate::condition::{AtomId, KnowledgeBase};
-use crate::executor::{Action, OneStep, Registry, World};
+use crate::executor::{Action, OneStep, Registry};
 use crate::learning::Learner;
 use crate::net::{NetError, PetriNet};
 use crate::plan::{AllowedAtoms, Plan, catalog};
@@ -108,17 +107,7 @@ pub struct Pitch {
     miss_timeout: u32,
 }
 
-impl KnowledgeBase for Pitch {
-    fn holds(&self, _: AtomId) -> bool {
-        false
-    }
-}
-
-impl World for Pitch {
-    fn take_reward(&mut self) -> f64 {
-        std::mem::take(&mut self.pending)
-    }
-}
+reward_only_world!(Pitch);
 
 impl Pitch {
     /// WalkStraight (keeps facing the goal) or Turn (faces away): one step each.

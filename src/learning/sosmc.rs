@@ -422,15 +422,5 @@ impl Learner for SoSmc {
         self.episode += 1;
     }
 
-    fn exploratory(&self) -> bool {
-        self.exploratory
-    }
-
-    fn values(&self) -> &ValueTable {
-        &self.values
-    }
-
-    fn values_mut(&mut self) -> &mut ValueTable {
-        &mut self.values
-    }
+    table_accessors!(exploratory);
 }

@@ -258,15 +258,5 @@ impl Learner for TdLearner {
         }
     }
 
-    fn exploratory(&self) -> bool {
-        self.left_greedy
-    }
-
-    fn values(&self) -> &ValueTable {
-        &self.values
-    }
-
-    fn values_mut(&mut self) -> &mut ValueTable {
-        &mut self.values
-    }
+    table_accessors!(left_greedy);
 }

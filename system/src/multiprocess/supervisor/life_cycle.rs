@@ -474,21 +474,9 @@ impl Watch<'_> {
                 }
                 Role::Keeper(k) | Role::Agent(k) => {
                     let what = format!("{role} exited: {}", describe(status));
-                    if status.code() == Some(EXIT_CANNOT_RESUME) {
-                        self.fault(what.clone(), "not restarted: it cannot resume".into());
-                        return Err(RunFailure::CannotResume {
-                            what,
-                            log: log_tail(&self.log(role)),
-                        }
-                        .into());
-                    }
-                    if status.code() == Some(EXIT_PLAN_DOES_NOT_FIT) {
-                        self.fault(what.clone(), "not restarted: its plan does not fit the world".into());
-                        return Err(RunFailure::PlanDoesNotFit {
-                            what,
-                            log: log_tail(&self.log(role)),
-                        }
-                        .into());
+                    if let Some((note, failure)) = unrestartable(status.code(), &what, || log_tail(&self.log(role))) {
+                        self.fault(what, note.into());
+                        return Err(failure.into());
                     }
                     self.restart(k, what)?;
                 }
@@ -660,5 +648,22 @@ impl<'a> Watch<'a> {
         }
         watch.start(Role::World, false)?;
         Ok(watch)
+    }
+}
+
+/// The fault note and the failure for an exit code that says a restart cannot
+/// help (the process cannot resume, or its plan does not fit the world).
+fn unrestartable(code: Option<i32>, what: &str, log: impl FnOnce() -> String) -> Option<(&'static str, RunFailure)> {
+    let what = what.to_owned();
+    match code {
+        Some(EXIT_CANNOT_RESUME) => Some((
+            "not restarted: it cannot resume",
+            RunFailure::CannotResume { what, log: log() },
+        )),
+        Some(EXIT_PLAN_DOES_NOT_FIT) => Some((
+            "not restarted: its plan does not fit the world",
+            RunFailure::PlanDoesNotFit { what, log: log() },
+        )),
+        _ => None,
     }
 }
