@@ -7,7 +7,7 @@
 use std::sync::Arc;
 
 use learnpnp::condition::{AtomId, KnowledgeBase};
-use learnpnp::executor::{Action, Executor, PlanKey, Registry, World};
+use learnpnp::executor::{Executor, OneStep, PlanKey, Registry, World};
 use learnpnp::learning::{
     EpisodeStart, Exploration, Learner, MonteCarlo, MonteCarloConfig, Schedule, Scope, Target, TdConfig, TdLearner,
 };
@@ -32,25 +32,9 @@ impl World for Env {
     }
 }
 
-/// Finishes in its first step, paying its reward.
-struct Pay {
-    amount: f64,
-    done: bool,
-}
-
-impl Action<Env> for Pay {
-    fn start(&mut self, _: &mut Env) {
-        self.done = false;
-    }
-    fn step(&mut self, env: &mut Env) {
-        if !self.done {
-            env.reward += self.amount;
-            self.done = true;
-        }
-    }
-    fn finished(&self, _: &Env) -> bool {
-        self.done
-    }
+/// An action that finishes in its first step, paying `amount`.
+fn pay(amount: f64) -> OneStep<impl FnMut(&mut Env) + Send> {
+    OneStep::new(move |env: &mut Env| env.reward += amount)
 }
 
 fn env1() -> Plan {
@@ -101,14 +85,8 @@ fn env1() -> Plan {
 
 fn train(learner: &mut dyn Learner) {
     let mut registry = Registry::new();
-    registry.action("a4", &[], |_| Pay {
-        amount: 5.0,
-        done: false,
-    });
-    registry.action("a5", &[], |_| Pay {
-        amount: 1.0,
-        done: false,
-    });
+    registry.action("a4", &[], |_| pay(5.0));
+    registry.action("a5", &[], |_| pay(1.0));
     let mut exec = Executor::new(Arc::new(env1()), &registry).expect("executor");
     let mut env = Env::default();
     for _ in 0..300 {

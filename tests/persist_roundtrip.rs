@@ -41,6 +41,11 @@ fn root_plan() -> Plan {
     )
 }
 
+/// `table` saved by Monte Carlo, its plan the root plan.
+fn of_root(table: &ValueTable) -> SavedValues {
+    SavedValues::new("mc", table, &[&root_plan()])
+}
+
 fn sub_plan() -> Plan {
     plan("kick, \"left\"", &[("q1", "a.exec"), ("q2", "b")])
 }
@@ -159,14 +164,13 @@ fn large_payloads_are_within_the_decoder_limits() {
 fn a_second_save_keeps_the_previous_table() {
     let dir = scratch("prev");
     let path = dir.join("values.bin");
-    let root = root_plan();
     let mut t = ValueTable::new(0.0);
     t.insert(key(0, &[1, 0, 0, 0]), 1.0, 1);
-    let first = SavedValues::new("mc", &t, &[&root]);
+    let first = of_root(&t);
     save(&path, &first).expect("first save");
     assert!(!prev_path(&path).exists());
     t.insert(key(0, &[1, 0, 0, 0]), 2.0, 2);
-    let second = SavedValues::new("mc", &t, &[&root]);
+    let second = of_root(&t);
     save(&path, &second).expect("second save");
     assert_eq!(load(&path).expect("main"), second);
     assert_eq!(load(&prev_path(&path)).expect("prev"), first);
@@ -183,12 +187,11 @@ fn a_second_save_keeps_the_previous_table() {
 fn a_corrupt_main_file_falls_back_to_prev_and_is_never_kept_as_prev() {
     let dir = scratch("fallback");
     let path = dir.join("values.bin");
-    let root = root_plan();
     let mut t = ValueTable::new(0.0);
     t.insert(key(0, &[1, 0, 0, 0]), 1.0, 1);
-    let first = SavedValues::new("mc", &t, &[&root]);
+    let first = of_root(&t);
     t.insert(key(0, &[0, 1, 0, 0]), 5.0, 1);
-    let second = SavedValues::new("mc", &t, &[&root]);
+    let second = of_root(&t);
     save(&path, &first).expect("first save");
     save(&path, &second).expect("second save");
 
@@ -203,7 +206,7 @@ fn a_corrupt_main_file_falls_back_to_prev_and_is_never_kept_as_prev() {
     assert_eq!(fs::read(&path).expect("untouched"), bytes);
 
     // Saving over a corrupt file does not replace the good `.prev` with it.
-    let third = SavedValues::new("mc", &ValueTable::new(0.0), &[&root]);
+    let third = of_root(&ValueTable::new(0.0));
     save(&path, &third).expect("third save");
     assert_eq!(load(&path).expect("main"), third);
     assert_eq!(load(&prev_path(&path)).expect("prev"), first);

@@ -38,8 +38,7 @@ struct Args {
 }
 
 fn main() -> ExitCode {
-    learnpnp_system::resident_memory::return_large_blocks_when_freed();
-    iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
+    learnpnp_system::multiprocess::start_process();
     // A write beyond the file-size limit (a full disk, a quota) fails with an
     // error the checkpointing reports, instead of killing the agent.
     // SAFETY: setting a signal's disposition to "ignore" has no other effect.

@@ -57,8 +57,7 @@ struct Args {
 }
 
 fn main() -> ExitCode {
-    learnpnp_system::resident_memory::return_large_blocks_when_freed();
-    iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
+    learnpnp_system::multiprocess::start_process();
     let args = Args::parse();
     let zenoh = ZenohRefusals::default();
     if let Err(e) = zenoh.install() {

@@ -94,8 +94,7 @@ impl ServedWorld for Corridors {
 }
 
 fn main() -> ExitCode {
-    learnpnp_system::resident_memory::return_large_blocks_when_freed();
-    iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
+    learnpnp_system::multiprocess::start_process();
     let agents = std::env::var(learnpnp_system::multiprocess::supervisor::world_env::AGENTS)
         .ok()
         .and_then(|n| n.parse().ok())

@@ -23,8 +23,7 @@ struct Args {
 }
 
 fn main() -> ExitCode {
-    learnpnp_system::resident_memory::return_large_blocks_when_freed();
-    iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
+    learnpnp_system::multiprocess::start_process();
     let args = Args::parse();
     let context = RunContext::from(args.context);
     match sim_process::run(&context, args.floor_round_trips, args.resume).context("simulator") {

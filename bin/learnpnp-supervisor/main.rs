@@ -639,8 +639,7 @@ fn link_certs(args: LinkCertsArgs) -> Result<ExitCode> {
 }
 
 fn main() -> ExitCode {
-    learnpnp_system::resident_memory::return_large_blocks_when_freed();
-    iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
+    learnpnp_system::multiprocess::start_process();
     let cli = Cli::parse();
     let result = match cli.command {
         None => run(cli.run),

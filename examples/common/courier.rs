@@ -13,7 +13,7 @@ use std::sync::Arc;
 use learnpnp::PlanAgent;
 use learnpnp::condition::{AtomId, AtomTable, KnowledgeBase};
 use learnpnp::domains::TaskError;
-use learnpnp::executor::{Action, Registry, World};
+use learnpnp::executor::{OneStep, Registry, World};
 use learnpnp::learning::{
     Assessment, EpisodeMode, EpisodeStart, ExploitPolicy, Learner, Schedule, Sigma, SoSmc, SoSmcConfig, StepSize,
     Unestimated,
@@ -145,41 +145,22 @@ impl World for Courier {
     }
 }
 
-/// A plan action: one delivery by one route (one executor step).
-struct Drive {
-    route: Route,
-    done: bool,
-}
-
-impl Action<Courier> for Drive {
-    fn start(&mut self, _: &mut Courier) {
-        self.done = false;
-    }
-    fn step(&mut self, w: &mut Courier) {
-        if !self.done {
-            let step = w.env.step(self.route);
-            w.observation = step.observation;
-            w.pending += step.reward;
-            w.episode_return += step.reward;
-            self.done = true;
-        }
-    }
-    fn finished(&self, _: &Courier) -> bool {
-        self.done
+impl Courier {
+    /// One delivery by `route`.
+    fn drive(&mut self, route: Route) {
+        let step = self.env.step(route);
+        self.observation = step.observation;
+        self.pending += step.reward;
+        self.episode_return += step.reward;
     }
 }
 
 /// The actions a plan may name: `Short` and `Long`.
 pub fn registry() -> Registry<Courier> {
     let mut r = Registry::new();
-    r.action("Short", &[], |_| Drive {
-        route: Route::Short,
-        done: false,
-    });
-    r.action("Long", &[], |_| Drive {
-        route: Route::Long,
-        done: false,
-    });
+    // A plan action: one delivery by one route (one executor step).
+    r.action("Short", &[], |_| OneStep::new(|w: &mut Courier| w.drive(Route::Short)));
+    r.action("Long", &[], |_| OneStep::new(|w: &mut Courier| w.drive(Route::Long)));
     r
 }
 

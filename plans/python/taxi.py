@@ -14,6 +14,9 @@ site S), ``carrying`` (the passenger is aboard), ``dest_S`` (the destination).
 Actions: gymnasium's ``south north east west pickup dropoff``.
 """
 
+import gymnasium as gym
+import numpy as np
+
 import learnpnp
 
 SITES = ("R", "G", "Y", "B")
@@ -75,3 +78,45 @@ def build():
     b.action_into(subtasks["get", "full"], "pickup", root)
     b.action_into(subtasks["put", "empty"], "dropoff", root)
     return b.build(atoms=atom_names())
+
+
+class StartFrom(gym.Wrapper):
+    """Resets into ``start`` (a Taxi state) when it is set."""
+
+    def __init__(self, env):
+        super().__init__(env)
+        self.start = None
+
+    def reset(self, **kwargs):
+        obs, info = self.env.reset(**kwargs)
+        if self.start is not None:
+            self.env.unwrapped.s = self.start
+            obs = self.start
+        return obs, info
+
+
+def optimal_returns(env):
+    """The optimal return from every state (value iteration, undiscounted)."""
+    table = env.unwrapped.P
+    value = np.zeros(env.observation_space.n)
+    while True:
+        q = np.array(
+            [
+                [sum(p * (r + (0.0 if done else value[s2])) for p, s2, r, done in table[s][a]) for a in table[s]]
+                for s in range(len(value))
+            ]
+        )
+        if np.abs(q.max(1) - value).max() < 1e-9:
+            return q.max(1)
+        value = q.max(1)
+
+
+def greedy_returns(env, agent, starts):
+    """The greedy policy's return from each of ``starts`` (``env`` a ``StartFrom``)."""
+    out = []
+    with agent.evaluate():
+        for s in starts:
+            env.start = s
+            out.append(learnpnp.run_episode(env, agent, lambda o: atoms(env, o), ACTIONS)[0])
+    env.start = None
+    return np.array(out)

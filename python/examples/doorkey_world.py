@@ -12,36 +12,17 @@ the door and the goal. From the repository's root::
 the ``world`` extra and ``minigrid``: ``pip install './python[world]' minigrid``.
 """
 
-import argparse
-import pathlib
-import sys
-
 import gymnasium as gym
 import minigrid  # noqa: F401  (registers the MiniGrid environments)
 
-from learnpnp.world import RecordEpisodes, serve
+from _common import plan_module, serve_plan_world
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "plans" / "python"))
-import doorkey  # noqa: E402  (the plan's atoms and actions)
+doorkey = plan_module("doorkey")
 
 
 def main():
     """Serves DoorKey-5x5 until the supervisor says stop."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--record", help="append each episode the world served to this file (JSON lines)")
-    args = parser.parse_args()
-    env = gym.make("MiniGrid-DoorKey-5x5-v0")
-    if args.record:
-        env = RecordEpisodes(env, args.record)
-    try:
-        serve(
-            env,
-            atoms=lambda observation: doorkey.atoms(env, observation),
-            actions=doorkey.ACTIONS,
-            atom_names=doorkey.atom_names(),
-        )
-    finally:
-        env.close()
+    serve_plan_world(__doc__.splitlines()[0], lambda: gym.make("MiniGrid-DoorKey-5x5-v0"), doorkey)
 
 
 if __name__ == "__main__":

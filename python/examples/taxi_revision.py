@@ -52,55 +52,15 @@ def pruned():
     return b.build(atoms=taxi.atom_names())
 
 
-class StartFrom(gym.Wrapper):
-    """Resets into ``start`` (a Taxi state) when it is set."""
-
-    def __init__(self, env):
-        super().__init__(env)
-        self.start = None
-
-    def reset(self, **kwargs):
-        obs, info = self.env.reset(**kwargs)
-        if self.start is not None:
-            self.env.unwrapped.s = self.start
-            obs = self.start
-        return obs, info
-
-
-def optimal_returns(env):
-    table = env.unwrapped.P
-    value = np.zeros(env.observation_space.n)
-    while True:
-        q = np.array(
-            [
-                [sum(p * (r + (0.0 if done else value[s2])) for p, s2, r, done in table[s][a]) for a in table[s]]
-                for s in range(len(value))
-            ]
-        )
-        if np.abs(q.max(1) - value).max() < 1e-9:
-            return q.max(1)
-        value = q.max(1)
-
-
-def greedy(env, agent, starts):
-    out = []
-    with agent.evaluate():
-        for s in starts:
-            env.start = s
-            out.append(learnpnp.run_episode(env, agent, lambda o: taxi.atoms(env, o), taxi.ACTIONS)[0])
-    env.start = None
-    return np.array(out)
-
-
 def learn(env, agent, seed, episodes, every, target, starts):
     """Learns until the greedy policy earns ``target`` from every start;
     returns the episodes needed (None if not within ``episodes``)."""
     env.reset(seed=seed)
-    if target is not None and np.allclose(greedy(env, agent, starts), target):
+    if target is not None and np.allclose(taxi.greedy_returns(env, agent, starts), target):
         return 0
     for episode in range(1, episodes + 1):
         learnpnp.run_episode(env, agent, lambda o: taxi.atoms(env, o), taxi.ACTIONS)
-        if target is not None and episode % every == 0 and np.allclose(greedy(env, agent, starts), target):
+        if target is not None and episode % every == 0 and np.allclose(taxi.greedy_returns(env, agent, starts), target):
             return episode
     return None
 
@@ -114,9 +74,9 @@ def main():
     parser.add_argument("--every", type=int, default=100)
     args = parser.parse_args()
     before, after = (taxi.build, pruned) if args.revision == "remove" else (pruned, taxi.build)
-    env = StartFrom(gym.make("Taxi-v4"))
+    env = taxi.StartFrom(gym.make("Taxi-v4"))
     starts = [int(s) for s in np.flatnonzero(env.unwrapped.initial_state_distrib)]
-    target = optimal_returns(env)[starts]
+    target = taxi.optimal_returns(env)[starts]
     scratch, migrated = [], []
     with tempfile.TemporaryDirectory() as tmp:
         for seed in range(args.seeds):

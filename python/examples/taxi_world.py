@@ -11,35 +11,16 @@ JSON line per episode the world served (``learnpnp.world.RecordEpisodes``).
 Needs the ``world`` extra: ``pip install './python[world]'``.
 """
 
-import argparse
-import pathlib
-import sys
-
 import gymnasium as gym
 
-from learnpnp.world import RecordEpisodes, serve
+from _common import plan_module, serve_plan_world
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "plans" / "python"))
-import taxi  # noqa: E402  (the plan's atoms and actions)
+taxi = plan_module("taxi")
 
 
 def main():
     """Serves Taxi-v4 until the supervisor says stop."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--record", help="append each episode the world served to this file (JSON lines)")
-    args = parser.parse_args()
-    env = gym.make("Taxi-v4")
-    if args.record:
-        env = RecordEpisodes(env, args.record)
-    try:
-        serve(
-            env,
-            atoms=lambda observation: taxi.atoms(env, observation),
-            actions=taxi.ACTIONS,
-            atom_names=taxi.atom_names(),
-        )
-    finally:
-        env.close()
+    serve_plan_world(__doc__.splitlines()[0], lambda: gym.make("Taxi-v4"), taxi)
 
 
 if __name__ == "__main__":

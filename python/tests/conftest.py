@@ -8,6 +8,8 @@ import tempfile
 
 import pytest
 
+import learnpnp
+
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 PLANS = ROOT / "plans"
 sys.path.insert(0, str(PLANS / "python"))
@@ -17,6 +19,20 @@ sys.path.insert(0, str(PLANS / "python"))
 def plans():
     """The repository's plans/ folder."""
     return PLANS
+
+
+@pytest.fixture
+def doors():
+    """Builds the plan of two doors from the start: Left pays 1, Right 0."""
+
+    def build():
+        b = learnpnp.PlanBuilder("doors")
+        start, goal = b.initial_place("start"), b.goal_place()
+        b.action_into(start, "Left", goal)
+        b.action_into(start, "Right", goal)
+        return b.build(atoms=["Open"])
+
+    return build
 
 
 @pytest.fixture
@@ -35,12 +51,22 @@ def learnpnp_cli():
 
 
 @pytest.fixture
-def supervisor(learnpnp_cli):
+def built_beside(learnpnp_cli):
+    """Finds a binary built beside the `learnpnp` command by its name (skips if it is not built)."""
+
+    def find(name):
+        path = pathlib.Path(learnpnp_cli).parent / name
+        if not path.is_file():
+            pytest.skip(f"{path} is not built")
+        return str(path)
+
+    return find
+
+
+@pytest.fixture
+def supervisor(built_beside):
     """The `learnpnp-supervisor` built beside the `learnpnp` command."""
-    path = pathlib.Path(learnpnp_cli).parent / "learnpnp-supervisor"
-    if not path.is_file():
-        pytest.skip(f"{path} is not built")
-    return str(path)
+    return built_beside("learnpnp-supervisor")
 
 
 @pytest.fixture

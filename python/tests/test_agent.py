@@ -9,15 +9,6 @@ import pytest
 import learnpnp
 
 
-def doors():
-    """Two doors from the start: Left pays 1, Right 0."""
-    b = learnpnp.PlanBuilder("doors")
-    start, goal = b.initial_place("start"), b.goal_place()
-    b.action_into(start, "Left", goal)
-    b.action_into(start, "Right", goal)
-    return b.build(atoms=["Open"])
-
-
 def play(agent, episodes):
     """Episodes of the doors plan; returns the total reward."""
     total = 0.0
@@ -31,7 +22,7 @@ def play(agent, episodes):
 
 
 @pytest.mark.parametrize("algo", learnpnp.ALGORITHMS)
-def test_every_algorithm_learns_or_runs(algo):
+def test_every_algorithm_learns_or_runs(algo, doors):
     agent = learnpnp.PlanAgent(doors(), algo=algo, seed=5)
     play(agent, 300)
     with agent.evaluate():
@@ -42,7 +33,7 @@ def test_every_algorithm_learns_or_runs(algo):
         assert greedy == 20, f"{algo} should open the left door greedily"
 
 
-def test_parameters_have_the_commands_names_and_ranges():
+def test_parameters_have_the_commands_names_and_ranges(doors):
     assert "lambda" in learnpnp.PARAMETERS and "initial_value" in learnpnp.PARAMETERS
     learnpnp.PlanAgent(doors(), algo="sarsa-lambda", alpha=0.5, lambda_=0.8, epsilon="0.2:0:1000", gamma=1)
     learnpnp.PlanAgent(doors(), algo="soft-sosmc", tau=0.5, assess="every:10", step_size="inverse", initial_value=-4)
@@ -62,7 +53,7 @@ def test_parameters_have_the_commands_names_and_ranges():
         learnpnp.PlanAgent(doors(), algo="q-learning", alpha=[0.1])
 
 
-def test_bad_input_is_refused_with_what_is_known(plans):
+def test_bad_input_is_refused_with_what_is_known(plans, doors):
     agent = learnpnp.PlanAgent(doors(), algo="q-learning")
     with pytest.raises(ValueError, match="unknown atom 'Closed': the plan's atoms are Open"):
         agent.act({"Closed"})

@@ -40,12 +40,9 @@ GREEDY = 5
 
 
 @pytest.fixture
-def ros2_world(supervisor):
+def ros2_world(built_beside):
     """The `learnpnp-ros2-world` built beside the supervisor."""
-    path = pathlib.Path(supervisor).parent / "learnpnp-ros2-world"
-    if not path.is_file():
-        pytest.skip(f"{path} is not built")
-    return str(path)
+    return built_beside("learnpnp-ros2-world")
 
 
 def free_port():

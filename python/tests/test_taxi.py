@@ -22,49 +22,8 @@ EVAL_EVERY = 500
 ALPHA, EPSILON = 0.1, 0.1
 
 
-class StartFrom(gym.Wrapper):
-    """Resets into ``start`` (a Taxi state) when it is set."""
-
-    def __init__(self, env):
-        super().__init__(env)
-        self.start = None
-
-    def reset(self, **kwargs):
-        obs, info = self.env.reset(**kwargs)
-        if self.start is not None:
-            self.env.unwrapped.s = self.start
-            obs = self.start
-        return obs, info
-
-
 def start_states(env):
     return [int(s) for s in np.flatnonzero(env.unwrapped.initial_state_distrib)]
-
-
-def optimal_returns(env):
-    """The optimal return from every state (value iteration, undiscounted)."""
-    table = env.unwrapped.P
-    value = np.zeros(env.observation_space.n)
-    while True:
-        q = np.array(
-            [
-                [sum(p * (r + (0.0 if done else value[s2])) for p, s2, r, done in table[s][a]) for a in table[s]]
-                for s in range(len(value))
-            ]
-        )
-        if np.abs(q.max(1) - value).max() < 1e-9:
-            return q.max(1)
-        value = q.max(1)
-
-
-def greedy_returns_plan(env, agent, starts):
-    out = []
-    with agent.evaluate():
-        for s in starts:
-            env.start = s
-            out.append(learnpnp.run_episode(env, agent, lambda o: taxi.atoms(env, o), taxi.ACTIONS)[0])
-    env.start = None
-    return np.array(out)
 
 
 def greedy_returns_flat(table, q, starts, limit):
@@ -91,7 +50,7 @@ def learn_plan(env, seed, target, starts):
     for episode in range(1, EPISODES + 1):
         learnpnp.run_episode(env, agent, lambda o: taxi.atoms(env, o), taxi.ACTIONS)
         if episode % EVAL_EVERY == 0:
-            returns = greedy_returns_plan(env, agent, starts)
+            returns = taxi.greedy_returns(env, agent, starts)
             if np.allclose(returns, target):
                 return returns, episode
     return returns, None
@@ -122,9 +81,9 @@ def learn_flat(env, seed, target, starts):
 
 
 def test_taxi_learned_in_plan_space_is_optimal():
-    env = StartFrom(gym.make("Taxi-v4"))
+    env = taxi.StartFrom(gym.make("Taxi-v4"))
     starts = start_states(env)
-    optimum = optimal_returns(env)[starts]
+    optimum = taxi.optimal_returns(env)[starts]
     assert env.spec.reward_threshold > optimum.mean(), "the threshold is above the optimum"
     plan_means, plan_needed, flat_needed = [], [], []
     for seed in SEEDS:

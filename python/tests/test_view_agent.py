@@ -11,15 +11,6 @@ from mcap.reader import make_reader
 import learnpnp
 
 
-def doors():
-    """Two doors from the start: Left pays 1, Right 0."""
-    b = learnpnp.PlanBuilder("doors")
-    start, goal = b.initial_place("start"), b.goal_place()
-    b.action_into(start, "Left", goal)
-    b.action_into(start, "Right", goal)
-    return b.build(atoms=["Open"])
-
-
 def play(agent, episodes):
     for _ in range(episodes):
         while (name := agent.act({"Open": False})) is not None:
@@ -27,11 +18,11 @@ def play(agent, episodes):
         agent.end_episode()
 
 
-def test_an_agent_without_a_view_serves_nothing():
+def test_an_agent_without_a_view_serves_nothing(doors):
     assert learnpnp.PlanAgent(doors(), seed=1).view_address is None
 
 
-def test_a_watched_agent_serves_the_page_and_records_its_choices(sandbox):
+def test_a_watched_agent_serves_the_page_and_records_its_choices(sandbox, doors):
     recording = sandbox / "agent.mcap"
     agent = learnpnp.PlanAgent(doors(), algo="eps-sosmc", seed=3, view="127.0.0.1:0", record_mcap=str(recording))
     host, port = agent.view_address.rsplit(":", 1)

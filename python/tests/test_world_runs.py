@@ -22,7 +22,8 @@ import sys
 import gymnasium as gym
 import numpy as np
 import pytest
-from test_taxi import optimal_returns
+
+import taxi
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "python" / "examples"
@@ -56,7 +57,7 @@ TAXI += ("--eval-every", "2000", "--eval-episodes", "0", "--wait", "hybrid")
 
 
 def test_taxi_from_a_python_world_is_learned_to_the_optimum_and_a_seed_repeats(supervisor, sandbox):
-    optimum = optimal_returns(gym.make("Taxi-v4"))
+    optimum = taxi.optimal_returns(gym.make("Taxi-v4"))
     for seed in ("1", "2", "3"):
         summary, episodes, out = run_world(supervisor, sandbox, f"taxi{seed}", "taxi_world.py", "taxi.pnml", *TAXI,
                                            "--seed", seed)

@@ -16,20 +16,21 @@ const SHOWN_LOOP: usize = 8;
 /// A place named for a reader: `id 'label'`, or the id alone when the label is blank.
 fn place(plan: &Plan, p: PlaceId) -> String {
     let node = plan.net().place(p);
-    if node.label.trim().is_empty() {
-        node.id.clone()
-    } else {
-        format!("{} '{}'", node.id, node.label)
-    }
+    for_reader(&node.id, &node.label)
 }
 
 /// A transition named for a reader, like [`place`].
 fn transition(plan: &Plan, t: TransitionId) -> String {
     let node = plan.net().transition(t);
-    if node.label.trim().is_empty() {
-        node.id.clone()
+    for_reader(&node.id, &node.label)
+}
+
+/// `id 'label'`, or `id` alone when `label` is blank.
+fn for_reader(id: &str, label: &str) -> String {
+    if label.trim().is_empty() {
+        id.to_string()
     } else {
-        format!("{} '{}'", node.id, node.label)
+        format!("{id} '{label}'")
     }
 }
 

@@ -1,6 +1,6 @@
 //! What the grid worlds share: compass moves and the move action.
 
-use crate::executor::Action;
+use crate::executor::{OneStep, Registry, World};
 
 /// A compass move.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -44,34 +44,13 @@ pub(crate) trait Mover {
     fn apply_move(&mut self, direction: Direction);
 }
 
-/// A one-step action that moves the agent when stepped.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Move {
-    direction: Direction,
-    done: bool,
-}
-
-impl Move {
-    /// The move in `direction`.
-    pub fn new(direction: Direction) -> Self {
-        Move { direction, done: false }
+/// The four moves, each a one-step action named as the plans name it.
+pub(crate) fn registry<W: Mover + World + 'static>() -> Registry<W> {
+    let mut r = Registry::new();
+    for d in Direction::ALL {
+        r.action(d.action_name(), &[], move |_| {
+            OneStep::new(move |w: &mut W| w.apply_move(d))
+        });
     }
-}
-
-impl<W: Mover> Action<W> for Move {
-    fn reset(&mut self) {
-        self.done = false;
-    }
-    fn start(&mut self, _: &mut W) {
-        self.done = false;
-    }
-    fn step(&mut self, world: &mut W) {
-        if !self.done {
-            world.apply_move(self.direction);
-            self.done = true;
-        }
-    }
-    fn finished(&self, _: &W) -> bool {
-        self.done
-    }
+    r
 }

@@ -4,6 +4,25 @@
 //! A domain is a [`Task`]: it runs episodes of a plan with a learner choosing at
 //! its choice points, and reports what each episode earned.
 
+/// Implements the knowledge base and world of a world with no atoms (every
+/// condition is false) whose only feedback is a reward accumulated in its
+/// `pending` field (the N-MDP and the penalty kick).
+macro_rules! reward_only_world {
+    ($world:ty) => {
+        impl crate::condition::KnowledgeBase for $world {
+            fn holds(&self, _: crate::condition::AtomId) -> bool {
+                false
+            }
+        }
+
+        impl crate::executor::World for $world {
+            fn take_reward(&mut self) -> f64 {
+                std::mem::take(&mut self.pending)
+            }
+        }
+    };
+}
+
 /// What a plan for each domain may use.
 pub mod describe;
 /// What the grid worlds share.
@@ -20,7 +39,7 @@ pub mod penalty_kick;
 pub mod sutton;
 mod task;
 
-pub use task::{EpisodeOutcome, TaskError};
+pub use task::{EpisodeOutcome, EpisodeWorld, PlanTask, TaskError};
 
 use crate::learning::{EpisodeMode, Learner};
 

@@ -14,12 +14,9 @@ use std::sync::Arc;
 
 use rand_distr::{Distribution, Normal};
 
-use super::Task;
-use super::task::{EpisodeOutcome, TaskError, root_key, traced};
-use crate::agent::PlanAgent;
-use crate::condition::{AtomId, KnowledgeBase};
-use crate::executor::{Action, Registry, World};
-use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};
+use super::task::{EpisodeWorld, PlanTask, TaskError, root_key};
+use crate::executor::{OneStep, Registry};
+use crate::learning::Learner;
 use crate::plan::{AllowedAtoms, Plan, PlanBuilder};
 use crate::rng::SimRng;
 
@@ -64,55 +61,47 @@ pub struct NmdpWorld {
     ret: f64,
 }
 
-impl KnowledgeBase for NmdpWorld {
-    fn holds(&self, _: AtomId) -> bool {
-        false
-    }
-}
+reward_only_world!(NmdpWorld);
 
-impl World for NmdpWorld {
-    fn take_reward(&mut self) -> f64 {
-        std::mem::take(&mut self.pending)
-    }
-}
-
-/// One of the four actions: one step; the second state's draws the return.
-struct Choose {
-    index: usize,
-    done: bool,
-}
-
-impl Action<NmdpWorld> for Choose {
-    fn reset(&mut self) {
-        self.done = false;
-    }
-    fn start(&mut self, _: &mut NmdpWorld) {
-        self.done = false;
-    }
-    fn step(&mut self, w: &mut NmdpWorld) {
-        if self.done {
+impl NmdpWorld {
+    /// One of the four actions, by its index in [`ACTIONS`]: the first state's
+    /// records the choice, the second state's draws the return.
+    fn choose(&mut self, index: usize) {
+        if index < 2 {
+            self.first = index;
             return;
         }
-        self.done = true;
-        if self.index < 2 {
-            w.first = self.index;
-            return;
-        }
-        let d = w.config.returns[w.first][self.index - 2];
-        let reward = Normal::new(d.mean, d.sd).map_or(d.mean, |n| n.sample(&mut w.rng));
-        w.pending += reward;
-        w.ret += reward;
-    }
-    fn finished(&self, _: &NmdpWorld) -> bool {
-        self.done
+        let d = self.config.returns[self.first][index - 2];
+        let reward = Normal::new(d.mean, d.sd).map_or(d.mean, |n| n.sample(&mut self.rng));
+        self.pending += reward;
+        self.ret += reward;
     }
 }
 
-/// The four actions.
+impl EpisodeWorld for NmdpWorld {
+    fn begin(&mut self) {
+        self.pending = 0.0;
+        self.ret = 0.0;
+    }
+    fn step_limit(&self) -> u32 {
+        100
+    }
+    fn ret(&self) -> f64 {
+        self.ret
+    }
+    /// Two: one choice in each state.
+    fn actions(&self) -> u32 {
+        2
+    }
+}
+
+/// The four actions, one step each.
 pub fn registry() -> Registry<NmdpWorld> {
     let mut r = Registry::new();
     for (index, name) in ACTIONS.into_iter().enumerate() {
-        r.action(name, &[], move |_| Choose { index, done: false });
+        r.action(name, &[], move |_| {
+            OneStep::new(move |w: &mut NmdpWorld| w.choose(index))
+        });
     }
     r
 }
@@ -133,16 +122,11 @@ pub fn plan() -> Result<Plan, TaskError> {
 
 /// Learning runs in the N-MDP; the traced values are the four actions',
 /// named `S1/A1`, `S1/B1`, `S2/A2`, `S2/B2`.
-pub struct Nmdp {
-    agent: PlanAgent<NmdpWorld>,
-    world: NmdpWorld,
-    traced: Vec<(String, StateKey)>,
-}
+pub type Nmdp = PlanTask<NmdpWorld>;
 
 impl Nmdp {
     /// A run of `plan` with `learner`, rewards drawn from `rng`.
     pub fn new(config: NmdpConfig, plan: Arc<Plan>, learner: Box<dyn Learner>, rng: SimRng) -> Result<Self, TaskError> {
-        let agent = PlanAgent::new(Arc::clone(&plan), &registry(), learner)?;
         // `S1/A1`: one plot per state, as the figure's panels (c) and (d).
         let traced = ACTIONS
             .iter()
@@ -158,30 +142,6 @@ impl Nmdp {
             pending: 0.0,
             ret: 0.0,
         };
-        Ok(Nmdp { agent, world, traced })
-    }
-}
-
-impl Task for Nmdp {
-    fn episode(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
-        self.world.pending = 0.0;
-        self.world.ret = 0.0;
-        let steps = self
-            .agent
-            .run(&mut self.world, EpisodeStart::of(mode), 100, |_| false)?;
-        Ok(EpisodeOutcome {
-            ret: self.world.ret,
-            actions: 2,
-            steps,
-            exploratory: self.agent.learner().exploratory(),
-        })
-    }
-
-    fn traced_values(&self) -> Vec<(String, f64)> {
-        traced(self.agent.learner(), &self.traced)
-    }
-
-    fn learners(&self) -> Vec<&dyn Learner> {
-        vec![self.agent.learner()]
+        PlanTask::with(plan, &registry(), learner, world, traced)
     }
 }

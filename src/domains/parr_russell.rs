@@ -13,13 +13,11 @@ use std::sync::Arc;
 
 use rand::RngExt;
 
-use super::Task;
 use super::grid::{Direction, Mover};
-use super::task::{EpisodeOutcome, TaskError, root_key, traced};
-use crate::agent::PlanAgent;
+use super::task::{EpisodeWorld, PlanTask, TaskError, root_key};
 use crate::condition::{AtomId, AtomTable, KnowledgeBase};
 use crate::executor::{Registry, World};
-use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};
+use crate::learning::Learner;
 use crate::plan::{AllowedAtoms, Plan, catalog};
 use crate::rng::SimRng;
 
@@ -170,19 +168,29 @@ pub fn default_plan() -> Result<Plan, TaskError> {
 
 /// The actions the grid provides.
 pub fn registry() -> Registry<Grid> {
-    let mut r = Registry::new();
-    for d in Direction::ALL {
-        r.action(d.action_name(), &[], move |_| super::grid::Move::new(d));
+    super::grid::registry()
+}
+
+impl EpisodeWorld for Grid {
+    fn begin(&mut self) {
+        self.reset();
     }
-    r
+    fn step_limit(&self) -> u32 {
+        self.config.max_actions.saturating_mul(4).saturating_add(8)
+    }
+    fn over(&self) -> bool {
+        self.actions >= self.config.max_actions || self.terminal()
+    }
+    fn ret(&self) -> f64 {
+        self.ret
+    }
+    fn actions(&self) -> u32 {
+        self.actions
+    }
 }
 
 /// Learning runs in Parr and Russell's grid.
-pub struct ParrRussell {
-    agent: PlanAgent<Grid>,
-    grid: Grid,
-    traced: Vec<(String, StateKey)>,
-}
+pub type ParrRussell = PlanTask<Grid>;
 
 impl ParrRussell {
     /// A run of `plan` (whose atoms must be [`ATOMS`]) with `learner`; `rng` drives the moves.
@@ -192,7 +200,6 @@ impl ParrRussell {
         learner: Box<dyn Learner>,
         rng: SimRng,
     ) -> Result<Self, TaskError> {
-        let agent = PlanAgent::new(Arc::clone(&plan), &registry(), learner)?;
         let mut traced = Vec::new();
         // The initial observation: a wall west only.
         for name in catalog::MOVES {
@@ -200,38 +207,7 @@ impl ParrRussell {
                 traced.push((name.to_string(), key));
             }
         }
-        Ok(ParrRussell {
-            agent,
-            grid: Grid::new(config, rng),
-            traced,
-        })
-    }
-}
-
-impl Task for ParrRussell {
-    fn episode(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
-        self.grid.reset();
-        let max = self.grid.config.max_actions;
-        let steps = self.agent.run(
-            &mut self.grid,
-            EpisodeStart::of(mode),
-            max.saturating_mul(4).saturating_add(8),
-            |g| g.actions >= max || g.terminal(),
-        )?;
-        Ok(EpisodeOutcome {
-            ret: self.grid.ret,
-            actions: self.grid.actions,
-            steps,
-            exploratory: self.agent.learner().exploratory(),
-        })
-    }
-
-    fn traced_values(&self) -> Vec<(String, f64)> {
-        traced(self.agent.learner(), &self.traced)
-    }
-
-    fn learners(&self) -> Vec<&dyn Learner> {
-        vec![self.agent.learner()]
+        PlanTask::with(plan, &registry(), learner, Grid::new(config, rng), traced)
     }
 }
 

@@ -8,13 +8,9 @@
 
 use std::sync::Arc;
 
-use super::Task;
-use super::task::{EpisodeOutcome, TaskError, root_key, traced};
-use crate::agent::PlanAgent;
-use crate::condition::{AtomId, KnowledgeBase};
-use crate::executor::{Action, Registry, World};
-use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};
-use crate::named::Named;
+use super::task::{EpisodeWorld, PlanTask, TaskError, root_key};
+use crate::executor::{Action, OneStep, Registry};
+use crate::learning::Learner;
 use crate::net::{NetError, PetriNet};
 use crate::plan::{AllowedAtoms, Plan, catalog};
 
@@ -40,26 +36,17 @@ const SCHEMA: &str = include_str!("../../plans/penalty_kick.schema");
 /// The plan schema of Figure 3.7, as shipped.
 const SCHEMA_RESTRUCTURED: &str = include_str!("../../plans/penalty_kick_restructured.schema");
 
-impl Named for Variant {
-    const KIND: &'static str = "variant";
-    const ALL: &'static [Self] = &[
-        Variant::Plain,
-        Variant::Tree,
-        Variant::Memory,
-        Variant::Schema,
-        Variant::SchemaRestructured,
-    ];
-
-    fn name(self) -> &'static str {
-        match self {
-            Variant::Plain => "plain",
-            Variant::Tree => "tree",
-            Variant::Memory => "memory",
-            Variant::Schema => "schema",
-            Variant::SchemaRestructured => "schema-restructured",
-        }
-    }
-}
+crate::named::impl_named!(
+    Variant,
+    "variant",
+    [
+        Plain => "plain",
+        Tree => "tree",
+        Memory => "memory",
+        Schema => "schema",
+        SchemaRestructured => "schema-restructured",
+    ]
+);
 
 impl Variant {
     /// The variant's Petri Net Plan; `None` for the plan schemas (see [`plan`]).
@@ -120,40 +107,31 @@ pub struct Pitch {
     miss_timeout: u32,
 }
 
-impl KnowledgeBase for Pitch {
-    fn holds(&self, _: AtomId) -> bool {
-        false
+reward_only_world!(Pitch);
+
+impl Pitch {
+    /// WalkStraight (keeps facing the goal) or Turn (faces away): one step each.
+    fn orient(&mut self, keeps_facing: bool) {
+        self.facing_goal &= keeps_facing;
+        self.actions += 1;
     }
 }
 
-impl World for Pitch {
-    fn take_reward(&mut self) -> f64 {
-        std::mem::take(&mut self.pending)
+impl EpisodeWorld for Pitch {
+    fn begin(&mut self) {
+        self.facing_goal = true;
+        self.pending = 0.0;
+        self.ret = 0.0;
+        self.actions = 0;
     }
-}
-
-/// WalkStraight (keeps facing the goal) or Turn (faces away): one step each.
-struct Orient {
-    keeps_facing: bool,
-    done: bool,
-}
-
-impl Action<Pitch> for Orient {
-    fn reset(&mut self) {
-        self.done = false;
+    fn step_limit(&self) -> u32 {
+        200
     }
-    fn start(&mut self, _: &mut Pitch) {
-        self.done = false;
+    fn ret(&self) -> f64 {
+        self.ret
     }
-    fn step(&mut self, p: &mut Pitch) {
-        if !self.done {
-            p.facing_goal &= self.keeps_facing;
-            p.actions += 1;
-            self.done = true;
-        }
-    }
-    fn finished(&self, _: &Pitch) -> bool {
-        self.done
+    fn actions(&self) -> u32 {
+        self.actions
     }
 }
 
@@ -195,14 +173,8 @@ impl Action<Pitch> for Kick {
 /// The actions of the kick.
 pub fn registry() -> Registry<Pitch> {
     let mut r = Registry::new();
-    r.action("WalkStraight", &[], |_| Orient {
-        keeps_facing: true,
-        done: false,
-    });
-    r.action("Turn", &[], |_| Orient {
-        keeps_facing: false,
-        done: false,
-    });
+    r.action("WalkStraight", &[], |_| OneStep::new(|p: &mut Pitch| p.orient(true)));
+    r.action("Turn", &[], |_| OneStep::new(|p: &mut Pitch| p.orient(false)));
     r.action("Kick", &[], |_| Kick::default());
     r
 }
@@ -225,16 +197,11 @@ pub fn plan(variant: Variant) -> Result<Plan, TaskError> {
 }
 
 /// Learning runs of the penalty kick.
-pub struct PenaltyKick {
-    agent: PlanAgent<Pitch>,
-    pitch: Pitch,
-    traced: Vec<(String, StateKey)>,
-}
+pub type PenaltyKick = PlanTask<Pitch>;
 
 impl PenaltyKick {
     /// A run of `plan` with `learner`.
     pub fn new(config: PenaltyKickConfig, plan: Arc<Plan>, learner: Box<dyn Learner>) -> Result<Self, TaskError> {
-        let agent = PlanAgent::new(Arc::clone(&plan), &registry(), learner)?;
         let traced = config
             .variant
             .traced_labels()
@@ -246,32 +213,6 @@ impl PenaltyKick {
             miss_timeout: config.miss_timeout,
             ..Pitch::default()
         };
-        Ok(PenaltyKick { agent, pitch, traced })
-    }
-}
-
-impl Task for PenaltyKick {
-    fn episode(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
-        self.pitch.facing_goal = true;
-        self.pitch.pending = 0.0;
-        self.pitch.ret = 0.0;
-        self.pitch.actions = 0;
-        let steps = self
-            .agent
-            .run(&mut self.pitch, EpisodeStart::of(mode), 200, |_| false)?;
-        Ok(EpisodeOutcome {
-            ret: self.pitch.ret,
-            actions: self.pitch.actions,
-            steps,
-            exploratory: self.agent.learner().exploratory(),
-        })
-    }
-
-    fn traced_values(&self) -> Vec<(String, f64)> {
-        traced(self.agent.learner(), &self.traced)
-    }
-
-    fn learners(&self) -> Vec<&dyn Learner> {
-        vec![self.agent.learner()]
+        PlanTask::with(plan, &registry(), learner, pitch, traced)
     }
 }

@@ -12,11 +12,10 @@ use rand::RngExt;
 
 use super::Task;
 use super::grid::{Direction, Mover};
-use super::task::{EpisodeOutcome, TaskError};
-use crate::agent::PlanAgent;
+use super::task::{EpisodeOutcome, EpisodeWorld, PlanTask, TaskError};
 use crate::condition::{AtomId, AtomTable, KnowledgeBase};
 use crate::executor::{Registry, World};
-use crate::learning::{EpisodeMode, EpisodeStart, Learner};
+use crate::learning::{EpisodeMode, Learner};
 use crate::plan::{AllowedAtoms, Plan, catalog};
 use crate::rng::SimRng;
 
@@ -147,17 +146,32 @@ pub fn default_plan() -> Result<Plan, TaskError> {
 
 /// The actions the grid provides.
 pub fn registry() -> Registry<Maze> {
-    let mut r = Registry::new();
-    for d in Direction::ALL {
-        r.action(d.action_name(), &[], move |_| super::grid::Move::new(d));
+    super::grid::registry()
+}
+
+impl EpisodeWorld for Maze {
+    /// A start cell drawn at random.
+    fn begin(&mut self) {
+        let i = self.rng.random_range(0..self.starts.len());
+        self.reset_to(self.starts[i]);
     }
-    r
+    fn step_limit(&self) -> u32 {
+        self.config.max_actions.saturating_mul(4).saturating_add(8)
+    }
+    fn over(&self) -> bool {
+        self.actions >= self.config.max_actions || self.cell == GOAL
+    }
+    fn ret(&self) -> f64 {
+        self.ret
+    }
+    fn actions(&self) -> u32 {
+        self.actions
+    }
 }
 
 /// Learning runs in Sutton's grid.
 pub struct Sutton {
-    agent: PlanAgent<Maze>,
-    maze: Maze,
+    task: PlanTask<Maze>,
 }
 
 impl Sutton {
@@ -168,7 +182,6 @@ impl Sutton {
         learner: Box<dyn Learner>,
         rng: SimRng,
     ) -> Result<Self, TaskError> {
-        let agent = PlanAgent::new(plan, &registry(), learner)?;
         let starts = start_cells();
         let maze = Maze {
             config,
@@ -180,32 +193,14 @@ impl Sutton {
             ret: 0.0,
             actions: 0,
         };
-        Ok(Sutton { agent, maze })
-    }
-
-    fn run_from(&mut self, cell: (i8, i8), mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
-        self.maze.reset_to(cell);
-        let max = self.maze.config.max_actions;
-        let steps = self.agent.run(
-            &mut self.maze,
-            EpisodeStart::of(mode),
-            max.saturating_mul(4).saturating_add(8),
-            |m| m.actions >= max || m.cell == GOAL,
-        )?;
-        Ok(EpisodeOutcome {
-            ret: self.maze.ret,
-            actions: self.maze.actions,
-            steps,
-            exploratory: self.agent.learner().exploratory(),
-        })
+        let task = PlanTask::with(plan, &registry(), learner, maze, Vec::new())?;
+        Ok(Sutton { task })
     }
 }
 
 impl Task for Sutton {
     fn episode(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
-        let i = self.maze.rng.random_range(0..self.maze.starts.len());
-        let cell = self.maze.starts[i];
-        self.run_from(cell, mode)
+        self.task.episode(mode)
     }
 
     /// The thesis's protocol: the current best (greedy) policy from every start cell.
@@ -215,10 +210,11 @@ impl Task for Sutton {
 
     /// The greedy policy from every start cell, once each (moves are deterministic).
     fn greedy_score(&mut self, _episodes: usize) -> Result<f64, TaskError> {
-        let starts = self.maze.starts.clone();
+        let starts = self.task.world_mut().starts.clone();
         let mut total = 0.0;
         for &cell in &starts {
-            total += self.run_from(cell, EpisodeMode::Greedy)?.ret;
+            self.task.world_mut().reset_to(cell);
+            total += self.task.run(EpisodeMode::Greedy)?.ret;
         }
         Ok(total / starts.len() as f64)
     }
@@ -228,7 +224,7 @@ impl Task for Sutton {
     }
 
     fn learners(&self) -> Vec<&dyn Learner> {
-        vec![self.agent.learner()]
+        self.task.learners()
     }
 }
 

@@ -1,8 +1,12 @@
 //! What a domain's task reports: why it cannot run ([`TaskError`]), what an
 //! episode earned ([`EpisodeOutcome`]), and the values of named markings it traces.
 
-use crate::executor::ExecError;
-use crate::learning::{Learner, StateKey};
+use std::sync::Arc;
+
+use super::Task;
+use crate::agent::PlanAgent;
+use crate::executor::{ExecError, Registry, World};
+use crate::learning::{EpisodeMode, EpisodeStart, Learner, StateKey};
 use crate::net::Marking;
 use crate::plan::{Plan, PlanError};
 
@@ -46,6 +50,80 @@ pub struct EpisodeOutcome {
     pub steps: u32,
     /// Whether the learner treated it as exploratory.
     pub exploratory: bool,
+}
+
+/// A world a [`PlanTask`] runs episodes in: how an episode begins, how long
+/// it may last, and what it earned.
+pub trait EpisodeWorld: World + Sized {
+    /// Readies the world for a new episode.
+    fn begin(&mut self);
+    /// The most executor steps an episode may take.
+    fn step_limit(&self) -> u32;
+    /// Whether the world has ended the episode (asked after every step).
+    fn over(&self) -> bool {
+        false
+    }
+    /// The undiscounted sum of the episode's rewards so far.
+    fn ret(&self) -> f64;
+    /// The primitive actions of the episode so far.
+    fn actions(&self) -> u32;
+}
+
+/// Learning runs of one plan agent in its world, tracing the values of named
+/// root-plan markings: the small domains' task.
+pub struct PlanTask<W> {
+    agent: PlanAgent<W>,
+    world: W,
+    traced: Vec<(String, StateKey)>,
+}
+
+impl<W: EpisodeWorld> PlanTask<W> {
+    /// A run of `plan` with the actions of `registry` in `world`, `learner`
+    /// choosing; `traced` names the root-plan markings whose values it reports.
+    pub(crate) fn with(
+        plan: Arc<Plan>,
+        registry: &Registry<W>,
+        learner: Box<dyn Learner>,
+        world: W,
+        traced: Vec<(String, StateKey)>,
+    ) -> Result<Self, TaskError> {
+        let agent = PlanAgent::new(plan, registry, learner)?;
+        Ok(PlanTask { agent, world, traced })
+    }
+
+    /// The world.
+    pub(crate) fn world_mut(&mut self) -> &mut W {
+        &mut self.world
+    }
+
+    /// Runs one episode in `mode` from the world as it stands (without [`EpisodeWorld::begin`]).
+    pub(crate) fn run(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
+        let limit = self.world.step_limit();
+        let steps = self
+            .agent
+            .run(&mut self.world, EpisodeStart::of(mode), limit, W::over)?;
+        Ok(EpisodeOutcome {
+            ret: self.world.ret(),
+            actions: self.world.actions(),
+            steps,
+            exploratory: self.agent.learner().exploratory(),
+        })
+    }
+}
+
+impl<W: EpisodeWorld> Task for PlanTask<W> {
+    fn episode(&mut self, mode: EpisodeMode) -> Result<EpisodeOutcome, TaskError> {
+        self.world.begin();
+        self.run(mode)
+    }
+
+    fn traced_values(&self) -> Vec<(String, f64)> {
+        traced(self.agent.learner(), &self.traced)
+    }
+
+    fn learners(&self) -> Vec<&dyn Learner> {
+        vec![self.agent.learner()]
+    }
 }
 
 /// The root plan's marking with one token in the first place carrying each

@@ -43,3 +43,35 @@ pub trait Action<W>: Send {
         false
     }
 }
+
+/// An action that acts once, in its first step, and is then finished (a grid
+/// move, a choice, a reward paid): `act` runs on the world in that step.
+pub struct OneStep<F> {
+    act: F,
+    done: bool,
+}
+
+impl<F> OneStep<F> {
+    /// The action running `act` in its first step.
+    pub fn new(act: F) -> Self {
+        OneStep { act, done: false }
+    }
+}
+
+impl<W, F: FnMut(&mut W) + Send> Action<W> for OneStep<F> {
+    fn reset(&mut self) {
+        self.done = false;
+    }
+    fn start(&mut self, _: &mut W) {
+        self.done = false;
+    }
+    fn step(&mut self, world: &mut W) {
+        if !self.done {
+            (self.act)(world);
+            self.done = true;
+        }
+    }
+    fn finished(&self, _: &W) -> bool {
+        self.done
+    }
+}

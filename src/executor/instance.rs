@@ -353,19 +353,5 @@ impl<W: World> Activation<W> for PlanInstance<W> {
         self.actions.fire(self.active.iter(), world, chooser)
     }
 
-    fn status(&self) -> Status {
-        self.status
-    }
-
-    fn marking(&self) -> &Marking {
-        &self.marking
-    }
-
-    fn fresh(&self) -> bool {
-        self.fresh
-    }
-
-    fn take_pending(&mut self) -> PendingReward {
-        self.pending.take()
-    }
+    activation_accessors!();
 }

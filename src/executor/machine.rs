@@ -295,19 +295,5 @@ impl<W: World> Activation<W> for MachineRun<W> {
         self.actions.fire(actions.iter().copied(), world, chooser)
     }
 
-    fn status(&self) -> Status {
-        self.status
-    }
-
-    fn marking(&self) -> &Marking {
-        &self.marking
-    }
-
-    fn fresh(&self) -> bool {
-        self.fresh
-    }
-
-    fn take_pending(&mut self) -> PendingReward {
-        self.pending.take()
-    }
+    activation_accessors!();
 }

@@ -19,6 +19,28 @@
 //! nodes of the activation tree behind one trait (`activation`), and share
 //! the code binding their actions and internal conditions (`bound`).
 
+/// Implements an activation's `status`, `marking`, `fresh` and `take_pending`
+/// from the fields of the same names, which both kinds of running plan hold.
+macro_rules! activation_accessors {
+    () => {
+        fn status(&self) -> Status {
+            self.status
+        }
+
+        fn marking(&self) -> &Marking {
+            &self.marking
+        }
+
+        fn fresh(&self) -> bool {
+            self.fresh
+        }
+
+        fn take_pending(&mut self) -> PendingReward {
+            self.pending.take()
+        }
+    };
+}
+
 mod action;
 mod activation;
 mod bits;
@@ -32,7 +54,7 @@ mod registry;
 
 use std::sync::Arc;
 
-pub use action::{Action, World};
+pub use action::{Action, OneStep, World};
 pub use activation::{PendingReward, Status};
 pub use chooser::{Chooser, PlanKey, RandomChooser};
 pub use error::ExecError;

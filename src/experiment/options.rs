@@ -35,30 +35,19 @@ pub enum DomainName {
     KeepawayFixed,
 }
 
-impl Named for DomainName {
-    const KIND: &'static str = "domain";
-    const ALL: &'static [Self] = &[
-        DomainName::ParrRussell,
-        DomainName::Sutton,
-        DomainName::PenaltyKick,
-        DomainName::Nmdp,
-        DomainName::KeepawayPass,
-        DomainName::KeepawayPosition,
-        DomainName::KeepawayFixed,
-    ];
-
-    fn name(self) -> &'static str {
-        match self {
-            DomainName::ParrRussell => "parr-russell",
-            DomainName::Sutton => "sutton",
-            DomainName::PenaltyKick => "penalty-kick",
-            DomainName::Nmdp => "nmdp",
-            DomainName::KeepawayPass => "keepaway-pass",
-            DomainName::KeepawayPosition => "keepaway-position",
-            DomainName::KeepawayFixed => "keepaway-fixed",
-        }
-    }
-}
+crate::named::impl_named!(
+    DomainName,
+    "domain",
+    [
+        ParrRussell => "parr-russell",
+        Sutton => "sutton",
+        PenaltyKick => "penalty-kick",
+        Nmdp => "nmdp",
+        KeepawayPass => "keepaway-pass",
+        KeepawayPosition => "keepaway-position",
+        KeepawayFixed => "keepaway-fixed",
+    ]
+);
 
 /// Everything about an experiment but the domain and where results go: the
 /// algorithm, its parameters, the protocol and the domain's options. `None`

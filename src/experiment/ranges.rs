@@ -77,20 +77,12 @@ impl RealRange {
 
     /// `value` if in range, else why not.
     pub fn check(&self, value: f64) -> Result<f64, String> {
-        if self.contains(value) {
-            Ok(value)
-        } else {
-            Err(format!("{value} is out of range: it must be {}", self.describe()))
-        }
+        in_range(value, self.contains(value), || self.describe())
     }
 
     /// Parses `text` as a number in the range (for flags).
     pub fn parse(&self, text: &str) -> Result<f64, String> {
-        let value = text
-            .trim()
-            .parse::<f64>()
-            .map_err(|_| format!("'{text}' is not a number: it must be {}", self.describe()))?;
-        self.check(value)
+        self.check(read(text, "a number", || self.describe())?)
     }
 
     /// Checks both ends of a schedule (a ramp stays between them).
@@ -99,6 +91,23 @@ impl RealRange {
         self.check(schedule.end)?;
         Ok(())
     }
+}
+
+/// `value` if `fits`, else why not: `range` gives the range in words.
+fn in_range<T: std::fmt::Display>(value: T, fits: bool, range: impl FnOnce() -> String) -> Result<T, String> {
+    if fits {
+        Ok(value)
+    } else {
+        Err(format!("{value} is out of range: it must be {}", range()))
+    }
+}
+
+/// `text` read as `noun` (what a `T` is in words), else why not: `range`
+/// gives the range in words.
+fn read<T: std::str::FromStr>(text: &str, noun: &str, range: impl FnOnce() -> String) -> Result<T, String> {
+    text.trim()
+        .parse::<T>()
+        .map_err(|_| format!("'{text}' is not {noun}: it must be {}", range()))
 }
 
 /// An interval of whole numbers.
@@ -127,20 +136,12 @@ impl CountRange {
 
     /// `value` if in range, else why not.
     pub fn check(&self, value: u64) -> Result<u64, String> {
-        if (self.low..=self.high).contains(&value) {
-            Ok(value)
-        } else {
-            Err(format!("{value} is out of range: it must be {}", self.describe()))
-        }
+        in_range(value, (self.low..=self.high).contains(&value), || self.describe())
     }
 
     /// Parses `text` as a whole number in the range (for flags).
     pub fn parse(&self, text: &str) -> Result<u64, String> {
-        let value = text
-            .trim()
-            .parse::<u64>()
-            .map_err(|_| format!("'{text}' is not a whole number: it must be {}", self.describe()))?;
-        self.check(value)
+        self.check(read(text, "a whole number", || self.describe())?)
     }
 
     /// Parses into a `usize` (the range fits one on every supported platform).

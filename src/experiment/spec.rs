@@ -335,30 +335,19 @@ pub enum Algorithm {
     Random,
 }
 
-impl Named for Algorithm {
-    const KIND: &'static str = "algorithm";
-    const ALL: &'static [Self] = &[
-        Algorithm::EpsSosmc,
-        Algorithm::SoftSosmc,
-        Algorithm::SarsaLambda,
-        Algorithm::Sarsa0,
-        Algorithm::QLearning,
-        Algorithm::Mcesp,
-        Algorithm::Random,
-    ];
-
-    fn name(self) -> &'static str {
-        match self {
-            Algorithm::EpsSosmc => "eps-sosmc",
-            Algorithm::SoftSosmc => "soft-sosmc",
-            Algorithm::SarsaLambda => "sarsa-lambda",
-            Algorithm::Sarsa0 => "sarsa0",
-            Algorithm::QLearning => "q-learning",
-            Algorithm::Mcesp => "mcesp",
-            Algorithm::Random => "random",
-        }
-    }
-}
+crate::named::impl_named!(
+    Algorithm,
+    "algorithm",
+    [
+        EpsSosmc => "eps-sosmc",
+        SoftSosmc => "soft-sosmc",
+        SarsaLambda => "sarsa-lambda",
+        Sarsa0 => "sarsa0",
+        QLearning => "q-learning",
+        Mcesp => "mcesp",
+        Random => "random",
+    ]
+);
 
 /// The learner's parameters.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -184,15 +184,5 @@ impl Learner for Mcesp {
         }
     }
 
-    fn exploratory(&self) -> bool {
-        self.explored
-    }
-
-    fn values(&self) -> &ValueTable {
-        &self.values
-    }
-
-    fn values_mut(&mut self) -> &mut ValueTable {
-        &mut self.values
-    }
+    table_accessors!(explored);
 }

@@ -6,6 +6,25 @@
 //! it identifies the thesis's observation-action pair, while plans that lead to
 //! the same marking deliberately share one value (see docs/ARCHITECTURE.md).
 
+/// Implements a learner's `exploratory`, `values` and `values_mut` for a learner
+/// that keeps its table in a field `values` and its exploration flag in the
+/// named field (the three accessors every table learner writes alike).
+macro_rules! table_accessors {
+    ($explored:ident) => {
+        fn exploratory(&self) -> bool {
+            self.$explored
+        }
+
+        fn values(&self) -> &ValueTable {
+            &self.values
+        }
+
+        fn values_mut(&mut self) -> &mut ValueTable {
+            &mut self.values
+        }
+    };
+}
+
 pub mod by_choice;
 mod mcesp;
 pub mod migrate;

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::selection::{self, Exploration, Strategy};
+use super::selection::{self, Exploration};
 use super::{EpisodeStart, Learner, Trajectory, ValueTable, blend, level};
 use crate::executor::{Chooser, PendingReward, PlanKey};
 use crate::net::Marking;
@@ -61,11 +61,7 @@ impl Chooser for MonteCarlo {
         self.option_values.clear();
         self.option_values
             .extend(options.iter().map(|m| self.values.value_of(plan, m)));
-        let strategy = if self.greedy {
-            Strategy::Greedy
-        } else {
-            self.config.exploration.at(self.decisions)
-        };
+        let strategy = self.config.exploration.unless_greedy(self.greedy, self.decisions);
         let i = selection::select(strategy, &self.option_values, &mut self.rng, &mut self.scratch);
         self.left_greedy |= !selection::is_greedy(&self.option_values, i);
         if self.learning {
@@ -110,15 +106,5 @@ impl Learner for MonteCarlo {
         }
     }
 
-    fn exploratory(&self) -> bool {
-        self.left_greedy
-    }
-
-    fn values(&self) -> &ValueTable {
-        &self.values
-    }
-
-    fn values_mut(&mut self) -> &mut ValueTable {
-        &mut self.values
-    }
+    table_accessors!(left_greedy);
 }

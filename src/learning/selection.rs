@@ -79,6 +79,12 @@ impl Exploration {
             Exploration::Softmax(s) => Strategy::Softmax(s.at(t)),
         }
     }
+
+    /// The strategy after `t` units of the schedule, or greedy throughout for
+    /// a learner told to exploit (`greedy`).
+    pub(crate) fn unless_greedy(&self, greedy: bool, t: u64) -> Strategy {
+        if greedy { Strategy::Greedy } else { self.at(t) }
+    }
 }
 
 /// The indices of the best values (ties included).

@@ -96,17 +96,14 @@ impl Unestimated {
     }
 }
 
-impl crate::named::Named for Unestimated {
-    const KIND: &'static str = "unestimated weight";
-    const ALL: &'static [Self] = &[Unestimated::AsBest, Unestimated::None];
-
-    fn name(self) -> &'static str {
-        match self {
-            Unestimated::None => "none",
-            Unestimated::AsBest => "as-best",
-        }
-    }
-}
+crate::named::impl_named!(
+    Unestimated,
+    "unestimated weight",
+    [
+        AsBest => "as-best",
+        None => "none",
+    ]
+);
 
 /// The policy of an exploiting episode.
 ///
@@ -129,17 +126,14 @@ pub enum ExploitPolicy {
     Last,
 }
 
-impl crate::named::Named for ExploitPolicy {
-    const KIND: &'static str = "exploit policy";
-    const ALL: &'static [Self] = &[ExploitPolicy::Greedy, ExploitPolicy::Last];
-
-    fn name(self) -> &'static str {
-        match self {
-            ExploitPolicy::Last => "last",
-            ExploitPolicy::Greedy => "greedy",
-        }
-    }
-}
+crate::named::impl_named!(
+    ExploitPolicy,
+    "exploit policy",
+    [
+        Greedy => "greedy",
+        Last => "last",
+    ]
+);
 
 /// The parameters of SoSMC.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -428,15 +422,5 @@ impl Learner for SoSmc {
         self.episode += 1;
     }
 
-    fn exploratory(&self) -> bool {
-        self.exploratory
-    }
-
-    fn values(&self) -> &ValueTable {
-        &self.values
-    }
-
-    fn values_mut(&mut self) -> &mut ValueTable {
-        &mut self.values
-    }
+    table_accessors!(exploratory);
 }

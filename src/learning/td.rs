@@ -9,7 +9,7 @@
 use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
 
-use super::selection::{self, Exploration, Strategy};
+use super::selection::{self, Exploration};
 use super::{EpisodeStart, KeyId, Learner, ValueTable, discount, level};
 use crate::executor::{Chooser, PendingReward, PlanKey};
 use crate::net::Marking;
@@ -146,11 +146,7 @@ impl Chooser for TdLearner {
             .and_then(|o| self.memory.get(&o))
             .and_then(|after| self.ids.iter().position(|id| id == after));
         let index = remembered.unwrap_or_else(|| {
-            let strategy = if self.greedy {
-                Strategy::Greedy
-            } else {
-                self.config.exploration.at(self.decisions)
-            };
+            let strategy = self.config.exploration.unless_greedy(self.greedy, self.decisions);
             let i = selection::select(strategy, &self.option_values, &mut self.rng, &mut self.scratch);
             self.left_greedy |= !selection::is_greedy(&self.option_values, i);
             if let Some(o) = obs {
@@ -258,15 +254,5 @@ impl Learner for TdLearner {
         }
     }
 
-    fn exploratory(&self) -> bool {
-        self.left_greedy
-    }
-
-    fn values(&self) -> &ValueTable {
-        &self.values
-    }
-
-    fn values_mut(&mut self) -> &mut ValueTable {
-        &mut self.values
-    }
+    table_accessors!(left_greedy);
 }

@@ -145,14 +145,34 @@ pub trait Carried: ZeroCopySend + Debug + Copy + Send + 'static {
     }
 }
 
+/// Implements [`Carried`] for the layouts that are only a header and a body,
+/// and defines [`Payload`], one variant per carried layout (those and
+/// [`Control`]), with the opening of a carrier of each.
 macro_rules! carried {
-    ($($t:ty),*) => {$(
-        impl Carried for $t {
+    ($($t:ident),*) => {
+        $(impl Carried for $t {
             fn header(&self) -> &Header {
                 &self.header
             }
+        })*
+
+        /// The payload type of a carried service.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+        pub(crate) enum Payload {
+            $($t,)*
+            Control,
         }
-    )*};
+
+        impl Payload {
+            /// How a carrier of this payload is opened.
+            pub(crate) fn opener(self) -> Opener {
+                match self {
+                    $(Payload::$t => Carrier::<$t>::open,)*
+                    Payload::Control => Carrier::<Control>::open,
+                }
+            }
+        }
+    };
 }
 
 carried!(
@@ -165,6 +185,10 @@ carried!(
     AgentReport,
     Heartbeat
 );
+
+/// Opens the carrier of a route for one payload (see [`Payload::opener`]).
+pub(crate) type Opener =
+    fn(&Node<Ipc>, &Session, &str, &Route, WaitStrategy, &Sender<()>) -> Result<Box<dyn Carry>, BridgeError>;
 
 impl Carried for Control {
     fn header(&self) -> &Header {
@@ -232,7 +256,8 @@ pub struct Carrier<T: Carried> {
 impl<T: Carried> Carrier<T> {
     /// Carries `route` of the run whose prefix is `prefix` (the Zenoh keys)
     /// between `node`'s namespace and `session`.
-    /// Each arrival rings `doorbell`, to wake the bridge's loop.
+    /// Each arrival rings `doorbell`, to wake the bridge's loop. Boxed: the
+    /// loop holds the carriers of every payload alike.
     pub fn open(
         node: &Node<Ipc>,
         session: &Session,
@@ -240,7 +265,7 @@ impl<T: Carried> Carrier<T> {
         route: &Route,
         wait: WaitStrategy,
         doorbell: &Sender<()>,
-    ) -> Result<Self, BridgeError> {
+    ) -> Result<Box<dyn Carry>, BridgeError> {
         let ports = BridgePorts::open(
             node,
             &route.service,
@@ -281,7 +306,7 @@ impl<T: Carried> Carrier<T> {
         } else {
             (None, None)
         };
-        Ok(Carrier {
+        Ok(Box::new(Carrier::<T> {
             ports,
             tag: tag_of::<T>(),
             base,
@@ -292,7 +317,7 @@ impl<T: Carried> Carrier<T> {
             session: session.clone(),
             inbox,
             _subscriber: subscriber,
-        })
+        }))
     }
 
     /// The publisher for `value`'s key, declared on first use.

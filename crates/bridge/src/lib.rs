@@ -73,15 +73,9 @@ use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use crossbeam::channel::Sender;
-use iceoryx2::node::Node;
-use shm_layouts::{
-    AgentReport, Control, EpisodeEvent, Heartbeat, KeeperCommand, KeeperSnapshot, WorldCommand, WorldSnapshot,
-    WorldVocabulary, services,
-};
-use zenoh::Session;
+use shm_layouts::services;
 
-use carry::{Carried, Carrier, Carry, Direction, Moved, RemoteOrders, Route, Source};
+use carry::{Direction, Moved, Payload, RemoteOrders, Route, Source};
 use learnpnp_system::hosts::report::LinkReport;
 use learnpnp_system::hosts::run_info::{RunInfo, RunInfoError};
 use learnpnp_system::hosts::{JOIN_TIMEOUT, PLAIN_TCP_WARNING};
@@ -91,8 +85,7 @@ use remote::{ExpectedFiles, FileShipping, fetch_run_info, serve_run_info};
 
 use learnpnp_system::ipc::namespace::Namespace;
 use learnpnp_system::ipc::protocol::{Role, Roster};
-use learnpnp_system::ipc::services::{Ipc, node, wake_name};
-use learnpnp_system::ipc::wait::WaitStrategy;
+use learnpnp_system::ipc::services::{node, wake_name};
 
 /// Which host a bridge serves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -243,56 +236,6 @@ fn routes(info: &RunInfo, side: Side) -> Vec<(Route, Payload)> {
     out
 }
 
-/// The payload type of a carried service.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Payload {
-    KeeperSnapshot,
-    KeeperCommand,
-    EpisodeEvent,
-    WorldSnapshot,
-    WorldCommand,
-    WorldVocabulary,
-    AgentReport,
-    Heartbeat,
-    Control,
-}
-
-/// Opens the carrier of `route`.
-fn carrier(
-    node: &Node<Ipc>,
-    session: &Session,
-    prefix: &str,
-    route: &Route,
-    payload: Payload,
-    wait: WaitStrategy,
-    doorbell: &Sender<()>,
-) -> Result<Box<dyn Carry>, BridgeError> {
-    fn boxed<T: Carried>(
-        node: &Node<Ipc>,
-        session: &Session,
-        prefix: &str,
-        route: &Route,
-        wait: WaitStrategy,
-        doorbell: &Sender<()>,
-    ) -> Result<Box<dyn Carry>, BridgeError> {
-        Ok(Box::new(Carrier::<T>::open(
-            node, session, prefix, route, wait, doorbell,
-        )?))
-    }
-    let open = match payload {
-        Payload::KeeperSnapshot => boxed::<KeeperSnapshot>,
-        Payload::KeeperCommand => boxed::<KeeperCommand>,
-        Payload::EpisodeEvent => boxed::<EpisodeEvent>,
-        Payload::WorldSnapshot => boxed::<WorldSnapshot>,
-        Payload::WorldCommand => boxed::<WorldCommand>,
-        Payload::WorldVocabulary => boxed::<WorldVocabulary>,
-        Payload::AgentReport => boxed::<AgentReport>,
-        Payload::Heartbeat => boxed::<Heartbeat>,
-        Payload::Control => boxed::<Control>,
-    };
-    open(node, session, prefix, route, wait, doorbell)
-}
-
 /// What a bridge moved over its life.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Traffic {
@@ -409,7 +352,7 @@ pub fn run(config: &BridgeConfig, zenoh: &ZenohRefusals, stop: &AtomicBool) -> R
     let (doorbell, rings) = crossbeam::channel::unbounded();
     let mut carriers = routes(&info, config.side)
         .iter()
-        .map(|(route, payload)| carrier(&node, &session, &info.prefix, route, *payload, info.wait, &doorbell))
+        .map(|(route, payload)| payload.opener()(&node, &session, &info.prefix, route, info.wait, &doorbell))
         .collect::<Result<Vec<_>, _>>()?;
     let mut files = match config.side {
         Side::Host => FileShipping::receiver(&session, &info.prefix, &config.work_dir, ExpectedFiles::of(&info))?,

@@ -38,3 +38,37 @@ pub trait Named: Sized + Copy + 'static {
             })
     }
 }
+
+/// Implements [`Named`] for enumeration `$ty` from one list: what a value is
+/// called, then every value with its name, in the order shown to users.
+///
+/// ```
+/// # use learnpnp_common::named::{Named, impl_named};
+/// #[derive(Debug, Clone, Copy, PartialEq)]
+/// enum Weather {
+///     Sunny,
+///     Rainy,
+/// }
+/// impl_named!(Weather, "weather", [Sunny => "sunny", Rainy => "rainy"]);
+/// assert_eq!(Weather::from_name("rainy"), Ok(Weather::Rainy));
+/// assert_eq!(Weather::ALL, [Weather::Sunny, Weather::Rainy]);
+/// ```
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __impl_named {
+    ($ty:ident, $kind:literal, [$($value:ident => $name:literal),+ $(,)?]) => {
+        impl $crate::named::Named for $ty {
+            const KIND: &'static str = $kind;
+            const ALL: &'static [Self] = &[$($ty::$value),+];
+
+            fn name(self) -> &'static str {
+                match self {
+                    $($ty::$value => $name,)+
+                }
+            }
+        }
+    };
+}
+
+/// Implements [`Named`] for an enumeration from one list of its values and their names.
+pub use crate::__impl_named as impl_named;

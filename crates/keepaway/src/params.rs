@@ -249,18 +249,15 @@ pub enum VisionMode {
     Quantised,
 }
 
-impl crate::named::Named for VisionMode {
-    const KIND: &'static str = "vision";
-    const ALL: &'static [Self] = &[VisionMode::Framework, VisionMode::FullState, VisionMode::Quantised];
-
-    fn name(self) -> &'static str {
-        match self {
-            VisionMode::Framework => "framework",
-            VisionMode::FullState => "full-state",
-            VisionMode::Quantised => "quantised",
-        }
-    }
-}
+crate::named::impl_named!(
+    VisionMode,
+    "vision",
+    [
+        Framework => "framework",
+        FullState => "full-state",
+        Quantised => "quantised",
+    ]
+);
 
 /// The soccer server's timer (its `synch_mode` parameter): when the players'
 /// see messages arrive within a step and when they act
@@ -279,17 +276,14 @@ pub enum ServerTimer {
     Synchronous,
 }
 
-impl crate::named::Named for ServerTimer {
-    const KIND: &'static str = "server timer";
-    const ALL: &'static [Self] = &[ServerTimer::RealTime, ServerTimer::Synchronous];
-
-    fn name(self) -> &'static str {
-        match self {
-            ServerTimer::RealTime => "real-time",
-            ServerTimer::Synchronous => "synchronous",
-        }
-    }
-}
+crate::named::impl_named!(
+    ServerTimer,
+    "server timer",
+    [
+        RealTime => "real-time",
+        Synchronous => "synchronous",
+    ]
+);
 
 /// The keepaway referee's turnover rule (rcssserver's `KeepawayRef`), named by
 /// the server version whose rule it is ([`super::referee::Referee::check`]).
@@ -322,17 +316,14 @@ impl RefereeRule {
     }
 }
 
-impl crate::named::Named for RefereeRule {
-    const KIND: &'static str = "referee";
-    const ALL: &'static [Self] = &[RefereeRule::Rcssserver11, RefereeRule::Rcssserver9_4_5];
-
-    fn name(self) -> &'static str {
-        match self {
-            RefereeRule::Rcssserver11 => "rcssserver-11",
-            RefereeRule::Rcssserver9_4_5 => "rcssserver-9.4.5",
-        }
-    }
-}
+crate::named::impl_named!(
+    RefereeRule,
+    "referee",
+    [
+        Rcssserver11 => "rcssserver-11",
+        Rcssserver9_4_5 => "rcssserver-9.4.5",
+    ]
+);
 
 /// The keepaway framework's skill settings (its `PlayerSettings` defaults and the
 /// constants of its keepaway skills).

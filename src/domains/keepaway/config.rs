@@ -5,7 +5,6 @@ use serde::{Deserialize, Serialize};
 
 use super::world::atoms;
 use crate::domains::TaskError;
-use crate::named::Named;
 use crate::plan::{AllowedAtoms, Plan, catalog};
 use learnpnp_keepaway::features::{DEFAULT_HOLD_THRESHOLD, FeatureThresholds};
 use learnpnp_keepaway::params::{KeepawayConfig, RefereeRule, ServerTimer, VisionMode};
@@ -27,24 +26,16 @@ pub enum FixedPolicy {
     Threshold,
 }
 
-impl Named for FixedPolicy {
-    const KIND: &'static str = "policy";
-    const ALL: &'static [Self] = &[
-        FixedPolicy::Random,
-        FixedPolicy::AlwaysHold,
-        FixedPolicy::Handcoded,
-        FixedPolicy::Threshold,
-    ];
-
-    fn name(self) -> &'static str {
-        match self {
-            FixedPolicy::Random => "random",
-            FixedPolicy::AlwaysHold => "always-hold",
-            FixedPolicy::Handcoded => "handcoded",
-            FixedPolicy::Threshold => "threshold",
-        }
-    }
-}
+crate::named::impl_named!(
+    FixedPolicy,
+    "policy",
+    [
+        Random => "random",
+        AlwaysHold => "always-hold",
+        Handcoded => "handcoded",
+        Threshold => "threshold",
+    ]
+);
 
 /// Who decides what.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

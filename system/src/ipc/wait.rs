@@ -15,7 +15,6 @@
 use std::time::{Duration, Instant};
 
 use iceoryx2::port::listener::{Listener, ListenerWaitError};
-use learnpnp::named::Named;
 use serde::{Deserialize, Serialize};
 
 use super::port::{Ipc, IpcError, fail};
@@ -41,24 +40,16 @@ impl WaitStrategy {
     }
 }
 
-impl Named for WaitStrategy {
-    const KIND: &'static str = "wait strategy";
-    const ALL: &'static [Self] = &[
-        WaitStrategy::Spin,
-        WaitStrategy::Yield,
-        WaitStrategy::Block,
-        WaitStrategy::Hybrid,
-    ];
-
-    fn name(self) -> &'static str {
-        match self {
-            WaitStrategy::Spin => "spin",
-            WaitStrategy::Yield => "yield",
-            WaitStrategy::Block => "block",
-            WaitStrategy::Hybrid => "hybrid",
-        }
-    }
-}
+learnpnp::named::impl_named!(
+    WaitStrategy,
+    "wait strategy",
+    [
+        Spin => "spin",
+        Yield => "yield",
+        Block => "block",
+        Hybrid => "hybrid",
+    ]
+);
 
 /// How long [`WaitStrategy::Hybrid`] yields before it blocks: a little longer
 /// than a lock-step cycle's round trip, so that a busy run never blocks and an

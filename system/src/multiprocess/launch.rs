@@ -297,6 +297,22 @@ fn process_group(pid: u32) -> Option<u32> {
     after_name.split_whitespace().nth(2)?.parse().ok()
 }
 
+/// The arguments naming agent `k` (0-based) of `role`'s kind and how often it
+/// checkpoints: `--keeper K` or `--world-agent K` (1-based), `--checkpoint-every N`.
+pub(crate) fn agent_args(role: Role, k: usize, checkpoint_every: u64) -> [OsString; 4] {
+    let kind = if matches!(role, Role::Keeper(_)) {
+        "--keeper"
+    } else {
+        "--world-agent"
+    };
+    [
+        kind.into(),
+        (k + 1).to_string().into(),
+        "--checkpoint-every".into(),
+        checkpoint_every.to_string().into(),
+    ]
+}
+
 /// Starts `binary` as `role` with `args`, its output appended to `log`; it
 /// gets its own process group and is killed when the supervisor dies.
 pub fn spawn(binary: &Path, role: Role, args: &[OsString], log: &Path) -> Result<Process, LaunchError> {

@@ -62,7 +62,14 @@ use crate::ipc::protocol::{ProcessState, Pulse, Role};
 use crate::ipc::services::{IpcError, Pub, send};
 use crate::ipc::wait::WaitStrategy;
 use learnpnp::experiment::spec::ExperimentSpec;
-use learnpnp::named::Named;
+
+/// What every process of a run does first in `main`: freed large blocks go
+/// back to the system at once ([`crate::resident_memory`]), and iceoryx2 logs
+/// warnings and worse unless its environment variable asks for another level.
+pub fn start_process() {
+    crate::resident_memory::return_large_blocks_when_freed();
+    iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Warn);
+}
 
 /// How the simulator's clock advances.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -75,17 +82,14 @@ pub enum Clock {
     Realtime,
 }
 
-impl Named for Clock {
-    const KIND: &'static str = "clock";
-    const ALL: &'static [Self] = &[Clock::Lockstep, Clock::Realtime];
-
-    fn name(self) -> &'static str {
-        match self {
-            Clock::Lockstep => "lockstep",
-            Clock::Realtime => "realtime",
-        }
-    }
-}
+learnpnp::named::impl_named!(
+    Clock,
+    "clock",
+    [
+        Lockstep => "lockstep",
+        Realtime => "realtime",
+    ]
+);
 
 /// What every process of a run shares: who the run is and how its processes
 /// talk. The supervisor passes it to its children on their command lines

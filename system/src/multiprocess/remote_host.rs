@@ -22,7 +22,7 @@ use serde::Serialize;
 use super::RunContext;
 use super::agent_chassis::checkpoint_name;
 use super::floor_probe::{FloorPayload, FloorProbe, KeepawayFloor, WorldFloor};
-use super::launch::{Binaries, Helper, Process, spawn};
+use super::launch::{Binaries, Helper, Process, agent_args, spawn};
 use super::supervisor::config::{EXIT_CANNOT_RESUME, SupervisorError, json_error};
 use super::supervisor::hand_off::BRIDGE_STOP_GRACE;
 use super::supervisor::watch::Fault;
@@ -168,17 +168,7 @@ impl Host<'_> {
         if resume {
             args.push("--resume".into());
         }
-        args.push(
-            if matches!(role, Role::Keeper(_)) {
-                "--keeper"
-            } else {
-                "--world-agent"
-            }
-            .into(),
-        );
-        args.push((k + 1).to_string().into());
-        args.push("--checkpoint-every".into());
-        args.push(info.checkpoint_every.to_string().into());
+        args.extend(agent_args(role, k, info.checkpoint_every));
         let process = spawn(&self.config.binaries.agent, role, &args, &self.log(role))?;
         self.processes.insert(role, process);
         self.last_heard.insert(role, Instant::now());

@@ -23,7 +23,7 @@ use crate::ipc::protocol::{Order, ProcessState, Role, Roster};
 use crate::ipc::services::{Ipc, SupervisorPorts, receive};
 use crate::multiprocess::agent_chassis::checkpoint_name;
 use crate::multiprocess::floor_probe::FloorProbe;
-use crate::multiprocess::launch::{Process, set_fifo_priority, spawn, spawn_world};
+use crate::multiprocess::launch::{Process, agent_args, set_fifo_priority, spawn, spawn_world};
 use crate::multiprocess::view_process::view_args;
 use crate::multiprocess::world_agent::EXIT_PLAN_DOES_NOT_FIT;
 use crate::multiprocess::{Clock, RunContext};
@@ -63,17 +63,7 @@ impl Watch<'_> {
                 &self.config.binaries.sim
             }
             Role::Keeper(k) | Role::Agent(k) => {
-                args.push(
-                    if role == Role::Keeper(k) {
-                        "--keeper"
-                    } else {
-                        "--world-agent"
-                    }
-                    .into(),
-                );
-                args.push((k + 1).to_string().into());
-                args.push("--checkpoint-every".into());
-                args.push(self.config.checkpoint_every.to_string().into());
+                args.extend(agent_args(role, k, self.config.checkpoint_every));
                 &self.config.binaries.agent
             }
             Role::Bridge => {
@@ -484,21 +474,9 @@ impl Watch<'_> {
                 }
                 Role::Keeper(k) | Role::Agent(k) => {
                     let what = format!("{role} exited: {}", describe(status));
-                    if status.code() == Some(EXIT_CANNOT_RESUME) {
-                        self.fault(what.clone(), "not restarted: it cannot resume".into());
-                        return Err(RunFailure::CannotResume {
-                            what,
-                            log: log_tail(&self.log(role)),
-                        }
-                        .into());
-                    }
-                    if status.code() == Some(EXIT_PLAN_DOES_NOT_FIT) {
-                        self.fault(what.clone(), "not restarted: its plan does not fit the world".into());
-                        return Err(RunFailure::PlanDoesNotFit {
-                            what,
-                            log: log_tail(&self.log(role)),
-                        }
-                        .into());
+                    if let Some((note, failure)) = unrestartable(status.code(), &what, || log_tail(&self.log(role))) {
+                        self.fault(what, note.into());
+                        return Err(failure.into());
                     }
                     self.restart(k, what)?;
                 }
@@ -670,5 +648,22 @@ impl<'a> Watch<'a> {
         }
         watch.start(Role::World, false)?;
         Ok(watch)
+    }
+}
+
+/// The fault note and the failure for an exit code that says a restart cannot
+/// help (the process cannot resume, or its plan does not fit the world).
+fn unrestartable(code: Option<i32>, what: &str, log: impl FnOnce() -> String) -> Option<(&'static str, RunFailure)> {
+    let what = what.to_owned();
+    match code {
+        Some(EXIT_CANNOT_RESUME) => Some((
+            "not restarted: it cannot resume",
+            RunFailure::CannotResume { what, log: log() },
+        )),
+        Some(EXIT_PLAN_DOES_NOT_FIT) => Some((
+            "not restarted: its plan does not fit the world",
+            RunFailure::PlanDoesNotFit { what, log: log() },
+        )),
+        _ => None,
     }
 }
