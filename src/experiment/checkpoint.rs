@@ -2,9 +2,9 @@
 //! so that `--resume` continues without running them again.
 //!
 //! A partial result directory holds, besides the usual files computed over the
-//! completed runs, [`CHECKPOINT`]: the spec (as JSON text, compared exactly on
+//! completed runs, [`CHECKPOINT`](crate::experiment::checkpoint::CHECKPOINT): the spec (as JSON text, compared exactly on
 //! resume), the wall-clock seconds spent so far, and every completed
-//! [`RunOutput`], bit for bit. Since run i depends only on the spec and i, the
+//! [`RunOutput`](crate::experiment::runner::RunOutput), bit for bit. Since run i depends only on the spec and i, the
 //! runs still missing, run later, complete the same output an uninterrupted
 //! experiment produces.
 //!

@@ -3,7 +3,7 @@
 //! The same ranges are checked where a flag is parsed (the value parsers of
 //! the command line's experiment flags, so every entry point refuses
 //! `--alpha 5` before any work) and by
-//! [`ExperimentSpec::validate`](super::spec::ExperimentSpec::validate) (specs
+//! [`ExperimentSpec::validate`](crate::experiment::spec::ExperimentSpec::validate) (specs
 //! read from files). Every message states the valid range.
 
 use crate::learning::Schedule;

@@ -1,11 +1,11 @@
 //! Values carried into a revised plan: saved entries named by what they mean,
 //! mapped onto the places of the new plan, with a report of what was kept.
 //!
-//! **Identity.** Every place has a *key* ([`place_keys`](super::persist::place_keys)): its name (label, or
+//! **Identity.** Every place has a *key* ([`place_keys`](crate::learning::persist::place_keys)): its name (label, or
 //! id when blank) when no other place of the plan has that name; otherwise its
 //! name qualified by the keys of the places leading to it (the input places of
 //! the transitions that put tokens into it), `name<pred1,pred2>`, refined for
-//! up to [`REFINE_ROUNDS`](super::persist::REFINE_ROUNDS) rounds while keys still repeat. The builder's
+//! up to [`REFINE_ROUNDS`](crate::learning::persist::REFINE_ROUNDS) rounds while keys still repeat. The builder's
 //! `south.exec` of cell `nav_2_3` is `south.exec<nav_2_3>`. A saved entry (an
 //! afterstate) is the multiset of the keys of its marked places; a choice
 //! point is its place's key, an option the name of its transition. Keys that

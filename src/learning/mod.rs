@@ -6,10 +6,13 @@
 //! it identifies the thesis's observation-action pair, while plans that lead to
 //! the same marking deliberately share one value (see docs/ARCHITECTURE.md).
 
+/// A saved value table read against its plan, by choice point.
 pub mod by_choice;
 mod mcesp;
+/// Values carried into a revised plan.
 pub mod migrate;
 mod monte_carlo;
+/// Saving and loading learned value tables, safely.
 pub mod persist;
 mod random;
 pub(crate) mod selection;

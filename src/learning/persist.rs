@@ -5,27 +5,27 @@
 //!
 //! | offset | size | content                                                   |
 //! |-------:|-----:|-----------------------------------------------------------|
-//! | 0      | 8    | magic bytes [`MAGIC`] (`LPNPVAL\0`)                       |
-//! | 8      | 4    | format version, `u32` ([`FORMAT_VERSION`])                |
+//! | 0      | 8    | magic bytes [`MAGIC`](crate::learning::persist::MAGIC) (`LPNPVAL\0`)                       |
+//! | 8      | 4    | format version, `u32` ([`FORMAT_VERSION`](crate::learning::persist::FORMAT_VERSION))                |
 //! | 12     | 8    | payload length in bytes, `u64`                            |
 //! | 20     | 4    | CRC-32 (IEEE) of the payload, `u32`                       |
-//! | 24     | n    | payload: bincode 2 (serde, standard config) of [`SavedValues`] |
+//! | 24     | n    | payload: bincode 2 (serde, standard config) of [`SavedValues`](crate::learning::persist::SavedValues) |
 //!
 //! The file must be exactly header plus payload long. Markings are stored as
 //! plain token vectors together with the place labels of every plan, so a file
-//! can be listed ([`write_csv`]) without the plans that produced it, and checked
+//! can be listed ([`write_csv`](crate::learning::persist::write_csv)) without the plans that produced it, and checked
 //! for consistency when it is read back.
 //!
 //! Version 2 (this build's) adds, per plan, the identity of every place and the
-//! choice points with their options ([`PlanIdentity`]: names a designer
-//! controls, see [`super::migrate`]), so that values can be carried into a
+//! choice points with their options ([`PlanIdentity`](crate::learning::persist::PlanIdentity): names a designer
+//! controls, see [`super::migrate`](crate::learning::migrate)), so that values can be carried into a
 //! revised plan. Version 1 files (no identities) are still read: their
-//! [`SavedValues::identities`] is empty.
+//! [`SavedValues::identities`](crate::learning::persist::SavedValues::identities) is empty.
 //!
-//! [`save`] never leaves a half-written file behind: it writes a temporary file
+//! [`save`](crate::learning::persist::save) never leaves a half-written file behind: it writes a temporary file
 //! in the same directory, syncs it and renames it over the target; the previous
 //! table, if it was a valid value file, is kept as `<path>.prev` first.
-//! [`load`] never modifies anything, and [`load_latest`] falls back to the
+//! [`load`](crate::learning::persist::load) never modifies anything, and [`load_latest`](crate::learning::persist::load_latest) falls back to the
 //! `.prev` copy when the main file is unusable.
 
 use std::collections::{BTreeSet, HashMap};

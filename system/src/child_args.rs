@@ -1,7 +1,7 @@
 //! The command line of the run's child processes (`learnpnp-sim`,
-//! `learnpnp-agent`): the clap arguments that carry a [`RunContext`], as the
-//! supervisor writes them ([`RunContext::to_args`]). The library's types know
-//! nothing of clap; the binaries flatten [`RunContextArgs`] into their own
+//! `learnpnp-agent`): the clap arguments that carry a [`RunContext`](crate::multiprocess::RunContext), as the
+//! supervisor writes them ([`RunContext::to_args`](crate::multiprocess::RunContext::to_args)). The library's types know
+//! nothing of clap; the binaries flatten [`RunContextArgs`](crate::child_args::RunContextArgs) into their own
 //! arguments and convert it.
 
 use std::path::PathBuf;

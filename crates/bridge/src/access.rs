@@ -7,7 +7,7 @@
 //! description; a monitor's certificate may only subscribe to the heartbeats
 //! and the episode events. Subjects are certificates' common names
 //! ([`learnpnp_system::hosts::certs`]), never Zenoh ids or interfaces (a Zenoh id is not
-//! authenticated). What it denies is counted ([`super::refusals`]).
+//! authenticated). What it denies is counted ([`super::refusals`](crate::refusals)).
 
 use serde_json::{Value, json};
 use shm_layouts::services;

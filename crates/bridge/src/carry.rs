@@ -4,7 +4,7 @@
 //! its size, its key's sender and (for the supervisors' orders) what the
 //! other host may order, and only then published here, where the receiving
 //! process validates it as it validates every message. Whatever fails a
-//! check is refused and counted by reason ([`LinkRefusals`]).
+//! check is refused and counted by reason ([`LinkRefusals`](learnpnp_system::hosts::report::LinkRefusals)).
 //!
 //! A service several processes publish on (heartbeats, agents' reports) is
 //! keyed by sender (`.../learnpnp/heartbeat/2`), so that host A's access

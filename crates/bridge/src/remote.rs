@@ -1,7 +1,7 @@
 //! What the hosts of a run tell each other besides the services: host A's
-//! description of the run ([`RunInfo`], written by its supervisor and asked for by host B's bridge before
+//! description of the run ([`RunInfo`](learnpnp_system::hosts::run_info::RunInfo), written by its supervisor and asked for by host B's bridge before
 //! anything else), and, at the end, host B's files (the remote agents'
-//! checkpoints and histograms) for host A's report ([`FileShipping`]).
+//! checkpoints and histograms) for host A's report ([`FileShipping`](crate::remote::FileShipping)).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

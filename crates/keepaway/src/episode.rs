@@ -1,5 +1,5 @@
-//! Running episodes in this process: the [`Game`]'s cycle with the keepers
-//! deciding by a [`KeeperPolicy`].
+//! Running episodes in this process: the [`Game`](crate::game::Game)'s cycle with the keepers
+//! deciding by a [`KeeperPolicy`](crate::keeper::KeeperPolicy).
 
 use super::command::Command;
 use super::game::{EpisodeSummary, Game};

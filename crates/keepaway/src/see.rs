@@ -1,7 +1,7 @@
 //! What the soccer server tells each player, as the keepaway framework's players
 //! received it: what a see message carries, and the body sense of every
-//! cycle. This is the server's side of [`super::params::VisionMode::Framework`];
-//! [`super::timing`] says when the sees come, and [`super::world_model`] is
+//! cycle. This is the server's side of [`super::params::VisionMode::Framework`](crate::params::VisionMode::Framework);
+//! [`super::timing`](crate::timing) says when the sees come, and [`super::world_model`](crate::world_model) is
 //! the player's side.
 //!
 //! Sources: rcssserver 11.1, the oldest in its git history (the framework 0.6's

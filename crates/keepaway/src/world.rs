@@ -1,4 +1,4 @@
-//! The field's state ([`FieldState`]) and the server's physics step (commands, movement, collisions).
+//! The field's state ([`FieldState`](crate::world::FieldState)) and the server's physics step (commands, movement, collisions).
 
 use super::command::Command;
 use super::geometry::{Vec2, clamp, normalize_deg};

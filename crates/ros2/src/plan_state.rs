@@ -3,7 +3,7 @@
 //! each choice with its values, as `std_msgs/msg/String` so that `ros2 topic
 //! echo` and Foxglove show them with nothing to install. The ROS 2 world
 //! process republishes the agents' live feed through a
-//! [`PlanStatePublisher`] per agent ([`Republisher`]).
+//! [`PlanStatePublisher`](crate::plan_state::PlanStatePublisher) per agent ([`Republisher`](crate::plan_state::Republisher)).
 
 use learnpnp_feed::{ChoiceMade, FeedEvent, MarkingSample};
 use serde::Serialize;

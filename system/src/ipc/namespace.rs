@@ -4,9 +4,9 @@
 //!
 //! iceoryx2 keeps its shared-memory segments in `/dev/shm/<prefix>*` and its
 //! service and node records under the configured root directory. A namespace
-//! puts that root at `<base>/<prefix>/` (base: [`base_dir`]) and is owned by
+//! puts that root at `<base>/<prefix>/` (base: [`base_dir`](crate::ipc::namespace::base_dir)) and is owned by
 //! the supervisor through an advisory lock on `<base>/<prefix>.lock`: when the
-//! owner dies, the lock is released, and [`clean_stale`] (run by every launch)
+//! owner dies, the lock is released, and [`clean_stale`](crate::ipc::namespace::clean_stale) (run by every launch)
 //! removes the dead run's nodes with iceoryx2's dead-node cleanup and then
 //! every remaining file of its prefix. A prefix is never reused.
 

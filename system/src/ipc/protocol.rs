@@ -1,8 +1,8 @@
-//! The protocol's own types: who the run's processes are ([`Role`]), what
-//! their messages say once read ([`SnapshotMeta`], [`CommandReading`],
-//! [`EpisodeNews`], [`AgentNews`], [`Pulse`]) and the supervisor's orders
-//! ([`Order`]). Their shared-memory layouts are the `shm_layouts` crate;
-//! [`super::convert`] converts between the two, validating what it reads.
+//! The protocol's own types: who the run's processes are ([`Role`](crate::ipc::protocol::Role)), what
+//! their messages say once read ([`SnapshotMeta`](crate::ipc::protocol::SnapshotMeta), [`CommandReading`](crate::ipc::protocol::CommandReading),
+//! [`EpisodeNews`](crate::ipc::protocol::EpisodeNews), [`AgentNews`](crate::ipc::protocol::AgentNews), [`Pulse`](crate::ipc::protocol::Pulse)) and the supervisor's orders
+//! ([`Order`](crate::ipc::protocol::Order)). Their shared-memory layouts are the `shm_layouts` crate;
+//! [`super::convert`](crate::ipc::convert) converts between the two, validating what it reads.
 
 use serde::{Deserialize, Serialize};
 use shm_layouts::SENDER_SIMULATOR;

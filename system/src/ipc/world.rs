@@ -1,8 +1,8 @@
 //! The protocol of a world in its own process (`shm_layouts/README.md`, "A
 //! world in its own process"): what its messages say once read
-//! ([`WorldView`], [`WorldOrder`], [`Vocabulary`]), and their conversion to
+//! ([`WorldView`](crate::ipc::world::WorldView), [`WorldOrder`](crate::ipc::world::WorldOrder), [`Vocabulary`](crate::ipc::world::Vocabulary)), and their conversion to
 //! and from the layouts, validating everything read. A refused message is
-//! counted by [`Rejection`] reason and never applied.
+//! counted by [`Rejection`](crate::ipc::convert::Rejection) reason and never applied.
 
 use shm_layouts::{
     Header, MAX_ACTIONS, MAX_AGENTS, MAX_ARGS, MAX_ATOMS, MAX_FLUENTS, NAME_LEN, NAMES_PER_PART, NO_ACTION,

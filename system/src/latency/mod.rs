@@ -1,6 +1,6 @@
 //! Latency histograms of the multi-process system (HdrHistogram): recording,
 //! merging, percentiles, the percentile-distribution text format (`.hgrm`),
-//! the compact V2 serialisation, and a percentile plot ([`plot`]).
+//! the compact V2 serialisation, and a percentile plot ([`plot`](crate::latency::plot)).
 //!
 //! Values are recorded in nanoseconds with three significant digits and
 //! reported in microseconds.

@@ -9,7 +9,7 @@
 //! - A remote host's own (`learnpnp-supervisor remote`): between its
 //!   supervisor and a `learnpnp-agent --floor-echo` process it starts, back
 //!   to back before its agents start, on services the bridge never carries.
-//!   Its histogram ([`REMOTE_HOST_FLOOR`]) is shipped to host A with the
+//!   Its histogram ([`REMOTE_HOST_FLOOR`](crate::multiprocess::floor_probe::REMOTE_HOST_FLOOR)) is shipped to host A with the
 //!   agents' and shown in host A's report.
 
 use std::fmt::Debug;

@@ -3,27 +3,30 @@
 //! events and rewards through iceoryx2 shared memory ([`crate::ipc`]), and a
 //! supervisor starts, watches and restarts them.
 //!
-//! - [`sim_process`]: the simulator process (the simulator itself is
+//! - [`sim_process`](crate::multiprocess::sim_process): the simulator process (the simulator itself is
 //!   [`learnpnp_keepaway`]): Keepaway with the takers inside, whose
 //!   keepers are a [`learnpnp::domains::keepaway::KeeperTeam`] of remote
 //!   agents; it runs the same episode loop and protocol as the in-process
 //!   experiment ([`learnpnp::experiment::runner::run_protocol`]);
-//! - [`agent_process`]: one keeper's process: its plan, learner and executor
+//! - [`agent_process`](crate::multiprocess::agent_process): one keeper's process: its plan, learner and executor
 //!   (or a fixed policy), checkpointing its values;
-//! - [`supervisor`]: launching, watching, restarting, stopping, cleaning up;
-//! - [`world_agent`], [`world_host`]: a world in its own process: an agent
+//! - [`supervisor`](crate::multiprocess::supervisor): launching, watching, restarting, stopping, cleaning up;
+//! - [`world_agent`](crate::multiprocess::world_agent), [`world_host`](crate::multiprocess::world_host): a world in its own process: an agent
 //!   on the stepwise executor, and a world written in Rust (the corridor);
-//!   [`floor_probe`]: the floor of a world run;
-//! - [`remote_host`]: a host of remote agents joining a run across hosts;
-//! - [`view_process`]: a run's view, reading the agents' live feeds;
-//! - [`report`]: what a run writes (summary, episodes, latency files and plot);
-//! - [`soak`], [`chaos`] (with [`garbage`] and [`load`]), [`bench_latency`],
-//!   [`bench_world`]: long runs, fault injection and the benchmarks.
+//!   [`floor_probe`](crate::multiprocess::floor_probe): the floor of a world run;
+//! - [`remote_host`](crate::multiprocess::remote_host): a host of remote agents joining a run across hosts;
+//! - [`view_process`](crate::multiprocess::view_process): a run's view, reading the agents' live feeds;
+//! - [`report`](crate::multiprocess::report): what a run writes (summary, episodes, latency files and plot);
+//! - [`soak`](crate::multiprocess::soak), [`chaos`](crate::multiprocess::chaos) (with [`garbage`](crate::multiprocess::garbage) and [`load`](crate::multiprocess::load)), [`bench_latency`](crate::multiprocess::bench_latency),
+//!   [`bench_world`](crate::multiprocess::bench_world): long runs, fault injection and the benchmarks.
 //!
 //! See docs/ARCHITECTURE.md for one snapshot's way through the processes.
 
+/// The chassis both agent processes run on.
 pub mod agent_chassis;
+/// An agent process: one keeper.
 pub mod agent_process;
+/// An agent's checkpoints written off its decision loop.
 pub mod background_save;
 /// The latency benchmark.
 pub mod bench_latency;
@@ -31,7 +34,9 @@ pub mod bench_latency;
 pub mod bench_world;
 /// Faults injected at seeded random times during a soak.
 pub mod chaos;
+/// The iceoryx2 floor: the bare round trip of a run's payloads.
 pub mod floor_probe;
+/// Garbage on a run's services, published as a foreign process would.
 pub mod garbage;
 /// A journal of whole episodes.
 pub mod journal;
@@ -43,12 +48,17 @@ pub mod load;
 pub mod remote_host;
 /// What a multi-process run writes.
 pub mod report;
+/// The simulator process.
 pub mod sim_process;
+/// Soak runs.
 pub mod soak;
 /// The supervisor of a run's processes.
 pub mod supervisor;
+/// The view process of a run with a view.
 pub mod view_process;
+/// An agent of a world in its own process.
 pub mod world_agent;
+/// A world written in Rust, served as the world process of a run.
 pub mod world_host;
 
 use std::path::PathBuf;

@@ -3,8 +3,8 @@
 //! whose keepers are agent processes. Each cycle it publishes each keeper's snapshot, collects
 //! each keeper's command (lock-step: as soon as all are in; real time: until
 //! the cycle's 100 ms deadline), and steps the world. It runs the in-process
-//! experiment's episode loop ([`KeepawayTask`]) and protocol
-//! ([`run_protocol`]), so with the same seed a lock-step run plays exactly the
+//! experiment's episode loop ([`KeepawayTask`](learnpnp::domains::keepaway::KeepawayTask)) and protocol
+//! ([`run_protocol`](learnpnp::experiment::runner::run_protocol)), so with the same seed a lock-step run plays exactly the
 //! in-process episodes.
 
 use std::cell::RefCell;

@@ -1,7 +1,7 @@
 //! Soak runs: the system runs for a set time (or number of cycles) while the
 //! supervisor samples every process once a second (resident memory, open
 //! file descriptors) and the run's shared-memory files, optionally with
-//! faults injected ([`super::chaos`]). At the end it writes `soak.csv`,
+//! faults injected ([`super::chaos`](crate::multiprocess::chaos)). At the end it writes `soak.csv`,
 //! `soak.svg` and `soak.json`, and a verdict line.
 //!
 //! Memory growth is measured after a warm-up (the first fifth of each
