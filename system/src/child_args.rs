@@ -23,7 +23,7 @@ pub struct RunContextArgs {
     pub run: usize,
     /// The run's iceoryx2 prefix.
     #[arg(long)]
-    pub ipc_prefix: String,
+    pub(crate) ipc_prefix: String,
     /// How the simulator's clock advances.
     #[arg(long, value_parser = named::<Clock>(), default_value = "lockstep")]
     pub clock: Clock,
@@ -35,7 +35,7 @@ pub struct RunContextArgs {
     pub spec: PathBuf,
     /// Where the process writes its files (histograms, results, checkpoints).
     #[arg(long)]
-    pub work_dir: PathBuf,
+    pub(crate) work_dir: PathBuf,
     /// The run has a view: publish the agent's live feed.
     #[arg(long)]
     pub feed: bool,

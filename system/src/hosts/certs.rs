@@ -40,7 +40,7 @@ pub(crate) const CA_KEY: &str = "ca-key.pem";
 pub(crate) const CERT: &str = "cert.pem";
 
 /// A host's private key, in its directory.
-pub const KEY: &str = "key.pem";
+pub(crate) const KEY: &str = "key.pem";
 
 /// The directory of the CA, under the certificates' root.
 pub const CA_DIR: &str = "ca";

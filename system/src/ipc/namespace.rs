@@ -83,7 +83,7 @@ pub struct Namespace {
 impl Namespace {
     /// A fresh namespace under [`base_dir`] with a random prefix (32 bits;
     /// [`Namespace::claim`] refuses one that exists).
-    pub fn unique() -> Self {
+    pub(crate) fn unique() -> Self {
         let random: u32 = rand::rng().random();
         Namespace {
             prefix: format!("{PREFIX_START}{random:08x}_"),
@@ -160,7 +160,7 @@ impl Namespace {
     /// never sees an unlocked lock file of a live run.
     /// Fails if the prefix is taken or the directory is too long for the
     /// run's unix sockets.
-    pub fn claim(&self) -> Result<NamespaceOwner, NamespaceError> {
+    pub(crate) fn claim(&self) -> Result<NamespaceOwner, NamespaceError> {
         let root = self.root();
         if root.as_os_str().len() + 1 + self.prefix.len() + SOCKET_NAME > MAX_SOCKET_PATH {
             return Err(NamespaceError::PathTooLong { path: root });

@@ -31,11 +31,11 @@ pub const CHECKPOINT_SPACING: Duration = Duration::from_secs(1);
 
 /// What one checkpoint writes.
 #[derive(Debug, Default)]
-pub struct Checkpoint {
+pub(crate) struct Checkpoint {
     /// The learner's values and their file (none: an agent that does not learn).
     pub values: Option<(PathBuf, SavedValues)>,
     /// Other files written whole (histograms) and their bytes.
-    pub files: Vec<(PathBuf, Vec<u8>)>,
+    pub(crate) files: Vec<(PathBuf, Vec<u8>)>,
 }
 
 /// The writer thread and the agent's handle on it.
@@ -97,7 +97,7 @@ impl BackgroundSave {
     }
 
     /// Hands a checkpoint over, replacing one still waiting.
-    pub fn submit(&self, checkpoint: Checkpoint) {
+    pub(crate) fn submit(&self, checkpoint: Checkpoint) {
         self.shared.lock().waiting = Some(checkpoint);
         self.shared.changed.notify_all();
     }
@@ -126,7 +126,7 @@ impl BackgroundSave {
     }
 
     /// Value files written so far.
-    pub fn written(&self) -> u64 {
+    pub(crate) fn written(&self) -> u64 {
         self.shared.written.load(Ordering::Relaxed)
     }
 

@@ -107,7 +107,7 @@ pub struct RunContext {
     /// The run's index among the experiment's runs (it derives the seeds).
     pub run: usize,
     /// The run's iceoryx2 prefix.
-    pub ipc_prefix: String,
+    pub(crate) ipc_prefix: String,
     /// How the simulator's clock advances.
     pub clock: Clock,
     /// How processes wait for messages.
@@ -115,7 +115,7 @@ pub struct RunContext {
     /// The experiment (as `summary.json` of a run holds it, under `spec`, or on its own).
     pub spec: PathBuf,
     /// Where the process writes its files (histograms, results, checkpoints).
-    pub work_dir: PathBuf,
+    pub(crate) work_dir: PathBuf,
     /// The run has a view: each agent publishes its live feed
     /// ([`crate::ipc::feed`]); without one nothing of it is created.
     #[serde(default)]
@@ -227,14 +227,14 @@ pub(crate) const HEARTBEAT_EVERY: Duration = Duration::from_millis(100);
 #[derive(Debug)]
 pub(crate) struct Pacemaker {
     /// What the next heartbeat says.
-    pub pulse: Pulse,
+    pub(crate) pulse: Pulse,
     run_id: u64,
     last: Option<Instant>,
 }
 
 impl Pacemaker {
     /// The heartbeat of `role` in run `run_id`.
-    pub fn new(role: Role, run_id: u64) -> Self {
+    pub(crate) fn new(role: Role, run_id: u64) -> Self {
         Pacemaker {
             pulse: Pulse {
                 role,
@@ -255,7 +255,7 @@ impl Pacemaker {
     }
 
     /// Sends a heartbeat if one is due.
-    pub fn tick(&mut self, publisher: &Pub<shm_layouts::Heartbeat>) -> Result<(), IpcError> {
+    pub(crate) fn tick(&mut self, publisher: &Pub<shm_layouts::Heartbeat>) -> Result<(), IpcError> {
         if self.last.is_none_or(|t| t.elapsed() >= HEARTBEAT_EVERY) {
             self.beat(publisher)?;
         }
@@ -263,7 +263,7 @@ impl Pacemaker {
     }
 
     /// Sends a heartbeat now (e.g. on a change of state).
-    pub fn beat(&mut self, publisher: &Pub<shm_layouts::Heartbeat>) -> Result<(), IpcError> {
+    pub(crate) fn beat(&mut self, publisher: &Pub<shm_layouts::Heartbeat>) -> Result<(), IpcError> {
         self.pulse.sequence += 1;
         self.last = Some(Instant::now());
         send(publisher, heartbeat(&self.pulse, self.run_id))

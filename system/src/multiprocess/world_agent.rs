@@ -118,7 +118,7 @@ impl std::fmt::Display for Misfit {
 
 /// Where each of the plan's atoms and actions is in the world's vocabulary.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Binding {
+pub(crate) struct Binding {
     /// World atom index of each plan atom.
     atoms: Vec<usize>,
     /// World action index of each plan action.
@@ -126,7 +126,7 @@ pub struct Binding {
 }
 
 /// Binds a plan's atoms and actions to the world's vocabulary, or says what is missing.
-pub fn bind(plan_atoms: &[String], plan_actions: &[String], world: &Vocabulary) -> Result<Binding, Box<Misfit>> {
+pub(crate) fn bind(plan_atoms: &[String], plan_actions: &[String], world: &Vocabulary) -> Result<Binding, Box<Misfit>> {
     let find = |names: &[String], within: &[String]| -> (Vec<usize>, Vec<String>) {
         let mut found = Vec::new();
         let mut missing = Vec::new();
