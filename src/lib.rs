@@ -137,7 +137,7 @@
 /// The README's code blocks, compiled and run as doc-tests.
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]
-pub struct ReadmeDoctests;
+pub(crate) struct ReadmeDoctests;
 
 /// Agents running a plan with a learner at its choice points.
 pub mod agent;

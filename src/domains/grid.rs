@@ -30,7 +30,7 @@ impl Direction {
     }
 
     /// The two perpendicular directions.
-    pub fn perpendicular(self) -> [Direction; 2] {
+    pub(crate) fn perpendicular(self) -> [Direction; 2] {
         match self {
             Direction::North | Direction::South => [Direction::East, Direction::West],
             Direction::East | Direction::West => [Direction::North, Direction::South],
@@ -53,7 +53,7 @@ pub(crate) struct Move {
 
 impl Move {
     /// The move in `direction`.
-    pub fn new(direction: Direction) -> Self {
+    pub(crate) fn new(direction: Direction) -> Self {
         Move { direction, done: false }
     }
 }

@@ -40,7 +40,7 @@ struct Checkpoint {
 }
 
 /// The bytes of [`CHECKPOINT`] for the runs `output` completed.
-pub fn encode(output: &ExperimentOutput) -> Result<Vec<u8>, ExperimentError> {
+pub(crate) fn encode(output: &ExperimentOutput) -> Result<Vec<u8>, ExperimentError> {
     let checkpoint = Checkpoint {
         spec: spec_text(&output.spec)?,
         wall_seconds: output.wall_seconds,

@@ -84,7 +84,7 @@ pub struct Manifest {
     /// Directories written during the work ([`ResultWriter::scratch_dir`]),
     /// published with the set; their files are not listed one by one.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub dirs: Vec<String>,
+    pub(crate) dirs: Vec<String>,
 }
 
 /// How far the work whose results are committed went.
@@ -106,7 +106,7 @@ impl Progress {
     }
 
     /// Whether every planned run completed.
-    pub fn is_complete(self) -> bool {
+    pub(crate) fn is_complete(self) -> bool {
         self.completed >= self.planned
     }
 }

@@ -118,12 +118,12 @@ pub struct SharesNothing {
     /// The saved plan's name.
     pub saved: String,
     /// The given plan's name.
-    pub given: String,
+    pub(crate) given: String,
     /// Saved entries.
-    pub entries: usize,
+    pub(crate) entries: usize,
     /// The first places marked by saved entries that have no unambiguous
     /// counterpart in the given plan (keys, or names for a version 1 file).
-    pub missing: Vec<String>,
+    pub(crate) missing: Vec<String>,
     /// The saved plan's first choice points (or places, for a version 1 file).
     pub(crate) saved_choices: Vec<String>,
     /// The given plan's first choice points.

@@ -76,7 +76,7 @@ pub struct SavedValues {
 pub struct PlanIdentity {
     /// One key per place, in place order: its name, qualified by the places
     /// leading to it where names repeat.
-    pub keys: Vec<String>,
+    pub(crate) keys: Vec<String>,
     /// The choice points, in place order.
     pub choices: Vec<SavedChoice>,
 }
@@ -85,7 +85,7 @@ pub struct PlanIdentity {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct SavedChoice {
     /// The choice point's place key.
-    pub place: String,
+    pub(crate) place: String,
     /// The names (labels, or ids when blank) of the transitions it chooses among, sorted.
     pub options: Vec<String>,
 }
@@ -439,7 +439,7 @@ pub fn save(path: &Path, values: &SavedValues) -> Result<(), PersistError> {
 /// The bytes of a value file holding `values` (for writers that place the
 /// file themselves, such as a result directory); `path` names the file in
 /// errors. The values are checked first ([`SavedValues::validate`]).
-pub fn encode(path: &Path, values: &SavedValues) -> Result<Vec<u8>, PersistError> {
+pub(crate) fn encode(path: &Path, values: &SavedValues) -> Result<Vec<u8>, PersistError> {
     values.validate().map_err(|source| PersistError::Inconsistent {
         path: path.to_path_buf(),
         source,
