@@ -165,7 +165,7 @@ pub enum SeeArrival {
 
 impl SeeArrival {
     /// Whether a see message arrives in the cycle at all.
-    pub fn sees(self) -> bool {
+    pub(crate) fn sees(self) -> bool {
         self != SeeArrival::None
     }
 }

@@ -129,7 +129,7 @@ impl PlayerView {
     }
 
     /// Teammates (excluding oneself), with their global indices.
-    pub fn teammates(&self) -> impl Iterator<Item = (usize, &SeenPlayer)> {
+    pub(crate) fn teammates(&self) -> impl Iterator<Item = (usize, &SeenPlayer)> {
         let me = self.me.index();
         self.side()
             .indices()

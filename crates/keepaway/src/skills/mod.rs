@@ -19,7 +19,7 @@ pub mod intercept;
 /// Ball-kicking skills.
 pub mod kick;
 /// Turning and moving.
-pub mod movement;
+pub(crate) mod movement;
 /// Passing.
 pub mod pass;
 /// The framework's world-model predictions.
