@@ -2,7 +2,7 @@
 //!
 //! Places are circles, transitions boxes. Execution places are filled and
 //! labelled with their action, choice points are double circles (the same
-//! ones `learnpnp check` reports: [`choice_points`] of the reachable
+//! ones `learnpnp check` reports: [`choice_points`](crate::analysis::choice_points) of the reachable
 //! markings), goal and fail places are coloured with a bold outline; the
 //! output starts with a legend comment.
 

@@ -137,14 +137,19 @@
 /// The README's code blocks, compiled and run as doc-tests.
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]
-pub struct ReadmeDoctests;
+pub(crate) struct ReadmeDoctests;
 
+/// Agents running a plan with a learner at its choice points.
 pub mod agent;
+/// Structural analysis of a plan.
 pub mod analysis;
 /// Guard conditions.
 pub mod condition;
+/// Domains the thesis learns in, each driven by a plan.
 pub mod domains;
+/// Graphviz DOT export of a plan.
 pub mod dot;
+/// The plan executor.
 pub mod executor;
 /// Experiments over many seeded runs.
 pub mod experiment;
@@ -155,14 +160,17 @@ pub(crate) mod json_float;
 pub mod learning;
 /// Enumerations picked by name (from the `learnpnp-common` crate).
 pub use learnpnp_common::named;
+/// Place/transition nets: the structure under every plan.
 pub mod net;
 /// Petri Net Plans.
 pub mod plan;
 /// Loading plan files of either kind.
 pub mod plan_file;
+/// Plan files in PNML.
 pub mod pnml;
 /// Seeded, reproducible random numbers (from the `learnpnp-common` crate).
 pub use learnpnp_common::rng;
+/// Plan schemas: partially specified plans as hierarchies of state machines.
 pub mod schema;
 
 pub use agent::PlanAgent;

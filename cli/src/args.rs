@@ -1,5 +1,5 @@
 //! The flags of `learnpnp experiment` and of the multi-process supervisor,
-//! parsed into the core crate's [`ExperimentOptions`].
+//! parsed into the core crate's [`ExperimentOptions`](learnpnp::experiment::options::ExperimentOptions).
 
 use std::path::PathBuf;
 

@@ -1,11 +1,11 @@
 //! Stopping long work on Ctrl-C or SIGTERM without losing what is done.
 //!
-//! [`Interrupt::install`] registers handlers for SIGINT and SIGTERM (Unix). The
-//! first signal only sets a flag ([`Interrupt::flag`]), which long loops check
+//! [`Interrupt::install`](crate::interrupt::Interrupt::install) registers handlers for SIGINT and SIGTERM (Unix). The
+//! first signal only sets a flag ([`Interrupt::flag`](crate::interrupt::Interrupt::flag)), which long loops check
 //! (the experiment runner stops starting runs and abandons the ones in
 //! progress), so the caller can write what was completed. A second signal
 //! ends the process at once with the conventional status 128 + signal number,
-//! for a user who does not want to wait; signals less than [`SECOND_SIGNAL_AFTER`]
+//! for a user who does not want to wait; signals less than [`SECOND_SIGNAL_AFTER`](crate::interrupt::SECOND_SIGNAL_AFTER)
 //! apart count as one, because `timeout` (and some service managers) send
 //! the same signal to the process and then to its whole process group.
 

@@ -4,6 +4,9 @@
 
 #![deny(missing_docs)]
 
+/// The experiment's and the supervisor's flags, parsed into `ExperimentOptions`.
 pub mod args;
+/// Stopping long work on Ctrl-C or SIGTERM without losing what is done.
 pub mod interrupt;
+/// The live view's flags, shared by `learnpnp experiment` and the supervisor.
 pub mod view;

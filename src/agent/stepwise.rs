@@ -2,7 +2,7 @@
 //! earned, the agent answers with the action its plan runs next.
 //!
 //! [`PlanAgent`](crate::PlanAgent) drives a world through registered
-//! [`Action`]s. An environment that drives itself (a gymnasium environment, a
+//! [`Action`](crate::executor::Action)s. An environment that drives itself (a gymnasium environment, a
 //! robot's control loop, a world in another process) needs the inverse: the
 //! caller owns the loop, and at each of its steps tells the agent the atoms that
 //! hold and whether the action in progress finished; the agent fires the plan's
@@ -11,13 +11,13 @@
 //! records that it started; the caller reports its outcome.
 //!
 //! Durative actions: an action lasts until the caller reports it finished or
-//! failed. [`StepwiseAgent::act`] with [`ActionOutcome::Running`] takes one
+//! failed. [`StepwiseAgent::act`](crate::agent::stepwise::StepwiseAgent::act) with [`ActionOutcome::Running`](crate::agent::stepwise::ActionOutcome::Running) takes one
 //! executor step with the action still running (its guards and the plan's
 //! interrupts are evaluated on the new atoms) and names the action running
 //! after it: the same one, or another if an interrupt ended it.
 //!
 //! Time: the learner sees the executor's steps as semi-Markov time (thesis
-//! 5.3); one [`StepwiseAgent::act`] may take several steps (an action's end,
+//! 5.3); one [`StepwiseAgent::act`](crate::agent::stepwise::StepwiseAgent::act) may take several steps (an action's end,
 //! then the next choice and start).
 
 use std::sync::Arc;

@@ -78,7 +78,7 @@ pub fn option_label(plan: &Plan, from: &Marking, to: &Marking) -> String {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ChoiceAt {
     /// The contested place.
-    pub place: PlaceId,
+    pub(crate) place: PlaceId,
     /// The competing transitions with the marking each one's firing gives.
     pub options: Vec<(TransitionId, Marking)>,
 }

@@ -128,7 +128,7 @@ impl Exploration {
     }
 
     /// The part holding the goal and fail places, if the plan has any.
-    pub fn ending(&self) -> Option<&Reachability> {
+    pub(crate) fn ending(&self) -> Option<&Reachability> {
         self.parts.first().filter(|p| p.is_ending())
     }
 
@@ -140,7 +140,7 @@ impl Exploration {
     }
 
     /// The number of markings stored, over all parts.
-    pub fn stored(&self) -> usize {
+    pub(crate) fn stored(&self) -> usize {
         self.parts.iter().map(Reachability::len).sum()
     }
 
@@ -160,13 +160,13 @@ impl Exploration {
     }
 
     /// Whether every reachable marking was explored (no limit was hit).
-    pub fn is_complete(&self) -> bool {
+    pub(crate) fn is_complete(&self) -> bool {
         self.stop.is_none()
     }
 
     /// The largest count of every place over the explored markings (a lower
     /// bound when the exploration is incomplete).
-    pub fn bounds(&self) -> Vec<Count> {
+    pub(crate) fn bounds(&self) -> Vec<Count> {
         let mut max = vec![0u16; self.place_part.len()];
         for part in &self.parts {
             for &(p, n) in part.all_entries() {

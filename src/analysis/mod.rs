@@ -1,16 +1,16 @@
 //! Structural analysis of a plan: what `learnpnp check` reports.
 //!
-//! [`explore`] builds the graph of reachable markings with guards free (any
+//! [`explore`](crate::analysis::explore) builds the graph of reachable markings with guards free (any
 //! guard may be true or false), goal and fail markings terminal, and unbounded
 //! places accelerated to ω (Karp–Miller), under a marking limit and a memory
-//! limit ([`Limits`]). Markings are stored sparsely, and the plan's
+//! limit ([`Limits`](crate::analysis::Limits)). Markings are stored sparsely, and the plan's
 //! independent parts (an environment-tracking sub-net beside the procedure)
-//! are explored apart and combined exactly ([`Exploration`]), so the cost
+//! are explored apart and combined exactly ([`Exploration`](crate::analysis::Exploration)), so the cost
 //! follows the tokens and the parts, not the places and their combinations.
-//! [`check`] explores once and derives from that one exploration the thesis's
+//! [`check`](crate::analysis::check) explores once and derives from that one exploration the thesis's
 //! properties of a Petri Net Plan (section 2.3): safety of execution places,
 //! minimality, effectiveness, and the absence of dead markings, plus token
-//! bounds and choice points, in a [`CheckReport`].
+//! bounds and choice points, in a [`CheckReport`](crate::analysis::CheckReport).
 //! Memory places and loop counters may exceed one token by design (thesis 5.5):
 //! they are noted, not failed.
 

@@ -274,7 +274,7 @@ impl Reachability {
     }
 
     /// Tokens of `place` in state `s` (0 for a place of another part).
-    pub fn tokens(&self, s: StateId, place: PlaceId) -> count::Count {
+    pub(crate) fn tokens(&self, s: StateId, place: PlaceId) -> count::Count {
         count::Count::from_raw(markings::count(self.entries(s), place))
     }
 

@@ -21,7 +21,7 @@ pub struct Element {
 
 impl Element {
     /// Place `p` of `plan`.
-    pub fn place(plan: &Plan, p: PlaceId) -> Self {
+    pub(crate) fn place(plan: &Plan, p: PlaceId) -> Self {
         let node = plan.net().place(p);
         Element {
             id: node.id.clone(),
@@ -152,7 +152,7 @@ impl Verdict {
     }
 
     /// Why it is inconclusive or does not apply.
-    pub fn reason(&self) -> Option<&str> {
+    pub(crate) fn reason(&self) -> Option<&str> {
         match self {
             Verdict::Passed | Verdict::Failed => None,
             Verdict::Inconclusive(why) | Verdict::NotApplicable(why) => Some(why),
@@ -199,7 +199,7 @@ impl Outcome {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PlaceBound {
     /// The place.
-    pub place: PlaceId,
+    pub(crate) place: PlaceId,
     /// Its id and label.
     pub element: Element,
     /// The action whose execution place it is, if any.
@@ -212,7 +212,7 @@ pub struct PlaceBound {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ReportedChoice {
     /// The place.
-    pub place: PlaceId,
+    pub(crate) place: PlaceId,
     /// Its id and label.
     pub element: Element,
     /// The transitions chosen among, with their ids and labels.

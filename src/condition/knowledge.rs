@@ -111,7 +111,7 @@ impl BitKnowledgeBase {
     }
 
     /// Makes every atom false.
-    pub fn clear(&mut self) {
+    pub(crate) fn clear(&mut self) {
         self.words.iter_mut().for_each(|w| *w = 0);
     }
 }

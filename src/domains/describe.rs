@@ -17,7 +17,7 @@ pub struct DomainDescription {
     /// The command-line name (`learnpnp experiment NAME`).
     pub name: &'static str,
     /// What it is.
-    pub about: String,
+    pub(crate) about: String,
     /// The plan used unless `--plan FILE` replaces it, and who executes it.
     pub plan: String,
     /// The actions (and sub-plans) a plan may name, with their conditions.

@@ -30,7 +30,7 @@ impl Direction {
     }
 
     /// The two perpendicular directions.
-    pub fn perpendicular(self) -> [Direction; 2] {
+    pub(crate) fn perpendicular(self) -> [Direction; 2] {
         match self {
             Direction::North | Direction::South => [Direction::East, Direction::West],
             Direction::East | Direction::West => [Direction::North, Direction::South],

@@ -1,7 +1,7 @@
 //! Domains the thesis learns in, each driven by a plan: the penalty kick
 //! (chapter 3 and 5), Parr and Russell's 4 x 3 grid and Sutton's grid (chapter 6).
 //!
-//! A domain is a [`Task`]: it runs episodes of a plan with a learner choosing at
+//! A domain is a [`Task`](crate::domains::Task): it runs episodes of a plan with a learner choosing at
 //! its choice points, and reports what each episode earned.
 
 /// Implements the knowledge base and world of a world with no atoms (every

@@ -22,15 +22,15 @@ use crate::rng::SimRng;
 
 /// The actions, in the order of [`NmdpConfig::returns`]'s indices: the first
 /// state's two, then the second state's two.
-pub const ACTIONS: [&str; 4] = ["A1", "B1", "A2", "B2"];
+pub(crate) const ACTIONS: [&str; 4] = ["A1", "B1", "A2", "B2"];
 
 /// A normal distribution of returns: mean and standard deviation.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ReturnDistribution {
+pub(crate) struct ReturnDistribution {
     /// The mean.
     pub mean: f64,
     /// The standard deviation.
-    pub sd: f64,
+    pub(crate) sd: f64,
 }
 
 /// The four policies' return distributions.
@@ -38,7 +38,7 @@ pub struct ReturnDistribution {
 pub struct NmdpConfig {
     /// `returns[first][second]`: the policy taking A1 (0) or B1 (1) in S1
     /// and A2 (0) or B2 (1) in S2.
-    pub returns: [[ReturnDistribution; 2]; 2],
+    pub(crate) returns: [[ReturnDistribution; 2]; 2],
 }
 
 impl Default for NmdpConfig {

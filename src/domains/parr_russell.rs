@@ -32,7 +32,7 @@ pub struct ParrRussellConfig {
     /// Reward of every action.
     pub step_reward: f64,
     /// Probability of the intended direction.
-    pub success: f64,
+    pub(crate) success: f64,
 }
 
 impl Default for ParrRussellConfig {
@@ -52,10 +52,10 @@ pub(crate) const GOAL: (i8, i8) = (4, 3);
 /// The cell paying -1.
 pub(crate) const PENALTY: (i8, i8) = (4, 2);
 /// The start cell.
-pub const START: (i8, i8) = (1, 1);
+pub(crate) const START: (i8, i8) = (1, 1);
 
 /// Whether an agent can stand in `cell`.
-pub fn free(cell: (i8, i8)) -> bool {
+pub(crate) fn free(cell: (i8, i8)) -> bool {
     (1..=4).contains(&cell.0) && (1..=3).contains(&cell.1) && cell != OBSTACLE
 }
 

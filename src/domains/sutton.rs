@@ -42,7 +42,7 @@ impl Default for SuttonConfig {
 }
 
 /// Whether `cell` is inside the grid and not an obstacle.
-pub fn free(cell: (i8, i8)) -> bool {
+pub(crate) fn free(cell: (i8, i8)) -> bool {
     (0..ROWS).contains(&cell.0) && (0..COLS).contains(&cell.1) && !OBSTACLES.contains(&cell)
 }
 
@@ -139,7 +139,7 @@ pub fn atoms() -> AtomTable {
 }
 
 /// The plan of thesis 6.4, loaded against the domain's atoms.
-pub fn default_plan() -> Result<Plan, TaskError> {
+pub(crate) fn default_plan() -> Result<Plan, TaskError> {
     let net = catalog::sutton().map_err(crate::plan::PlanError::from)?;
     Ok(Plan::from_net(net, AllowedAtoms::Closed(&atoms()))?)
 }
@@ -170,13 +170,13 @@ impl EpisodeWorld for Maze {
 }
 
 /// Learning runs in Sutton's grid.
-pub struct Sutton {
+pub(crate) struct Sutton {
     task: PlanTask<Maze>,
 }
 
 impl Sutton {
     /// A run of `plan` (whose atoms must be [`atoms`]) with `learner`; `rng` draws start cells.
-    pub fn new(
+    pub(crate) fn new(
         config: SuttonConfig,
         plan: Arc<Plan>,
         learner: Box<dyn Learner>,

@@ -154,7 +154,7 @@ pub(crate) fn marking_with(plan: &Plan, labels: &[&str]) -> Result<Marking, Task
 }
 
 /// Values of named root-plan markings in a learner's table.
-pub fn traced(learner: &dyn Learner, keys: &[(String, StateKey)]) -> Vec<(String, f64)> {
+pub(crate) fn traced(learner: &dyn Learner, keys: &[(String, StateKey)]) -> Vec<(String, f64)> {
     keys.iter()
         .map(|(name, k)| (name.clone(), learner.values().value_of(k.plan, &k.marking)))
         .collect()

@@ -8,7 +8,7 @@ pub(crate) struct BitSet {
 
 impl BitSet {
     /// An empty set over `0..len`.
-    pub fn new(len: usize) -> Self {
+    pub(super) fn new(len: usize) -> Self {
         BitSet {
             words: vec![0; len.div_ceil(64)],
         }
@@ -16,7 +16,7 @@ impl BitSet {
 
     /// Adds or removes `i`.
     #[inline]
-    pub fn set(&mut self, i: usize, value: bool) {
+    pub(super) fn set(&mut self, i: usize, value: bool) {
         let word = &mut self.words[i / 64];
         if value {
             *word |= 1 << (i % 64);
@@ -27,18 +27,18 @@ impl BitSet {
 
     /// Whether `i` is in the set.
     #[inline]
-    pub fn contains(&self, i: usize) -> bool {
+    pub(crate) fn contains(&self, i: usize) -> bool {
         self.words[i / 64] & (1 << (i % 64)) != 0
     }
 
     /// Removes everything.
-    pub fn clear(&mut self) {
+    pub(crate) fn clear(&mut self) {
         self.words.iter_mut().for_each(|w| *w = 0);
     }
 
     /// The members in increasing order.
     #[inline]
-    pub fn iter(&self) -> impl Iterator<Item = usize> + '_ {
+    pub(crate) fn iter(&self) -> impl Iterator<Item = usize> + '_ {
         self.words.iter().enumerate().flat_map(|(wi, &w)| {
             let mut bits = w;
             std::iter::from_fn(move || {

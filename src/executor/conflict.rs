@@ -13,17 +13,17 @@ pub(crate) struct ConflictScratch {
     members: Vec<TransitionId>,
     bounds: Vec<(usize, usize)>,
     /// Executable transitions that conflict with nothing: they fire in every alternative.
-    pub free: Vec<TransitionId>,
+    pub(crate) free: Vec<TransitionId>,
 }
 
 impl ConflictScratch {
     /// Number of alternatives found by the last [`enumerate`].
-    pub fn len(&self) -> usize {
+    pub(super) fn len(&self) -> usize {
         self.bounds.len()
     }
 
     /// Alternative `i`: the conflicting transitions it fires.
-    pub fn set(&self, i: usize) -> &[TransitionId] {
+    pub(super) fn set(&self, i: usize) -> &[TransitionId] {
         let (a, b) = self.bounds[i];
         &self.members[a..b]
     }

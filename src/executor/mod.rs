@@ -1,19 +1,19 @@
 //! The plan executor: the operational semantics of thesis section 5.3.
 //!
-//! Each [`Executor::step`]:
+//! Each [`Executor::step`](crate::executor::Executor::step):
 //! 1. returns at once if the root plan is in a goal or fail marking;
 //! 2. steps every active action, descending into running sub-plans (an
 //!    activation tree, not a stack);
 //! 3. asks the world for the reward of the step, credited to every running plan;
 //! 4. fires the executable transitions of the root plan, then of each running
 //!    sub-plan below it, so a higher plan's interrupt preempts the plans it ends.
-//!    Conflicting executable transitions are resolved by a [`Chooser`] picking
+//!    Conflicting executable transitions are resolved by a [`Chooser`](crate::executor::Chooser) picking
 //!    among the next markings of the maximal non-conflicting sets. Transitions
 //!    enabled by this step's firings (and sub-plans started in it) wait for the
 //!    next step. Every marking change is reported to the chooser with the reward
 //!    and steps elapsed since the previous one.
 //!
-//! A plan constructed from a plan schema ([`Plan::schema_process`]) is run by
+//! A plan constructed from a plan schema ([`Plan::schema_process`](crate::plan::Plan::schema_process)) is run by
 //! the schema's own semantics instead (thesis 3.1.1, `machine`), with the
 //! same world, actions, registry and chooser. Both kinds of running plan are
 //! nodes of the activation tree behind one trait (`activation`), and share

@@ -44,10 +44,10 @@ pub struct Registered {
     /// The name (a family's prefix).
     pub name: String,
     /// What it is.
-    pub kind: RegisteredKind,
+    pub(crate) kind: RegisteredKind,
     /// The internal conditions its guards may test (`name.cond`), besides
     /// `finished` and `failed`.
-    pub conditions: Vec<String>,
+    pub(crate) conditions: Vec<String>,
 }
 
 impl Registered {
@@ -135,7 +135,7 @@ impl<W> Registry<W> {
     }
 
     /// Every name provided: actions and families by name, then sub-plans in key order.
-    pub fn entries(&self) -> Vec<Registered> {
+    pub(crate) fn entries(&self) -> Vec<Registered> {
         let mut out: Vec<Registered> = self
             .actions
             .iter()

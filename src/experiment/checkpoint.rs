@@ -2,9 +2,9 @@
 //! so that `--resume` continues without running them again.
 //!
 //! A partial result directory holds, besides the usual files computed over the
-//! completed runs, [`CHECKPOINT`]: the spec (as JSON text, compared exactly on
+//! completed runs, [`CHECKPOINT`](crate::experiment::checkpoint::CHECKPOINT): the spec (as JSON text, compared exactly on
 //! resume), the wall-clock seconds spent so far, and every completed
-//! [`RunOutput`], bit for bit. Since run i depends only on the spec and i, the
+//! [`RunOutput`](crate::experiment::runner::RunOutput), bit for bit. Since run i depends only on the spec and i, the
 //! runs still missing, run later, complete the same output an uninterrupted
 //! experiment produces.
 //!
@@ -40,7 +40,7 @@ struct Checkpoint {
 }
 
 /// The bytes of [`CHECKPOINT`] for the runs `output` completed.
-pub fn encode(output: &ExperimentOutput) -> Result<Vec<u8>, ExperimentError> {
+pub(crate) fn encode(output: &ExperimentOutput) -> Result<Vec<u8>, ExperimentError> {
     let checkpoint = Checkpoint {
         spec: spec_text(&output.spec)?,
         wall_seconds: output.wall_seconds,

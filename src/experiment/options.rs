@@ -1,8 +1,8 @@
 //! The options of an experiment as a user states them (the flags of
 //! `learnpnp experiment` and of the multi-process supervisor, the keyword
 //! arguments from Python): a domain, an algorithm with its parameters, and the
-//! protocol, turned into an [`ExperimentSpec`]. Each value is checked where it
-//! is parsed, against the ranges of [`super::ranges`].
+//! protocol, turned into an [`ExperimentSpec`](crate::experiment::spec::ExperimentSpec). Each value is checked where it
+//! is parsed, against the ranges of [`super::ranges`](crate::experiment::ranges).
 
 use std::path::PathBuf;
 

@@ -1,6 +1,6 @@
 //! Writing an experiment's results: CSV files, a JSON summary, SVG plots and
 //! the learned values of run 0, published as one set in a
-//! [`ResultDir`].
+//! [`ResultDir`](crate::experiment::result_dir::ResultDir).
 
 use std::fmt::Write as _;
 use std::path::Path;

@@ -3,7 +3,7 @@
 //! The same ranges are checked where a flag is parsed (the value parsers of
 //! the command line's experiment flags, so every entry point refuses
 //! `--alpha 5` before any work) and by
-//! [`ExperimentSpec::validate`](super::spec::ExperimentSpec::validate) (specs
+//! [`ExperimentSpec::validate`](crate::experiment::spec::ExperimentSpec::validate) (specs
 //! read from files). Every message states the valid range.
 
 use crate::learning::Schedule;
@@ -12,18 +12,18 @@ use crate::learning::Schedule;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RealRange {
     /// Lower end (may be negative infinity: no bound).
-    pub low: f64,
+    pub(crate) low: f64,
     /// Whether `low` itself is excluded.
     pub(crate) low_open: bool,
     /// Upper end (may be infinity: no bound, but infinity itself excluded).
-    pub high: f64,
+    pub(crate) high: f64,
     /// Whether `high` itself is excluded.
     pub(crate) high_open: bool,
 }
 
 impl RealRange {
     /// `[low, high]`.
-    pub const fn closed(low: f64, high: f64) -> Self {
+    pub(crate) const fn closed(low: f64, high: f64) -> Self {
         RealRange {
             low,
             low_open: false,
@@ -114,9 +114,9 @@ fn read<T: std::str::FromStr>(text: &str, noun: &str, range: impl FnOnce() -> St
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CountRange {
     /// Smallest valid value.
-    pub low: u64,
+    pub(crate) low: u64,
     /// Largest valid value.
-    pub high: u64,
+    pub(crate) high: u64,
 }
 
 impl CountRange {
@@ -190,7 +190,7 @@ pub const MAX_ACTIONS: CountRange = CountRange::new(1, u32::MAX as u64);
 /// MCESP: episodes per explored pair.
 pub const STAGE_LENGTH: CountRange = CountRange::new(1, u64::MAX);
 /// SoSMC's threshold rule: exploiting episodes in the mean; `every:N` exploration.
-pub const WINDOW: CountRange = CountRange::new(1, 1_000_000_000);
+pub(crate) const WINDOW: CountRange = CountRange::new(1, 1_000_000_000);
 /// Worker threads.
 pub const THREADS: CountRange = CountRange::new(1, 256);
 /// Episodes recorded as game logs (each is a few hundred kilobytes).

@@ -4,18 +4,18 @@
 //! Every command that writes results (CSV, JSON, SVG, value tables, latency
 //! histograms) writes them through this module. The guarantees:
 //!
-//! - **Checked before any work.** [`ResultDir::open`] refuses a target that is
+//! - **Checked before any work.** [`ResultDir::open`](crate::experiment::result_dir::ResultDir::open) refuses a target that is
 //!   an existing file, a directory that holds something other than results, or
 //!   a place where nothing can be written (the parent is created if missing,
 //!   then a lock file is created in it), so a long computation never ends in
 //!   "cannot write".
 //! - **One writer.** `open` takes an advisory lock (`flock`, through
-//!   [`File::try_lock`]) on the hidden file `.NAME.lock` beside the target
-//!   `NAME`, held until the [`ResultDir`] is dropped. A second process that
-//!   opens the same target is refused at once with [`ResultDirError::Busy`],
+//!   [`File::try_lock`](std::fs::File::try_lock)) on the hidden file `.NAME.lock` beside the target
+//!   `NAME`, held until the [`ResultDir`](crate::experiment::result_dir::ResultDir) is dropped. A second process that
+//!   opens the same target is refused at once with [`ResultDirError::Busy`](crate::experiment::result_dir::ResultDirError::Busy),
 //!   naming the holder's process id. The lock file is removed on drop.
-//! - **Whole or nothing.** A [`ResultWriter`] writes every file into a hidden
-//!   staging directory `.NAME.staging-PID-N` beside the target. [`ResultWriter::commit`]
+//! - **Whole or nothing.** A [`ResultWriter`](crate::experiment::result_dir::ResultWriter) writes every file into a hidden
+//!   staging directory `.NAME.staging-PID-N` beside the target. [`ResultWriter::commit`](crate::experiment::result_dir::ResultWriter::commit)
 //!   syncs the files, writes `MANIFEST` last, and publishes the staging
 //!   directory in one step: on Linux the two directories are exchanged
 //!   atomically (`renameat2(RENAME_EXCHANGE)`) and the old results removed; a
@@ -28,12 +28,12 @@
 //!   that dead writers left for this target, and restores the previous results
 //!   if a writer died between the two renames of the fallback.
 //! - **Partial results.** A set may be committed as partial
-//!   ([`Progress`]: completed and planned runs); the manifest then says
-//!   `"complete": false`, and [`ResultDir::contents`] reads it back (for
+//!   ([`Progress`](crate::experiment::result_dir::Progress): completed and planned runs); the manifest then says
+//!   `"complete": false`, and [`ResultDir::contents`](crate::experiment::result_dir::ResultDir::contents) reads it back (for
 //!   `--resume`). Readers that need finished results check
-//!   [`Manifest::complete`].
+//!   [`Manifest::complete`](crate::experiment::result_dir::Manifest::complete).
 //!
-//! - **Work files.** [`ResultWriter::scratch_dir`] gives a directory inside
+//! - **Work files.** [`ResultWriter::scratch_dir`](crate::experiment::result_dir::ResultWriter::scratch_dir) gives a directory inside
 //!   the set for files written while the work runs (logs, state of child
 //!   processes): published with the set, cleaned with the staging directory
 //!   if the work never completes.
@@ -84,7 +84,7 @@ pub struct Manifest {
     /// Directories written during the work ([`ResultWriter::scratch_dir`]),
     /// published with the set; their files are not listed one by one.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub dirs: Vec<String>,
+    pub(crate) dirs: Vec<String>,
 }
 
 /// How far the work whose results are committed went.
@@ -106,7 +106,7 @@ impl Progress {
     }
 
     /// Whether every planned run completed.
-    pub fn is_complete(self) -> bool {
+    pub(crate) fn is_complete(self) -> bool {
         self.completed >= self.planned
     }
 }

@@ -3,9 +3,9 @@
 //! as a Slurm array's task id or a Kubernetes indexed Job's completion index
 //! count), each with the seeds the whole experiment gives it (run `r` depends
 //! only on the spec and `r`). A shard writes a partial result that keeps its
-//! runs bit for bit ([`super::checkpoint`]) and [`SHARD_FILE`]; [`merge`]
+//! runs bit for bit ([`super::checkpoint`](crate::experiment::checkpoint)) and [`SHARD_FILE`](crate::experiment::shard::SHARD_FILE); [`merge`](crate::experiment::shard::merge)
 //! combines the shards' runs into the output one machine would have
-//! produced, written by the same code ([`super::output::write_results`]).
+//! produced, written by the same code ([`super::output::write_results`](crate::experiment::output::write_results)).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -282,7 +282,7 @@ impl DomainSpec {
     }
 
     /// A task for one run; `learner` makes the learner of agent i.
-    pub fn task(
+    pub(crate) fn task(
         &self,
         plan: Option<Arc<Plan>>,
         learner: &mut dyn FnMut(usize) -> Box<dyn Learner>,

@@ -6,9 +6,9 @@ pub struct Summary {
     /// The sample mean (NaN for an empty sample).
     pub mean: f64,
     /// Lower end of the 95% confidence interval.
-    pub ci_low: f64,
+    pub(crate) ci_low: f64,
     /// Upper end of the 95% confidence interval.
-    pub ci_high: f64,
+    pub(crate) ci_high: f64,
     /// Sample size.
     pub n: usize,
 }
@@ -87,7 +87,7 @@ pub(crate) fn t_quantile_975(df: usize) -> f64 {
 /// One sample gives a zero-width interval at that sample; no samples give NaN
 /// for the mean and both ends with `n = 0`. Samples are used as given: a NaN
 /// or infinite sample makes the mean and interval NaN or infinite.
-pub fn summarize(samples: &[f64]) -> Summary {
+pub(crate) fn summarize(samples: &[f64]) -> Summary {
     let n = samples.len();
     if n == 0 {
         return Summary {

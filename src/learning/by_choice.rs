@@ -41,7 +41,7 @@ pub struct ChoiceValues {
     /// The plan's index in the table (0: the root plan).
     pub plan: u16,
     /// The choice point.
-    pub place: PlaceId,
+    pub(crate) place: PlaceId,
     /// Its name (label, or id when blank).
     pub(crate) place_name: String,
     /// The marking where the choice is made.
@@ -85,7 +85,7 @@ pub struct PlanMismatch {
     /// Its place names.
     pub(crate) saved_places: Vec<String>,
     /// The given plan's name.
-    pub given: String,
+    pub(crate) given: String,
     /// Its place names.
     pub(crate) given_places: Vec<String>,
 }

@@ -1,11 +1,11 @@
 //! Values carried into a revised plan: saved entries named by what they mean,
 //! mapped onto the places of the new plan, with a report of what was kept.
 //!
-//! **Identity.** Every place has a *key* ([`place_keys`](super::persist::place_keys)): its name (label, or
+//! **Identity.** Every place has a *key* ([`place_keys`](crate::learning::persist::place_keys)): its name (label, or
 //! id when blank) when no other place of the plan has that name; otherwise its
 //! name qualified by the keys of the places leading to it (the input places of
 //! the transitions that put tokens into it), `name<pred1,pred2>`, refined for
-//! up to [`REFINE_ROUNDS`](super::persist::REFINE_ROUNDS) rounds while keys still repeat. The builder's
+//! up to [`REFINE_ROUNDS`](crate::learning::persist::REFINE_ROUNDS) rounds while keys still repeat. The builder's
 //! `south.exec` of cell `nav_2_3` is `south.exec<nav_2_3>`. A saved entry (an
 //! afterstate) is the multiset of the keys of its marked places; a choice
 //! point is its place's key, an option the name of its transition. Keys that
@@ -118,12 +118,12 @@ pub struct SharesNothing {
     /// The saved plan's name.
     pub saved: String,
     /// The given plan's name.
-    pub given: String,
+    pub(crate) given: String,
     /// Saved entries.
-    pub entries: usize,
+    pub(crate) entries: usize,
     /// The first places marked by saved entries that have no unambiguous
     /// counterpart in the given plan (keys, or names for a version 1 file).
-    pub missing: Vec<String>,
+    pub(crate) missing: Vec<String>,
     /// The saved plan's first choice points (or places, for a version 1 file).
     pub(crate) saved_choices: Vec<String>,
     /// The given plan's first choice points.

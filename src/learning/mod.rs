@@ -25,10 +25,13 @@ macro_rules! table_accessors {
     };
 }
 
+/// A saved value table read against its plan, by choice point.
 pub mod by_choice;
 mod mcesp;
+/// Values carried into a revised plan.
 pub mod migrate;
 mod monte_carlo;
+/// Saving and loading learned value tables, safely.
 pub mod persist;
 mod random;
 pub(crate) mod selection;

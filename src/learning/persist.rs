@@ -5,27 +5,27 @@
 //!
 //! | offset | size | content                                                   |
 //! |-------:|-----:|-----------------------------------------------------------|
-//! | 0      | 8    | magic bytes [`MAGIC`] (`LPNPVAL\0`)                       |
-//! | 8      | 4    | format version, `u32` ([`FORMAT_VERSION`])                |
+//! | 0      | 8    | magic bytes [`MAGIC`](crate::learning::persist::MAGIC) (`LPNPVAL\0`)                       |
+//! | 8      | 4    | format version, `u32` ([`FORMAT_VERSION`](crate::learning::persist::FORMAT_VERSION))                |
 //! | 12     | 8    | payload length in bytes, `u64`                            |
 //! | 20     | 4    | CRC-32 (IEEE) of the payload, `u32`                       |
-//! | 24     | n    | payload: bincode 2 (serde, standard config) of [`SavedValues`] |
+//! | 24     | n    | payload: bincode 2 (serde, standard config) of [`SavedValues`](crate::learning::persist::SavedValues) |
 //!
 //! The file must be exactly header plus payload long. Markings are stored as
 //! plain token vectors together with the place labels of every plan, so a file
-//! can be listed ([`write_csv`]) without the plans that produced it, and checked
+//! can be listed ([`write_csv`](crate::learning::persist::write_csv)) without the plans that produced it, and checked
 //! for consistency when it is read back.
 //!
 //! Version 2 (this build's) adds, per plan, the identity of every place and the
-//! choice points with their options ([`PlanIdentity`]: names a designer
-//! controls, see [`super::migrate`]), so that values can be carried into a
+//! choice points with their options ([`PlanIdentity`](crate::learning::persist::PlanIdentity): names a designer
+//! controls, see [`super::migrate`](crate::learning::migrate)), so that values can be carried into a
 //! revised plan. Version 1 files (no identities) are still read: their
-//! [`SavedValues::identities`] is empty.
+//! [`SavedValues::identities`](crate::learning::persist::SavedValues::identities) is empty.
 //!
-//! [`save`] never leaves a half-written file behind: it writes a temporary file
+//! [`save`](crate::learning::persist::save) never leaves a half-written file behind: it writes a temporary file
 //! in the same directory, syncs it and renames it over the target; the previous
 //! table, if it was a valid value file, is kept as `<path>.prev` first.
-//! [`load`] never modifies anything, and [`load_latest`] falls back to the
+//! [`load`](crate::learning::persist::load) never modifies anything, and [`load_latest`](crate::learning::persist::load_latest) falls back to the
 //! `.prev` copy when the main file is unusable.
 
 use std::collections::{BTreeSet, HashMap};
@@ -76,7 +76,7 @@ pub struct SavedValues {
 pub struct PlanIdentity {
     /// One key per place, in place order: its name, qualified by the places
     /// leading to it where names repeat.
-    pub keys: Vec<String>,
+    pub(crate) keys: Vec<String>,
     /// The choice points, in place order.
     pub choices: Vec<SavedChoice>,
 }
@@ -85,7 +85,7 @@ pub struct PlanIdentity {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct SavedChoice {
     /// The choice point's place key.
-    pub place: String,
+    pub(crate) place: String,
     /// The names (labels, or ids when blank) of the transitions it chooses among, sorted.
     pub options: Vec<String>,
 }
@@ -439,7 +439,7 @@ pub fn save(path: &Path, values: &SavedValues) -> Result<(), PersistError> {
 /// The bytes of a value file holding `values` (for writers that place the
 /// file themselves, such as a result directory); `path` names the file in
 /// errors. The values are checked first ([`SavedValues::validate`]).
-pub fn encode(path: &Path, values: &SavedValues) -> Result<Vec<u8>, PersistError> {
+pub(crate) fn encode(path: &Path, values: &SavedValues) -> Result<Vec<u8>, PersistError> {
     values.validate().map_err(|source| PersistError::Inconsistent {
         path: path.to_path_buf(),
         source,

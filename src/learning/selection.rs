@@ -14,7 +14,7 @@ pub struct Schedule {
     /// Value from `over` on.
     pub end: f64,
     /// Length of the ramp (0: always `end`).
-    pub over: u64,
+    pub(crate) over: u64,
 }
 
 impl Schedule {
@@ -28,7 +28,7 @@ impl Schedule {
     }
 
     /// A linear ramp.
-    pub const fn linear(start: f64, end: f64, over: u64) -> Self {
+    pub(crate) const fn linear(start: f64, end: f64, over: u64) -> Self {
         Schedule { start, end, over }
     }
 
@@ -104,7 +104,7 @@ pub(crate) fn best_indices(values: &[f64], out: &mut Vec<usize>) {
 }
 
 /// A greedy index, ties broken uniformly at random.
-pub fn greedy(values: &[f64], rng: &mut SimRng, scratch: &mut Vec<usize>) -> usize {
+pub(crate) fn greedy(values: &[f64], rng: &mut SimRng, scratch: &mut Vec<usize>) -> usize {
     best_indices(values, scratch);
     scratch[rng.random_range(0..scratch.len())]
 }
@@ -116,7 +116,7 @@ pub(crate) fn is_greedy(values: &[f64], index: usize) -> bool {
 }
 
 /// Draws an index by `strategy`.
-pub fn select(strategy: Strategy, values: &[f64], rng: &mut SimRng, scratch: &mut Vec<usize>) -> usize {
+pub(crate) fn select(strategy: Strategy, values: &[f64], rng: &mut SimRng, scratch: &mut Vec<usize>) -> usize {
     match strategy {
         Strategy::Greedy => greedy(values, rng, scratch),
         Strategy::EpsilonGreedy(eps) => {

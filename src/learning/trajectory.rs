@@ -19,7 +19,7 @@ pub struct Trajectory {
 
 impl Trajectory {
     /// Forgets the episode.
-    pub fn clear(&mut self) {
+    pub(crate) fn clear(&mut self) {
         self.time = 0;
         self.rewards.clear();
         self.visits.clear();
@@ -45,7 +45,7 @@ impl Trajectory {
     }
 
     /// Records a first visit of `id` now (for learners valuing every marking).
-    pub fn visit(&mut self, id: KeyId) {
+    pub(crate) fn visit(&mut self, id: KeyId) {
         if !self.visits.iter().any(|(v, _)| *v == id) {
             self.visits.push((id, self.time));
         }

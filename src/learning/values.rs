@@ -51,7 +51,7 @@ impl ValueTable {
 
     /// The id of a key, if present.
     #[inline]
-    pub fn find(&self, plan: PlanKey, marking: &Marking) -> Option<KeyId> {
+    pub(crate) fn find(&self, plan: PlanKey, marking: &Marking) -> Option<KeyId> {
         self.index
             .get(usize::from(plan.0))
             .and_then(|m| m.get(marking))
@@ -60,7 +60,7 @@ impl ValueTable {
 
     /// The id of a key, adding it (at the initial value) if new.
     #[inline]
-    pub fn intern(&mut self, plan: PlanKey, marking: &Marking) -> KeyId {
+    pub(crate) fn intern(&mut self, plan: PlanKey, marking: &Marking) -> KeyId {
         if let Some(id) = self.find(plan, marking) {
             return id;
         }
@@ -130,12 +130,12 @@ impl ValueTable {
 
     /// Counts one update of an id.
     #[inline]
-    pub fn visit(&mut self, id: KeyId) {
+    pub(crate) fn visit(&mut self, id: KeyId) {
         self.visits[id as usize] += 1;
     }
 
     /// Updates of an id so far.
-    pub fn visits(&self, id: KeyId) -> u64 {
+    pub(crate) fn visits(&self, id: KeyId) -> u64 {
         self.visits[id as usize]
     }
 

@@ -6,9 +6,9 @@ use super::{Marking, NodeRef, PetriNet, PlaceId, TokenOverflow, TransitionId};
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Arc {
     /// The place at the other end.
-    pub place: PlaceId,
+    pub(crate) place: PlaceId,
     /// Tokens moved.
-    pub weight: u8,
+    pub(crate) weight: u8,
 }
 
 /// Pre- and post-sets of every transition, and the transitions reading each place.
@@ -86,7 +86,7 @@ impl Incidence {
     }
 
     /// Fires `t` in place: removes its input tokens, adds its output tokens.
-    pub fn fire(&self, marking: &mut Marking, t: TransitionId) -> Result<(), TokenOverflow> {
+    pub(crate) fn fire(&self, marking: &mut Marking, t: TransitionId) -> Result<(), TokenOverflow> {
         for a in self.inputs(t) {
             marking.remove(a.place, a.weight);
         }

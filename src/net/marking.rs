@@ -11,7 +11,7 @@ use super::ids::PlaceId;
 #[error("place #{place} would hold more than 255 tokens")]
 pub struct TokenOverflow {
     /// Index of the place that overflowed.
-    pub place: usize,
+    pub(crate) place: usize,
 }
 
 /// The token count of every place, one byte per place.
@@ -58,7 +58,7 @@ impl Marking {
 
     /// Adds `tokens` to `place`, refusing overflow.
     #[inline]
-    pub fn add(&mut self, place: PlaceId, tokens: u8) -> Result<(), TokenOverflow> {
+    pub(crate) fn add(&mut self, place: PlaceId, tokens: u8) -> Result<(), TokenOverflow> {
         let slot = &mut self.0[place.index()];
         *slot = slot.checked_add(tokens).ok_or(TokenOverflow { place: place.index() })?;
         Ok(())
@@ -66,7 +66,7 @@ impl Marking {
 
     /// Removes `tokens` from `place` (saturating at zero).
     #[inline]
-    pub fn remove(&mut self, place: PlaceId, tokens: u8) {
+    pub(crate) fn remove(&mut self, place: PlaceId, tokens: u8) {
         let slot = &mut self.0[place.index()];
         *slot = slot.saturating_sub(tokens);
     }
@@ -77,7 +77,7 @@ impl Marking {
     }
 
     /// The marked places with their counts.
-    pub fn marked(&self) -> impl Iterator<Item = (PlaceId, u8)> + '_ {
+    pub(crate) fn marked(&self) -> impl Iterator<Item = (PlaceId, u8)> + '_ {
         self.0
             .iter()
             .enumerate()

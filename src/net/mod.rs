@@ -1,7 +1,7 @@
 //! Place/transition nets: the structure under every plan.
 //!
-//! [`PetriNet`] is the net as a file describes it (ids, labels, arcs, weights,
-//! initial marking); [`Incidence`] is its compiled form for firing; [`Marking`]
+//! [`PetriNet`](crate::net::PetriNet) is the net as a file describes it (ids, labels, arcs, weights,
+//! initial marking); [`Incidence`](crate::net::Incidence) is its compiled form for firing; [`Marking`](crate::net::Marking)
 //! is the token count of every place, the state key of every value table.
 
 mod ids;

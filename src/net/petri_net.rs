@@ -227,7 +227,7 @@ impl PetriNet {
     }
 
     /// One place.
-    pub fn place(&self, id: PlaceId) -> &PlaceNode {
+    pub(crate) fn place(&self, id: PlaceId) -> &PlaceNode {
         &self.places[id.index()]
     }
 
@@ -245,7 +245,7 @@ impl PetriNet {
     }
 
     /// The initial marking.
-    pub fn initial_marking(&self) -> Marking {
+    pub(crate) fn initial_marking(&self) -> Marking {
         Marking::from_tokens(self.places.iter().map(|p| p.initial).collect())
     }
 

@@ -50,7 +50,7 @@ pub fn football() -> Result<PetriNet, NetError> {
 }
 
 /// Figure 5.1: a non-deterministic choice between two ordinary actions.
-pub fn choice_point() -> Result<PetriNet, NetError> {
+pub(crate) fn choice_point() -> Result<PetriNet, NetError> {
     let mut b = PlanBuilder::new("choice_point");
     let start = b.initial_place("start");
     let goal = b.goal_place();
@@ -61,7 +61,7 @@ pub fn choice_point() -> Result<PetriNet, NetError> {
 
 /// Figure 3.6: the penalty kick, plain. Both choices lead to the same Kick
 /// marking, so one-step methods cannot tell them apart.
-pub fn penalty_kick_plain() -> Result<PetriNet, NetError> {
+pub(crate) fn penalty_kick_plain() -> Result<PetriNet, NetError> {
     let mut b = PlanBuilder::new("penalty_kick_plain");
     let start = b.initial_place("start");
     let ready = b.place("ready");
@@ -155,7 +155,7 @@ fn settle_then(b: &mut PlanBuilder, label: &str) -> super::PlaceRef {
 }
 
 /// The four moves of the grid worlds, in plan order.
-pub const MOVES: [&str; 4] = ["MoveNorth", "MoveSouth", "MoveEast", "MoveWest"];
+pub(crate) const MOVES: [&str; 4] = ["MoveNorth", "MoveSouth", "MoveEast", "MoveWest"];
 
 /// Figure 6.2: Parr and Russell's grid. An environment-tracking part follows
 /// `WallLeft` and `WallRight`; the procedural part chooses one of four moves,

@@ -50,7 +50,7 @@ pub(crate) fn split_tokens(label: &str) -> Option<Vec<&str>> {
 
 /// What a place label says.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub struct PlaceLabel {
+pub(crate) struct PlaceLabel {
     /// The action or sub-plan whose execution place this is.
     pub exec: Option<String>,
     /// Tokens this place holds in a goal marking.
@@ -65,7 +65,7 @@ pub(crate) struct LabelError {
     /// The token.
     pub token: String,
     /// What is wrong with it.
-    pub reason: String,
+    pub(crate) reason: String,
 }
 
 fn label_error(token: &str, reason: impl Into<String>) -> LabelError {
@@ -153,7 +153,7 @@ impl Function {
     }
 
     /// Its canonical label suffix.
-    pub fn as_str(self) -> &'static str {
+    pub(crate) fn as_str(self) -> &'static str {
         match self {
             Function::Start => "start",
             Function::End => "end",

@@ -18,7 +18,7 @@ pub enum Dialect {
 
 impl Dialect {
     /// The dialect's name as [`FromStr`] reads it: `jarp` or `standard`.
-    pub const fn as_str(self) -> &'static str {
+    pub(crate) const fn as_str(self) -> &'static str {
         match self {
             Dialect::Jarp => "jarp",
             Dialect::Standard => "standard",

@@ -73,7 +73,7 @@ pub struct PlanAction {
     pub target: usize,
     /// The process state it enters: the target's action state, or the
     /// afterstate of this option when the constituent is a choice state.
-    pub enters: DecisionStateId,
+    pub(crate) enters: DecisionStateId,
 }
 
 /// One constituent <s, e, C> of an event group.

@@ -2,19 +2,19 @@
 //! hierarchy of state machines, turned into the controllable process a learner
 //! controls.
 //!
-//! - [`Schema`] is the designer's plan (Definition 4): plan states labelled
+//! - [`Schema`](crate::schema::Schema) is the designer's plan (Definition 4): plan states labelled
 //!   with parallel actions (an action may be a machine of the schema), an
 //!   initial state, final states, and edges `(state, event, condition) -> state`.
-//!   It is read from a file ([`parse_schema`], [`read_schema`]; the format is
-//!   documented in `docs/SCHEMAS.md`), written back ([`write_schema`]) or built
-//!   in code ([`SchemaBuilder`]).
-//! - [`DecisionProcess`] is the construction of section 3.2.1 for every machine:
+//!   It is read from a file ([`parse_schema`](crate::schema::parse_schema), [`read_schema`](crate::schema::read_schema); the format is
+//!   documented in `docs/SCHEMAS.md`), written back ([`write_schema`](crate::schema::write_schema)) or built
+//!   in code ([`SchemaBuilder`](crate::schema::SchemaBuilder)).
+//! - [`DecisionProcess`](crate::schema::DecisionProcess) is the construction of section 3.2.1 for every machine:
 //!   action states, condition constituents, zero-time plan-actions and
-//!   time-extended events ([`condition_constituents`] is C_cnd).
-//! - [`load_schema_plan`] gives the root machine's process as a [`Plan`], so
+//!   time-extended events ([`condition_constituents`](crate::schema::condition_constituents) is C_cnd).
+//! - [`load_schema_plan`](crate::schema::load_schema_plan) gives the root machine's process as a [`Plan`](crate::plan::Plan), so
 //!   that the executor, the learners, the domains and the experiments use a
 //!   schema wherever they use a Petri Net Plan; the executor runs it with the
-//!   schema's semantics (section 3.1.1, [`Plan::schema_process`]).
+//!   schema's semantics (section 3.1.1, [`Plan::schema_process`](crate::plan::Plan::schema_process)).
 //!
 //! `docs/SCHEMAS.md` describes the format and the semantics for designers.
 

@@ -58,7 +58,7 @@ pub struct Edge {
     /// The guard ([`Expr::True`] when absent).
     pub condition: Expr,
     /// Index of the target state.
-    pub to: usize,
+    pub(crate) to: usize,
     /// The line that declared it, if it came from a file.
     pub line: Option<usize>,
 }
@@ -153,7 +153,7 @@ pub(crate) struct DraftState {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct DraftEdge {
     pub from: String,
-    pub to: String,
+    pub(crate) to: String,
     pub event: Option<String>,
     pub condition: Option<String>,
     pub line: Option<usize>,
@@ -165,13 +165,13 @@ pub(crate) struct DraftMachine {
     pub name: String,
     pub line: Option<usize>,
     pub states: Vec<DraftState>,
-    pub edges: Vec<DraftEdge>,
+    pub(crate) edges: Vec<DraftEdge>,
 }
 
 /// A schema as written, before validation.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub(crate) struct Draft {
-    pub machines: Vec<DraftMachine>,
+    pub(crate) machines: Vec<DraftMachine>,
 }
 
 /// Whether `word` is a name of a machine or state: a letter or `_`, then letters, digits or `_`.

@@ -1,7 +1,7 @@
 //! The command line of the run's child processes (`learnpnp-sim`,
-//! `learnpnp-agent`): the clap arguments that carry a [`RunContext`], as the
-//! supervisor writes them ([`RunContext::to_args`]). The library's types know
-//! nothing of clap; the binaries flatten [`RunContextArgs`] into their own
+//! `learnpnp-agent`): the clap arguments that carry a [`RunContext`](crate::multiprocess::RunContext), as the
+//! supervisor writes them ([`RunContext::to_args`](crate::multiprocess::RunContext::to_args)). The library's types know
+//! nothing of clap; the binaries flatten [`RunContextArgs`](crate::child_args::RunContextArgs) into their own
 //! arguments and convert it.
 
 use std::path::PathBuf;
@@ -23,7 +23,7 @@ pub struct RunContextArgs {
     pub run: usize,
     /// The run's iceoryx2 prefix.
     #[arg(long)]
-    pub ipc_prefix: String,
+    pub(crate) ipc_prefix: String,
     /// How the simulator's clock advances.
     #[arg(long, value_parser = named::<Clock>(), default_value = "lockstep")]
     pub clock: Clock,
@@ -35,7 +35,7 @@ pub struct RunContextArgs {
     pub spec: PathBuf,
     /// Where the process writes its files (histograms, results, checkpoints).
     #[arg(long)]
-    pub work_dir: PathBuf,
+    pub(crate) work_dir: PathBuf,
     /// The run has a view: publish the agent's live feed.
     #[arg(long)]
     pub feed: bool,

@@ -11,10 +11,15 @@
 
 #![deny(missing_docs)]
 
+/// The command line of the run's child processes.
 pub mod child_args;
+/// A run across hosts, as the supervisor and each host's bridge share it.
 pub mod hosts;
+/// The transport of the multi-process system: iceoryx2 shared memory.
 pub mod ipc;
+/// Latency histograms of the multi-process system.
 pub mod latency;
+/// The multi-process learner system.
 pub mod multiprocess;
 /// Resident memory that follows what a process holds.
 pub mod resident_memory;

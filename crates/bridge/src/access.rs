@@ -7,7 +7,7 @@
 //! description; a monitor's certificate may only subscribe to the heartbeats
 //! and the episode events. Subjects are certificates' common names
 //! ([`learnpnp_system::hosts::certs`]), never Zenoh ids or interfaces (a Zenoh id is not
-//! authenticated). What it denies is counted ([`super::refusals`]).
+//! authenticated). What it denies is counted ([`super::refusals`](crate::refusals)).
 
 use serde_json::{Value, json};
 use shm_layouts::services;
@@ -56,7 +56,7 @@ fn rule(id: &str, messages: &[&str], flow: &str, keys: &[String]) -> Value {
 
 /// Host A's `access_control` for the run whose prefix is `prefix`, its
 /// bridge carrying `routes` and receiving `files` from host B.
-pub fn host_a_policy(prefix: &str, routes: &[Route], files: &ExpectedFiles) -> Value {
+pub(crate) fn host_a_policy(prefix: &str, routes: &[Route], files: &ExpectedFiles) -> Value {
     let (mut published, mut announced, mut subscribed) = (Vec::new(), Vec::new(), Vec::new());
     for route in routes {
         let [p, a, s] = host_b_keys(prefix, route);

@@ -4,7 +4,7 @@
 //! its size, its key's sender and (for the supervisors' orders) what the
 //! other host may order, and only then published here, where the receiving
 //! process validates it as it validates every message. Whatever fails a
-//! check is refused and counted by reason ([`LinkRefusals`]).
+//! check is refused and counted by reason ([`LinkRefusals`](learnpnp_system::hosts::report::LinkRefusals)).
 //!
 //! A service several processes publish on (heartbeats, agents' reports) is
 //! keyed by sender (`.../learnpnp/heartbeat/2`), so that host A's access
@@ -33,7 +33,7 @@ use learnpnp_system::ipc::wait::WaitStrategy;
 
 /// Which way a service is carried.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Direction {
+pub(crate) enum Direction {
     /// From this host to the others.
     Out,
     /// From the others to this host.
@@ -55,7 +55,7 @@ impl Direction {
 /// How a service's Zenoh keys name who sent a message, and whom a bridge
 /// takes messages from.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Source {
+pub(crate) enum Source {
     /// One key: one publisher (a keeper's snapshots and commands, the episode
     /// events), whose receiver checks the sender.
     Single,
@@ -80,7 +80,7 @@ pub enum Source {
 /// about host B's supervisor): that one of its own agents was lost and
 /// restarted, and that the run stop (host B was stopped).
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct RemoteOrders {
+pub(crate) struct RemoteOrders {
     /// The other host's agents (0-based): `KEEPER_LOST` may name them only.
     pub agents: Vec<u32>,
     /// The sender of this host's simulator or world: `STOP` may go to it only.
@@ -106,19 +106,19 @@ pub struct Moved {
     /// Messages received and published here.
     pub received: u64,
     /// Orders to stop the run received from the other host (and passed on).
-    pub stop_requests: u64,
+    pub(crate) stop_requests: u64,
     /// Messages received and refused, by reason.
     pub refused: LinkRefusals,
 }
 
 impl Moved {
     /// Whether anything moved.
-    pub fn any(&self) -> bool {
+    pub(crate) fn any(&self) -> bool {
         self.sent + self.received + self.refused.total() > 0
     }
 
     /// The sum.
-    pub fn plus(self, other: Moved) -> Moved {
+    pub(crate) fn plus(self, other: Moved) -> Moved {
         Moved {
             sent: self.sent + other.sent,
             received: self.received + other.received,
@@ -129,13 +129,13 @@ impl Moved {
 }
 
 /// A carried service, whatever its payload.
-pub trait Carry {
+pub(crate) trait Carry {
     /// Moves what is waiting, both ways.
     fn pump(&mut self) -> Result<Moved, BridgeError>;
 }
 
 /// A layout the bridge carries: every one begins with a [`Header`].
-pub trait Carried: ZeroCopySend + Debug + Copy + Send + 'static {
+pub(crate) trait Carried: ZeroCopySend + Debug + Copy + Send + 'static {
     /// The message's header.
     fn header(&self) -> &Header;
 
@@ -221,25 +221,25 @@ fn tag_of<T: ZeroCopySend>() -> Vec<u8> {
 
 /// Where and how a service is carried.
 #[derive(Debug, Clone)]
-pub struct Route {
+pub(crate) struct Route {
     /// The service's name.
     pub service: String,
     /// One publisher and one subscriber (a keeper's or agent's own service).
-    pub point_to_point: bool,
+    pub(crate) point_to_point: bool,
     /// Which way.
-    pub direction: Direction,
+    pub(crate) direction: Direction,
     /// How keys name senders, and whose messages are taken.
-    pub source: Source,
+    pub(crate) source: Source,
     /// The orders the other host may give (the supervisors' orders, on host A).
-    pub orders: Option<RemoteOrders>,
+    pub(crate) orders: Option<RemoteOrders>,
     /// The wake-up services of the processes here that receive it.
-    pub receivers: Vec<String>,
+    pub(crate) receivers: Vec<String>,
     /// The run's processes (the service's limits follow from them).
-    pub roster: learnpnp_system::ipc::protocol::Roster,
+    pub(crate) roster: learnpnp_system::ipc::protocol::Roster,
 }
 
 /// One service of `T`, carried.
-pub struct Carrier<T: Carried> {
+pub(crate) struct Carrier<T: Carried> {
     ports: BridgePorts<T>,
     tag: Vec<u8>,
     base: String,
@@ -258,7 +258,7 @@ impl<T: Carried> Carrier<T> {
     /// between `node`'s namespace and `session`.
     /// Each arrival rings `doorbell`, to wake the bridge's loop. Boxed: the
     /// loop holds the carriers of every payload alike.
-    pub fn open(
+    pub(crate) fn open(
         node: &Node<Ipc>,
         session: &Session,
         prefix: &str,

@@ -25,10 +25,15 @@
 
 #![deny(missing_docs)]
 
+/// Host A's access control, made from the routes its bridge carries.
 pub mod access;
+/// One service carried between hosts as the layout's raw bytes.
 pub mod carry;
+/// The Zenoh session joining a run's hosts.
 pub mod link;
+/// What a bridge refused, by reason.
 pub mod refusals;
+/// What the hosts of a run tell each other besides the services.
 pub mod remote;
 
 use std::path::PathBuf;

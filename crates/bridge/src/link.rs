@@ -3,9 +3,9 @@
 //! run's private CA ([`learnpnp_system::hosts::certs`]) and trusts no other root; host B
 //! verifies that host A's certificate names the address it connects to;
 //! host A's router admits each peer only to the keys its certificate's
-//! common name may use ([`super::access`]). Plain TCP (no encryption, no
+//! common name may use ([`super::access`](crate::access)). Plain TCP (no encryption, no
 //! authentication, no access control) only when asked for by name
-//! ([`Security::PlainTcp`]).
+//! ([`Security::PlainTcp`](crate::link::Security::PlainTcp)).
 //!
 //! The encrypted link is Zenoh's QUIC transport (TLS 1.3 inside QUIC, set
 //! up by the same `transport/link/tls` settings: root CA, listen and connect

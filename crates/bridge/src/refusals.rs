@@ -1,10 +1,10 @@
 //! What a bridge refused, by reason, and the file its host's supervisor
 //! reads them from ([`learnpnp_system::hosts::report::LinkReport`], `link.json` in the host's work
 //! directory). The bridge refuses what arrives of the wrong type, size, key,
-//! sender or order itself ([`super::carry`], [`super::remote`]); the peers
+//! sender or order itself ([`super::carry`](crate::carry), [`super::remote`](crate::remote)); the peers
 //! refused at the TLS handshake and the messages host A's access control
 //! denied are refused inside Zenoh, which says so only in its tracing
-//! events: [`ZenohRefusals`] is a tracing layer that counts them.
+//! events: [`ZenohRefusals`](crate::refusals::ZenohRefusals) is a tracing layer that counts them.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};

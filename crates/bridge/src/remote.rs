@@ -1,7 +1,7 @@
 //! What the hosts of a run tell each other besides the services: host A's
-//! description of the run ([`RunInfo`], written by its supervisor and asked for by host B's bridge before
+//! description of the run ([`RunInfo`](learnpnp_system::hosts::run_info::RunInfo), written by its supervisor and asked for by host B's bridge before
 //! anything else), and, at the end, host B's files (the remote agents'
-//! checkpoints and histograms) for host A's report ([`FileShipping`]).
+//! checkpoints and histograms) for host A's report ([`FileShipping`](crate::remote::FileShipping)).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -18,12 +18,12 @@ use learnpnp_system::hosts::run_info::{OUTBOX, RunInfo};
 use learnpnp_system::ipc::protocol::Roster;
 
 /// The Zenoh key of the run's description (one run per link).
-pub const RUN_INFO_KEY: &str = "learnpnp/run-info";
+pub(crate) const RUN_INFO_KEY: &str = "learnpnp/run-info";
 
 /// Host A: answers host B's request for the run. Over a secure link, host
 /// A's access control lets only host B's certificate ask
 /// ([`super::access`]); over plain TCP anyone who reaches the port can.
-pub fn serve_run_info(session: &Session, info: &RunInfo) -> Result<Queryable<()>, BridgeError> {
+pub(crate) fn serve_run_info(session: &Session, info: &RunInfo) -> Result<Queryable<()>, BridgeError> {
     let json = serde_json::to_vec(info).map_err(|e| BridgeError::RunInfo(e.to_string()))?;
     session
         .declare_queryable(RUN_INFO_KEY)
@@ -36,7 +36,7 @@ pub fn serve_run_info(session: &Session, info: &RunInfo) -> Result<Queryable<()>
 }
 
 /// Host B: asks host A for the run until it answers, or `timeout` passes.
-pub fn fetch_run_info(session: &Session, timeout: Duration) -> Result<RunInfo, BridgeError> {
+pub(crate) fn fetch_run_info(session: &Session, timeout: Duration) -> Result<RunInfo, BridgeError> {
     let started = Instant::now();
     while started.elapsed() < timeout {
         let replies = session
@@ -60,12 +60,12 @@ pub fn fetch_run_info(session: &Session, timeout: Duration) -> Result<RunInfo, B
 
 /// The Zenoh key of file `name` of the run whose prefix is `prefix` (a
 /// key expression when `name` holds wildcards).
-pub fn file_key(prefix: &str, name: &str) -> String {
+pub(crate) fn file_key(prefix: &str, name: &str) -> String {
     super::carry::key(prefix, &format!("file/{name}"))
 }
 
 /// The Zenoh key of the acknowledgement of file `name`.
-pub fn ack_key(prefix: &str, name: &str) -> String {
+pub(crate) fn ack_key(prefix: &str, name: &str) -> String {
     super::carry::key(prefix, &format!("file-ack/{name}"))
 }
 
@@ -82,7 +82,7 @@ pub struct ExpectedFiles {
 
 impl ExpectedFiles {
     /// The files of `info`'s remote agents.
-    pub fn of(info: &RunInfo) -> Self {
+    pub(crate) fn of(info: &RunInfo) -> Self {
         use learnpnp_system::multiprocess::agent_chassis::checkpoint_name;
         use learnpnp_system::multiprocess::agent_process::compute_histogram;
         use learnpnp_system::multiprocess::floor_probe::REMOTE_HOST_FLOOR;
@@ -104,7 +104,7 @@ impl ExpectedFiles {
     }
 
     /// Whether a file called `name` may arrive.
-    pub fn admits(&self, name: &str) -> bool {
+    pub(crate) fn admits(&self, name: &str) -> bool {
         if self.exact.iter().any(|e| e == name) {
             return true;
         }
@@ -118,7 +118,7 @@ impl ExpectedFiles {
     }
 
     /// The file names as key expressions (a histogram's process id as `$*`).
-    pub fn key_patterns(&self) -> Vec<String> {
+    pub(crate) fn key_patterns(&self) -> Vec<String> {
         let histograms = self.histograms.iter().map(|h| format!("{h}.$*.hdr"));
         self.exact.iter().cloned().chain(histograms).collect()
     }
@@ -169,7 +169,7 @@ fn name_after(key: &str, marker: &str) -> Option<String> {
 
 impl FileShipping {
     /// Host B: ships the files that appear in `work_dir/outbox`.
-    pub fn sender(session: &Session, prefix: &str, work_dir: &Path) -> Result<Self, BridgeError> {
+    pub(crate) fn sender(session: &Session, prefix: &str, work_dir: &Path) -> Result<Self, BridgeError> {
         let outbox = work_dir.join(OUTBOX);
         std::fs::create_dir_all(&outbox).map_err(|source| BridgeError::Io {
             path: outbox.clone(),
@@ -196,7 +196,7 @@ impl FileShipping {
 
     /// Host A: writes the files host B ships into `work_dir`, those of
     /// the `expected` names only.
-    pub fn receiver(
+    pub(crate) fn receiver(
         session: &Session,
         prefix: &str,
         work_dir: &Path,
@@ -224,7 +224,7 @@ impl FileShipping {
     /// Sends, resends or writes what is due; returns how many files moved.
     /// A file under a name the run does not expect is counted in `refused`
     /// and neither written nor acknowledged.
-    pub fn pump(&mut self, session: &Session, refused: &mut LinkRefusals) -> Result<usize, BridgeError> {
+    pub(crate) fn pump(&mut self, session: &Session, refused: &mut LinkRefusals) -> Result<usize, BridgeError> {
         let io = |path: &Path| {
             let path = path.to_path_buf();
             move |source| BridgeError::Io { path, source }

@@ -6,4 +6,5 @@
 
 /// Enumerations a user picks by name.
 pub mod named;
+/// Seeded, reproducible random numbers.
 pub mod rng;

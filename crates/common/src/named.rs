@@ -8,11 +8,11 @@ use thiserror::Error;
 #[error("unknown {kind} '{given}' (expected one of: {expected})")]
 pub struct UnknownName {
     /// What was named (`"algorithm"`, `"domain"`, ...).
-    pub kind: &'static str,
+    pub(crate) kind: &'static str,
     /// The name given.
-    pub given: String,
+    pub(crate) given: String,
     /// The names that exist, comma-separated.
-    pub expected: String,
+    pub(crate) expected: String,
 }
 
 /// An enumeration whose values have names.

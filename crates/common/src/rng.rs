@@ -1,8 +1,8 @@
 //! Seeded, reproducible random numbers.
 //!
-//! Every stochastic component takes a [`SimRng`] built from a `u64` seed, so the
+//! Every stochastic component takes a [`SimRng`](crate::rng::SimRng) built from a `u64` seed, so the
 //! same seed replays the same run. Independent streams (one per experiment run,
-//! per agent, per simulator) are derived with [`derive_seed`], so results do not
+//! per agent, per simulator) are derived with [`derive_seed`](crate::rng::derive_seed), so results do not
 //! depend on how runs are spread over threads.
 
 use rand::SeedableRng;

@@ -33,7 +33,7 @@ pub enum Command {
 
 impl Command {
     /// Whether all arguments are finite numbers.
-    pub fn is_finite(&self) -> bool {
+    pub(crate) fn is_finite(&self) -> bool {
         match *self {
             Command::None => true,
             Command::Kick { power, direction } => power.is_finite() && direction.is_finite(),

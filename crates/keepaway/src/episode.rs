@@ -1,5 +1,5 @@
-//! Running episodes in this process: the [`Game`]'s cycle with the keepers
-//! deciding by a [`KeeperPolicy`].
+//! Running episodes in this process: the [`Game`](crate::game::Game)'s cycle with the keepers
+//! deciding by a [`KeeperPolicy`](crate::keeper::KeeperPolicy).
 
 use super::command::Command;
 use super::game::{EpisodeSummary, Game};
@@ -43,7 +43,7 @@ impl Keepaway {
     /// This updates the players' memories (a pass in progress, the last interception
     /// point) and world models, so it is meant to be called once per cycle, as
     /// [`Keepaway::step`] does.
-    pub fn commands(&mut self, policy: &mut dyn KeeperPolicy) -> [Command; NUM_PLAYERS] {
+    pub(crate) fn commands(&mut self, policy: &mut dyn KeeperPolicy) -> [Command; NUM_PLAYERS] {
         let cfg = *self.game.simulator().config();
         let cycle = self.game.views();
         let mut keepers = [Command::None; NUM_KEEPERS];

@@ -2,16 +2,16 @@
 //! plays (the in-process [`Keepaway`](crate::episode::Keepaway), the
 //! experiment's task and the pass decisions of the root crate's domain):
 //!
-//! 1. [`Game::views`]: every player's view of the field ([`Cycle::views`]);
-//! 2. [`Game::decide_taker`] / [`Game::decide_takers`]: the takers' commands,
+//! 1. [`Game::views`](crate::game::Game::views): every player's view of the field ([`Cycle::views`](crate::game::Cycle::views));
+//! 2. [`Game::decide_taker`](crate::game::Game::decide_taker) / [`Game::decide_takers`](crate::game::Game::decide_takers): the takers' commands,
 //!    one at a time if the driver wants to do something in between;
-//! 3. [`Game::commands`]: the keepers' commands in (from the driver), the
+//! 3. [`Game::commands`](crate::game::Game::commands): the keepers' commands in (from the driver), the
 //!    takers' not decided yet decided, every command out;
-//! 4. [`Game::step`]: the commands sent (the players' perception notes them),
+//! 4. [`Game::step`](crate::game::Game::step): the commands sent (the players' perception notes them),
 //!    the physics step and the referee's verdict out.
 //!
 //! A driver may stop between stages and resume later (the stages take and
-//! return the [`Cycle`] in progress).
+//! return the [`Cycle`](crate::game::Cycle) in progress).
 
 use super::command::Command;
 use super::params::{ConfigError, KeepawayConfig};

@@ -70,7 +70,7 @@ impl Vec2 {
     }
 
     /// z component of the cross product (`self.x * other.y - self.y * other.x`).
-    pub fn cross(self, other: Vec2) -> f64 {
+    pub(crate) fn cross(self, other: Vec2) -> f64 {
         self.x * other.y - self.y * other.x
     }
 
@@ -196,7 +196,7 @@ pub fn normalize_deg(deg: f64) -> f64 {
 
 /// `v` limited to `[lo, hi]`; unlike `f64::clamp` it never panics (with `lo > hi`
 /// or NaN bounds the result is simply `min(max(v, lo), hi)`).
-pub fn clamp(v: f64, lo: f64, hi: f64) -> f64 {
+pub(crate) fn clamp(v: f64, lo: f64, hi: f64) -> f64 {
     v.max(lo).min(hi)
 }
 

@@ -26,37 +26,49 @@ use learnpnp_common::{named, rng};
 
 /// The server's primitive body commands.
 pub mod command;
+/// Running episodes in this process.
 pub mod episode;
 /// The thesis's abstraction for the keeper with the ball.
 pub mod features;
+/// One Keepaway cycle in named stages over plain data.
 pub mod game;
+/// Plane geometry for the simulator.
 pub mod geometry;
 /// The keepers' fixed procedure around a pluggable decision.
 pub mod keeper;
 /// Parameters: physics, skills and the task.
 pub mod params;
+/// What one agent perceives, and the pipeline that makes it.
 pub mod perception;
 #[cfg(test)]
 mod played_views;
 /// Baseline decisions for the keeper with the ball.
 pub mod policies;
+/// The nine positioning points of the thesis's multi-agent experiment.
 pub mod positions;
+/// RoboCup soccer simulator game logs (`.rcg`).
 pub mod rcg;
 /// The keepaway referee.
 pub mod referee;
 /// A game log as one self-contained HTML page.
 pub mod replay;
+/// What the soccer server tells each player.
 pub mod see;
 /// The simulator behind one step function.
 pub mod simulator;
+/// The keepaway framework's skills.
 pub mod skills;
 /// The 13 state variables of the original keepaway benchmark.
 pub mod state_vars;
 /// The takers' fixed policy.
 pub mod taker;
+/// When the players' see messages arrive, and when the players act.
 pub mod timing;
+/// What one agent perceives, as plain data.
 pub mod view;
+/// The field's state and the server's physics step.
 pub mod world;
+/// What a framework player believes: the keepaway framework's world model.
 pub mod world_model;
 
 pub use command::Command;

@@ -78,41 +78,41 @@ pub struct ServerParams {
     /// Ball velocity decay per cycle.
     pub ball_decay: f64,
     /// Ball motion noise ratio.
-    pub ball_rand: f64,
+    pub(crate) ball_rand: f64,
     /// Ball speed cap (m/cycle).
     pub ball_speed_max: f64,
     /// Ball acceleration cap (m/cycle²).
-    pub ball_accel_max: f64,
+    pub(crate) ball_accel_max: f64,
     /// Player radius (m).
     pub player_size: f64,
     /// Player velocity decay per cycle.
     pub player_decay: f64,
     /// Player motion (and turn) noise ratio.
-    pub player_rand: f64,
+    pub(crate) player_rand: f64,
     /// Player speed cap (m/cycle).
-    pub player_speed_max: f64,
+    pub(crate) player_speed_max: f64,
     /// Player acceleration cap (m/cycle²).
-    pub player_accel_max: f64,
+    pub(crate) player_accel_max: f64,
     /// Inertia moment: a turn is divided by `1 + inertia_moment * speed`.
-    pub inertia_moment: f64,
+    pub(crate) inertia_moment: f64,
     /// Dash power to acceleration rate.
-    pub dash_power_rate: f64,
+    pub(crate) dash_power_rate: f64,
     /// Kick power to acceleration rate (before the position penalty).
     pub kick_power_rate: f64,
     /// Kickable margin beyond the two radii (m).
     pub kickable_margin: f64,
     /// Effort (1 in keepaway: stamina is effectively unlimited).
-    pub effort: f64,
+    pub(crate) effort: f64,
     /// Largest dash/kick power.
-    pub max_power: f64,
+    pub(crate) max_power: f64,
     /// Smallest dash/kick power.
-    pub min_power: f64,
+    pub(crate) min_power: f64,
     /// Largest turn moment and kick direction (degrees).
-    pub max_moment: f64,
+    pub(crate) max_moment: f64,
     /// Smallest turn moment and kick direction (degrees).
-    pub min_moment: f64,
+    pub(crate) min_moment: f64,
     /// Quantisation step of seen distances to moving objects.
-    pub quantize_step: f64,
+    pub(crate) quantize_step: f64,
     /// Duration of one cycle in seconds.
     pub cycle_seconds: f64,
 }
@@ -222,12 +222,12 @@ impl Region {
     }
 
     /// The centre (the origin).
-    pub fn centre(&self) -> Vec2 {
+    pub(crate) fn centre(&self) -> Vec2 {
         Vec2::ZERO
     }
 
     /// Whether `p` is strictly inside (the referee's test: `|x| < L/2 && |y| < W/2`).
-    pub fn contains(&self, p: Vec2) -> bool {
+    pub(crate) fn contains(&self, p: Vec2) -> bool {
         p.x.abs() < self.half_length() && p.y.abs() < self.half_width()
     }
 }
@@ -330,32 +330,32 @@ crate::named::impl_named!(
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SkillParams {
     /// Turn instead of dash when a target is more than this many degrees off (7).
-    pub when_to_turn_deg: f64,
+    pub(crate) when_to_turn_deg: f64,
     /// Fraction of the best kick rate/speed above which a too-far kick is still
     /// taken or the ball frozen instead of repositioned (0.85).
-    pub when_to_kick: f64,
+    pub(crate) when_to_kick: f64,
     /// Horizon, in cycles, of interception searches (30).
-    pub intercept_horizon: u32,
+    pub(crate) intercept_horizon: u32,
     /// Target dash-back distance used when moving to an interception point (2.5 m).
-    pub intercept_dist_back: f64,
+    pub(crate) intercept_dist_back: f64,
     /// Speed at which a pass should arrive at the receiver (1.2 m/cycle).
-    pub pass_end_speed: f64,
+    pub(crate) pass_end_speed: f64,
     /// Keepers' hold: ball kept at `player_size + ball_size + ratio * kickable_margin`
     /// (0.7, i.e. 0.875 m).
     pub keeper_hold_ratio: f64,
     /// Takers' hold ratio (0.3, i.e. 0.595 m).
-    pub taker_hold_ratio: f64,
+    pub(crate) taker_hold_ratio: f64,
     /// Hold: an opponent closer than this to the ball makes the holder shield it (5 m).
-    pub hold_opponent_radius: f64,
+    pub(crate) hold_opponent_radius: f64,
     /// Hold: ball considered in place when this close to the framework's test point
     /// (see [`crate::skills::hold_ball`]) (0.3 m).
     pub hold_tolerance: f64,
     /// Get open: within this distance of the chosen point, just face the ball (1.5 m).
-    pub get_open_buffer: f64,
+    pub(crate) get_open_buffer: f64,
     /// Get open: border of the candidate grid as a fraction of the region (0.15).
-    pub get_open_border: f64,
+    pub(crate) get_open_border: f64,
     /// Get open: candidate points per axis (5).
-    pub get_open_grid: u32,
+    pub(crate) get_open_grid: u32,
     /// Pass cone: half-width ratio (width = ratio x distance along the line) (0.3).
     pub pass_cone_width: f64,
 }

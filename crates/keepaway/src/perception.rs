@@ -1,8 +1,8 @@
-//! What one agent perceives: a plain, serialisable [`PlayerView`], made by
-//! [`Perception`] (every player's, through a run) or [`perceive`] (one view,
+//! What one agent perceives: a plain, serialisable [`PlayerView`](crate::view::PlayerView), made by
+//! [`Perception`](crate::perception::Perception) (every player's, through a run) or [`perceive`](crate::perception::perceive) (one view,
 //! without memory).
 //!
-//! Agents act only from their own view, so views (and [`super::command::Command`])
+//! Agents act only from their own view, so views (and [`super::command::Command`](crate::command::Command))
 //! are `Copy` data that can cross a process boundary. Every view is made on the
 //! simulator's side, from the simulator's state and the commands the players
 //! sent, and nothing else: in the multi-process system the simulator process

@@ -1,7 +1,7 @@
 //! What the soccer server tells each player, as the keepaway framework's players
 //! received it: what a see message carries, and the body sense of every
-//! cycle. This is the server's side of [`super::params::VisionMode::Framework`];
-//! [`super::timing`] says when the sees come, and [`super::world_model`] is
+//! cycle. This is the server's side of [`super::params::VisionMode::Framework`](crate::params::VisionMode::Framework);
+//! [`super::timing`](crate::timing) says when the sees come, and [`super::world_model`](crate::world_model) is
 //! the player's side.
 //!
 //! Sources: rcssserver 11.1, the oldest in its git history (the framework 0.6's
@@ -44,11 +44,11 @@ const SPEED_STEP: f64 = 0.01;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Seen {
     /// Quantised distance, m.
-    pub dist: f64,
+    pub(crate) dist: f64,
     /// Direction, whole degrees.
-    pub dir: f64,
+    pub(crate) dir: f64,
     /// Distance change (m/cycle) and direction change (degrees/cycle), when sent.
-    pub change: Option<(f64, f64)>,
+    pub(crate) change: Option<(f64, f64)>,
     /// Body direction relative to the viewer's, whole degrees (players with
     /// their number only).
     pub body: Option<f64>,
@@ -56,11 +56,11 @@ pub struct Seen {
 
 /// A player in a see message.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SeenMate {
+pub(crate) struct SeenMate {
     /// What was seen.
-    pub seen: Seen,
+    pub(crate) seen: Seen,
     /// Whether the player's number was given (otherwise only its team).
-    pub numbered: bool,
+    pub(crate) numbered: bool,
 }
 
 /// A see message: the ball and every other player (360-degree vision shows
@@ -70,7 +70,7 @@ pub struct SeeMessage {
     /// The ball.
     pub ball: Seen,
     /// Players by global index; `None` at the viewer's own index.
-    pub players: [Option<SeenMate>; NUM_PLAYERS],
+    pub(crate) players: [Option<SeenMate>; NUM_PLAYERS],
 }
 
 /// The server's quantised distance: `Q(exp(Q(ln(d + EPS), qstep)), 0.1)`.
@@ -211,14 +211,14 @@ pub fn see(world: &FieldState, me: PlayerId, cfg: &KeepawayConfig, mut rng: Opti
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SenseBody {
     /// Speed, m/cycle.
-    pub speed: f64,
+    pub(crate) speed: f64,
     /// Direction relative to the neck, degrees.
-    pub dir: f64,
+    pub(crate) dir: f64,
 }
 
 impl SenseBody {
     /// The velocity relative to the neck as a vector.
-    pub fn velocity(&self) -> Vec2 {
+    pub(crate) fn velocity(&self) -> Vec2 {
         // `Vec2::polar`, with the sine and cosine of the whole degree from a table.
         let (s, c) = sin_cos_deg(self.dir);
         Vec2::new(self.speed * c, self.speed * s)

@@ -16,20 +16,20 @@ pub struct StateVars {
     /// Global indices of T1, T2.
     pub takers: [usize; 2],
     /// d(K1, C).
-    pub d_k1_c: f64,
+    pub(crate) d_k1_c: f64,
     /// d(K1, K2), d(K1, K3).
-    pub d_k1_k: [f64; 2],
+    pub(crate) d_k1_k: [f64; 2],
     /// d(K1, T1), d(K1, T2).
-    pub d_k1_t: [f64; 2],
+    pub(crate) d_k1_t: [f64; 2],
     /// d(K2, C), d(K3, C).
-    pub d_k_c: [f64; 2],
+    pub(crate) d_k_c: [f64; 2],
     /// d(T1, C), d(T2, C).
-    pub d_t_c: [f64; 2],
+    pub(crate) d_t_c: [f64; 2],
     /// min_j d(K2, Tj), min_j d(K3, Tj).
-    pub min_d_k_t: [f64; 2],
+    pub(crate) min_d_k_t: [f64; 2],
     /// min_j ang(K2, K1, Tj), min_j ang(K3, K1, Tj): the smallest angle at K1
     /// between a teammate and a taker.
-    pub min_ang_k_t: [f64; 2],
+    pub(crate) min_ang_k_t: [f64; 2],
 }
 
 impl StateVars {

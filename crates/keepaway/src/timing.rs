@@ -1,7 +1,7 @@
 //! When the players' see messages arrive, and when the players act: the
 //! soccer server's timer and visual sender, and the keepaway framework's
 //! synchronisation of its sees. This is the timing side of
-//! [`super::params::VisionMode::Framework`]; [`super::see`] says what a see
+//! [`super::params::VisionMode::Framework`](crate::params::VisionMode::Framework); [`super::see`](crate::see) says what a see
 //! carries.
 //!
 //! Versions. The keepaway framework 0.6 speaks protocol 9.3 (`main.cc`:
@@ -165,7 +165,7 @@ pub enum SeeArrival {
 
 impl SeeArrival {
     /// Whether a see message arrives in the cycle at all.
-    pub fn sees(self) -> bool {
+    pub(crate) fn sees(self) -> bool {
         self != SeeArrival::None
     }
 }

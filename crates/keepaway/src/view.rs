@@ -1,4 +1,4 @@
-//! What one agent perceives, as plain data: [`PlayerView`] (the ball and every
+//! What one agent perceives, as plain data: [`PlayerView`](crate::view::PlayerView) (the ball and every
 //! player, seen from one player at the start of a cycle) and its parts. The
 //! views are made by [`crate::perception`] and read by the skills, the world
 //! model and the policies; they depend on nothing but geometry and the field's
@@ -129,7 +129,7 @@ impl PlayerView {
     }
 
     /// Teammates (excluding oneself), with their global indices.
-    pub fn teammates(&self) -> impl Iterator<Item = (usize, &SeenPlayer)> {
+    pub(crate) fn teammates(&self) -> impl Iterator<Item = (usize, &SeenPlayer)> {
         let me = self.me.index();
         self.side()
             .indices()

@@ -1,4 +1,4 @@
-//! The field's state ([`FieldState`]) and the server's physics step (commands, movement, collisions).
+//! The field's state ([`FieldState`](crate::world::FieldState)) and the server's physics step (commands, movement, collisions).
 
 use super::command::Command;
 use super::geometry::{Vec2, clamp, normalize_deg};
@@ -25,12 +25,12 @@ pub enum Side {
 
 impl Side {
     /// The side of the player with global index `i` (indices past the keepers are takers).
-    pub fn of(i: usize) -> Side {
+    pub(crate) fn of(i: usize) -> Side {
         if i < NUM_KEEPERS { Side::Keepers } else { Side::Takers }
     }
 
     /// Global player indices of this side.
-    pub fn indices(self) -> std::ops::Range<usize> {
+    pub(crate) fn indices(self) -> std::ops::Range<usize> {
         match self {
             Side::Keepers => 0..NUM_KEEPERS,
             Side::Takers => NUM_KEEPERS..NUM_PLAYERS,
@@ -38,7 +38,7 @@ impl Side {
     }
 
     /// The other side.
-    pub fn opponent(self) -> Side {
+    pub(crate) fn opponent(self) -> Side {
         match self {
             Side::Keepers => Side::Takers,
             Side::Takers => Side::Keepers,

@@ -1,14 +1,14 @@
 //! What a framework player believes: the keepaway framework's world model (UvA
 //! Trilearn's `WorldModel`, `WorldModelUpdate.cc`, as the framework ships it) fed
-//! with the server's messages ([`super::see`]), and the corrections it applies
+//! with the server's messages ([`super::see`](crate::see)), and the corrections it applies
 //! to a view in the memoryless vision modes (`believed`).
 //!
-//! [`WorldModel`] is one player's model in
-//! [`super::params::VisionMode::Framework`]: after every body sense it predicts
-//! the cycle ([`WorldModel::after_sense`]), after a heard teammate's message it
-//! may take the ball from it ([`WorldModel::hear`]), after a see message it
-//! takes what it saw ([`WorldModel::after_see`]); [`WorldModel::view`] is what
-//! the player's skills then work with, and [`WorldModel::say`] what it tells
+//! [`WorldModel`](crate::world_model::WorldModel) is one player's model in
+//! [`super::params::VisionMode::Framework`](crate::params::VisionMode::Framework): after every body sense it predicts
+//! the cycle ([`WorldModel::after_sense`](crate::world_model::WorldModel::after_sense)), after a heard teammate's message it
+//! may take the ball from it ([`WorldModel::hear`](crate::world_model::WorldModel::hear)), after a see message it
+//! takes what it saw ([`WorldModel::after_see`](crate::world_model::WorldModel::after_see)); [`WorldModel::view`](crate::world_model::WorldModel::view) is what
+//! the player's skills then work with, and [`WorldModel::say`](crate::world_model::WorldModel::say) what it tells
 //! its teammates. Each rule names the framework function it follows.
 //!
 //! Not modelled, and why:
@@ -31,12 +31,12 @@
 //!   view has no place for "unknown", so it keeps its last belief there;
 //! - the search for a lost ball (confidence below 0.90): with 360-degree vision
 //!   the ball is in every see, and its confidence never falls below 0.99 except
-//!   before the first see of an episode, which [`super::perception::Perception`]
+//!   before the first see of an episode, which [`super::perception::Perception`](crate::perception::Perception)
 //!   gives every player in the episode's first cycle;
 //! - goalie catches, set plays and the kick-off, which keepaway does not have.
 //!
 //! Where the framework's decisions use the model's times, the skills here do
-//! not: a [`PlayerView`] carries no cycle of the last see. The framework
+//! not: a [`PlayerView`](crate::view::PlayerView) carries no cycle of the last see. The framework
 //! estimates another player's cycles to a point from its state at the last see,
 //! counting the cycles since (`predictNrCyclesToPoint`), and reuses the intercept
 //! features (who is fastest to the ball) found after the last see until the

@@ -9,7 +9,7 @@
 use thiserror::Error;
 
 /// The encapsulation header of little-endian plain CDR (XCDR1, `CDR_LE`).
-pub const CDR_LE_HEADER: [u8; 4] = [0x00, 0x01, 0x00, 0x00];
+pub(crate) const CDR_LE_HEADER: [u8; 4] = [0x00, 0x01, 0x00, 0x00];
 
 /// A payload that is not the CDR expected.
 #[derive(Debug, Error, Clone, PartialEq, Eq)]
@@ -63,7 +63,7 @@ pub enum CdrError {
 
 /// Writes a CDR payload, header included.
 #[derive(Debug, Clone)]
-pub struct Writer {
+pub(crate) struct Writer {
     buf: Vec<u8>,
 }
 
@@ -82,7 +82,7 @@ impl Writer {
     }
 
     /// Pads the body to a multiple of `n` (alignment counts from after the header).
-    pub fn align(&mut self, n: usize) {
+    pub(crate) fn align(&mut self, n: usize) {
         let body = self.buf.len() - CDR_LE_HEADER.len();
         let pad = (n - body % n) % n;
         self.buf.extend(std::iter::repeat_n(0u8, pad));
@@ -95,7 +95,7 @@ impl Writer {
     }
 
     /// A boolean (one byte).
-    pub fn bool(&mut self, v: bool) {
+    pub(crate) fn bool(&mut self, v: bool) {
         self.buf.push(u8::from(v));
     }
     /// One byte.
@@ -103,11 +103,11 @@ impl Writer {
         self.buf.push(v);
     }
     /// A signed byte.
-    pub fn i8(&mut self, v: i8) {
+    pub(crate) fn i8(&mut self, v: i8) {
         self.put(v.to_le_bytes());
     }
     /// A 16-bit signed integer.
-    pub fn i16(&mut self, v: i16) {
+    pub(crate) fn i16(&mut self, v: i16) {
         self.put(v.to_le_bytes());
     }
     /// A 16-bit unsigned integer.
@@ -115,7 +115,7 @@ impl Writer {
         self.put(v.to_le_bytes());
     }
     /// A 32-bit signed integer.
-    pub fn i32(&mut self, v: i32) {
+    pub(crate) fn i32(&mut self, v: i32) {
         self.put(v.to_le_bytes());
     }
     /// A 32-bit unsigned integer.
@@ -123,15 +123,15 @@ impl Writer {
         self.put(v.to_le_bytes());
     }
     /// A 64-bit signed integer.
-    pub fn i64(&mut self, v: i64) {
+    pub(crate) fn i64(&mut self, v: i64) {
         self.put(v.to_le_bytes());
     }
     /// A 64-bit unsigned integer.
-    pub fn u64(&mut self, v: u64) {
+    pub(crate) fn u64(&mut self, v: u64) {
         self.put(v.to_le_bytes());
     }
     /// A 32-bit float.
-    pub fn f32(&mut self, v: f32) {
+    pub(crate) fn f32(&mut self, v: f32) {
         self.put(v.to_le_bytes());
     }
     /// A 64-bit float.
@@ -145,14 +145,14 @@ impl Writer {
         self.buf.push(0);
     }
     /// The payload, header included.
-    pub fn finish(self) -> Vec<u8> {
+    pub(crate) fn finish(self) -> Vec<u8> {
         self.buf
     }
 }
 
 /// Reads a CDR payload.
 #[derive(Debug, Clone)]
-pub struct Reader<'a> {
+pub(crate) struct Reader<'a> {
     body: &'a [u8],
     pos: usize,
 }
@@ -197,7 +197,7 @@ impl<'a> Reader<'a> {
     }
 
     /// A boolean (0 or 1).
-    pub fn bool(&mut self) -> Result<bool, CdrError> {
+    pub(crate) fn bool(&mut self) -> Result<bool, CdrError> {
         let at = self.pos;
         match self.take(1)?[0] {
             0 => Ok(false),
@@ -210,11 +210,11 @@ impl<'a> Reader<'a> {
         Ok(self.take(1)?[0])
     }
     /// A signed byte.
-    pub fn i8(&mut self) -> Result<i8, CdrError> {
+    pub(crate) fn i8(&mut self) -> Result<i8, CdrError> {
         Ok(i8::from_le_bytes(self.get()?))
     }
     /// A 16-bit signed integer.
-    pub fn i16(&mut self) -> Result<i16, CdrError> {
+    pub(crate) fn i16(&mut self) -> Result<i16, CdrError> {
         Ok(i16::from_le_bytes(self.get()?))
     }
     /// A 16-bit unsigned integer.
@@ -222,7 +222,7 @@ impl<'a> Reader<'a> {
         Ok(u16::from_le_bytes(self.get()?))
     }
     /// A 32-bit signed integer.
-    pub fn i32(&mut self) -> Result<i32, CdrError> {
+    pub(crate) fn i32(&mut self) -> Result<i32, CdrError> {
         Ok(i32::from_le_bytes(self.get()?))
     }
     /// A 32-bit unsigned integer.
@@ -230,15 +230,15 @@ impl<'a> Reader<'a> {
         Ok(u32::from_le_bytes(self.get()?))
     }
     /// A 64-bit signed integer.
-    pub fn i64(&mut self) -> Result<i64, CdrError> {
+    pub(crate) fn i64(&mut self) -> Result<i64, CdrError> {
         Ok(i64::from_le_bytes(self.get()?))
     }
     /// A 64-bit unsigned integer.
-    pub fn u64(&mut self) -> Result<u64, CdrError> {
+    pub(crate) fn u64(&mut self) -> Result<u64, CdrError> {
         Ok(u64::from_le_bytes(self.get()?))
     }
     /// A 32-bit float.
-    pub fn f32(&mut self) -> Result<f32, CdrError> {
+    pub(crate) fn f32(&mut self) -> Result<f32, CdrError> {
         Ok(f32::from_le_bytes(self.get()?))
     }
     /// A 64-bit float.
@@ -246,7 +246,7 @@ impl<'a> Reader<'a> {
         Ok(f64::from_le_bytes(self.get()?))
     }
     /// A sequence's element count, checked against what is left (each element takes a byte at least).
-    pub fn count(&mut self) -> Result<usize, CdrError> {
+    pub(crate) fn count(&mut self) -> Result<usize, CdrError> {
         let n = self.u32()?;
         let at = self.pos;
         if n as usize > self.body.len() - self.pos {
@@ -255,7 +255,7 @@ impl<'a> Reader<'a> {
         Ok(n as usize)
     }
     /// A bounded sequence's element count (`T[<=bound]`), refused when over its bound.
-    pub fn bounded_count(&mut self, bound: usize) -> Result<usize, CdrError> {
+    pub(crate) fn bounded_count(&mut self, bound: usize) -> Result<usize, CdrError> {
         self.align(4);
         let at = self.pos;
         let count = self.count()?;
@@ -270,7 +270,7 @@ impl<'a> Reader<'a> {
         Ok(count)
     }
     /// A bounded string (`string<=bound`, the bound in bytes), refused when over its bound.
-    pub fn bounded_string(&mut self, bound: usize) -> Result<String, CdrError> {
+    pub(crate) fn bounded_string(&mut self, bound: usize) -> Result<String, CdrError> {
         self.align(4);
         let at = self.pos;
         let s = self.string()?;

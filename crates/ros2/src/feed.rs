@@ -1,5 +1,5 @@
 //! The agents' live feed, read in the ROS 2 world process and republished
-//! as the plan's state ([`Republisher`]).
+//! as the plan's state ([`Republisher`](crate::plan_state::Republisher)).
 //!
 //! The world only reads the feed (`learnpnp_system::ipc::feed::FeedReader`:
 //! every record checked, garbage refused and counted), on a thread of its

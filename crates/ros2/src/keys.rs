@@ -7,13 +7,13 @@ use thiserror::Error;
 /// Data key of a topic or service (design.md, "Topic and Service name mapping
 /// to Zenoh key expressions"): `<domain_id>/<fully qualified name without its
 /// outer slashes>/<DDS type name>/<type hash>`.
-pub fn topic_key(domain: u32, name: &str, dds_type: &str, type_hash: &str) -> String {
+pub(crate) fn topic_key(domain: u32, name: &str, dds_type: &str, type_hash: &str) -> String {
     format!("{domain}/{}/{dds_type}/{type_hash}", name.trim_matches('/'))
 }
 
 /// A name with each `/` written `%` (design.md, "Graph Cache": mangled names;
 /// an empty name is `%`, as an empty namespace is).
-pub fn mangle(name: &str) -> String {
+pub(crate) fn mangle(name: &str) -> String {
     if name.is_empty() {
         "%".into()
     } else {
@@ -23,7 +23,7 @@ pub fn mangle(name: &str) -> String {
 
 /// The kind of an entity in a liveliness token (design.md, "Graph Cache").
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum EntityKind {
+pub(crate) enum EntityKind {
     /// `NN`: a node.
     Node,
     /// `MP`: a message publisher.
@@ -38,7 +38,7 @@ pub enum EntityKind {
 
 impl EntityKind {
     /// Its two letters.
-    pub fn code(self) -> &'static str {
+    pub(crate) fn code(self) -> &'static str {
         match self {
             EntityKind::Node => "NN",
             EntityKind::Publisher => "MP",
@@ -55,25 +55,25 @@ impl EntityKind {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Qos {
     /// Reliability.
-    pub reliability: u8,
+    pub(crate) reliability: u8,
     /// Durability.
-    pub durability: u8,
+    pub(crate) durability: u8,
     /// History.
-    pub history: u8,
+    pub(crate) history: u8,
     /// History depth.
-    pub depth: u64,
+    pub(crate) depth: u64,
     /// Deadline (sec, nsec).
-    pub deadline: (u64, u64),
+    pub(crate) deadline: (u64, u64),
     /// Lifespan (sec, nsec).
-    pub lifespan: (u64, u64),
+    pub(crate) lifespan: (u64, u64),
     /// Liveliness.
-    pub liveliness: u8,
+    pub(crate) liveliness: u8,
     /// Liveliness lease (sec, nsec).
-    pub lease: (u64, u64),
+    pub(crate) lease: (u64, u64),
 }
 
 /// rmw's infinite duration (RMW_DURATION_INFINITE: `{9223372036, 854775807}`).
-pub const INFINITE: (u64, u64) = (9_223_372_036, 854_775_807);
+pub(crate) const INFINITE: (u64, u64) = (9_223_372_036, 854_775_807);
 
 impl Default for Qos {
     /// rmw_zenoh's defaults (qos.cpp): reliable, volatile, keep last 42,
@@ -94,7 +94,7 @@ impl Default for Qos {
 
 impl Qos {
     /// rclcpp's usual profile: the defaults with a history of `depth`.
-    pub fn keep_last(depth: u64) -> Self {
+    pub(crate) fn keep_last(depth: u64) -> Self {
         Qos {
             depth,
             ..Qos::default()
@@ -133,11 +133,11 @@ pub struct Entity<'a> {
     /// The Zenoh session id (hex, as zenoh prints it).
     pub zid: &'a str,
     /// The node's id within the session.
-    pub node_id: u64,
+    pub(crate) node_id: u64,
     /// The entity's id (the node's own for a node).
     pub id: u64,
     /// Its kind.
-    pub kind: EntityKind,
+    pub(crate) kind: EntityKind,
     /// SROS enclave (empty when not set).
     pub enclave: &'a str,
     /// The node's namespace (`/` or `/robot1`).
@@ -149,7 +149,7 @@ pub struct Entity<'a> {
 }
 
 /// The admin space prefixing every token (liveliness_utils.cpp, ADMIN_SPACE).
-pub const ADMIN_SPACE: &str = "@ros2_lv";
+pub(crate) const ADMIN_SPACE: &str = "@ros2_lv";
 
 impl Entity<'_> {
     /// The liveliness token (design.md, "Graph Cache"):
@@ -188,7 +188,7 @@ impl Entity<'_> {
 }
 
 /// Length of a GID (rmw's RMW_GID_STORAGE_SIZE as rmw_zenoh fills it).
-pub const GID_LEN: usize = 16;
+pub(crate) const GID_LEN: usize = 16;
 
 /// The attachment of every publication, request and reply (design.md,
 /// "Publishers", "Service Clients", "Service Servers"; attachment_helpers.cpp):
@@ -197,16 +197,16 @@ pub const GID_LEN: usize = 16;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Attachment {
     /// The sequence number.
-    pub sequence: i64,
+    pub(crate) sequence: i64,
     /// Source timestamp, ns since the UNIX epoch.
-    pub timestamp_ns: i64,
+    pub(crate) timestamp_ns: i64,
     /// The publisher's or client's GID.
-    pub gid: [u8; GID_LEN],
+    pub(crate) gid: [u8; GID_LEN],
 }
 
 /// An attachment that is not rmw_zenoh's.
 #[derive(Debug, Error, Clone, PartialEq, Eq)]
-pub enum AttachmentError {
+pub(crate) enum AttachmentError {
     /// Not 33 bytes.
     #[error("attachment of {0} bytes, not 33 (sequence, time, GID length, GID)")]
     Length(usize),
@@ -227,7 +227,7 @@ impl Attachment {
     }
 
     /// Reads the 33 bytes.
-    pub fn from_bytes(b: &[u8]) -> Result<Self, AttachmentError> {
+    pub(crate) fn from_bytes(b: &[u8]) -> Result<Self, AttachmentError> {
         if b.len() != 33 {
             return Err(AttachmentError::Length(b.len()));
         }
@@ -252,7 +252,7 @@ impl Attachment {
 /// `src/detail/liveliness_utils.cpp`, `Entity`'s constructor): XXH3-128 of
 /// the entity's liveliness token, the hash's low 64 bits then its high 64
 /// bits, each little-endian (`memcpy` of `XXH128_hash_t`'s `low64`, `high64`).
-pub fn gid_of(token: &str) -> [u8; GID_LEN] {
+pub(crate) fn gid_of(token: &str) -> [u8; GID_LEN] {
     xxhash_rust::xxh3::xxh3_128(token.as_bytes()).to_le_bytes()
 }
 
@@ -260,15 +260,15 @@ pub fn gid_of(token: &str) -> [u8; GID_LEN] {
 /// action's services and topics under `<action>/_action/`.
 pub mod action {
     /// The goal service.
-    pub const SEND_GOAL: &str = "_action/send_goal";
+    pub(crate) const SEND_GOAL: &str = "_action/send_goal";
     /// The result service.
-    pub const GET_RESULT: &str = "_action/get_result";
+    pub(crate) const GET_RESULT: &str = "_action/get_result";
     /// The cancel service (action_msgs/srv/CancelGoal).
-    pub const CANCEL_GOAL: &str = "_action/cancel_goal";
+    pub(crate) const CANCEL_GOAL: &str = "_action/cancel_goal";
     /// The feedback topic (`<Action>_FeedbackMessage`).
-    pub const FEEDBACK: &str = "_action/feedback";
+    pub(crate) const FEEDBACK: &str = "_action/feedback";
     /// The status topic (action_msgs/msg/GoalStatusArray).
-    pub const STATUS: &str = "_action/status";
+    pub(crate) const STATUS: &str = "_action/status";
 
     /// A goal's status (action_msgs/msg/GoalStatus constants).
     #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -291,7 +291,7 @@ pub mod action {
 
     impl GoalStatus {
         /// The status of a code, or `None` for a code action_msgs does not define.
-        pub fn from_code(code: i64) -> Option<Self> {
+        pub(crate) fn from_code(code: i64) -> Option<Self> {
             Some(match code {
                 0 => GoalStatus::Unknown,
                 1 => GoalStatus::Accepted,

@@ -146,7 +146,7 @@ pub struct Interface {
 
 /// Where a value comes from: a field of a topic's messages, or of a service's response.
 #[derive(Debug, Clone)]
-pub struct Source {
+pub(crate) struct Source {
     /// A topic (the latest message counts).
     pub topic: Option<String>,
     /// A service (called with its default request after each step).
@@ -192,7 +192,7 @@ pub struct Condition {
     /// Its name (an atom's).
     pub name: String,
     /// Where its value comes from.
-    pub source: Source,
+    pub(crate) source: Source,
     /// True when the field equals this (a boolean, integer, float or string).
     pub equals: Option<toml::Value>,
     /// True when the field is below this.
@@ -220,7 +220,7 @@ pub struct Reading {
     /// Its name (a fluent's; empty for the reward).
     pub name: String,
     /// Where its value comes from.
-    pub source: Source,
+    pub(crate) source: Source,
 }
 
 impl TryFrom<RawEntry> for Reading {
@@ -302,7 +302,7 @@ pub struct Mapping {
     pub atoms: Vec<Condition>,
     /// Fluents.
     #[serde(default, rename = "fluent")]
-    pub fluents: Vec<Reading>,
+    pub(crate) fluents: Vec<Reading>,
     /// Actions.
     #[serde(default, rename = "action")]
     pub actions: Vec<ActionMap>,
@@ -345,7 +345,7 @@ pub fn load(file: &Path) -> Result<Loaded, MappingError> {
 }
 
 /// Parses and checks mapping text read from `file`.
-pub fn parse(file: &Path, text: &str) -> Result<Loaded, MappingError> {
+pub(crate) fn parse(file: &Path, text: &str) -> Result<Loaded, MappingError> {
     let mapping: Mapping = toml::from_str(text).map_err(|e| MappingError::Syntax {
         file: file.to_path_buf(),
         error: e.to_string(),
@@ -622,7 +622,7 @@ impl<F: Fn(String, &str, String) -> MappingError> Checker<'_, F> {
 
 impl Condition {
     /// Whether `value` (a message or response) meets the condition.
-    pub fn holds(&self, value: &Value) -> bool {
+    pub(crate) fn holds(&self, value: &Value) -> bool {
         let Some(v) = value.path(&self.source.field) else {
             return false;
         };

@@ -80,15 +80,15 @@ pub enum Refusal {
 
 /// A message as received.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Received {
+pub(crate) struct Received {
     /// The decoded message.
     pub value: Value,
     /// Its attachment.
-    pub attachment: Attachment,
+    pub(crate) attachment: Attachment,
 }
 
 /// Now in ns since the UNIX epoch.
-pub fn now_ns() -> i64 {
+pub(crate) fn now_ns() -> i64 {
     SystemTime::now()
         .duration_since(UNIX_EPOCH)
         .map(|d| i64::try_from(d.as_nanos()).unwrap_or(i64::MAX))
@@ -157,7 +157,7 @@ impl Node {
     }
 
     /// A fully qualified name: relative names are put in the node's namespace.
-    pub fn qualify(&self, name: &str) -> String {
+    pub(crate) fn qualify(&self, name: &str) -> String {
         if name.starts_with('/') {
             name.to_string()
         } else if self.namespace == "/" {
@@ -198,7 +198,7 @@ impl Node {
     }
 
     /// A publisher of `type_name` messages on `topic` (its `MP` token).
-    pub fn publisher(&self, topic: &str, type_name: &str) -> Result<Publisher, Ros2Error> {
+    pub(crate) fn publisher(&self, topic: &str, type_name: &str) -> Result<Publisher, Ros2Error> {
         let (key, _, token) = self.entity(EntityKind::Publisher, topic, type_name)?;
         let gid = gid_of(&token);
         let token = self.announce(token)?;
@@ -221,7 +221,7 @@ impl Node {
     /// Subscribes to `topic` for `type_name` messages (its `MS` token). The
     /// subscriber listens to every type on the topic so that a message of
     /// another type or type hash is refused, not silently missed.
-    pub fn subscribe<F>(&self, topic: &str, type_name: &str, on: F) -> Result<Subscription, Ros2Error>
+    pub(crate) fn subscribe<F>(&self, topic: &str, type_name: &str, on: F) -> Result<Subscription, Ros2Error>
     where
         F: Fn(Result<Received, Refusal>) + Send + Sync + 'static,
     {
@@ -262,7 +262,7 @@ impl Node {
     }
 
     /// A client of the service `service` of type `srv_type` (its `SC` token).
-    pub fn client(&self, service: &str, srv_type: &str) -> Result<Client, Ros2Error> {
+    pub(crate) fn client(&self, service: &str, srv_type: &str) -> Result<Client, Ros2Error> {
         let (key, _, token) = self.entity(EntityKind::ServiceClient, service, srv_type)?;
         let (request, response) = self.registry.service(srv_type)?;
         let (request, response) = (request.to_string(), response.to_string());
@@ -382,7 +382,7 @@ fn decode(
 }
 
 /// A publisher and its token.
-pub struct Publisher {
+pub(crate) struct Publisher {
     publisher: ZPublisher<'static>,
     registry: Arc<Registry>,
     type_name: String,
@@ -409,13 +409,13 @@ impl Publisher {
 }
 
 /// A subscription and its token (dropping it undeclares both).
-pub struct Subscription {
+pub(crate) struct Subscription {
     _subscriber: Subscriber<()>,
     _token: LivelinessToken,
 }
 
 /// A service client and its token.
-pub struct Client {
+pub(crate) struct Client {
     session: Session,
     registry: Arc<Registry>,
     service: String,
@@ -431,7 +431,7 @@ impl Client {
     /// Calls the service with `request`; the first reply within `timeout`.
     /// A reply that does not decode, or whose attachment does not carry this
     /// request's sequence number, is refused.
-    pub fn call(&self, request: &Value, timeout: Duration) -> Result<Value, Ros2Error> {
+    pub(crate) fn call(&self, request: &Value, timeout: Duration) -> Result<Value, Ros2Error> {
         let payload = self.registry.encode(&self.request, request)?;
         let sequence = self.sequence.fetch_add(1, Ordering::Relaxed);
         let attachment = Attachment {

@@ -3,7 +3,7 @@
 //! each choice with its values, as `std_msgs/msg/String` so that `ros2 topic
 //! echo` and Foxglove show them with nothing to install. The ROS 2 world
 //! process republishes the agents' live feed through a
-//! [`PlanStatePublisher`] per agent ([`Republisher`]).
+//! [`PlanStatePublisher`](crate::plan_state::PlanStatePublisher) per agent ([`Republisher`](crate::plan_state::Republisher)).
 
 use learnpnp_feed::{ChoiceMade, FeedEvent, MarkingSample};
 use serde::Serialize;
@@ -12,13 +12,13 @@ use crate::node::{Node, Publisher, Ros2Error};
 use crate::types::Value;
 
 /// The marked places' names, comma-separated (PNPros's topic name).
-pub const ACTIVE_PLACES: &str = "pnp/currentActivePlaces";
+pub(crate) const ACTIVE_PLACES: &str = "pnp/currentActivePlaces";
 /// The running actions' names, comma-separated.
-pub const RUNNING_ACTIONS: &str = "pnp/runningActions";
+pub(crate) const RUNNING_ACTIONS: &str = "pnp/runningActions";
 /// Each choice as it is made: JSON (`{"choice", "options": [{"name", "value"}], "chosen"}`).
-pub const CHOICES: &str = "pnp/choices";
+pub(crate) const CHOICES: &str = "pnp/choices";
 /// The type of every plan-state topic.
-pub const STRING: &str = "std_msgs/msg/String";
+pub(crate) const STRING: &str = "std_msgs/msg/String";
 
 /// A choice as the agent made it.
 #[derive(Debug, Clone, Serialize, PartialEq)]
@@ -63,7 +63,7 @@ impl PlanStatePublisher {
 
     /// Declares the three publishers on `node` under `namespace` (absolute,
     /// e.g. `/learnpnp/agent1`: its `pnp/currentActivePlaces` and the others).
-    pub fn in_namespace(node: &Node, namespace: &str) -> Result<Self, Ros2Error> {
+    pub(crate) fn in_namespace(node: &Node, namespace: &str) -> Result<Self, Ros2Error> {
         let namespace = namespace.trim_end_matches('/');
         let topic = |name: &str| format!("{namespace}/{name}");
         Ok(PlanStatePublisher {
@@ -129,7 +129,7 @@ impl Republisher {
     }
 
     /// Republishes one record of the feed (markings and choices; the rest is not plan state).
-    pub fn event(&mut self, event: &FeedEvent) {
+    pub(crate) fn event(&mut self, event: &FeedEvent) {
         let done = match event {
             // The plan's state is the root plan's (a sub-plan's marking is not it).
             FeedEvent::Marking(m) if m.sub_plan.is_none() => self.marking(m),

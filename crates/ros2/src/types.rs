@@ -20,7 +20,7 @@ use crate::cdr::{CdrError, Reader, Writer};
 
 /// A primitive field type of `.msg` files.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Prim {
+pub(crate) enum Prim {
     /// `bool`.
     Bool,
     /// `byte` (IDL octet).
@@ -105,7 +105,7 @@ impl Prim {
 
 /// A field's element type.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Elem {
+pub(crate) enum Elem {
     /// A primitive.
     Prim(Prim),
     /// Another message, by full name (`pkg/msg/Name`).
@@ -114,7 +114,7 @@ pub enum Elem {
 
 /// How many elements a field holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Shape {
+pub(crate) enum Shape {
     /// One.
     Single,
     /// A fixed array (`T[N]`).
@@ -127,13 +127,13 @@ pub enum Shape {
 
 /// A field of a message.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Field {
+pub(crate) struct Field {
     /// Its name.
     pub name: String,
     /// Its element type.
-    pub elem: Elem,
+    pub(crate) elem: Elem,
     /// Its shape.
-    pub shape: Shape,
+    pub(crate) shape: Shape,
 }
 
 /// A message type: its full name and its fields.
@@ -142,7 +142,7 @@ pub struct MsgDef {
     /// `pkg/msg/Name` (or `pkg/srv/Name_Request`, `pkg/action/Name_Goal`, ...).
     pub name: String,
     /// Its fields in order.
-    pub fields: Vec<Field>,
+    pub(crate) fields: Vec<Field>,
 }
 
 /// A bad interface definition or value.
@@ -201,7 +201,7 @@ fn split_name(name: &str) -> Result<(&str, &str, &str), TypeError> {
 
 /// The DDS type name rmw_zenoh puts in keys and tokens (design.md, "Topic and
 /// Service name mapping"): `pkg/msg/Name` is `pkg::msg::dds_::Name_`.
-pub fn dds_name(name: &str) -> Result<String, TypeError> {
+pub(crate) fn dds_name(name: &str) -> Result<String, TypeError> {
     let (p, k, n) = split_name(name)?;
     Ok(format!("{p}::{k}::dds_::{n}_"))
 }
@@ -292,7 +292,7 @@ impl Registry {
     }
 
     /// Reads `.msg` text as the message `name` (`pkg/msg/Name`); constants are skipped.
-    pub fn add_msg(&mut self, name: &str, text: &str) -> Result<(), TypeError> {
+    pub(crate) fn add_msg(&mut self, name: &str, text: &str) -> Result<(), TypeError> {
         let (pkg, _, _) = split_name(name)?;
         let mut fields = Vec::new();
         for (i, raw) in text.lines().enumerate() {
@@ -357,7 +357,7 @@ impl Registry {
 
     /// Adds a service from its request and response text, with its
     /// `_Request`, `_Response` and `_Event` messages.
-    pub fn add_srv(&mut self, name: &str, request: &str, response: &str) -> Result<(), TypeError> {
+    pub(crate) fn add_srv(&mut self, name: &str, request: &str, response: &str) -> Result<(), TypeError> {
         let (req, resp) = (format!("{name}_Request"), format!("{name}_Response"));
         self.add_msg(&req, request)?;
         self.add_msg(&resp, response)?;
@@ -394,7 +394,7 @@ impl Registry {
     /// Adds a file's text by its interface name: `.msg` for `pkg/msg/N`,
     /// `.srv` (request `---` response) for `pkg/srv/N`, `.action` (goal `---`
     /// result `---` feedback) for `pkg/action/N`.
-    pub fn add_interface(&mut self, name: &str, text: &str) -> Result<(), TypeError> {
+    pub(crate) fn add_interface(&mut self, name: &str, text: &str) -> Result<(), TypeError> {
         let (_, kind, _) = split_name(name)?;
         let parts: Vec<&str> = split_sections(text);
         let syntax = |why: String| TypeError::Syntax {
@@ -421,7 +421,7 @@ impl Registry {
 
     /// Adds an action: its goal, result and feedback, and the services and
     /// message ROS 2 builds from them (`_SendGoal`, `_GetResult`, `_FeedbackMessage`).
-    pub fn add_action(&mut self, name: &str, goal: &str, result: &str, feedback: &str) -> Result<(), TypeError> {
+    pub(crate) fn add_action(&mut self, name: &str, goal: &str, result: &str, feedback: &str) -> Result<(), TypeError> {
         let (g, r, f) = (
             format!("{name}_Goal"),
             format!("{name}_Result"),
@@ -466,7 +466,7 @@ impl Registry {
     }
 
     /// The RIHS01 hash of a message or service type (`RIHS01_<64 hex>`).
-    pub fn type_hash(&self, name: &str) -> Result<String, TypeError> {
+    pub(crate) fn type_hash(&self, name: &str) -> Result<String, TypeError> {
         let top = self.description(name)?;
         let mut refs = BTreeSet::new();
         let mut queue: Vec<String> = nested_of(&top);
@@ -492,14 +492,14 @@ impl Registry {
     }
 
     /// Encodes a value of message type `name` as a CDR payload.
-    pub fn encode(&self, name: &str, value: &Value) -> Result<Vec<u8>, TypeError> {
+    pub(crate) fn encode(&self, name: &str, value: &Value) -> Result<Vec<u8>, TypeError> {
         let mut w = Writer::new();
         self.write_struct(&mut w, name, value)?;
         Ok(w.finish())
     }
 
     /// Decodes a CDR payload of message type `name`.
-    pub fn decode(&self, name: &str, payload: &[u8]) -> Result<Value, TypeError> {
+    pub(crate) fn decode(&self, name: &str, payload: &[u8]) -> Result<Value, TypeError> {
         let cdr = |error| TypeError::Cdr {
             type_name: name.to_string(),
             error,
@@ -768,12 +768,12 @@ pub enum Value {
 
 impl Value {
     /// A message with these fields.
-    pub fn fields<const N: usize>(fields: [(&str, Value); N]) -> Self {
+    pub(crate) fn fields<const N: usize>(fields: [(&str, Value); N]) -> Self {
         Value::Struct(fields.into_iter().map(|(k, v)| (k.to_string(), v)).collect())
     }
 
     /// A field of a message.
-    pub fn get(&self, field: &str) -> Option<&Value> {
+    pub(crate) fn get(&self, field: &str) -> Option<&Value> {
         match self {
             Value::Struct(m) => m.get(field),
             _ => None,
@@ -786,7 +786,7 @@ impl Value {
     }
 
     /// The value as a number (booleans as 0 or 1).
-    pub fn as_f64(&self) -> Option<f64> {
+    pub(crate) fn as_f64(&self) -> Option<f64> {
         match self {
             Value::Bool(b) => Some(f64::from(u8::from(*b))),
             Value::Int(i) => Some(*i as f64),
@@ -796,7 +796,7 @@ impl Value {
     }
 
     /// From TOML (the mapping file's values).
-    pub fn from_toml(v: &toml::Value) -> Option<Self> {
+    pub(crate) fn from_toml(v: &toml::Value) -> Option<Self> {
         Some(match v {
             toml::Value::Boolean(b) => Value::Bool(*b),
             toml::Value::Integer(i) => Value::Int(*i),

@@ -1,5 +1,5 @@
 //! The world a mapping file makes of a ROS 2 robot: a
-//! [`ServedWorld`] whose state is the latest message on each mapped topic,
+//! [`ServedWorld`](learnpnp_system::multiprocess::world_host::ServedWorld) whose state is the latest message on each mapped topic,
 //! stepped in lock-step (each step waits for the robot's answer, so the run
 //! goes at the robot's rate).
 

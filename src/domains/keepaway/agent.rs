@@ -179,7 +179,7 @@ impl PlanKeeper {
     /// What this keeper (uniform number `keeper`) did in the last cycle while
     /// noting: the actions that issued its command (`-` for none), and its
     /// last choice this episode.
-    pub fn note(&self, keeper: u8) -> KeeperNote {
+    pub(crate) fn note(&self, keeper: u8) -> KeeperNote {
         KeeperNote {
             keeper,
             action: if self.acting.is_empty() {

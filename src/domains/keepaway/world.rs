@@ -35,7 +35,7 @@ pub struct KeeperWorld {
     /// The simulation parameters (shared by every agent).
     pub config: KeepawayConfig,
     /// The feature thresholds.
-    pub thresholds: FeatureThresholds,
+    pub(crate) thresholds: FeatureThresholds,
     view: Option<PlayerView>,
     facts: [bool; ATOMS.len()],
     fastest: Option<usize>,

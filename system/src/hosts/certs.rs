@@ -4,12 +4,12 @@
 //! to), one for host B (the host of remote agents) and one per read-only
 //! monitor. Each host gets a directory of its own holding the CA's
 //! certificate, its certificate and its private key, the one thing copied to
-//! that host ([`HostFiles`]); the CA's key stays in `ca/` with whoever makes
+//! that host ([`HostFiles`](crate::hosts::certs::HostFiles)); the CA's key stays in `ca/` with whoever makes
 //! certificates. Made with `rcgen`; every private key is written readable by
 //! its owner only.
 //!
 //! Host A's access control names its peers by the common names here
-//! ([`HOST_B_NAME`], [`MONITOR_NAME`]); a certificate's common name is what
+//! ([`HOST_B_NAME`](crate::hosts::certs::HOST_B_NAME), [`MONITOR_NAME`](crate::hosts::certs::MONITOR_NAME)); a certificate's common name is what
 //! the link authenticates, never a Zenoh id or an address.
 
 use std::io::Write as _;
@@ -40,7 +40,7 @@ pub(crate) const CA_KEY: &str = "ca-key.pem";
 pub(crate) const CERT: &str = "cert.pem";
 
 /// A host's private key, in its directory.
-pub const KEY: &str = "key.pem";
+pub(crate) const KEY: &str = "key.pem";
 
 /// The directory of the CA, under the certificates' root.
 pub const CA_DIR: &str = "ca";

@@ -1,11 +1,14 @@
 //! A run across hosts, as the supervisor and each host's bridge share it:
 //! the bridge itself (Zenoh) is the crate `learnpnp-bridge`, a process of its
 //! own that the supervisor starts and reads back through files: the run's
-//! description ([`run_info`]), the link report ([`report`]) and the link's
-//! certificates ([`certs`], made by `learnpnp-supervisor link-certs`).
+//! description ([`run_info`](crate::hosts::run_info)), the link report ([`report`](crate::hosts::report)) and the link's
+//! certificates ([`certs`](crate::hosts::certs), made by `learnpnp-supervisor link-certs`).
 
+/// The private CA of a run's hosts and their certificates.
 pub mod certs;
+/// What a host's bridges did over a run.
 pub mod report;
+/// Host A's description of a run for the other hosts.
 pub mod run_info;
 
 use std::time::Duration;

@@ -1,4 +1,4 @@
-//! What a host's bridges did over a run ([`LinkReport`], `link.json` in the
+//! What a host's bridges did over a run ([`LinkReport`](crate::hosts::report::LinkReport), `link.json` in the
 //! host's work directory): the bridge writes it, the host's supervisor reads
 //! it into its report.
 

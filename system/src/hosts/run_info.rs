@@ -1,4 +1,4 @@
-//! Host A's description of a run for the other hosts ([`RunInfo`]): the
+//! Host A's description of a run for the other hosts ([`RunInfo`](crate::hosts::run_info::RunInfo)): the
 //! supervisor writes it, host A's bridge serves it, host B's bridge writes
 //! what it fetched for host B's supervisor.
 

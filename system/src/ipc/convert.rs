@@ -1,8 +1,8 @@
-//! Between the in-process types (the protocol's are in [`super::protocol`])
+//! Between the in-process types (the protocol's are in [`super::protocol`](crate::ipc::protocol))
 //! and their shared-memory layouts (`shm_layouts`), validating everything read: a message from shared memory
 //! is untrusted until it has passed here (protocol version, run, sender, ids
 //! in range, finite numbers, known tags). A refused message is counted by
-//! [`Rejection`] reason and never applied.
+//! [`Rejection`](crate::ipc::convert::Rejection) reason and never applied.
 
 use shm_layouts::{
     AgentReport, BallLayout, Control, EpisodeEvent, Header, Heartbeat, KeeperCommand, KeeperSnapshot, PROTOCOL_VERSION,

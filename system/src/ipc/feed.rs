@@ -1,11 +1,11 @@
 //! An agent's live feed on iceoryx2 (only in a run with a view): each agent
-//! publishes its [`FeedEvent`]s, encoded as JSON in a byte slice behind a
-//! [`FeedHeader`], on a service of its own ([`services::feed`]); the view
+//! publishes its [`FeedEvent`](learnpnp_feed::FeedEvent)s, encoded as JSON in a byte slice behind a
+//! [`FeedHeader`](shm_layouts::FeedHeader), on a service of its own ([`services::feed`](shm_layouts::services::feed)); the view
 //! process reads them, checks every one and counts what it refuses.
 //!
 //! The sender never waits: the service overwrites the oldest record a slow
 //! view has not read (safe overflow), a record larger than
-//! [`MAX_FEED_BYTES`] or without a free sample is dropped, and the header's
+//! [`MAX_FEED_BYTES`](shm_layouts::MAX_FEED_BYTES) or without a free sample is dropped, and the header's
 //! sequence number lets the view count every record lost either way.
 
 use std::fmt::Debug;

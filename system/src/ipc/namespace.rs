@@ -4,9 +4,9 @@
 //!
 //! iceoryx2 keeps its shared-memory segments in `/dev/shm/<prefix>*` and its
 //! service and node records under the configured root directory. A namespace
-//! puts that root at `<base>/<prefix>/` (base: [`base_dir`]) and is owned by
+//! puts that root at `<base>/<prefix>/` (base: [`base_dir`](crate::ipc::namespace::base_dir)) and is owned by
 //! the supervisor through an advisory lock on `<base>/<prefix>.lock`: when the
-//! owner dies, the lock is released, and [`clean_stale`] (run by every launch)
+//! owner dies, the lock is released, and [`clean_stale`](crate::ipc::namespace::clean_stale) (run by every launch)
 //! removes the dead run's nodes with iceoryx2's dead-node cleanup and then
 //! every remaining file of its prefix. A prefix is never reused.
 
@@ -83,7 +83,7 @@ pub struct Namespace {
 impl Namespace {
     /// A fresh namespace under [`base_dir`] with a random prefix (32 bits;
     /// [`Namespace::claim`] refuses one that exists).
-    pub fn unique() -> Self {
+    pub(crate) fn unique() -> Self {
         let random: u32 = rand::rng().random();
         Namespace {
             prefix: format!("{PREFIX_START}{random:08x}_"),
@@ -160,7 +160,7 @@ impl Namespace {
     /// never sees an unlocked lock file of a live run.
     /// Fails if the prefix is taken or the directory is too long for the
     /// run's unix sockets.
-    pub fn claim(&self) -> Result<NamespaceOwner, NamespaceError> {
+    pub(crate) fn claim(&self) -> Result<NamespaceOwner, NamespaceError> {
         let root = self.root();
         if root.as_os_str().len() + 1 + self.prefix.len() + SOCKET_NAME > MAX_SOCKET_PATH {
             return Err(NamespaceError::PathTooLong { path: root });

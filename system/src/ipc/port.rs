@@ -1,7 +1,7 @@
 //! What every port of a run is made of: the iceoryx2 service variant
-//! ([`Ipc`]), publishers and subscribers of it, and the error of opening or
-//! using one ([`IpcError`]). [`super::services`] opens the ports,
-//! [`super::wait`] waits on them.
+//! ([`Ipc`](crate::ipc::port::Ipc)), publishers and subscribers of it, and the error of opening or
+//! using one ([`IpcError`](crate::ipc::port::IpcError)). [`super::services`](crate::ipc::services) opens the ports,
+//! [`super::wait`](crate::ipc::wait) waits on them.
 
 use std::fmt::Debug;
 

@@ -1,8 +1,8 @@
-//! The protocol's own types: who the run's processes are ([`Role`]), what
-//! their messages say once read ([`SnapshotMeta`], [`CommandReading`],
-//! [`EpisodeNews`], [`AgentNews`], [`Pulse`]) and the supervisor's orders
-//! ([`Order`]). Their shared-memory layouts are the `shm_layouts` crate;
-//! [`super::convert`] converts between the two, validating what it reads.
+//! The protocol's own types: who the run's processes are ([`Role`](crate::ipc::protocol::Role)), what
+//! their messages say once read ([`SnapshotMeta`](crate::ipc::protocol::SnapshotMeta), [`CommandReading`](crate::ipc::protocol::CommandReading),
+//! [`EpisodeNews`](crate::ipc::protocol::EpisodeNews), [`AgentNews`](crate::ipc::protocol::AgentNews), [`Pulse`](crate::ipc::protocol::Pulse)) and the supervisor's orders
+//! ([`Order`](crate::ipc::protocol::Order)). Their shared-memory layouts are the `shm_layouts` crate;
+//! [`super::convert`](crate::ipc::convert) converts between the two, validating what it reads.
 
 use serde::{Deserialize, Serialize};
 use shm_layouts::SENDER_SIMULATOR;
@@ -149,7 +149,7 @@ pub enum Roster {
 
 impl Roster {
     /// The processes of a run of `domain`: a world's and its agents, or Keepaway's.
-    pub fn of(domain: &learnpnp::experiment::spec::DomainSpec) -> Self {
+    pub(crate) fn of(domain: &learnpnp::experiment::spec::DomainSpec) -> Self {
         match domain {
             learnpnp::experiment::spec::DomainSpec::World { plans, .. } => Roster::World { agents: plans.len() },
             _ => Roster::Keepaway,
@@ -181,7 +181,7 @@ impl Roster {
     }
 
     /// Every role, the host first.
-    pub fn roles(self) -> Vec<Role> {
+    pub(crate) fn roles(self) -> Vec<Role> {
         std::iter::once(self.host())
             .chain((0..self.agents()).map(|k| self.agent(k)))
             .collect()
@@ -215,13 +215,13 @@ pub enum ProcessState {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Pulse {
     /// Who sent it.
-    pub role: Role,
+    pub(crate) role: Role,
     /// Its process id.
     pub pid: u32,
     /// Its state.
     pub state: ProcessState,
     /// Its heartbeat counter.
-    pub sequence: u64,
+    pub(crate) sequence: u64,
     /// Simulator: learning episodes done. Agent: episodes ended.
     pub episodes: u64,
     /// Cycles played or acted on.
@@ -231,11 +231,11 @@ pub struct Pulse {
     /// Simulator: commands that missed their cycle.
     pub missed_deadlines: u64,
     /// Simulator: episodes aborted.
-    pub aborted_episodes: u64,
+    pub(crate) aborted_episodes: u64,
     /// Agent: checkpoints written.
-    pub checkpoints: u64,
+    pub(crate) checkpoints: u64,
     /// Agent: checkpoint writes that failed.
-    pub checkpoint_failures: u64,
+    pub(crate) checkpoint_failures: u64,
 }
 
 /// A supervisor's command.
@@ -295,14 +295,14 @@ pub struct Rejections {
     /// A sender not allowed on the service.
     pub sender: u64,
     /// Ids out of range, unknown tags, numbers that are not finite.
-    pub content: u64,
+    pub(crate) content: u64,
     /// Out of sequence.
-    pub sequence: u64,
+    pub(crate) sequence: u64,
 }
 
 impl Rejections {
     /// Counts one refusal.
-    pub fn count(&mut self, why: Rejection) {
+    pub(crate) fn count(&mut self, why: Rejection) {
         let slot = match why {
             Rejection::Version => &mut self.version,
             Rejection::Run => &mut self.run,
@@ -341,7 +341,7 @@ impl Rejections {
     }
 
     /// The sum, reason by reason.
-    pub fn plus(&self, other: &Rejections) -> Rejections {
+    pub(crate) fn plus(&self, other: &Rejections) -> Rejections {
         let (a, b) = (self.to_array(), other.to_array());
         Rejections::from_array(std::array::from_fn(|i| a[i] + b[i]))
     }

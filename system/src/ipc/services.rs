@@ -216,7 +216,7 @@ pub struct KeepawayServices {
 
 impl KeepawayServices {
     /// Creates every service of a Keepaway run on `node`.
-    pub fn create(node: &Node<Ipc>) -> Result<Self, IpcError> {
+    pub(crate) fn create(node: &Node<Ipc>) -> Result<Self, IpcError> {
         let keepers = 0..NUM_KEEPERS;
         Ok(KeepawayServices {
             _snapshots: keepers
@@ -256,7 +256,7 @@ pub struct WorldServices {
 
 impl WorldServices {
     /// Creates every service of a world run with `agents` agents on `node`.
-    pub fn create(node: &Node<Ipc>, agents: usize) -> Result<Self, IpcError> {
+    pub(crate) fn create(node: &Node<Ipc>, agents: usize) -> Result<Self, IpcError> {
         let roster = Roster::World { agents };
         Ok(WorldServices {
             _snapshots: (0..agents)
@@ -362,7 +362,7 @@ pub struct SimPorts {
     /// Episode events to every agent (waking them).
     pub episode: Outlet<EpisodeEvent>,
     /// Agents' reports.
-    pub reports: Sub<AgentReport>,
+    pub(crate) reports: Sub<AgentReport>,
     /// Heartbeats to the supervisor.
     pub heartbeat: Pub<Heartbeat>,
     /// The supervisor's commands.
@@ -461,7 +461,7 @@ pub(crate) struct WorldAgentPorts {
 
 impl WorldAgentPorts {
     /// Opens agent `a`'s ports on `node`, for processes that wait with `wait`.
-    pub fn open(node: &Node<Ipc>, a: usize, wait: WaitStrategy) -> Result<Self, IpcError> {
+    pub(crate) fn open(node: &Node<Ipc>, a: usize, wait: WaitStrategy) -> Result<Self, IpcError> {
         let world = [WORLD_PROCESS.to_string()];
         Ok(WorldAgentPorts {
             snapshot: subscriber(node, &services::world_snapshot(a), POINT_TO_POINT)?,
@@ -493,7 +493,7 @@ pub(crate) struct WorldPorts {
     /// The vocabulary to every agent.
     pub vocabulary: Pub<WorldVocabulary>,
     /// Agents' readiness reports.
-    pub reports: Sub<AgentReport>,
+    pub(crate) reports: Sub<AgentReport>,
     /// Heartbeats to the supervisor.
     pub heartbeat: Pub<Heartbeat>,
     /// The supervisor's commands.
@@ -504,7 +504,7 @@ pub(crate) struct WorldPorts {
 
 impl WorldPorts {
     /// Opens the ports of a world of `agents` agents on `node`, for processes that wait with `wait`.
-    pub fn open(node: &Node<Ipc>, agents: usize, wait: WaitStrategy) -> Result<Self, IpcError> {
+    pub(crate) fn open(node: &Node<Ipc>, agents: usize, wait: WaitStrategy) -> Result<Self, IpcError> {
         Ok(WorldPorts {
             snapshots: (0..agents)
                 .map(|a| {
@@ -532,7 +532,7 @@ impl WorldPorts {
 /// The supervisor's ports.
 pub(crate) struct SupervisorPorts {
     /// Every process's heartbeats.
-    pub heartbeats: Sub<Heartbeat>,
+    pub(crate) heartbeats: Sub<Heartbeat>,
     /// Commands to the processes (waking every one of them).
     pub control: Outlet<Control>,
 }
@@ -540,7 +540,7 @@ pub(crate) struct SupervisorPorts {
 impl SupervisorPorts {
     /// Opens the supervisor's ports on `node` for a run of `roster`, whose
     /// processes wait with `wait`.
-    pub fn open(node: &Node<Ipc>, wait: WaitStrategy, roster: Roster) -> Result<Self, IpcError> {
+    pub(crate) fn open(node: &Node<Ipc>, wait: WaitStrategy, roster: Roster) -> Result<Self, IpcError> {
         let everyone: Vec<String> = roster.roles().into_iter().map(wake_name).collect();
         Ok(SupervisorPorts {
             heartbeats: subscriber(node, services::HEARTBEAT, SHARED)?,
@@ -553,12 +553,12 @@ impl SupervisorPorts {
 /// only reads.
 pub(crate) struct ViewPorts {
     /// Every process's heartbeats.
-    pub heartbeats: Sub<Heartbeat>,
+    pub(crate) heartbeats: Sub<Heartbeat>,
 }
 
 impl ViewPorts {
     /// Opens the view's ports on `node`.
-    pub fn open(node: &Node<Ipc>) -> Result<Self, IpcError> {
+    pub(crate) fn open(node: &Node<Ipc>) -> Result<Self, IpcError> {
         Ok(ViewPorts {
             heartbeats: subscriber(node, services::HEARTBEAT, SHARED)?,
         })
@@ -580,7 +580,7 @@ pub(crate) struct FloorPorts<P: ZeroCopySend + Debug + 'static, C: ZeroCopySend 
 
 impl FloorPorts<WorldSnapshot, WorldCommand> {
     /// A world run's, echoed by agent 0, which waits with `wait`.
-    pub fn world(node: &Node<Ipc>, wait: WaitStrategy) -> Result<Self, IpcError> {
+    pub(crate) fn world(node: &Node<Ipc>, wait: WaitStrategy) -> Result<Self, IpcError> {
         Ok(FloorPorts {
             ping: Outlet::open(
                 node,
@@ -596,7 +596,7 @@ impl FloorPorts<WorldSnapshot, WorldCommand> {
 
 impl<P: ZeroCopySend + Debug + 'static, C: ZeroCopySend + Debug + 'static> FloorPorts<P, C> {
     /// A remote host's own, echoed by its floor echo process, which waits with `wait`.
-    pub fn host(node: &Node<Ipc>, wait: WaitStrategy) -> Result<Self, IpcError> {
+    pub(crate) fn host(node: &Node<Ipc>, wait: WaitStrategy) -> Result<Self, IpcError> {
         Ok(FloorPorts {
             ping: Outlet::open(
                 node,
@@ -622,7 +622,7 @@ pub(crate) struct FloorEchoPorts<P: ZeroCopySend + Debug + 'static, C: ZeroCopyS
 
 impl<P: ZeroCopySend + Debug + 'static, C: ZeroCopySend + Debug + 'static> FloorEchoPorts<P, C> {
     /// Opens them on `node`.
-    pub fn open(node: &Node<Ipc>) -> Result<Self, IpcError> {
+    pub(crate) fn open(node: &Node<Ipc>) -> Result<Self, IpcError> {
         Ok(FloorEchoPorts {
             ping: subscriber(node, services::HOST_FLOOR_PING, POINT_TO_POINT)?,
             pong: publisher(node, services::HOST_FLOOR_PONG, POINT_TO_POINT)?,
@@ -674,7 +674,7 @@ impl<T: ZeroCopySend + Debug + 'static> BridgePorts<T> {
 
 /// Publishes `value` on `publisher`, written straight into a loaned
 /// shared-memory sample.
-pub fn send<T: ZeroCopySend + Debug + 'static>(publisher: &Pub<T>, value: T) -> Result<(), IpcError> {
+pub(crate) fn send<T: ZeroCopySend + Debug + 'static>(publisher: &Pub<T>, value: T) -> Result<(), IpcError> {
     let sample = publisher.loan_uninit().map_err(fail("loaning a sample"))?;
     sample
         .write_payload(value)

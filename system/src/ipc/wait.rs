@@ -35,7 +35,7 @@ pub enum WaitStrategy {
 
 impl WaitStrategy {
     /// Whether senders must notify the receiver's wake-up event after sending.
-    pub fn notifies(self) -> bool {
+    pub(crate) fn notifies(self) -> bool {
         matches!(self, WaitStrategy::Block | WaitStrategy::Hybrid)
     }
 }

@@ -1,8 +1,8 @@
 //! The protocol of a world in its own process (`shm_layouts/README.md`, "A
 //! world in its own process"): what its messages say once read
-//! ([`WorldView`], [`WorldOrder`], [`Vocabulary`]), and their conversion to
+//! ([`WorldView`](crate::ipc::world::WorldView), [`WorldOrder`](crate::ipc::world::WorldOrder), [`Vocabulary`](crate::ipc::world::Vocabulary)), and their conversion to
 //! and from the layouts, validating everything read. A refused message is
-//! counted by [`Rejection`] reason and never applied.
+//! counted by [`Rejection`](crate::ipc::convert::Rejection) reason and never applied.
 
 use shm_layouts::{
     Header, MAX_ACTIONS, MAX_AGENTS, MAX_ARGS, MAX_ATOMS, MAX_FLUENTS, NAME_LEN, NAMES_PER_PART, NO_ACTION,
@@ -16,7 +16,7 @@ pub(crate) const ATOM_WORDS: usize = MAX_ATOMS / 64;
 
 /// What happens to the episode, as a snapshot says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum EpisodeStatus {
+pub(crate) enum EpisodeStatus {
     /// It goes on.
     Running,
     /// It reached a terminal state.
@@ -29,7 +29,7 @@ pub enum EpisodeStatus {
 
 impl EpisodeStatus {
     /// Whether the episode ended normally (the agent learns from it).
-    pub fn ended(self) -> bool {
+    pub(crate) fn ended(self) -> bool {
         matches!(self, EpisodeStatus::Terminated | EpisodeStatus::Truncated)
     }
 }
@@ -53,19 +53,19 @@ pub struct WorldView {
     /// The episode.
     pub episode: u64,
     /// The world's cycle.
-    pub cycle: u64,
+    pub(crate) cycle: u64,
     /// When the world published it (`CLOCK_MONOTONIC` ns).
-    pub sent_ns: u64,
+    pub(crate) sent_ns: u64,
     /// The cycle of the agent's last command the world took, and when it read it.
-    pub answered: Option<(u64, u64)>,
+    pub(crate) answered: Option<(u64, u64)>,
     /// Reward since the previous snapshot.
     pub reward: f64,
     /// Steps since the episode began.
     pub step: u32,
     /// The episode's status.
-    pub episode_status: EpisodeStatus,
+    pub(crate) episode_status: EpisodeStatus,
     /// The action's status.
-    pub action_status: ActionStatus,
+    pub(crate) action_status: ActionStatus,
     /// The atoms that hold, as a bitset.
     pub atoms: [u64; ATOM_WORDS],
     /// The fluents.
@@ -74,7 +74,7 @@ pub struct WorldView {
 
 impl WorldView {
     /// Whether world atom `index` holds.
-    pub fn holds(&self, index: usize) -> bool {
+    pub(crate) fn holds(&self, index: usize) -> bool {
         self.atoms[index / 64] >> (index % 64) & 1 == 1
     }
 }
@@ -85,9 +85,9 @@ pub struct WorldOrder {
     /// The episode it belongs to.
     pub episode: u64,
     /// The cycle it answers.
-    pub cycle: u64,
+    pub(crate) cycle: u64,
     /// The agent's compute time, ns.
-    pub compute_ns: u64,
+    pub(crate) compute_ns: u64,
     /// The action's index in the vocabulary, or `None`.
     pub action: Option<usize>,
     /// Its arguments.
@@ -210,7 +210,7 @@ pub(crate) struct VocabularyReader {
 
 impl VocabularyReader {
     /// Takes one part; returns the vocabulary once every part has come.
-    pub fn read(&mut self, msg: &WorldVocabulary, run_id: u64) -> Result<Option<Vocabulary>, Rejection> {
+    pub(crate) fn read(&mut self, msg: &WorldVocabulary, run_id: u64) -> Result<Option<Vocabulary>, Rejection> {
         check_header(&msg.header, run_id, SENDER_WORLD)?;
         let total = msg.atoms as usize + msg.fluents as usize + msg.actions as usize;
         let within = msg.atoms as usize <= MAX_ATOMS
@@ -267,7 +267,7 @@ impl VocabularyReader {
 }
 
 /// The snapshot of `view` for agent `agent`.
-pub fn world_snapshot(view: &WorldView, agent: usize, run_id: u64) -> WorldSnapshot {
+pub(crate) fn world_snapshot(view: &WorldView, agent: usize, run_id: u64) -> WorldSnapshot {
     let (answer_cycle, answer_received_ns) = view.answered.unwrap_or((0, 0));
     WorldSnapshot {
         header: Header::new(SENDER_WORLD, run_id),
@@ -353,7 +353,7 @@ pub(crate) fn read_world_snapshot(
 }
 
 /// Agent `agent`'s command `order`.
-pub fn world_command(order: &WorldOrder, agent: usize, run_id: u64) -> WorldCommand {
+pub(crate) fn world_command(order: &WorldOrder, agent: usize, run_id: u64) -> WorldCommand {
     WorldCommand {
         header: Header::new(agent as u32, run_id),
         episode: order.episode,
@@ -391,7 +391,7 @@ pub(crate) fn read_world_command(
 }
 
 /// The supervisor's floor ping `sequence`: the snapshot payload, zeroed.
-pub fn floor_ping(run_id: u64, sequence: u64) -> WorldSnapshot {
+pub(crate) fn floor_ping(run_id: u64, sequence: u64) -> WorldSnapshot {
     let view = WorldView {
         episode: 1,
         cycle: sequence,
@@ -411,7 +411,7 @@ pub fn floor_ping(run_id: u64, sequence: u64) -> WorldSnapshot {
 }
 
 /// Agent 0's answer to floor ping `sequence`.
-pub fn floor_pong(run_id: u64, sequence: u64) -> WorldCommand {
+pub(crate) fn floor_pong(run_id: u64, sequence: u64) -> WorldCommand {
     let order = WorldOrder {
         episode: 1,
         cycle: sequence,

@@ -1,6 +1,6 @@
 //! Latency histograms of the multi-process system (HdrHistogram): recording,
 //! merging, percentiles, the percentile-distribution text format (`.hgrm`),
-//! the compact V2 serialisation, and a percentile plot ([`plot`]).
+//! the compact V2 serialisation, and a percentile plot ([`plot`](crate::latency::plot)).
 //!
 //! Values are recorded in nanoseconds with three significant digits and
 //! reported in microseconds.
@@ -54,22 +54,22 @@ pub enum LatencyError {
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Percentiles {
     /// Median.
-    pub p50: f64,
+    pub(crate) p50: f64,
     /// 90th percentile.
-    pub p90: f64,
+    pub(crate) p90: f64,
     /// 99th percentile.
-    pub p99: f64,
+    pub(crate) p99: f64,
     /// 99.9th percentile.
-    pub p999: f64,
+    pub(crate) p999: f64,
     /// The largest value.
     pub max: f64,
     /// The mean (what a rate of back-to-back round trips is the inverse of).
-    pub mean: f64,
+    pub(crate) mean: f64,
 }
 
 /// A named latency histogram.
 #[derive(Debug, Clone)]
-pub struct Latency {
+pub(crate) struct Latency {
     name: String,
     histogram: Histogram<u64>,
 }
@@ -80,7 +80,7 @@ fn new_histogram() -> Histogram<u64> {
 
 impl Latency {
     /// An empty histogram called `name`.
-    pub fn new(name: impl Into<String>) -> Self {
+    pub(crate) fn new(name: impl Into<String>) -> Self {
         Latency {
             name: name.into(),
             histogram: new_histogram(),
@@ -88,23 +88,23 @@ impl Latency {
     }
 
     /// Its name (also its file name).
-    pub fn name(&self) -> &str {
+    pub(crate) fn name(&self) -> &str {
         &self.name
     }
 
     /// Values recorded.
-    pub fn count(&self) -> u64 {
+    pub(crate) fn count(&self) -> u64 {
         self.histogram.len()
     }
 
     /// Records one latency (beyond an hour: an hour; below a nanosecond: one).
-    pub fn record(&mut self, latency: Duration) {
+    pub(crate) fn record(&mut self, latency: Duration) {
         let ns = u64::try_from(latency.as_nanos()).unwrap_or(u64::MAX);
         self.histogram.saturating_record(ns.clamp(1, HIGHEST_NS));
     }
 
     /// Adds every value of `other`.
-    pub fn merge(&mut self, other: &Latency) -> Result<(), LatencyError> {
+    pub(crate) fn merge(&mut self, other: &Latency) -> Result<(), LatencyError> {
         self.histogram.add(&other.histogram).map_err(|e| LatencyError::Merge {
             name: self.name.clone(),
             detail: format!("{e:?}"),
@@ -117,7 +117,7 @@ impl Latency {
     }
 
     /// p50, p90, p99, p99.9, max and mean in microseconds (zeros when empty).
-    pub fn percentiles(&self) -> Percentiles {
+    pub(crate) fn percentiles(&self) -> Percentiles {
         if self.histogram.is_empty() {
             return Percentiles::default();
         }
@@ -133,7 +133,7 @@ impl Latency {
 
     /// The distribution as (quantile, microseconds) points, five per halving
     /// of the remaining tail: what percentile plots and `.hgrm` files list.
-    pub fn distribution(&self) -> Vec<(f64, f64)> {
+    pub(crate) fn distribution(&self) -> Vec<(f64, f64)> {
         self.histogram
             .iter_quantiles(5)
             .map(|v| (v.quantile_iterated_to(), v.value_iterated_to() as f64 / 1000.0))
@@ -178,7 +178,7 @@ impl Latency {
     }
 
     /// The compact V2 serialisation (HdrHistogram's own binary format).
-    pub fn to_bytes(&self) -> Result<Vec<u8>, LatencyError> {
+    pub(crate) fn to_bytes(&self) -> Result<Vec<u8>, LatencyError> {
         let mut bytes = Vec::new();
         V2Serializer::new()
             .serialize(&self.histogram, &mut bytes)
@@ -190,7 +190,7 @@ impl Latency {
     }
 
     /// Reads a histogram serialised by [`Latency::to_bytes`].
-    pub fn from_bytes(name: impl Into<String>, bytes: &[u8]) -> Result<Self, LatencyError> {
+    pub(crate) fn from_bytes(name: impl Into<String>, bytes: &[u8]) -> Result<Self, LatencyError> {
         let name = name.into();
         let decoded: Histogram<u64> =
             Deserializer::new()

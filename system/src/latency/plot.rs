@@ -12,9 +12,9 @@ use learnpnp::experiment::plot::{FONT, PLOT_SIZE, colour};
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct ReferenceLine {
     /// The legend text.
-    pub label: String,
+    pub(crate) label: String,
     /// Its height in microseconds.
-    pub micros: f64,
+    pub(crate) micros: f64,
 }
 
 /// Why a plot cannot be drawn.

@@ -1,5 +1,5 @@
 //! The chassis both agent processes run on (a Keepaway keeper,
-//! [`super::agent_process`], and a world's agent, [`super::world_agent`]):
+//! [`super::agent_process`](crate::multiprocess::agent_process), and a world's agent, [`super::world_agent`](crate::multiprocess::world_agent)):
 //! the heartbeat and its counts, the supervisor's orders, the checkpoints
 //! (written by a background thread, every N learning episodes and on
 //! request) with the compute histogram, the resumed values a restart

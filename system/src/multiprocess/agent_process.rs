@@ -1,11 +1,11 @@
 //! An agent process: one keeper. A learning keeper runs its plan with its
-//! learner and executor (the in-process [`PlanKeeper`]); the others follow
+//! learner and executor (the in-process [`PlanKeeper`](learnpnp::domains::keepaway::PlanKeeper)); the others follow
 //! the mode's fixed policy. Each cycle it takes its snapshot, credits the
 //! reward, thinks until an action issues the cycle's command, and sends it.
 //! A learning keeper checkpoints its values every N learning episodes and on
 //! the supervisor's request, atomically, in the `persist` format. In real
 //! time it sleeps between cycles and is polling again shortly before its next
-//! snapshot is due ([`EXPECT_EARLY`]).
+//! snapshot is due ([`EXPECT_EARLY`](crate::multiprocess::agent_process::EXPECT_EARLY)).
 
 use learnpnp::named::Named;
 use std::sync::Arc;

@@ -7,10 +7,10 @@
 //! A checkpoint handed over while another waits replaces it (the newer one
 //! holds all the older one would have); the one being written is finished
 //! first. Periodic checkpoints are written at most once per
-//! [`CHECKPOINT_SPACING`]: in a world whose episodes take milliseconds,
+//! [`CHECKPOINT_SPACING`](crate::multiprocess::background_save::CHECKPOINT_SPACING): in a world whose episodes take milliseconds,
 //! "every 100 learning episodes" would otherwise mean hundreds of durable
 //! writes a second, each taking the machine's cores from the run.
-//! [`BackgroundSave::flush`] writes what waits at once and returns when it is
+//! [`BackgroundSave::flush`](crate::multiprocess::background_save::BackgroundSave::flush) writes what waits at once and returns when it is
 //! written: an agent flushes after its first checkpoint (a restart must always
 //! find one), on the supervisor's order to checkpoint, and at its end;
 //! dropping the writer flushes too. A kill loses the learning since the last
@@ -31,11 +31,11 @@ pub const CHECKPOINT_SPACING: Duration = Duration::from_secs(1);
 
 /// What one checkpoint writes.
 #[derive(Debug, Default)]
-pub struct Checkpoint {
+pub(crate) struct Checkpoint {
     /// The learner's values and their file (none: an agent that does not learn).
     pub values: Option<(PathBuf, SavedValues)>,
     /// Other files written whole (histograms) and their bytes.
-    pub files: Vec<(PathBuf, Vec<u8>)>,
+    pub(crate) files: Vec<(PathBuf, Vec<u8>)>,
 }
 
 /// The writer thread and the agent's handle on it.
@@ -97,7 +97,7 @@ impl BackgroundSave {
     }
 
     /// Hands a checkpoint over, replacing one still waiting.
-    pub fn submit(&self, checkpoint: Checkpoint) {
+    pub(crate) fn submit(&self, checkpoint: Checkpoint) {
         self.shared.lock().waiting = Some(checkpoint);
         self.shared.changed.notify_all();
     }
@@ -126,7 +126,7 @@ impl BackgroundSave {
     }
 
     /// Value files written so far.
-    pub fn written(&self) -> u64 {
+    pub(crate) fn written(&self) -> u64 {
         self.shared.written.load(Ordering::Relaxed)
     }
 

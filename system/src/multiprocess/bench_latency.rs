@@ -31,7 +31,7 @@ pub struct Configuration {
     /// How processes wait.
     pub wait: WaitStrategy,
     /// A busy thread on every core beside the run.
-    pub loaded: bool,
+    pub(crate) loaded: bool,
 }
 
 impl Configuration {
@@ -43,17 +43,17 @@ impl Configuration {
 
 /// Percentiles of one histogram, and the median's ratio to the floor's.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Figures {
+pub(crate) struct Figures {
     /// Median, microseconds.
-    pub p50: f64,
+    pub(crate) p50: f64,
     /// 99th percentile.
-    pub p99: f64,
+    pub(crate) p99: f64,
     /// 99.9th percentile.
-    pub p999: f64,
+    pub(crate) p999: f64,
     /// Largest.
     pub max: f64,
     /// Values recorded.
-    pub count: u64,
+    pub(crate) count: u64,
     /// p50 over the floor's p50 (of the same configuration).
     pub(crate) ratio_to_floor_p50: f64,
 }
@@ -64,15 +64,15 @@ pub(crate) struct Measured {
     /// The bare round trip.
     pub floor: Figures,
     /// Snapshot to command, every keeper.
-    pub roundtrip: Figures,
+    pub(crate) roundtrip: Figures,
     /// The agents' compute time per cycle.
-    pub compute: Figures,
+    pub(crate) compute: Figures,
     /// Cycles per second of the episode loop.
-    pub cycles_per_second: f64,
+    pub(crate) cycles_per_second: f64,
     /// Real time: commands that missed their cycle.
     pub missed_deadlines: u64,
     /// Why the run ended early, if it did.
-    pub failure: Option<String>,
+    pub(crate) failure: Option<String>,
 }
 
 /// Ends a configuration's run after a fixed time.

@@ -26,7 +26,7 @@ pub struct WorldFigures {
     /// Agents in the run.
     pub agents: usize,
     /// Lock-step cycles (world steps) per second.
-    pub cycles_per_second: f64,
+    pub(crate) cycles_per_second: f64,
     /// Round trip, median, microseconds.
     pub(crate) round_trip_p50: f64,
     /// Round trip, 99th percentile.

@@ -76,7 +76,7 @@ impl SoakLength {
 
 /// Where a soak stands: its wall-clock seconds and cycles so far.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SoakClock {
+pub(crate) struct SoakClock {
     /// Seconds since the soak began.
     pub seconds: f64,
     /// Cycles simulated so far (over every run).
@@ -119,17 +119,17 @@ impl FaultKind {
 
 /// An injected fault and what came of it.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ChaosRecord {
+pub(crate) struct ChaosRecord {
     /// What was done (e.g. "SIGKILL keeper 2 (pid 123)").
-    pub kind: String,
+    pub(crate) kind: String,
     /// Seconds since the soak began.
     pub time: f64,
     /// When it was over (a stop, load or failing writes last a while).
-    pub ended: f64,
+    pub(crate) ended: f64,
     /// What came of it.
-    pub outcome: String,
+    pub(crate) outcome: String,
     /// The system survived it.
-    pub survived: bool,
+    pub(crate) survived: bool,
     check: Check,
 }
 
@@ -309,7 +309,7 @@ impl Chaos {
 
     /// Injects the faults that are due at `now` and ends those whose time
     /// is up; returns what the supervisor must do for them.
-    pub fn tick(&mut self, now: SoakClock, view: &RunView<'_>) -> Vec<Request> {
+    pub(crate) fn tick(&mut self, now: SoakClock, view: &RunView<'_>) -> Vec<Request> {
         self.roster = view.roster;
         let seconds = now.seconds;
         let progress = self.progress(now);
@@ -602,7 +602,7 @@ impl Chaos {
 
     /// Ends what is still in progress and judges the kills from what the
     /// supervisor recorded; returns every injected fault.
-    pub fn finish(&mut self, records: &[RunRecord]) -> Vec<ChaosRecord> {
+    pub(crate) fn finish(&mut self, records: &[RunRecord]) -> Vec<ChaosRecord> {
         for active in std::mem::take(&mut self.active) {
             match active {
                 Active::Stopped(Stopped { record, pid, .. }) => {

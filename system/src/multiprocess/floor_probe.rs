@@ -9,7 +9,7 @@
 //! - A remote host's own (`learnpnp-supervisor remote`): between its
 //!   supervisor and a `learnpnp-agent --floor-echo` process it starts, back
 //!   to back before its agents start, on services the bridge never carries.
-//!   Its histogram ([`REMOTE_HOST_FLOOR`]) is shipped to host A with the
+//!   Its histogram ([`REMOTE_HOST_FLOOR`](crate::multiprocess::floor_probe::REMOTE_HOST_FLOOR)) is shipped to host A with the
 //!   agents' and shown in host A's report.
 
 use std::fmt::Debug;
@@ -109,7 +109,7 @@ pub(crate) struct FloorProbe<F: FloorPayload> {
 impl FloorProbe<WorldFloor> {
     /// A world run's, with agent 0 (which waits with `wait`), on `node`;
     /// the histogram goes to `work_dir`.
-    pub fn world(
+    pub(crate) fn world(
         node: &Node<Ipc>,
         wait: WaitStrategy,
         run_id: u64,
@@ -131,7 +131,12 @@ impl FloorProbe<WorldFloor> {
 impl<F: FloorPayload> FloorProbe<F> {
     /// A remote host's own, with its echo process (which waits with `wait`),
     /// on `node`; the histogram ([`REMOTE_HOST_FLOOR`]) goes to `work_dir`.
-    pub fn host(node: &Node<Ipc>, wait: WaitStrategy, run_id: u64, work_dir: &Path) -> Result<Self, SupervisorError> {
+    pub(crate) fn host(
+        node: &Node<Ipc>,
+        wait: WaitStrategy,
+        run_id: u64,
+        work_dir: &Path,
+    ) -> Result<Self, SupervisorError> {
         Ok(FloorProbe {
             ports: FloorPorts::host(node, wait)?,
             run_id,
@@ -144,7 +149,7 @@ impl<F: FloorPayload> FloorProbe<F> {
     }
 
     /// Tells the echoing process the measurement is over.
-    pub fn end(&mut self) -> Result<(), SupervisorError> {
+    pub(crate) fn end(&mut self) -> Result<(), SupervisorError> {
         self.ports.ping.send(F::ping(self.run_id, FLOOR_END))?;
         Ok(())
     }
@@ -170,7 +175,7 @@ impl<F: FloorPayload> FloorProbe<F> {
     /// Lock-step: `round_trips` pings back to back, each waited for by
     /// yielding between polls; gives up (keeping what it measured) when an
     /// echo does not come.
-    pub fn measure(&mut self, round_trips: usize) -> Result<(), SupervisorError> {
+    pub(crate) fn measure(&mut self, round_trips: usize) -> Result<(), SupervisorError> {
         if !self.first_echo()? {
             return self.save();
         }
@@ -207,7 +212,7 @@ impl<F: FloorPayload> FloorProbe<F> {
     /// Real time: once a cycle, one ping, waited for (yielding) until its
     /// echo comes or a tenth of a cycle has passed; the supervisor's loop
     /// does nothing else meanwhile.
-    pub fn sample(&mut self) -> Result<(), SupervisorError> {
+    pub(crate) fn sample(&mut self) -> Result<(), SupervisorError> {
         if self.last_ping.is_some_and(|t| t.elapsed() < self.period) {
             return Ok(());
         }
@@ -224,7 +229,7 @@ impl<F: FloorPayload> FloorProbe<F> {
     }
 
     /// Writes the histogram into the run's work directory.
-    pub fn save(&self) -> Result<(), SupervisorError> {
+    pub(crate) fn save(&self) -> Result<(), SupervisorError> {
         let path = histogram_file(&self.work_dir, self.histogram.name());
         let bytes = self.histogram.to_bytes()?;
         atomic_file::write_atomic(&path, &bytes).map_err(|source| SupervisorError::Io { path, source })

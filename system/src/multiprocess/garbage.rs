@@ -1,5 +1,5 @@
 //! Garbage on a run's services, published as a foreign process would: what
-//! chaos soaks inject ([`Garbage::every_kind`]) and what the tests send to
+//! chaos soaks inject ([`Garbage::every_kind`](crate::multiprocess::garbage::Garbage::every_kind)) and what the tests send to
 //! check that every process refuses and counts it.
 
 use std::fmt::Debug;

@@ -61,7 +61,7 @@ pub(crate) fn follows_protocol(journaled: EpisodeMode, due: EpisodeMode) -> Resu
 }
 
 /// Reads every whole entry of the journal at `path` (none if there is no journal).
-pub fn read<E: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<E>, JournalError> {
+pub(crate) fn read<E: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<E>, JournalError> {
     let io = |source| JournalError::Io {
         path: path.to_path_buf(),
         source,
@@ -107,7 +107,7 @@ impl Journal {
     /// one there is with `keep` whole entries (a torn last line is cut off).
     /// Appended lines are written when `gather_for` has passed since the last
     /// write (`Duration::ZERO`: each at once), and on [`Journal::flush`].
-    pub fn open<E: Serialize>(path: &Path, keep: &[E], gather_for: Duration) -> Result<Self, JournalError> {
+    pub(crate) fn open<E: Serialize>(path: &Path, keep: &[E], gather_for: Duration) -> Result<Self, JournalError> {
         let io = |source| JournalError::Io {
             path: path.to_path_buf(),
             source,
@@ -128,7 +128,7 @@ impl Journal {
     }
 
     /// Appends `entry`, written now if the journal's gathering time has passed.
-    pub fn append<E: Serialize>(&mut self, entry: &E) -> Result<(), JournalError> {
+    pub(crate) fn append<E: Serialize>(&mut self, entry: &E) -> Result<(), JournalError> {
         push_line(&mut self.pending, entry).map_err(|source| JournalError::Io {
             path: self.path.clone(),
             source,

@@ -28,9 +28,9 @@ pub mod world_env {
     /// The run's iceoryx2 prefix.
     pub(crate) const PREFIX: &str = "LEARNPNP_IPC_PREFIX";
     /// The run's iceoryx2 root directory, ending in `/`.
-    pub const ROOT: &str = "LEARNPNP_IPC_ROOT";
+    pub(crate) const ROOT: &str = "LEARNPNP_IPC_ROOT";
     /// The run id.
-    pub const RUN_ID: &str = "LEARNPNP_RUN_ID";
+    pub(crate) const RUN_ID: &str = "LEARNPNP_RUN_ID";
     /// The run's index in the experiment (0-based; the agents' feed records carry it).
     pub const RUN: &str = "LEARNPNP_RUN";
     /// How many agents.
@@ -89,7 +89,7 @@ pub struct Binaries {
 impl Binaries {
     /// The binaries in `dir` (the simulator's and the agents' must be there;
     /// the bridge's is looked for when a run crosses hosts: [`Binaries::bridge`]).
-    pub fn in_dir(dir: &Path) -> Result<Self, LaunchError> {
+    pub(crate) fn in_dir(dir: &Path) -> Result<Self, LaunchError> {
         let binaries = Binaries {
             sim: dir.join(SIM_BINARY),
             agent: dir.join(AGENT_BINARY),
@@ -231,26 +231,24 @@ pub(crate) fn set_fifo_priority(pid: u32, priority: u8) -> io::Result<()> {
 
 /// A started process of the run.
 #[derive(Debug)]
-pub struct Process {
-    /// Who it is.
-    pub role: Role,
+pub(crate) struct Process {
     child: Child,
 }
 
 impl Process {
     /// Its process id.
-    pub fn pid(&self) -> u32 {
+    pub(crate) fn pid(&self) -> u32 {
         self.child.id()
     }
 
     /// Its exit status, if it has exited.
-    pub fn exited(&mut self) -> io::Result<Option<ExitStatus>> {
+    pub(crate) fn exited(&mut self) -> io::Result<Option<ExitStatus>> {
         self.child.try_wait()
     }
 
     /// Kills it and every process it started (SIGKILL to its process group:
     /// a world started with `sh -c` may run as the shell's child) and reaps it.
-    pub fn kill(&mut self) -> io::Result<ExitStatus> {
+    pub(crate) fn kill(&mut self) -> io::Result<ExitStatus> {
         if let Ok(group) = libc::pid_t::try_from(self.child.id()) {
             // SAFETY: killpg has no memory effects; the group is the child's own.
             unsafe { libc::killpg(group, libc::SIGKILL) };
@@ -262,7 +260,7 @@ impl Process {
 
     /// Asks it to stop (SIGTERM) and waits up to `grace` for it to exit,
     /// then kills it as [`Process::kill`] does.
-    pub fn stop(&mut self, grace: std::time::Duration) -> io::Result<ExitStatus> {
+    pub(crate) fn stop(&mut self, grace: std::time::Duration) -> io::Result<ExitStatus> {
         if let Ok(pid) = libc::pid_t::try_from(self.child.id()) {
             // SAFETY: kill has no memory effects; the process is our child.
             unsafe { libc::kill(pid, libc::SIGTERM) };
@@ -279,13 +277,8 @@ impl Process {
 
     /// Whether process `pid` runs in this process's group (it is this
     /// process, or one it started, such as the world a shell runs).
-    pub fn leads(&self, pid: u32) -> bool {
+    pub(crate) fn leads(&self, pid: u32) -> bool {
         pid == self.child.id() || process_group(pid) == Some(self.child.id())
-    }
-
-    /// Waits for it to exit.
-    pub fn wait(&mut self) -> io::Result<ExitStatus> {
-        self.child.wait()
     }
 }
 
@@ -315,7 +308,7 @@ pub(crate) fn agent_args(role: Role, k: usize, checkpoint_every: u64) -> [OsStri
 
 /// Starts `binary` as `role` with `args`, its output appended to `log`; it
 /// gets its own process group and is killed when the supervisor dies.
-pub fn spawn(binary: &Path, role: Role, args: &[OsString], log: &Path) -> Result<Process, LaunchError> {
+pub(crate) fn spawn(binary: &Path, role: Role, args: &[OsString], log: &Path) -> Result<Process, LaunchError> {
     let mut command = Command::new(binary);
     command.args(args);
     spawn_command(command, role, &binary.display().to_string(), log)
@@ -382,7 +375,7 @@ const WORLD_SEED_STREAM: u64 = 2;
 /// `log`; it gets its own process group and is killed when the supervisor dies.
 fn spawn_command(command: Command, role: Role, what: &str, log: &Path) -> Result<Process, LaunchError> {
     let child = spawn_child(command, &format!("{role} ({what})"), log)?;
-    Ok(Process { role, child })
+    Ok(Process { child })
 }
 
 /// Starts `command` (described as `what` in errors) with its output
@@ -422,7 +415,7 @@ pub(crate) struct Helper {
 
 impl Helper {
     /// Starts `binary` (described as `what`) with `args`, its output appended to `log`.
-    pub fn spawn(binary: &Path, what: &str, args: &[OsString], log: &Path) -> Result<Self, LaunchError> {
+    pub(crate) fn spawn(binary: &Path, what: &str, args: &[OsString], log: &Path) -> Result<Self, LaunchError> {
         let mut command = Command::new(binary);
         command.args(args);
         Ok(Helper {
@@ -431,7 +424,7 @@ impl Helper {
     }
 
     /// Waits up to `timeout` for it to exit; its status, if it did.
-    pub fn wait_for(&mut self, timeout: std::time::Duration) -> io::Result<Option<ExitStatus>> {
+    pub(crate) fn wait_for(&mut self, timeout: std::time::Duration) -> io::Result<Option<ExitStatus>> {
         let deadline = std::time::Instant::now() + timeout;
         loop {
             if let Some(status) = self.child.try_wait()? {

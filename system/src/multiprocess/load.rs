@@ -15,7 +15,7 @@ pub(crate) struct CpuLoad {
 
 impl CpuLoad {
     /// Starts `threads` busy threads.
-    pub fn start(threads: usize) -> Self {
+    pub(crate) fn start(threads: usize) -> Self {
         let stop = Arc::new(AtomicBool::new(false));
         let threads = (0..threads)
             .map(|_| {
@@ -34,7 +34,7 @@ impl CpuLoad {
     }
 
     /// Threads spinning.
-    pub fn threads(&self) -> usize {
+    pub(crate) fn threads(&self) -> usize {
         self.threads.len()
     }
 

@@ -3,27 +3,30 @@
 //! events and rewards through iceoryx2 shared memory ([`crate::ipc`]), and a
 //! supervisor starts, watches and restarts them.
 //!
-//! - [`sim_process`]: the simulator process (the simulator itself is
+//! - [`sim_process`](crate::multiprocess::sim_process): the simulator process (the simulator itself is
 //!   [`learnpnp_keepaway`]): Keepaway with the takers inside, whose
 //!   keepers are a [`learnpnp::domains::keepaway::KeeperTeam`] of remote
 //!   agents; it runs the same episode loop and protocol as the in-process
 //!   experiment ([`learnpnp::experiment::runner::run_protocol`]);
-//! - [`agent_process`]: one keeper's process: its plan, learner and executor
+//! - [`agent_process`](crate::multiprocess::agent_process): one keeper's process: its plan, learner and executor
 //!   (or a fixed policy), checkpointing its values;
-//! - [`supervisor`]: launching, watching, restarting, stopping, cleaning up;
-//! - [`world_agent`], [`world_host`]: a world in its own process: an agent
+//! - [`supervisor`](crate::multiprocess::supervisor): launching, watching, restarting, stopping, cleaning up;
+//! - [`world_agent`](crate::multiprocess::world_agent), [`world_host`](crate::multiprocess::world_host): a world in its own process: an agent
 //!   on the stepwise executor, and a world written in Rust (the corridor);
-//!   [`floor_probe`]: the floor of a world run;
-//! - [`remote_host`]: a host of remote agents joining a run across hosts;
-//! - [`view_process`]: a run's view, reading the agents' live feeds;
-//! - [`report`]: what a run writes (summary, episodes, latency files and plot);
-//! - [`soak`], [`chaos`] (with [`garbage`] and [`load`]), [`bench_latency`],
-//!   [`bench_world`]: long runs, fault injection and the benchmarks.
+//!   [`floor_probe`](crate::multiprocess::floor_probe): the floor of a world run;
+//! - [`remote_host`](crate::multiprocess::remote_host): a host of remote agents joining a run across hosts;
+//! - [`view_process`](crate::multiprocess::view_process): a run's view, reading the agents' live feeds;
+//! - [`report`](crate::multiprocess::report): what a run writes (summary, episodes, latency files and plot);
+//! - [`soak`](crate::multiprocess::soak), [`chaos`](crate::multiprocess::chaos) (with [`garbage`](crate::multiprocess::garbage) and [`load`](crate::multiprocess::load)), [`bench_latency`](crate::multiprocess::bench_latency),
+//!   [`bench_world`](crate::multiprocess::bench_world): long runs, fault injection and the benchmarks.
 //!
 //! See docs/ARCHITECTURE.md for one snapshot's way through the processes.
 
+/// The chassis both agent processes run on.
 pub mod agent_chassis;
+/// An agent process: one keeper.
 pub mod agent_process;
+/// An agent's checkpoints written off its decision loop.
 pub mod background_save;
 /// The latency benchmark.
 pub mod bench_latency;
@@ -31,7 +34,9 @@ pub mod bench_latency;
 pub mod bench_world;
 /// Faults injected at seeded random times during a soak.
 pub mod chaos;
+/// The iceoryx2 floor: the bare round trip of a run's payloads.
 pub mod floor_probe;
+/// Garbage on a run's services, published as a foreign process would.
 pub mod garbage;
 /// A journal of whole episodes.
 pub mod journal;
@@ -43,12 +48,17 @@ pub mod load;
 pub mod remote_host;
 /// What a multi-process run writes.
 pub mod report;
+/// The simulator process.
 pub mod sim_process;
+/// Soak runs.
 pub mod soak;
 /// The supervisor of a run's processes.
 pub mod supervisor;
+/// The view process of a run with a view.
 pub mod view_process;
+/// An agent of a world in its own process.
 pub mod world_agent;
+/// A world written in Rust, served as the world process of a run.
 pub mod world_host;
 
 use std::path::PathBuf;
@@ -101,7 +111,7 @@ pub struct RunContext {
     /// The run's index among the experiment's runs (it derives the seeds).
     pub run: usize,
     /// The run's iceoryx2 prefix.
-    pub ipc_prefix: String,
+    pub(crate) ipc_prefix: String,
     /// How the simulator's clock advances.
     pub clock: Clock,
     /// How processes wait for messages.
@@ -109,7 +119,7 @@ pub struct RunContext {
     /// The experiment (as `summary.json` of a run holds it, under `spec`, or on its own).
     pub spec: PathBuf,
     /// Where the process writes its files (histograms, results, checkpoints).
-    pub work_dir: PathBuf,
+    pub(crate) work_dir: PathBuf,
     /// The run has a view: each agent publishes its live feed
     /// ([`crate::ipc::feed`]); without one nothing of it is created.
     #[serde(default)]
@@ -221,14 +231,14 @@ pub(crate) const HEARTBEAT_EVERY: Duration = Duration::from_millis(100);
 #[derive(Debug)]
 pub(crate) struct Pacemaker {
     /// What the next heartbeat says.
-    pub pulse: Pulse,
+    pub(crate) pulse: Pulse,
     run_id: u64,
     last: Option<Instant>,
 }
 
 impl Pacemaker {
     /// The heartbeat of `role` in run `run_id`.
-    pub fn new(role: Role, run_id: u64) -> Self {
+    pub(crate) fn new(role: Role, run_id: u64) -> Self {
         Pacemaker {
             pulse: Pulse {
                 role,
@@ -249,7 +259,7 @@ impl Pacemaker {
     }
 
     /// Sends a heartbeat if one is due.
-    pub fn tick(&mut self, publisher: &Pub<shm_layouts::Heartbeat>) -> Result<(), IpcError> {
+    pub(crate) fn tick(&mut self, publisher: &Pub<shm_layouts::Heartbeat>) -> Result<(), IpcError> {
         if self.last.is_none_or(|t| t.elapsed() >= HEARTBEAT_EVERY) {
             self.beat(publisher)?;
         }
@@ -257,7 +267,7 @@ impl Pacemaker {
     }
 
     /// Sends a heartbeat now (e.g. on a change of state).
-    pub fn beat(&mut self, publisher: &Pub<shm_layouts::Heartbeat>) -> Result<(), IpcError> {
+    pub(crate) fn beat(&mut self, publisher: &Pub<shm_layouts::Heartbeat>) -> Result<(), IpcError> {
         self.pulse.sequence += 1;
         self.last = Some(Instant::now());
         send(publisher, heartbeat(&self.pulse, self.run_id))

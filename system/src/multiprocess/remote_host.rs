@@ -63,23 +63,23 @@ pub struct RemoteSummary {
     /// Host A's prefix (the run's name on the link).
     pub run_prefix: String,
     /// This host's iceoryx2 prefix.
-    pub ipc_prefix: String,
+    pub(crate) ipc_prefix: String,
     /// The agents run here (1-based, as reports name them).
     pub agents: Vec<usize>,
     /// Processes restarted here.
     pub restarts: u32,
     /// Faults and what was done, in order.
-    pub faults: Vec<Fault>,
+    pub(crate) faults: Vec<Fault>,
     /// Every file was delivered to host A.
     pub shipped: bool,
     /// Why the host gave up, if it did.
-    pub failure: Option<String>,
+    pub(crate) failure: Option<String>,
     /// Files of this host's namespace left after cleanup (0 unless cleanup failed).
-    pub leftover_shm_files: usize,
+    pub(crate) leftover_shm_files: usize,
     /// How the link was protected, what this host's bridge carried and refused.
     pub link: LinkReport,
     /// Wall-clock seconds.
-    pub wall_seconds: f64,
+    pub(crate) wall_seconds: f64,
 }
 
 /// The remote host's processes and what it knows of them.

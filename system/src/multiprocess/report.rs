@@ -44,7 +44,7 @@ pub struct SystemSummary {
     pub wait: WaitStrategy,
     /// How the simulator and the agents were scheduled (`normal`, `SCHED_FIFO 10`,
     /// or normal with the reason the real-time priority was refused).
-    pub scheduling: String,
+    pub(crate) scheduling: String,
     /// Runs asked for.
     pub runs: usize,
     /// Runs that ended normally.
@@ -52,11 +52,11 @@ pub struct SystemSummary {
     /// Learning episodes completed, over every run.
     pub episodes: u64,
     /// Episodes of every kind played (learning, evaluation, greedy; aborted ones included).
-    pub episodes_played: u64,
+    pub(crate) episodes_played: u64,
     /// Cycles played.
     pub cycles: u64,
     /// Cycles per second of the episode loop.
-    pub cycles_per_second: f64,
+    pub(crate) cycles_per_second: f64,
     /// Real time: commands that missed their cycle.
     pub missed_deadlines: u64,
     /// Real time: commands that arrived after their cycle.
@@ -64,13 +64,13 @@ pub struct SystemSummary {
     /// Agents restarted.
     pub restarts: u32,
     /// Every restarted agent resumed with exactly the values checkpointed before it was lost.
-    pub values_survived: bool,
+    pub(crate) values_survived: bool,
     /// Each agent restart and what it resumed with.
-    pub resumes: Vec<ResumeCheck>,
+    pub(crate) resumes: Vec<ResumeCheck>,
     /// Episodes aborted because a keeper was lost.
-    pub aborted_episodes: usize,
+    pub(crate) aborted_episodes: usize,
     /// The aborted episodes.
-    pub aborted: Vec<AbortedEpisode>,
+    pub(crate) aborted: Vec<AbortedEpisode>,
     /// Mean duration of the learning episodes, in seconds.
     pub mean_episode_seconds: f64,
     /// Snapshot-to-command round trip (every keeper, every cycle), microseconds.
@@ -89,15 +89,15 @@ pub struct SystemSummary {
     /// A world run: the world's turnaround per cycle as its agents saw it,
     /// microseconds (see [`WORLD_TURNAROUND`]).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub world_turnaround_us: Option<Percentiles>,
+    pub(crate) world_turnaround_us: Option<Percentiles>,
     /// Median round trip as a multiple of the median floor.
     pub(crate) round_trip_over_floor_p50: f64,
     /// Messages from shared memory refused, by process and reason.
-    pub rejected_messages: BTreeMap<String, Rejections>,
+    pub(crate) rejected_messages: BTreeMap<String, Rejections>,
     /// Checkpoint writes that failed (the previous checkpoint kept).
-    pub checkpoint_failures: u64,
+    pub(crate) checkpoint_failures: u64,
     /// Faults and what was done about them.
-    pub faults: Vec<Fault>,
+    pub(crate) faults: Vec<Fault>,
     /// A run across hosts: how the link was protected, what host A's bridge
     /// carried and what it refused, by reason (runs summed).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -108,11 +108,11 @@ pub struct SystemSummary {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub view: Option<ViewCounts>,
     /// Files of the runs' iceoryx2 namespaces left after cleanup (0 expected).
-    pub leftover_shm_files: usize,
+    pub(crate) leftover_shm_files: usize,
     /// The runs' iceoryx2 prefixes.
-    pub ipc_prefixes: Vec<String>,
+    pub(crate) ipc_prefixes: Vec<String>,
     /// Wall-clock seconds of the whole launch.
-    pub wall_seconds: f64,
+    pub(crate) wall_seconds: f64,
     /// The experiment's figures (spec, final mean with its confidence interval, ...)
     /// when at least one run completed.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -295,7 +295,7 @@ pub struct Report {
     /// What `summary.json` holds.
     pub summary: SystemSummary,
     /// Round trip, floor, compute per keeper and all keepers.
-    pub histograms: Vec<Latency>,
+    pub(crate) histograms: Vec<Latency>,
 }
 
 impl Report {

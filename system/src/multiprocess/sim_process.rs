@@ -3,8 +3,8 @@
 //! whose keepers are agent processes. Each cycle it publishes each keeper's snapshot, collects
 //! each keeper's command (lock-step: as soon as all are in; real time: until
 //! the cycle's 100 ms deadline), and steps the world. It runs the in-process
-//! experiment's episode loop ([`KeepawayTask`]) and protocol
-//! ([`run_protocol`]), so with the same seed a lock-step run plays exactly the
+//! experiment's episode loop ([`KeepawayTask`](learnpnp::domains::keepaway::KeepawayTask)) and protocol
+//! ([`run_protocol`](learnpnp::experiment::runner::run_protocol)), so with the same seed a lock-step run plays exactly the
 //! in-process episodes.
 
 use std::cell::RefCell;
@@ -56,7 +56,7 @@ pub(crate) const CONNECT_TIMEOUT: Duration = Duration::from_secs(60);
 
 /// An episode discarded because a keeper was lost.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct AbortedEpisode {
+pub(crate) struct AbortedEpisode {
     /// The episode's sequence number in the run.
     pub episode: u64,
     /// Its mode.
@@ -64,7 +64,7 @@ pub struct AbortedEpisode {
     /// Cycles played before the abort.
     pub cycles: u32,
     /// The keepers lost (1-based, as the report names them).
-    pub keepers: Vec<usize>,
+    pub(crate) keepers: Vec<usize>,
 }
 
 /// The journal's file name in the simulator's work directory.
@@ -76,11 +76,11 @@ pub(crate) struct JournalEntry {
     /// Learning, evaluation or greedy.
     pub mode: EpisodeMode,
     /// What it earned.
-    pub outcome: EpisodeOutcome,
+    pub(crate) outcome: EpisodeOutcome,
     /// The simulator's random state after it.
     pub rng: SimRng,
     /// The counters after it.
-    pub totals: SimTotals,
+    pub(crate) totals: SimTotals,
 }
 
 /// The simulator's counters. They survive a restart: the journal carries
@@ -90,7 +90,7 @@ pub struct SimTotals {
     /// The last episode's sequence number (every episode played, aborted ones included).
     pub(crate) episode_seq: u64,
     /// The last cycle's sequence number.
-    pub cycle_seq: u64,
+    pub(crate) cycle_seq: u64,
     /// Learning episodes completed.
     pub(crate) learning_episodes: u64,
     /// Cycles played (every episode, aborted ones included).
@@ -102,11 +102,11 @@ pub struct SimTotals {
     /// Real time: commands that arrived after their cycle was stepped.
     pub(crate) late_commands: u64,
     /// Episodes discarded because a keeper was lost.
-    pub aborted: Vec<AbortedEpisode>,
+    pub(crate) aborted: Vec<AbortedEpisode>,
     /// Messages refused.
     pub rejected: Rejections,
     /// Cycles in which a keeper's plan issued no command.
-    pub idle_cycles: u64,
+    pub(crate) idle_cycles: u64,
     /// Lock-step: commands that answered no cycle awaited (forged, or a
     /// keeper's own displaced by a forged one: its cycle was answered twice).
     #[serde(default)]
@@ -124,7 +124,7 @@ pub struct SimulatorResult {
     pub output: RunOutput,
     /// The counters.
     #[serde(flatten)]
-    pub totals: SimTotals,
+    pub(crate) totals: SimTotals,
 }
 
 /// The state the remote team and the simulator's main loop share.

@@ -1,7 +1,7 @@
 //! Soak runs: the system runs for a set time (or number of cycles) while the
 //! supervisor samples every process once a second (resident memory, open
 //! file descriptors) and the run's shared-memory files, optionally with
-//! faults injected ([`super::chaos`]). At the end it writes `soak.csv`,
+//! faults injected ([`super::chaos`](crate::multiprocess::chaos)). At the end it writes `soak.csv`,
 //! `soak.svg` and `soak.json`, and a verdict line.
 //!
 //! Memory growth is measured after a warm-up (the first fifth of each
@@ -69,16 +69,16 @@ pub(crate) struct Sample {
     /// Its process id.
     pub pid: u32,
     /// Resident memory, KiB.
-    pub rss_kib: u64,
+    pub(crate) rss_kib: u64,
     /// Its anonymous part (heap and stacks: what a leak grows), KiB; the
     /// rest is the program's own pages and mapped shared memory.
-    pub anon_kib: u64,
+    pub(crate) anon_kib: u64,
     /// Open file descriptors.
-    pub open_fds: u64,
+    pub(crate) open_fds: u64,
     /// Files of the run's namespace in `/dev/shm`.
-    pub shm_files: u64,
+    pub(crate) shm_files: u64,
     /// Their size, bytes.
-    pub shm_bytes: u64,
+    pub(crate) shm_bytes: u64,
 }
 
 /// `soak.json`.
@@ -95,25 +95,25 @@ pub struct SoakReport {
     /// Learning episodes completed.
     pub episodes: u64,
     /// Largest resident-memory growth of a process after warm-up, percent.
-    pub rss_growth_percent: f64,
+    pub(crate) rss_growth_percent: f64,
     /// The process it was.
     pub(crate) rss_growth_process: String,
     /// Largest growth of a process's open file descriptors after warm-up,
     /// counting a descriptor when two samples in a row find it open (a file
     /// held while it is written, as a checkpoint writer does, is no leak).
-    pub fd_growth: i64,
+    pub(crate) fd_growth: i64,
     /// Processes restarted.
     pub restarts: u32,
     /// Real time: commands that missed their cycle.
     pub missed_deadlines: u64,
     /// Every restarted agent resumed with the values checkpointed before it.
-    pub values_survived: bool,
+    pub(crate) values_survived: bool,
     /// Faults: injected ones with what happened, and those the supervisor handled.
     pub faults: Vec<FaultReport>,
     /// The run failed (a process the run could not do without was lost).
-    pub failure: Option<String>,
+    pub(crate) failure: Option<String>,
     /// Files of the runs' namespaces left after cleanup.
-    pub leftover_shm_files: usize,
+    pub(crate) leftover_shm_files: usize,
 }
 
 /// A fault in the soak's report.

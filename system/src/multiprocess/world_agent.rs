@@ -1,10 +1,10 @@
 //! An agent of a world in its own process: its plan, run by a
-//! [`StepwiseAgent`] with its learner, against the world's snapshots.
+//! [`StepwiseAgent`](learnpnp::agent::stepwise::StepwiseAgent) with its learner, against the world's snapshots.
 //!
 //! Before the first episode it reads the world's vocabulary and checks its
 //! plan against it (a plan naming an atom or action the world lacks is
-//! refused with both lists: exit code [`EXIT_PLAN_DOES_NOT_FIT`]). The agent
-//! runs the experiment's protocol itself ([`run_protocol`]): each episode the
+//! refused with both lists: exit code [`EXIT_PLAN_DOES_NOT_FIT`](crate::multiprocess::world_agent::EXIT_PLAN_DOES_NOT_FIT)). The agent
+//! runs the experiment's protocol itself ([`run_protocol`](learnpnp::experiment::runner::run_protocol)): each episode the
 //! world plays is the protocol's next one, learning or evaluated. Every whole
 //! episode is journaled, so that a restarted agent (values from its last
 //! checkpoint) resumes the protocol where the run is; the world discards the
@@ -118,7 +118,7 @@ impl std::fmt::Display for Misfit {
 
 /// Where each of the plan's atoms and actions is in the world's vocabulary.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Binding {
+pub(crate) struct Binding {
     /// World atom index of each plan atom.
     atoms: Vec<usize>,
     /// World action index of each plan action.
@@ -126,7 +126,7 @@ pub struct Binding {
 }
 
 /// Binds a plan's atoms and actions to the world's vocabulary, or says what is missing.
-pub fn bind(plan_atoms: &[String], plan_actions: &[String], world: &Vocabulary) -> Result<Binding, Box<Misfit>> {
+pub(crate) fn bind(plan_atoms: &[String], plan_actions: &[String], world: &Vocabulary) -> Result<Binding, Box<Misfit>> {
     let find = |names: &[String], within: &[String]| -> (Vec<usize>, Vec<String>) {
         let mut found = Vec::new();
         let mut missing = Vec::new();

@@ -1,7 +1,7 @@
 //! A world written in Rust, served as the world process of a run: the
 //! world's side of the protocol of `shm_layouts/README.md` ("A world in its
 //! own process"), the same the Python world kit (`learnpnp.world`) speaks.
-//! A [`ServedWorld`] says what holds and steps; [`serve`] does the rest:
+//! A [`ServedWorld`](crate::multiprocess::world_host::ServedWorld) says what holds and steps; [`serve`](crate::multiprocess::world_host::serve) does the rest:
 //! heartbeats, the vocabulary, waiting for the agents, snapshots and
 //! commands (lock-step, or real time on the world's own clock), the
 //! supervisor's orders, and refusing what does not read.

@@ -16,10 +16,10 @@
 //! Keepers are the left team `keepers`, takers the right team `takers`, as the
 //! keepaway framework names them. Where a plan-driven keeper decides, its
 //! current action and last choice are written as a message on the log board,
-//! `(msg T 2 "learnpnp keeper=1|action=...|...")` ([`KeeperNote`]); monitors
-//! list messages, [`GameLog::parse`] reads them back.
+//! `(msg T 2 "learnpnp keeper=1|action=...|...")` ([`KeeperNote`](crate::rcg::KeeperNote)); monitors
+//! list messages, [`GameLog::parse`](crate::rcg::GameLog::parse) reads them back.
 //!
-//! [`GameLogWriter`] writes one episode (`writer`); [`GameLog::parse`] reads text
+//! [`GameLogWriter`](crate::rcg::GameLogWriter) writes one episode (`writer`); [`GameLog::parse`](crate::rcg::GameLog::parse) reads text
 //! logs of versions 4 to 6, from this writer or from rcssserver (`parser`); the
 //! keepers' notes have their own codec (`note`).
 

@@ -21,7 +21,7 @@ pub struct PlayerFrame {
     /// Body direction (degrees).
     pub body: f64,
     /// Whether the player kicked in the last cycle.
-    pub kicking: bool,
+    pub(crate) kicking: bool,
 }
 
 /// One show: the ball and the players in the game at one cycle.
@@ -61,11 +61,11 @@ pub struct GameLog {
     /// The keepaway region (length, width) when the server ran in keepaway mode.
     pub keepaway: Option<[f64; 2]>,
     /// Seconds per cycle (`simulator_step`, 0.1 by default).
-    pub cycle_seconds: f64,
+    pub(crate) cycle_seconds: f64,
     /// Ball radius (m).
-    pub ball_size: f64,
+    pub(crate) ball_size: f64,
     /// Player radius (m).
-    pub player_size: f64,
+    pub(crate) player_size: f64,
     /// The left and right team names (empty when the log names none).
     pub teams: [String; 2],
     /// Every show, in log order.
@@ -85,7 +85,7 @@ pub struct RcgError {
     /// The offending token (cut to 60 characters).
     pub token: String,
     /// What was expected.
-    pub reason: String,
+    pub(crate) reason: String,
 }
 
 /// A game log file that cannot be read; the message starts with its path.

@@ -1,8 +1,8 @@
 //! The keepaway framework's skills, as pure functions of a
 //! [`PlayerView`](crate::view::PlayerView) and the configuration
 //! returning a [`Command`](crate::command::Command); passing and
-//! intercepting keep a small explicit memory ([`pass::PassState`],
-//! [`intercept::InterceptMemory`]).
+//! intercepting keep a small explicit memory ([`pass::PassState`](crate::skills::pass::PassState),
+//! [`intercept::InterceptMemory`](crate::skills::intercept::InterceptMemory)).
 //!
 //! The numbers follow the framework (Stone, Kuhlmann; built on UvA Trilearn's
 //! `BasicPlayer`), collected in [`crate::params::SkillParams`]; each skill
@@ -19,7 +19,7 @@ pub mod intercept;
 /// Ball-kicking skills.
 pub mod kick;
 /// Turning and moving.
-pub mod movement;
+pub(crate) mod movement;
 /// Passing.
 pub mod pass;
 /// The framework's world-model predictions.

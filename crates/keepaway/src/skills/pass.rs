@@ -37,9 +37,9 @@ pub fn teammates_by_distance(view: &PlayerView) -> [usize; 2] {
 pub struct PassState {
     /// The receiver's rank among the teammates by distance: 1 for the closest
     /// (Pass(1)), 2 for the second closest (Pass(2)).
-    pub rank: usize,
+    pub(crate) rank: usize,
     /// The cycle of the last kick of this pass.
-    pub last_cycle: u32,
+    pub(crate) last_cycle: u32,
 }
 
 impl PassState {
@@ -53,7 +53,7 @@ impl PassState {
     }
 
     /// The receiver this cycle: the teammate of the pass's rank.
-    pub fn receiver(&self, view: &PlayerView) -> usize {
+    pub(crate) fn receiver(&self, view: &PlayerView) -> usize {
         teammates_by_distance(view)[self.rank.clamp(1, 2) - 1]
     }
 

@@ -80,7 +80,7 @@ pub struct ViewConfig {
 
 impl ViewConfig {
     /// The recording of run `run`, if there is one.
-    pub fn recording(&self, run: usize) -> Option<PathBuf> {
+    pub(crate) fn recording(&self, run: usize) -> Option<PathBuf> {
         let file = self.record_mcap.as_ref()?;
         if run == 0 {
             return Some(file.clone());
@@ -109,12 +109,12 @@ pub struct Cluster {
 
 impl SupervisorConfig {
     /// The run's processes: Keepaway's, or a world's and its agents.
-    pub fn roster(&self) -> Roster {
+    pub(crate) fn roster(&self) -> Roster {
         Roster::of(&self.spec.domain)
     }
 
     /// Whether the agents publish their live feed (a view, or a world that reads it).
-    pub fn feeds(&self) -> bool {
+    pub(crate) fn feeds(&self) -> bool {
         self.view.is_some() || self.agents_feed
     }
 }

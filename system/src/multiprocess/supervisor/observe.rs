@@ -20,17 +20,17 @@ pub struct RunView<'a> {
     /// Its iceoryx2 namespace.
     pub namespace: &'a Namespace,
     /// Its working directory (checkpoints, logs, histograms).
-    pub work_dir: &'a Path,
+    pub(crate) work_dir: &'a Path,
     /// Its id (every message carries it).
     pub run_id: u64,
     /// The processes alive now, with their ids.
-    pub processes: Vec<(Role, u32)>,
+    pub(crate) processes: Vec<(Role, u32)>,
     /// The last heartbeat of each process alive now.
-    pub pulses: Vec<Pulse>,
+    pub(crate) pulses: Vec<Pulse>,
     /// The current host's (simulator's or world's) last heartbeat.
     pub simulator: Option<&'a Pulse>,
     /// The run's processes.
-    pub roster: Roster,
+    pub(crate) roster: Roster,
 }
 
 /// What an observer asks of the supervisor.

@@ -35,9 +35,9 @@ pub struct ResumeCheck {
     pub pid: u32,
     /// What it should have loaded: "checkpoint", or "previous checkpoint" when
     /// the last one was unusable.
-    pub source: String,
+    pub(crate) source: String,
     /// It loaded exactly those values.
-    pub survived: bool,
+    pub(crate) survived: bool,
 }
 
 /// What one run of the system produced.
@@ -49,29 +49,29 @@ pub struct RunRecord {
     pub sim: SimulatorResult,
     /// Why the run did not complete normally (a process the run cannot do
     /// without died, or could not be restarted).
-    pub failure: Option<String>,
+    pub(crate) failure: Option<String>,
     /// Faults and restarts, in order.
-    pub faults: Vec<Fault>,
+    pub(crate) faults: Vec<Fault>,
     /// Processes restarted (agents and, in chaos soaks, the simulator).
     pub restarts: u32,
     /// For each agent restart: did it resume with the checkpointed values?
-    pub resumes: Vec<ResumeCheck>,
+    pub(crate) resumes: Vec<ResumeCheck>,
     /// The run's histograms: round trip, floor, and each keeper's compute time.
-    pub histograms: Vec<Latency>,
+    pub(crate) histograms: Vec<Latency>,
     /// Messages refused, by process (the simulator and each keeper, all incarnations).
     pub rejected: BTreeMap<String, Rejections>,
     /// Checkpoint writes that failed, over every agent.
-    pub checkpoint_failures: u64,
+    pub(crate) checkpoint_failures: u64,
     /// The learning keepers' final values (their last checkpoints).
     pub values: Vec<SavedValues>,
     /// Wall-clock seconds of the run.
     pub seconds: f64,
     /// Files of the run's namespace left after cleanup (0 unless cleanup failed).
-    pub leftover_files: usize,
+    pub(crate) leftover_files: usize,
     /// The run's iceoryx2 prefix.
     pub prefix: String,
     /// How the simulator and the agents were scheduled.
-    pub scheduling: String,
+    pub(crate) scheduling: String,
     /// A run across hosts: what this host's bridge carried and refused.
     pub link: Option<LinkReport>,
     /// A run with a view: what it read of the agents' feeds, refused and lost.

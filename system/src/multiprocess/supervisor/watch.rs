@@ -80,9 +80,9 @@ pub struct Fault {
     /// Seconds since the run's processes started.
     pub seconds: f64,
     /// What happened (e.g. "keeper 2 exited: signal 9 (SIGKILL)").
-    pub kind: String,
+    pub(crate) kind: String,
     /// What the supervisor did, and with what result.
-    pub outcome: String,
+    pub(crate) outcome: String,
 }
 
 /// The checkpoint a replacement agent is to resume from, as it was when the
