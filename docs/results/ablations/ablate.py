@@ -279,13 +279,20 @@ def curve_sweep(learnpnp, out, rows):
     print("| setting | final score | 95% CI over runs | greedy policy's score |")
     print("|---|---|---|---|")
     for label, flags in rows:
-        d = run(learnpnp, flags, os.path.join(out, slug(label)))
-        s = json.load(open(os.path.join(d, "summary.json")))
-        lo, hi = s["final_ci95"]
-        g = s["final_greedy_mean"]
-        gtext = "not measured" if g is None else f"{g:.3f}"
-        print(f"| {label} | {s['final_mean']:.3f} | {lo:.3f} .. {hi:.3f} | {gtext} |")
+        _, cells = run_row(learnpnp, out, label, flags)
+        print(f"| {label} | {cells} |")
         sys.stdout.flush()
+
+
+def run_row(learnpnp, out, label, flags):
+    """Runs one setting; its result directory and its table cells: final
+    score, 95% CI over runs, the greedy policy's score."""
+    d = run(learnpnp, flags, os.path.join(out, slug(label)))
+    s = json.load(open(os.path.join(d, "summary.json")))
+    lo, hi = s["final_ci95"]
+    g = s["final_greedy_mean"]
+    gtext = "not measured" if g is None else f"{g:.3f}"
+    return d, f"{s['final_mean']:.3f} | {lo:.3f} .. {hi:.3f} | {gtext}"
 
 
 def run_scores(curve_dir):
@@ -321,15 +328,11 @@ def levels_sweep(learnpnp, out, rows):
     print(f"| setting | final score | 95% CI over runs | greedy policy's score | {heads} |")
     print("|---|---|---|---|" + "---|" * len(LEVELS_7_3))
     for label, flags in rows:
-        d = run(learnpnp, flags, os.path.join(out, slug(label)))
-        s = json.load(open(os.path.join(d, "summary.json")))
-        lo, hi = s["final_ci95"]
-        g = s["final_greedy_mean"]
-        gtext = "not measured" if g is None else f"{g:.3f}"
+        d, cells = run_row(learnpnp, out, label, flags)
         with open(os.path.join(d, "curve.csv")) as f:
             curve = {int(r["episode"]): float(r["mean"]) for r in csv.DictReader(f)}
         levels = " | ".join(f"{curve[n]:.2f}" if n in curve else "-" for n in LEVELS_7_3)
-        print(f"| {label} | {s['final_mean']:.3f} | {lo:.3f} .. {hi:.3f} | {gtext} | {levels} |")
+        print(f"| {label} | {cells} | {levels} |")
         sys.stdout.flush()
         other = os.path.join(os.path.dirname(out), "7.3-sarsa", slug(label))
         if os.path.basename(out) != "7.3-sarsa" and os.path.exists(os.path.join(other, "summary.json")):
