@@ -670,22 +670,17 @@ fn a_recording_replays_at_the_time_asked_and_where_the_slider_is_moved() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// One Soft-SoSMC run of Keepaway's pass decisions, the runs these tests watch.
+const ONE_PASS_RUN: [&str; 6] = ["experiment", "keepaway-pass", "--algo", "soft-sosmc", "--runs", "1"];
+
 #[test]
 fn a_run_recorded_by_learnpnp_experiment_replays() {
     let Some(browser) = browser() else { return };
     let dir = scratch("recorded");
     let file = dir.join("run.mcap");
     let out = Command::new(env!("CARGO_BIN_EXE_learnpnp"))
-        .args([
-            "experiment",
-            "keepaway-pass",
-            "--algo",
-            "soft-sosmc",
-            "--runs",
-            "1",
-            "--episodes",
-            "30",
-        ])
+        .args(ONE_PASS_RUN)
+        .args(["--episodes", "30"])
         .args(["--eval-every", "10", "--eval-episodes", "1", "--threads", "1", "--out"])
         .arg(dir.join("out"))
         .arg("--record-mcap")
@@ -762,24 +757,24 @@ fn a_live_run_is_drawn_as_it_learns() {
     let Some(browser) = browser() else { return };
     let dir = scratch("live");
     let out = dir.join("out");
-    let run = Run::start(&[
-        "experiment",
-        "keepaway-pass",
-        "--algo",
-        "soft-sosmc",
-        "--runs",
-        "1",
-        "--episodes",
-        "100000",
-        "--eval-every",
-        "20",
-        "--eval-episodes",
-        "1",
-        "--threads",
-        "1",
-        "--out",
-        out.to_str().expect("a path"),
-    ]);
+    let run = Run::start(
+        &[
+            &ONE_PASS_RUN[..],
+            &[
+                "--episodes",
+                "100000",
+                "--eval-every",
+                "20",
+                "--eval-episodes",
+                "1",
+                "--threads",
+                "1",
+                "--out",
+                out.to_str().expect("a path"),
+            ],
+        ]
+        .concat(),
+    );
     let mut page = Browser::launch(&browser, &dir.join("profile"));
     page.open(&format!("http://{}/", run.address));
     let grown = |s: &Value| number(s, "markings") > 0 && number(s, "curvePoints") > 0 && s["marked"] != "";
