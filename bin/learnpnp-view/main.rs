@@ -85,6 +85,9 @@ impl FeedSink for Sinks {
 }
 
 fn run(args: Args) -> Result<()> {
+    // Off the learners' path: this thread and every thread started from it
+    // (the feed's reader, the server's) wake without preempting a learner.
+    learnpnp_view::run_in_background();
     let interrupt = Interrupt::install().context("installing the signal handlers")?;
     let context = RunContext::from(args.context);
     let mut sinks: Vec<Arc<dyn FeedSink>> = Vec::new();

@@ -1,8 +1,13 @@
-"""A minimal Foxglove WebSocket client (stdlib only): subscribes to every
-channel and reads until the server closes. Prints the messages received."""
+"""A minimal Foxglove WebSocket client (stdlib only): subscribes to the
+channels named after HOST PORT (every channel when none is named) and reads
+until the server closes. Prints the messages received.
+
+    python3 foxglove_client.py HOST PORT [TOPIC ...]
+"""
 import base64, json, os, socket, struct, sys, time
 
 host, port = sys.argv[1], int(sys.argv[2])
+topics = set(sys.argv[3:])
 deadline = time.time() + 30
 while True:
     try:
@@ -58,13 +63,14 @@ def send_text(text):
     hdr = bytes([0x81]) + (bytes([0x80 | len(data)]) if len(data) < 126 else bytes([0x80 | 126]) + struct.pack(">H", len(data)))
     s.sendall(hdr + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(data)))
 
-ids = []
-while len(ids) < 8:
+advertised, ids = 0, []
+while advertised < 8:
     op, data = frame()
     if op == 1:
         msg = json.loads(data)
         if msg.get("op") == "advertise":
-            ids += [c["id"] for c in msg["channels"]]
+            advertised += len(msg["channels"])
+            ids += [c["id"] for c in msg["channels"] if not topics or c["topic"] in topics]
 send_text(json.dumps({"op": "subscribe", "subscriptions": [{"id": i, "channelId": i} for i in ids]}))
 print("subscribed", flush=True)
 count = 0

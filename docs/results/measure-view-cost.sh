@@ -1,37 +1,54 @@
 #!/bin/bash
 # The live view's cost on the main job (issue 40): `learnpnp-supervisor` on its
-# defaults without a view, then with `--view` and a Foxglove client
-# (foxglove_client.py, stdlib only) subscribed to every channel, alternating,
-# ROUNDS rounds. Prints, per run: the load before it (uptime), the run's
-# cycles/s, its wall time and the CPU its processes used (user+system, the
-# supervisor and every child it waited for: simulator, keepers, view), the
-# client's messages and CPU; then the medians, the ratio of the medians and
-# whether every run's episodes.csv is byte-identical.
-# ARGS are passed to every run (none: the main job's defaults).
-#   BIN=target/release ROUNDS=3 bash docs/results/measure-view-cost.sh
-#   ARGS="--episodes 2000" bash docs/results/measure-view-cost.sh   # shorter, on a busy machine
+# defaults without a view and with one, alternating, ROUNDS rounds. MODES
+# picks the runs of a round (default "none page"):
+#   none    no view;
+#   served  `--view`, no client connected (the agents' feed and the view
+#           process alone);
+#   page    `--view` and a Foxglove client (foxglove_client.py, stdlib only)
+#           subscribed to the channels the page subscribes to (the `TOPIC`
+#           table of crates/view/page/app.js): the page open;
+#   all     `--view` and the same client subscribed to every channel (a
+#           Foxglove app showing everything).
+# Prints, per run: the load before it, the run's cycles/s, its wall time and
+# the CPU its processes used (user+system, the supervisor and every child it
+# waited for: simulator, keepers, view), the client's messages and CPU; then
+# each mode's median against no view's, and whether every run's
+# episodes.csv is byte-identical. ARGS are passed to every run (none: the
+# main job's defaults).
+#   BIN=target/release ROUNDS=5 bash docs/results/measure-view-cost.sh
+#   ARGS="--episodes 3000" MODES="none served page all" bash docs/results/measure-view-cost.sh
 set -u
 BIN=${BIN:-target/release}
 OUT=${OUT:-/tmp/viewcost}
-ROUNDS=${ROUNDS:-3}
+ROUNDS=${ROUNDS:-5}
 ARGS=${ARGS:-}
+MODES=${MODES:-none page}
 HERE=$(dirname "$0")
+PAGE_TOPICS=$(sed -n '/^const TOPIC = {/,/^};/p' "$HERE/../../crates/view/page/app.js" | grep -o '"/learnpnp/[a-z]*"' | tr -d '"')
 rm -rf "$OUT"; mkdir -p "$OUT"
 echo "commit $(git -C "$HERE" rev-parse --short HEAD 2>/dev/null)$(git -C "$HERE" diff --quiet 2>/dev/null || echo +changes), binaries $BIN, $(nproc) cores, $(date -u +%FT%TZ), args: ${ARGS:-(defaults)}"
-printf '%-5s %-5s %-18s %10s %8s %8s %9s %10s\n' mode round load-before cycles/s wall_s cpu_s messages client_cpu_s
+echo "the page's channels: $(echo $PAGE_TOPICS)"
+printf '%-6s %-5s %-16s %10s %8s %8s %9s %10s\n' mode round load-before cycles/s wall_s cpu_s messages client_cpu_s
 for round in $(seq 1 "$ROUNDS"); do
-  for mode in none view; do
+  for mode in $MODES; do
     dir=$OUT/$mode-$round
     load=$(cut -d' ' -f1-3 /proc/loadavg)
-    if [ $mode = view ]; then
-      port=$((18800 + round))
-      python3 "$HERE/foxglove_client.py" 127.0.0.1 $port > "$dir.client" 2>&1 &
-      client=$!
-      /usr/bin/time -f '%e %U %S' -o "$dir.time" "$BIN/learnpnp-supervisor" --out "$dir" $ARGS --view=127.0.0.1:$port > "$dir.log" 2>&1
-      wait $client
-    else
-      /usr/bin/time -f '%e %U %S' -o "$dir.time" "$BIN/learnpnp-supervisor" --out "$dir" $ARGS > "$dir.log" 2>&1
-    fi
+    run=("$BIN/learnpnp-supervisor" --out "$dir" $ARGS)
+    client=
+    case $mode in
+      none) ;;
+      served) run+=(--view=127.0.0.1:0) ;;
+      page | all)
+        port=$((18800 + round))
+        run+=(--view=127.0.0.1:$port)
+        topics=; [ $mode = page ] && topics=$PAGE_TOPICS
+        python3 "$HERE/foxglove_client.py" 127.0.0.1 $port $topics > "$dir.client" 2>&1 &
+        client=$! ;;
+      *) echo "unknown mode $mode" >&2; exit 2 ;;
+    esac
+    /usr/bin/time -f '%e %U %S' -o "$dir.time" "${run[@]}" > "$dir.log" 2>&1
+    [ -n "$client" ] && wait $client
     cycles=$(grep -o '[0-9,.]* cycles/s' "$dir.log" | head -1 | cut -d' ' -f1 | tr -d ,)
     read -r wall user sys < <(tail -1 "$dir.time")
     cpu=$(echo "$user + $sys" | bc)
@@ -40,15 +57,19 @@ for round in $(seq 1 "$ROUNDS"); do
       messages=$(grep -o 'messages [0-9]*' "$dir.client" | cut -d' ' -f2)
       client_cpu=$(grep -o 'client_cpu_s [0-9.]*' "$dir.client" | cut -d' ' -f2)
     fi
-    printf '%-5s %-5s %-18s %10s %8s %8s %9s %10s\n' $mode "$round" "$load" "${cycles:-?}" "$wall" "$cpu" "${messages:-?}" "${client_cpu:-?}"
+    printf '%-6s %-5s %-16s %10s %8s %8s %9s %10s\n' $mode "$round" "$load" "${cycles:-?}" "$wall" "$cpu" "${messages:-?}" "${client_cpu:-?}"
     echo "$mode $cycles" >> "$OUT/cycles"
   done
 done
 median() { grep "^$1 " "$OUT/cycles" | cut -d' ' -f2 | sort -n | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
-none=$(median none); view=$(median view)
-echo "median cycles/s: no view $none, view and client $view; ratio $(echo "scale=4; $view / $none" | bc) (bound: >= 0.97)"
+none=$(median none)
+for mode in $MODES; do
+  [ $mode = none ] && continue
+  m=$(median $mode)
+  echo "median cycles/s: no view $none, $mode $m; ratio $(echo "scale=4; $m / $none" | bc) (bound: >= 0.97)"
+done
 if [ "$(md5sum "$OUT"/*/episodes.csv | cut -d' ' -f1 | sort -u | wc -l)" = 1 ]; then
-  echo "episodes.csv: byte-identical in all $((2 * ROUNDS)) runs"
+  echo "episodes.csv: byte-identical in all $(ls "$OUT"/*/episodes.csv | wc -l) runs"
 else
   echo "episodes.csv: DIFFERS between runs"; md5sum "$OUT"/*/episodes.csv
 fi

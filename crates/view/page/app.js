@@ -5,11 +5,12 @@
 // file. The same `apply` and `render` serve both.
 "use strict";
 
+// The channels the page draws, and so subscribes to (the feed's
+// /learnpnp/reward is not drawn: an episode's return comes with its end).
 const TOPIC = {
   plan: "/learnpnp/plan",
   marking: "/learnpnp/marking",
   choice: "/learnpnp/choice",
-  reward: "/learnpnp/reward",
   episode: "/learnpnp/episode",
   curve: "/learnpnp/curve",
   health: "/learnpnp/health",
@@ -93,9 +94,6 @@ function apply(topic, r) {
       if (a.key === selected) dirty.marking = true;
       break;
     }
-    case TOPIC.reward:
-      agentOf(r.source);
-      break;
     case TOPIC.episode: {
       const a = agentOf(r.source);
       if (!r.evaluation) a.returns.push({ episode: r.episode, value: r.episode_return });

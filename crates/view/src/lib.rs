@@ -5,9 +5,11 @@
 //! [`View::start`] starts what [`ViewOptions`] asks for; the view is a
 //! [`FeedSink`]: publish records to it from any thread (a
 //! `WatchedLearner` of the `learnpnp` crate does so for a learner). Publishing
-//! never blocks: a record goes into a bounded queue (dropped and counted when
-//! it is full), and one thread of the view encodes each record as JSON and
-//! logs it on its channel.
+//! never blocks and never wakes a thread: a record goes into a bounded queue
+//! (dropped and counted when it is full), and one thread of the view, waking
+//! every [`TICK`], encodes what has been queued as JSON and logs each record
+//! on its channel. The view's threads run as background threads
+//! ([`run_in_background`]): waking, they do not preempt a learner.
 //!
 //! - **WebSocket and page**: the Foxglove SDK's server (`foxglove` crate)
 //!   listens on an ephemeral loopback port; the view's own address (loopback,
@@ -41,8 +43,9 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, PoisonError};
 use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
 
-use crossbeam::channel::{Receiver, Sender, TrySendError};
+use crossbeam::channel::{Receiver, Sender, TryRecvError, TrySendError};
 use foxglove::websocket::{ChannelView, Client, ServerListener};
 use foxglove::{ChannelBuilder, Context, McapWriteOptions, McapWriter, McapWriterHandle, RawChannel, Schema, SinkId};
 use learnpnp_feed::{CHANNELS, FeedEvent, FeedSink, MarkingSample, PlanShape, Source};
@@ -68,7 +71,12 @@ const MONITORED: Source = Source { run: 0, agent: 0 };
 const CLIENT_BACKLOG: usize = 65_536;
 
 /// How long a closing view lets its clients receive its last records.
-const CLOSE_GRACE: std::time::Duration = std::time::Duration::from_millis(200);
+const CLOSE_GRACE: Duration = Duration::from_millis(200);
+
+/// How often the view's thread logs what has been published since it last
+/// woke (so a client is sent bursts, at most this much late, rather than a
+/// write per record).
+pub const TICK: Duration = Duration::from_millis(20);
 
 /// The most curve points kept for clients that connect mid-run.
 const CURVE_KEPT: usize = 100_000;
@@ -81,6 +89,20 @@ pub const fn default_address() -> SocketAddr {
 /// PNP's monitor line's default address: loopback, [`PNP_MONITOR_PORT`].
 pub const fn default_pnp_monitor_address() -> SocketAddr {
     SocketAddr::new(IpAddr::V4(Ipv4Addr::LOCALHOST), PNP_MONITOR_PORT)
+}
+
+/// Makes the calling thread a background thread: on Linux it is scheduled
+/// as `SCHED_BATCH`, so that waking it does not preempt a running thread (a
+/// learner's); it still gets its fair share of the CPU. The view's own threads
+/// call it; a process that only serves a view calls it before starting one.
+pub fn run_in_background() {
+    #[cfg(target_os = "linux")]
+    {
+        let param = libc::sched_param { sched_priority: 0 };
+        // SAFETY: `param` is a valid `sched_param` that outlives the call;
+        // pid 0 is the calling thread. A refusal leaves the thread as it was.
+        let _ = unsafe { libc::sched_setscheduler(0, libc::SCHED_BATCH, &param) };
+    }
 }
 
 /// What a view serves and writes; each part is off when `None`.
@@ -218,6 +240,7 @@ impl View {
         let runtime = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(1)
             .thread_name("learnpnp-view")
+            .on_thread_start(run_in_background)
             .enable_all()
             .build()
             .map_err(io_error("starting the view's runtime"))?;
@@ -435,22 +458,25 @@ impl Worker {
         resends: &Receiver<Resend>,
         recording: Option<Recording>,
     ) -> Result<Counts, ViewError> {
-        loop {
-            crossbeam::channel::select! {
-                recv(resends) -> resend => {
-                    if let Ok((kind, sink)) = resend {
-                        self.resend(kind, sink);
-                    }
-                }
-                recv(queue) -> command => match command {
+        run_in_background();
+        let mut next = Instant::now();
+        'ticks: loop {
+            next += TICK;
+            std::thread::sleep(next.saturating_duration_since(Instant::now()));
+            for (kind, sink) in resends.try_iter() {
+                self.resend(kind, sink);
+            }
+            loop {
+                match queue.try_recv() {
                     Ok(Command::Publish(event)) => {
                         if let Ok(json) = event.payload_json() {
                             self.log(event.kind(), json);
                         }
                     }
                     Ok(Command::Payload(kind, json)) => self.log(kind, json),
-                    Ok(Command::Close) | Err(_) => break,
-                },
+                    Ok(Command::Close) | Err(TryRecvError::Disconnected) => break 'ticks,
+                    Err(TryRecvError::Empty) => break,
+                }
             }
         }
         for channel in &self.channels {
