@@ -63,8 +63,9 @@ def send_text(text):
     hdr = bytes([0x81]) + (bytes([0x80 | len(data)]) if len(data) < 126 else bytes([0x80 | 126]) + struct.pack(">H", len(data)))
     s.sendall(hdr + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(data)))
 
+# The feed's eight channels and the page's bundle.
 advertised, ids = 0, []
-while advertised < 8:
+while advertised < 9:
     op, data = frame()
     if op == 1:
         msg = json.loads(data)

@@ -6,8 +6,8 @@
 #   served  `--view`, no client connected (the agents' feed and the view
 #           process alone);
 #   page    `--view` and a Foxglove client (foxglove_client.py, stdlib only)
-#           subscribed to the channels the page subscribes to (the `TOPIC`
-#           table of crates/view/page/app.js): the page open;
+#           subscribed to the channels the page subscribes to live
+#           (`LIVE_TOPICS` in crates/view/page/app.js): the page open;
 #   all     `--view` and the same client subscribed to every channel (a
 #           Foxglove app showing everything).
 # Prints, per run: the load before it, the run's cycles/s, its wall time and
@@ -25,7 +25,7 @@ ROUNDS=${ROUNDS:-5}
 ARGS=${ARGS:-}
 MODES=${MODES:-none page}
 HERE=$(dirname "$0")
-PAGE_TOPICS=$(sed -n '/^const TOPIC = {/,/^};/p' "$HERE/../../crates/view/page/app.js" | grep -o '"/learnpnp/[a-z]*"' | tr -d '"')
+PAGE_TOPICS=$(grep -E '^const (LIVE_TOPICS|BUNDLE) ' "$HERE/../../crates/view/page/app.js" | grep -o '"/learnpnp/[a-z]*"' | tr -d '"' | sort -u)
 rm -rf "$OUT"; mkdir -p "$OUT"
 echo "commit $(git -C "$HERE" rev-parse --short HEAD 2>/dev/null)$(git -C "$HERE" diff --quiet 2>/dev/null || echo +changes), binaries $BIN, $(nproc) cores, $(date -u +%FT%TZ), args: ${ARGS:-(defaults)}"
 echo "the page's channels: $(echo $PAGE_TOPICS)"

@@ -5,8 +5,8 @@
 // file. The same `apply` and `render` serve both.
 "use strict";
 
-// The channels the page draws, and so subscribes to (the feed's
-// /learnpnp/reward is not drawn: an episode's return comes with its end).
+// The channels the page draws (the feed's /learnpnp/reward is not drawn: an
+// episode's return comes with its end). Replaying, it reads them from the file.
 const TOPIC = {
   plan: "/learnpnp/plan",
   marking: "/learnpnp/marking",
@@ -17,6 +17,10 @@ const TOPIC = {
   latency: "/learnpnp/latency",
 };
 const TOPICS = new Set(Object.values(TOPIC));
+// Live, the markings, choices and episode ends come in the server's bundle
+// (crates/view: BUNDLE_CHANNEL), one message a tick; the rest on their own.
+const BUNDLE = "/learnpnp/bundle";
+const LIVE_TOPICS = new Set(["/learnpnp/plan", "/learnpnp/curve", "/learnpnp/health", "/learnpnp/latency", BUNDLE]);
 const SVG = "http://www.w3.org/2000/svg";
 const RETURN_WINDOW = 10; // episodes in the moving average of returns
 const CURVE_REDRAW_MS = 250; // the chart is redrawn at most four times a second
@@ -575,7 +579,7 @@ function connect() {
       if (msg.op === "advertise") {
         const subscriptions = [];
         for (const ch of msg.channels) {
-          if (!TOPICS.has(ch.topic) || subscribed.has(ch.id)) continue;
+          if (!LIVE_TOPICS.has(ch.topic) || subscribed.has(ch.id)) continue;
           const id = next++;
           topics.set(id, ch.topic);
           subscribed.set(ch.id, id);
@@ -596,7 +600,9 @@ function connect() {
     const topic = topics.get(view.getUint32(1, true));
     if (!topic) return;
     try {
-      apply(topic, JSON.parse(new TextDecoder().decode(new Uint8Array(event.data, 13))));
+      const record = JSON.parse(new TextDecoder().decode(new Uint8Array(event.data, 13)));
+      if (topic !== BUNDLE) apply(topic, record);
+      else for (const r of record.records) if (TOPICS.has(r.topic)) apply(r.topic, r.record);
     } catch (e) {
       console.warn(`a record on ${topic} could not be read: ${e}`);
     }

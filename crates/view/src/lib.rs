@@ -24,6 +24,11 @@
 //!   kind it is; [`FeedEvent::from_payload`] reads it back). A client that
 //!   subscribes to `/learnpnp/plan` or `/learnpnp/curve` is sent the plans and
 //!   the curve published so far, so a page opened mid-run can draw them.
+//! - **The page's bundle**: [`BUNDLE_CHANNEL`] carries, once a [`TICK`], the
+//!   records of the channels that move at the run's pace (markings, choices,
+//!   episodes) in one message, so that a client following the run (the page)
+//!   is sent tens of messages a second rather than one per record. It is
+//!   built only while a client subscribes to it, and not recorded.
 //! - **MCAP**: the same channels, written by the SDK's writer to `FILE.part`
 //!   and renamed to `FILE` when the view closes (so a file under the final
 //!   name is complete). Chunks are not compressed, so that the page's small
@@ -61,7 +66,18 @@ pub const DEFAULT_QUEUE: usize = 8192;
 /// The kinds of record the view reads (their indexes in [`CHANNELS`]).
 const PLAN: usize = 0;
 const MARKING: usize = 1;
+const CHOICE: usize = 2;
+const EPISODE: usize = 4;
 const CURVE: usize = 5;
+
+/// The page's channel: each message holds, in the order they were published,
+/// the markings, choices and episode ends one [`TICK`] gathered, as
+/// `{"records":[{"topic":CHANNEL,"record":RECORD},...]}` (each `RECORD` what
+/// its channel carries).
+pub const BUNDLE_CHANNEL: &str = "/learnpnp/bundle";
+
+/// The JSON schema of a [`BUNDLE_CHANNEL`] message.
+const BUNDLE_SCHEMA: &str = r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"Bundle","type":"object","required":["records"],"properties":{"records":{"type":"array","items":{"type":"object","required":["topic","record"],"properties":{"topic":{"type":"string"},"record":{"type":"object"}}}}}}"#;
 
 /// The agent whose markings PNP's monitor line follows (a PNP observer watches one plan).
 const MONITORED: Source = Source { run: 0, agent: 0 };
@@ -257,6 +273,12 @@ impl View {
                     .map_err(fox_error(format!("creating channel {topic}")))
             })
             .collect::<Result<Vec<_>, _>>()?;
+        let bundle = ChannelBuilder::new(BUNDLE_CHANNEL)
+            .context(&context)
+            .message_encoding("json")
+            .schema(Schema::new("Bundle", "jsonschema", BUNDLE_SCHEMA.as_bytes().to_vec()))
+            .build_raw()
+            .map_err(fox_error(format!("creating channel {BUNDLE_CHANNEL}")))?;
         let (commands, queue) = crossbeam::channel::bounded(options.queue.max(1));
         let (resends, resend_queue) = crossbeam::channel::unbounded();
         let mut view = View {
@@ -311,6 +333,7 @@ impl View {
         };
         let worker = Worker {
             channels,
+            bundle: Bundle::new(bundle),
             plans: HashMap::new(),
             curve: Vec::new(),
             clients,
@@ -416,6 +439,7 @@ impl Recording {
         let out = std::fs::File::create(&part).map_err(io_error(format!("creating {}", part.display())))?;
         let handle = McapWriter::with_options(McapWriteOptions::new().compression(None))
             .context(context)
+            .channel_filter_fn(|channel| channel.topic() != BUNDLE_CHANNEL)
             .create(BufWriter::new(out))
             .map_err(fox_error(format!("starting the MCAP recording {}", part.display())))?;
         Ok(Recording {
@@ -441,6 +465,7 @@ impl Recording {
 /// The view's thread: encodes and logs records, keeps what late clients are sent.
 struct Worker {
     channels: Vec<Arc<RawChannel>>,
+    bundle: Bundle,
     /// The latest plan of each agent, as JSON, and its monitor line's format.
     plans: HashMap<Source, (Vec<u8>, pnp_monitor::LineFormat)>,
     /// The curve so far, as JSON.
@@ -478,7 +503,10 @@ impl Worker {
                     Err(TryRecvError::Empty) => break,
                 }
             }
+            self.bundle.send();
         }
+        self.bundle.send();
+        self.bundle.channel.close();
         for channel in &self.channels {
             channel.close();
         }
@@ -506,6 +534,9 @@ impl Worker {
     fn log(&mut self, kind: usize, json: Vec<u8>) {
         self.channels[kind].log(&json);
         self.counts.0[kind] += 1;
+        if matches!(kind, MARKING | CHOICE | EPISODE) {
+            self.bundle.add(CHANNELS[kind], &json);
+        }
         match kind {
             PLAN => {
                 if let Ok(shape) = serde_json::from_slice::<PlanShape>(&json) {
@@ -535,5 +566,52 @@ impl Worker {
     fn keep_plan(&mut self, shape: &PlanShape, json: Vec<u8>) {
         self.plans
             .insert(shape.source.clone(), (json, pnp_monitor::LineFormat::new(shape)));
+    }
+}
+
+/// The [`BUNDLE_CHANNEL`] message being gathered over one tick.
+struct Bundle {
+    channel: Arc<RawChannel>,
+    /// `{"records":[` and the records added so far, comma-separated.
+    json: Vec<u8>,
+    records: usize,
+}
+
+impl Bundle {
+    const OPEN: &'static [u8] = br#"{"records":["#;
+
+    fn new(channel: Arc<RawChannel>) -> Bundle {
+        Bundle {
+            channel,
+            json: Self::OPEN.to_vec(),
+            records: 0,
+        }
+    }
+
+    /// Adds a record (`json`, what channel `topic` carries), while a client subscribes.
+    fn add(&mut self, topic: &str, json: &[u8]) {
+        if !self.channel.has_sinks() {
+            return;
+        }
+        if self.records > 0 {
+            self.json.push(b',');
+        }
+        self.json.extend_from_slice(br#"{"topic":""#);
+        self.json.extend_from_slice(topic.as_bytes());
+        self.json.extend_from_slice(br#"","record":"#);
+        self.json.extend_from_slice(json);
+        self.json.push(b'}');
+        self.records += 1;
+    }
+
+    /// Logs what was gathered, if anything, and starts the next message.
+    fn send(&mut self) {
+        if self.records == 0 {
+            return;
+        }
+        self.json.extend_from_slice(b"]}");
+        self.channel.log(&self.json);
+        self.json.truncate(Self::OPEN.len());
+        self.records = 0;
     }
 }

@@ -12,7 +12,7 @@ use learnpnp::experiment::options::{DomainName, ExperimentOptions};
 use learnpnp::experiment::runner::{Completed, RunOptions, run_experiment};
 use learnpnp::experiment::spec::{Algorithm, ExperimentSpec};
 use learnpnp::feed::{CHANNELS, CurvePoint, FeedEvent, FeedSink};
-use learnpnp_view::{View, ViewOptions};
+use learnpnp_view::{BUNDLE_CHANNEL, View, ViewOptions};
 use tokio_tungstenite::tungstenite::Message;
 use tokio_tungstenite::tungstenite::client::IntoClientRequest;
 
@@ -138,11 +138,12 @@ fn a_client_of_the_foxglove_protocol_sees_markings_and_choices_with_the_plans_la
             "/learnpnp/plan",
             "/learnpnp/marking",
             "/learnpnp/choice",
+            "/learnpnp/episode",
             "/learnpnp/curve",
         ];
         let subscriptions: Vec<serde_json::Value> = topics
             .iter()
-            .filter(|(_, topic)| wanted.contains(&topic.as_str()))
+            .filter(|(_, topic)| wanted.contains(&topic.as_str()) || *topic == BUNDLE_CHANNEL)
             .map(|(id, _)| serde_json::json!({ "id": id, "channelId": id }))
             .collect();
         let subscribe = serde_json::json!({ "op": "subscribe", "subscriptions": subscriptions });
@@ -177,6 +178,7 @@ fn a_client_of_the_foxglove_protocol_sees_markings_and_choices_with_the_plans_la
             std::thread::spawn(move || run_watched(&spec, &view))
         };
         let mut received: Vec<FeedEvent> = Vec::new();
+        let mut bundled: Vec<FeedEvent> = Vec::new();
         let deadline = Instant::now() + Duration::from_secs(60);
         let kinds = |received: &[FeedEvent]| received.iter().map(FeedEvent::kind).collect::<HashSet<_>>();
         // Until every kind has come and a choice shows values learned.
@@ -185,7 +187,9 @@ fn a_client_of_the_foxglove_protocol_sees_markings_and_choices_with_the_plans_la
                 .iter()
                 .any(|e| matches!(e, FeedEvent::Choice(c) if c.options.iter().any(|o| o.updates > 0)))
         };
-        while (kinds(&received).len() < wanted.len() || !learned(&received)) && Instant::now() < deadline {
+        while (kinds(&received).len() < wanted.len() || !learned(&received) || bundled.is_empty())
+            && Instant::now() < deadline
+        {
             let Ok(Some(Ok(message))) = tokio::time::timeout(Duration::from_secs(5), socket.next()).await else {
                 continue;
             };
@@ -193,6 +197,15 @@ fn a_client_of_the_foxglove_protocol_sees_markings_and_choices_with_the_plans_la
                 assert_eq!(data[0], 1, "message data");
                 let subscription = u32::from_le_bytes(data[1..5].try_into().expect("4 bytes"));
                 let topic = &topics[&u64::from(subscription)];
+                if topic == BUNDLE_CHANNEL {
+                    let bundle: serde_json::Value = serde_json::from_slice(&data[13..]).expect("JSON");
+                    for entry in bundle["records"].as_array().expect("records") {
+                        let record = serde_json::to_vec(&entry["record"]).expect("JSON");
+                        let topic = entry["topic"].as_str().expect("a topic");
+                        bundled.push(FeedEvent::from_payload(topic, &record).expect("a record of the feed"));
+                    }
+                    continue;
+                }
                 let event = FeedEvent::from_payload(topic, &data[13..]).expect("a record of the feed");
                 if !matches!(&event, FeedEvent::Curve(c) if c.run == MARKER_RUN) {
                     received.push(event);
@@ -200,6 +213,14 @@ fn a_client_of_the_foxglove_protocol_sees_markings_and_choices_with_the_plans_la
             }
         }
         runner.join().expect("the run ends");
+        // The bundles hold the markings, choices and episode ends, in the
+        // order of their own channels' messages (which come first).
+        let paced: Vec<&FeedEvent> = received
+            .iter()
+            .filter(|e| matches!(e, FeedEvent::Marking(_) | FeedEvent::Choice(_) | FeedEvent::Episode(_)))
+            .collect();
+        assert!(!bundled.is_empty() && bundled.len() <= paced.len());
+        assert!(bundled.iter().zip(&paced).all(|(b, p)| b == *p));
         received
     });
     let plan = received
