@@ -10,12 +10,14 @@
 #           (`LIVE_TOPICS` in crates/view/page/app.js): the page open;
 #   all     `--view` and the same client subscribed to every channel (a
 #           Foxglove app showing everything).
+# The modes' order turns by one each round.
 # Prints, per run: the load before it, the run's cycles/s, its wall time and
 # the CPU its processes used (user+system, the supervisor and every child it
 # waited for: simulator, keepers, view), the client's messages and CPU; then
 # each mode's median against no view's, and whether every run's
 # episodes.csv is byte-identical. ARGS are passed to every run (none: the
-# main job's defaults).
+# main job's defaults); CLIENT_PREFIX runs the client under a command (e.g.
+# "chrt -b 0": as a background process).
 #   BIN=target/release ROUNDS=5 bash docs/results/measure-view-cost.sh
 #   ARGS="--episodes 3000" MODES="none served page all" bash docs/results/measure-view-cost.sh
 set -u
@@ -24,14 +26,19 @@ OUT=${OUT:-/tmp/viewcost}
 ROUNDS=${ROUNDS:-5}
 ARGS=${ARGS:-}
 MODES=${MODES:-none page}
+CLIENT_PREFIX=${CLIENT_PREFIX:-}
 HERE=$(dirname "$0")
 PAGE_TOPICS=$(grep -E '^const (LIVE_TOPICS|BUNDLE) ' "$HERE/../../crates/view/page/app.js" | grep -o '"/learnpnp/[a-z]*"' | tr -d '"' | sort -u)
 rm -rf "$OUT"; mkdir -p "$OUT"
 echo "commit $(git -C "$HERE" rev-parse --short HEAD 2>/dev/null)$(git -C "$HERE" diff --quiet 2>/dev/null || echo +changes), binaries $BIN, $(nproc) cores, $(date -u +%FT%TZ), args: ${ARGS:-(defaults)}"
 echo "the page's channels: $(echo $PAGE_TOPICS)"
 printf '%-6s %-5s %-16s %10s %8s %8s %9s %10s\n' mode round load-before cycles/s wall_s cpu_s messages client_cpu_s
+read -ra modes <<< "$MODES"
 for round in $(seq 1 "$ROUNDS"); do
-  for mode in $MODES; do
+  # Each round starts one mode later than the one before (none, served, page;
+  # then served, page, none; ...): no mode always runs first or last.
+  for i in $(seq 0 $((${#modes[@]} - 1))); do
+    mode=${modes[$(((i + round - 1) % ${#modes[@]}))]}
     dir=$OUT/$mode-$round
     load=$(cut -d' ' -f1-3 /proc/loadavg)
     run=("$BIN/learnpnp-supervisor" --out "$dir" $ARGS)
@@ -43,7 +50,7 @@ for round in $(seq 1 "$ROUNDS"); do
         port=$((18800 + round))
         run+=(--view=127.0.0.1:$port)
         topics=; [ $mode = page ] && topics=$PAGE_TOPICS
-        python3 "$HERE/foxglove_client.py" 127.0.0.1 $port $topics > "$dir.client" 2>&1 &
+        $CLIENT_PREFIX python3 "$HERE/foxglove_client.py" 127.0.0.1 $port $topics > "$dir.client" 2>&1 &
         client=$! ;;
       *) echo "unknown mode $mode" >&2; exit 2 ;;
     esac
