@@ -5,10 +5,10 @@
 //! [`View::start`] starts what [`ViewOptions`] asks for; the view is a
 //! [`FeedSink`]: publish records to it from any thread (a
 //! `WatchedLearner` of the `learnpnp` crate does so for a learner). Publishing
-//! never blocks and never wakes a thread: a record goes into a bounded queue
-//! (dropped and counted when it is full), and one thread of the view, waking
-//! every [`TICK`], encodes what has been queued as JSON and logs each record
-//! on its channel. The view's threads run as background threads
+//! never blocks: a record goes into a bounded queue (dropped and counted when
+//! it is full), and one thread of the view, waking every [`TICK`] (or sooner
+//! once the queue is half full, so a fast learner loses nothing), encodes
+//! what has been queued as JSON and logs each record on its channel. The view's threads run as background threads
 //! ([`run_in_background`]): waking, they do not preempt a learner.
 //!
 //! - **WebSocket and page**: the Foxglove SDK's server (`foxglove` crate)
@@ -225,6 +225,8 @@ pub struct View {
     address: Option<SocketAddr>,
     pnp_monitor: Option<SocketAddr>,
     worker: Option<JoinHandle<Result<Counts, ViewError>>>,
+    /// The queue's length from which a publisher wakes the worker before its tick.
+    wake_at: usize,
     server: Option<foxglove::WebSocketServerHandle>,
     runtime: Option<tokio::runtime::Runtime>,
 }
@@ -287,6 +289,7 @@ impl View {
             address: None,
             pnp_monitor: None,
             worker: None,
+            wake_at: options.queue.max(2) / 2,
             server: None,
             runtime: None,
         };
@@ -406,6 +409,12 @@ impl View {
         if let Err(TrySendError::Full(_) | TrySendError::Disconnected(_)) = self.commands.try_send(command) {
             self.dropped.fetch_add(1, Ordering::Relaxed);
         }
+        if self.commands.len() >= self.wake_at
+            && let Some(worker) = &self.worker
+        {
+            // No system call unless the worker is asleep.
+            worker.thread().unpark();
+        }
     }
 }
 
@@ -484,10 +493,13 @@ impl Worker {
         recording: Option<Recording>,
     ) -> Result<Counts, ViewError> {
         run_in_background();
-        let mut next = Instant::now();
+        let mut next = Instant::now() + TICK;
         'ticks: loop {
-            next += TICK;
-            std::thread::sleep(next.saturating_duration_since(Instant::now()));
+            // Until the tick, unless a publisher finds the queue half full.
+            std::thread::park_timeout(next.saturating_duration_since(Instant::now()));
+            if Instant::now() >= next {
+                next = (next + TICK).max(Instant::now());
+            }
             for (kind, sink) in resends.try_iter() {
                 self.resend(kind, sink);
             }
