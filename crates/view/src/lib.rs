@@ -8,8 +8,9 @@
 //! never blocks: a record goes into a bounded queue (dropped and counted when
 //! it is full), and one thread of the view, waking every [`TICK`] (or sooner
 //! once the queue is half full, so a fast learner loses nothing), encodes
-//! what has been queued as JSON and logs each record on its channel. The view's threads run as background threads
-//! ([`run_in_background`]): waking, they do not preempt a learner.
+//! what has been queued as JSON and logs each record on its channel. The
+//! view's threads run as background threads ([`run_in_background`]): waking,
+//! they do not preempt a learner.
 //!
 //! - **WebSocket and page**: the Foxglove SDK's server (`foxglove` crate)
 //!   listens on an ephemeral loopback port; the view's own address (loopback,
@@ -503,7 +504,10 @@ impl Worker {
             for (kind, sink) in resends.try_iter() {
                 self.resend(kind, sink);
             }
-            loop {
+            // What was queued when the pass began (at least one look, which
+            // sees a closed queue): a learner that outpaces the view cannot
+            // keep it in one pass, nor grow one bundle without bound.
+            for _ in 0..queue.len().max(1) {
                 match queue.try_recv() {
                     Ok(Command::Publish(event)) => {
                         if let Ok(json) = event.payload_json() {
