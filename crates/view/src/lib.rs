@@ -226,8 +226,6 @@ pub struct View {
     address: Option<SocketAddr>,
     pnp_monitor: Option<SocketAddr>,
     worker: Option<JoinHandle<Result<Counts, ViewError>>>,
-    /// The queue's length from which a publisher wakes the worker before its tick.
-    wake_at: usize,
     server: Option<foxglove::WebSocketServerHandle>,
     runtime: Option<tokio::runtime::Runtime>,
 }
@@ -290,7 +288,6 @@ impl View {
             address: None,
             pnp_monitor: None,
             worker: None,
-            wake_at: options.queue.max(2) / 2,
             server: None,
             runtime: None,
         };
@@ -410,10 +407,10 @@ impl View {
         if let Err(TrySendError::Full(_) | TrySendError::Disconnected(_)) = self.commands.try_send(command) {
             self.dropped.fetch_add(1, Ordering::Relaxed);
         }
-        if self.commands.len() >= self.wake_at
+        // Half full: the worker is woken before its tick (no system call unless it is asleep).
+        if self.commands.len() >= self.commands.capacity().unwrap_or(usize::MAX) / 2
             && let Some(worker) = &self.worker
         {
-            // No system call unless the worker is asleep.
             worker.thread().unpark();
         }
     }
