@@ -5,15 +5,20 @@
 #   none    no view;
 #   served  `--view`, no client connected (the agents' feed and the view
 #           process alone);
-#   page    `--view` and a Foxglove client (foxglove_client.py, stdlib only)
+#   page    `--view` and the page open: headless Chromium (Debian's
+#           `chromium`, or CHROMIUM; the page tests' flags, software
+#           rendering), started and settled before the run, opens
+#           http://ADDR/ in a tab once the view listens;
+#   client  `--view` and a Foxglove client (foxglove_client.py, stdlib only)
 #           subscribed to the channels the page subscribes to live
-#           (`LIVE_TOPICS` in crates/view/page/app.js): the page open;
+#           (`LIVE_TOPICS` in crates/view/page/app.js);
 #   all     `--view` and the same client subscribed to every channel (a
 #           Foxglove app showing everything).
 # The modes' order turns by one each round.
 # Prints, per run: the load before it, the run's cycles/s, its wall time and
 # the CPU its processes used (user+system, the supervisor and every child it
-# waited for: simulator, keepers, view), the client's messages and CPU; then
+# waited for: simulator, keepers, view), the client's messages and CPU (the
+# browser's CPU, all its processes, for page); then
 # each mode's median against no view's, and whether every run's
 # episodes.csv is byte-identical. ARGS are passed to every run (none: the
 # main job's defaults); CLIENT_PREFIX runs the client under a command (e.g.
@@ -27,6 +32,7 @@ ROUNDS=${ROUNDS:-5}
 ARGS=${ARGS:-}
 MODES=${MODES:-none page}
 CLIENT_PREFIX=${CLIENT_PREFIX:-}
+CHROMIUM=${CHROMIUM:-chromium}
 HERE=$(dirname "$0")
 PAGE_TOPICS=$(grep -E '^const (LIVE_TOPICS|BUNDLE) ' "$HERE/../../crates/view/page/app.js" | grep -o '"/learnpnp/[a-z]*"' | tr -d '"' | sort -u)
 rm -rf "$OUT"; mkdir -p "$OUT"
@@ -46,22 +52,44 @@ for round in $(seq 1 "$ROUNDS"); do
     case $mode in
       none) ;;
       served) run+=(--view=127.0.0.1:0) ;;
-      page | all)
+      page)
         port=$((18800 + round))
         run+=(--view=127.0.0.1:$port)
-        topics=; [ $mode = page ] && topics=$PAGE_TOPICS
+        # The browser is started (on a blank page) and settled before the
+        # run, as a browser a designer already has open; the page is opened
+        # in it once the view listens. Its CPU is counted from the run's start.
+        profile=$(mktemp -d)
+        "$CHROMIUM" --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
+          --disable-background-networking --disable-component-update --disable-sync --hide-scrollbars \
+          --force-device-scale-factor=1 --window-size=1400,900 --user-data-dir="$profile" \
+          --remote-debugging-port=$((19200 + round)) about:blank > "$dir.browser" 2>&1 &
+        browser=$!
+        sleep 3
+        browser_ticks() { for p in $(pgrep -f "user-data-dir=$profile"); do awk '{print $14 + $15}' /proc/$p/stat; done | paste -sd+ | bc; }
+        before=$(browser_ticks)
+        ( until ss -ltnH "sport = :$port" | grep -q .; do sleep 0.05; done
+          curl -s -X PUT "http://127.0.0.1:$((19200 + round))/json/new?http://127.0.0.1:$port/" > /dev/null ) &
+        client=$! ;;
+      client | all)
+        port=$((18800 + round))
+        run+=(--view=127.0.0.1:$port)
+        topics=; [ $mode = client ] && topics=$PAGE_TOPICS
         $CLIENT_PREFIX python3 "$HERE/foxglove_client.py" 127.0.0.1 $port $topics > "$dir.client" 2>&1 &
         client=$! ;;
       *) echo "unknown mode $mode" >&2; exit 2 ;;
     esac
     /usr/bin/time -f '%e %U %S' -o "$dir.time" "${run[@]}" > "$dir.log" 2>&1
     [ -n "$client" ] && wait $client
+    if [ $mode = page ]; then
+      echo "messages - client_cpu_s $(echo "scale=2; ($(browser_ticks) - $before) / $(getconf CLK_TCK)" | bc)" > "$dir.client"
+      kill $browser; wait $browser 2>/dev/null; rm -rf "$profile"
+    fi
     cycles=$(grep -o '[0-9,.]* cycles/s' "$dir.log" | head -1 | cut -d' ' -f1 | tr -d ,)
     read -r wall user sys < <(tail -1 "$dir.time")
     cpu=$(echo "$user + $sys" | bc)
     messages=-; client_cpu=-
     if [ -f "$dir.client" ]; then
-      messages=$(grep -o 'messages [0-9]*' "$dir.client" | cut -d' ' -f2)
+      messages=$(grep -o 'messages [0-9-]*' "$dir.client" | cut -d' ' -f2)
       client_cpu=$(grep -o 'client_cpu_s [0-9.]*' "$dir.client" | cut -d' ' -f2)
     fi
     printf '%-6s %-5s %-16s %10s %8s %8s %9s %10s\n' $mode "$round" "$load" "${cycles:-?}" "$wall" "$cpu" "${messages:-?}" "${client_cpu:-?}"

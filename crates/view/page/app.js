@@ -18,12 +18,20 @@ const TOPIC = {
 };
 const TOPICS = new Set(Object.values(TOPIC));
 // Live, the markings, choices and episode ends come in the server's bundle
-// (crates/view: BUNDLE_CHANNEL), one message a tick; the rest on their own.
+// (crates/view/src/bundle.rs), one message a tick; the rest on their own.
 const BUNDLE = "/learnpnp/bundle";
 const LIVE_TOPICS = new Set(["/learnpnp/plan", "/learnpnp/curve", "/learnpnp/health", "/learnpnp/latency", BUNDLE]);
 const SVG = "http://www.w3.org/2000/svg";
 const RETURN_WINDOW = 10; // episodes in the moving average of returns
-const CURVE_REDRAW_MS = 250; // the chart is redrawn at most four times a second
+// Live, the page is redrawn at most twice a second and the chart once a
+// second, so that a page open on the machine of a run takes little of its
+// CPU (a redraw costs a browser milliseconds of style, layout and raster
+// work); replaying, the page is redrawn on every animation frame and the
+// chart four times a second.
+const LIVE_FRAME_MS = 500;
+const LIVE_CURVE_MS = 1000;
+const REPLAY_CURVE_MS = 250;
+const CURVE_POINTS = 480; // a line of the chart is drawn with at most this many points (one a pixel)
 
 const $ = (id) => document.getElementById(id);
 const el = (name, attrs = {}, text) => {
@@ -31,6 +39,14 @@ const el = (name, attrs = {}, text) => {
   for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
   if (text !== undefined) e.textContent = text;
   return e;
+};
+// Sets a node's text only when it changes (an unchanged page is not laid out
+// again), in its one text node when it has one (no node made per change).
+const setText = (node, text) => {
+  const only = node.firstChild;
+  if (only && only === node.lastChild && only.nodeType === Node.TEXT_NODE) {
+    if (only.data !== text) only.data = text;
+  } else if (node.textContent !== text) node.textContent = text;
 };
 const fmt = (v) => (v === null || v === undefined ? "-" : Math.abs(v) >= 100 ? v.toFixed(1) : v.toFixed(3));
 
@@ -56,7 +72,7 @@ function agentOf(source) {
   const key = `${source.run}/${source.agent}`;
   let a = state.agents.get(key);
   if (!a) {
-    a = { key, shape: null, marking: null, subMarking: null, markings: 0, choices: new Map(), returns: [], episode: null };
+    a = { key, shape: null, shapeJson: "", marking: null, subMarking: null, markings: 0, choices: new Map(), returns: [], episode: null };
     state.agents.set(key, a);
     dirty.agents = true;
     if (!selected) selected = key;
@@ -69,6 +85,11 @@ function apply(topic, r) {
   switch (topic) {
     case TOPIC.plan: {
       const a = agentOf(r.source);
+      // An agent sends its plan again now and then (for a view started
+      // late): the plan drawn is drawn again only when it changed.
+      const json = JSON.stringify(r);
+      if (json === a.shapeJson) return;
+      a.shapeJson = json;
       a.shape = r;
       a.layout = null;
       if (a.key === selected) dirty.plan = true;
@@ -123,6 +144,29 @@ function apply(topic, r) {
     }
     default:
       return;
+  }
+  schedule();
+}
+
+// Applies one bundle of the server's (see crates/view/src/bundle.rs): per
+// agent, the tick's last markings and each choice point's last choice, as
+// their own records, and how many came; the returns of its episodes.
+function applyBundle(bundle) {
+  for (const b of bundle.agents) {
+    const a = agentOf(b.source);
+    if (b.sub_plan_marking) apply(TOPIC.marking, b.sub_plan_marking);
+    if (b.marking) apply(TOPIC.marking, b.marking);
+    for (const c of b.latest_choices) apply(TOPIC.choice, c);
+    // `apply` counted one of each it was given.
+    a.markings += Math.max(0, b.markings - 1);
+    state.markings += Math.max(0, b.markings - 1);
+    state.subMarkings += Math.max(0, b.sub_plan_markings - 1);
+    state.choices += b.choices - b.latest_choices.length;
+    for (const [episode, value] of b.returns) a.returns.push({ episode, value });
+    if (b.last_episode !== null) {
+      a.episode = Math.max(a.episode ?? 0, b.last_episode);
+      if (a.key === selected) dirty.curve = true;
+    }
   }
   schedule();
 }
@@ -295,19 +339,20 @@ function tokensByLabel(a) {
 
 function drawMarking(a) {
   const m = a && a.marking;
-  $("episode").textContent = m ? m.episode : "-";
-  $("step").textContent = m ? m.step : "-";
-  $("marking").textContent = m ? m.marked.map((p) => (p.tokens === 1 ? p.label : `${p.label}×${p.tokens}`)).join(", ") || "(empty)" : "no marking yet";
-  $("running").textContent = m && m.running.length ? m.running.join(", ") : "-";
+  setText($("episode"), m ? String(m.episode) : "-");
+  setText($("step"), m ? String(m.step) : "-");
+  setText($("marking"), m ? m.marked.map((p) => (p.tokens === 1 ? p.label : `${p.label}×${p.tokens}`)).join(", ") || "(empty)" : "no marking yet");
+  setText($("running"), m && m.running.length ? m.running.join(", ") : "-");
   const sub = a && a.subMarking;
-  $("sub-plan").textContent = sub ? `${sub.sub_plan}: ${sub.marked.map((p) => (p.tokens === 1 ? p.label : `${p.label}×${p.tokens}`)).join(", ") || "(empty)"}` : "-";
+  setText($("sub-plan"), sub ? `${sub.sub_plan}: ${sub.marked.map((p) => (p.tokens === 1 ? p.label : `${p.label}×${p.tokens}`)).join(", ") || "(empty)"}` : "-");
+  const choices = a ? [...a.choices] : [];
   if (drawn) {
     const tokens = tokensByLabel(a);
     for (const [label, p] of drawn.places) {
       const n = tokens.get(label) || 0;
       p.circle.classList.toggle("marked", n > 0);
       p.g.toggleAttribute("data-marked", n > 0);
-      p.tokens.textContent = n > 0 ? String(n) : "";
+      setText(p.tokens, n > 0 ? String(n) : "");
       p.circle.classList.toggle("choice", a.choices.has(label));
     }
     const running = new Set(m ? m.running : []);
@@ -315,47 +360,51 @@ function drawMarking(a) {
       // PNP names an action's transitions `action.start` / `action.end`.
       t.bar.classList.toggle("running", running.has(label.replace(/\.(start|end)$/, "")));
     }
-    drawn.values.replaceChildren();
-    for (const [point, c] of a.choices) {
+    const shown = choices.filter(([point]) => drawn.places.has(point));
+    drawValues(drawn.values, shown, (point, o, i) => {
       const p = drawn.places.get(point);
-      if (!p) continue;
-      c.options.forEach((o, i) => {
-        const mark = (i === c.greedy ? "★" : " ") + (i === c.taken ? "▶" : " ");
-        const t = el("text", { class: "values", x: p.x - 14, y: p.y + 36 + i * 11 },
-          `${mark}${o.label} ${fmt(o.value)} (${o.updates})`);
-        if (i === c.taken) t.classList.add("taken");
-        drawn.values.append(t);
-      });
-    }
+      return el("text", { class: "values", x: p.x - 14, y: p.y + 36 + i * 11 });
+    }, (node, point, c, o, i) => {
+      setText(node, `${(i === c.greedy ? "★" : " ") + (i === c.taken ? "▶" : " ")}${o.label} ${fmt(o.value)} (${o.updates})`);
+      node.classList.toggle("taken", i === c.taken);
+    });
   }
-  const body = $("choices").tBodies[0];
-  body.replaceChildren();
-  if (a) {
-    for (const [point, c] of a.choices) {
-      c.options.forEach((o, i) => {
-        const tr = document.createElement("tr");
-        if (i === 0) tr.classList.add("first");
-        if (i === c.greedy) tr.classList.add("greedy");
-        if (i === c.taken) tr.classList.add("taken");
-        const cells = [
-          i === 0 ? point : "",
-          o.label,
-          fmt(o.value),
-          String(o.updates),
-        ];
-        for (const [k, text] of cells.entries()) {
-          const td = document.createElement("td");
-          td.textContent = text;
-          if (k === 1) td.className = "option";
-          if (k === 0 && i === 0 && c.explored) {
-            td.classList.add("explored");
-            td.title = "the last choice here explored";
-          }
-          tr.append(td);
-        }
-        body.append(tr);
-      });
-    }
+  drawValues($("choices").tBodies[0], choices, (point, o, i) => {
+    const tr = document.createElement("tr");
+    if (i === 0) tr.classList.add("first");
+    for (let k = 0; k < 4; k++) tr.append(document.createElement("td"));
+    tr.cells[1].className = "option";
+    return tr;
+  }, (tr, point, c, o, i) => {
+    tr.classList.toggle("greedy", i === c.greedy);
+    tr.classList.toggle("taken", i === c.taken);
+    setText(tr.cells[0], i === 0 ? point : "");
+    setText(tr.cells[1], o.label);
+    setText(tr.cells[2], fmt(o.value));
+    setText(tr.cells[3], String(o.updates));
+    const explored = i === 0 && c.explored;
+    tr.cells[0].classList.toggle("explored", explored);
+    if (explored) tr.cells[0].title = "the last choice here explored";
+    else tr.cells[0].removeAttribute("title");
+  });
+}
+
+// Shows every option of `choices` ([point, ChoiceRecord] pairs) as one child
+// of `parent`: the children are made (`make(point, option, i)`) only when the
+// choice points or their options' count change, and are otherwise updated in
+// place (`update(node, point, choice, option, i)`).
+function drawValues(parent, choices, make, update) {
+  const shape = choices.map(([point, c]) => `${point}:${c.options.length}`).join("|");
+  if (parent.dataset.shape !== shape) {
+    parent.replaceChildren(...choices.flatMap(([point, c]) => c.options.map((o, i) => make(point, o, i))));
+    parent.dataset.shape = shape;
+  }
+  let node = parent.firstElementChild;
+  for (const [point, c] of choices) {
+    c.options.forEach((o, i) => {
+      update(node, point, c, o, i);
+      node = node.nextElementSibling;
+    });
   }
 }
 
@@ -370,23 +419,49 @@ function movingAverage(points, w) {
   return out;
 }
 
+// At most `n` of `points`, evenly spaced, the last always among them.
+function thinned(points, n) {
+  if (points.length <= n) return points;
+  const step = (points.length - 1) / (n - 1);
+  return Array.from({ length: n }, (_, i) => points[Math.round(i * step)]);
+}
+
+// The chart's elements, made once and then updated in place.
+let chart = null;
+
 function drawCurve(a) {
-  const svg = $("curve");
-  svg.replaceChildren();
   const W = 480;
   const H = 220;
   const L = 50;
   const B = 20;
+  if (!chart) {
+    const svg = $("curve");
+    const tick = (attrs) => el("text", { class: "tick", ...attrs }, "");
+    chart = {
+      empty: el("text", { class: "tick", x: L + 10, y: H / 2 }, "no points yet"),
+      y0: tick({ x: L - 4, "text-anchor": "end" }),
+      y1: tick({ x: L - 4, "text-anchor": "end" }),
+      x0: tick({ x: L, y: H - 5 }),
+      x1: tick({ x: W - 10, y: H - 5, "text-anchor": "end" }),
+      lines: el("g"),
+    };
+    svg.replaceChildren(
+      el("line", { class: "axis", x1: L, y1: H - B, x2: W - 5, y2: H - B }),
+      el("line", { class: "axis", x1: L, y1: 5, x2: L, y2: H - B }),
+      chart.empty, chart.y0, chart.y1, chart.x0, chart.x1, chart.lines,
+    );
+  }
   const series = [];
   for (const [run, points] of [...state.curve].sort((x, y) => x[0] - y[0])) {
     series.push({ cls: "curve-line", points, run });
   }
   if (a && a.returns.length) series.push({ cls: "return-line", points: movingAverage(a.returns, RETURN_WINDOW) });
+  for (const s of series) s.points = thinned(s.points, CURVE_POINTS);
   const all = series.flatMap((s) => s.points);
-  svg.append(el("line", { class: "axis", x1: L, y1: H - B, x2: W - 5, y2: H - B }));
-  svg.append(el("line", { class: "axis", x1: L, y1: 5, x2: L, y2: H - B }));
+  chart.empty.setAttribute("visibility", all.length ? "hidden" : "visible");
   if (!all.length) {
-    svg.append(el("text", { class: "tick", x: L + 10, y: H / 2 }, "no points yet"));
+    for (const t of [chart.y0, chart.y1, chart.x0, chart.x1]) setText(t, "");
+    chart.lines.replaceChildren();
     return;
   }
   const x0 = Math.min(...all.map((p) => p.episode));
@@ -399,23 +474,35 @@ function drawCurve(a) {
   }
   const sx = (x) => L + ((x - x0) / (x1 - x0)) * (W - L - 10);
   const sy = (y) => H - B - ((y - y0) / (y1 - y0)) * (H - B - 10);
-  for (const [v, y] of [[y0, sy(y0)], [y1, sy(y1)]]) {
-    svg.append(el("text", { class: "tick", x: L - 4, y: y + 3, "text-anchor": "end" }, fmt(v)));
+  for (const [t, v] of [[chart.y0, y0], [chart.y1, y1]]) {
+    t.setAttribute("y", sy(v) + 3);
+    setText(t, fmt(v));
   }
-  svg.append(el("text", { class: "tick", x: L, y: H - 5 }, String(x0)));
-  svg.append(el("text", { class: "tick", x: W - 10, y: H - 5, "text-anchor": "end" }, `${x1} episodes`));
-  for (const s of series) {
-    const d = s.points.map((p, i) => `${i ? "L" : "M"}${sx(p.episode).toFixed(1)},${sy(p.value).toFixed(1)}`).join(" ");
-    svg.append(el("path", { class: s.cls, d }));
-  }
+  setText(chart.x0, String(x0));
+  setText(chart.x1, `${x1} episodes`);
+  while (chart.lines.childElementCount > series.length) chart.lines.lastElementChild.remove();
+  while (chart.lines.childElementCount < series.length) chart.lines.append(el("path"));
+  series.forEach((s, i) => {
+    const path = chart.lines.children[i];
+    path.setAttribute("class", s.cls);
+    path.setAttribute("d", s.points.map((p, k) => `${k ? "L" : "M"}${sx(p.episode).toFixed(1)},${sy(p.value).toFixed(1)}`).join(" "));
+  });
 }
 
 function drawProcesses() {
   const names = [...new Set([...state.health.keys(), ...state.latency.keys()])].sort();
   $("processes-panel").hidden = names.length === 0;
   const body = $("processes").tBodies[0];
-  body.replaceChildren();
-  for (const name of names) {
+  const shape = names.join("|");
+  if (body.dataset.shape !== shape) {
+    body.replaceChildren(...names.map(() => {
+      const tr = document.createElement("tr");
+      for (let k = 0; k < 7; k++) tr.append(document.createElement("td"));
+      return tr;
+    }));
+    body.dataset.shape = shape;
+  }
+  names.forEach((name, i) => {
     const h = state.health.get(name);
     const lat = state.latency.get(name);
     const latency = lat
@@ -424,14 +511,8 @@ function drawProcesses() {
     const cells = h
       ? [name, h.pid ?? "-", h.alive ? "yes" : "no", `${h.heartbeat_age_ms} ms`, h.restarts, h.rejections, latency]
       : [name, "-", "-", "-", "-", "-", latency];
-    const tr = document.createElement("tr");
-    for (const c of cells) {
-      const td = document.createElement("td");
-      td.textContent = String(c);
-      tr.append(td);
-    }
-    body.append(tr);
-  }
+    cells.forEach((c, k) => setText(body.rows[i].cells[k], String(c)));
+  });
 }
 
 function drawAgents() {
@@ -470,17 +551,29 @@ function report(a) {
 }
 
 let frame = 0;
-let lastCurve = 0;
+let frameTimer = 0;
+let lastFrame = -Infinity;
+let lastCurve = -Infinity;
 let curveTimer = 0;
 
-// Redraws on the next animation frame, once, whatever came in meanwhile:
-// nothing runs while nothing arrives.
+// Redraws once, whatever came in meanwhile: on the next animation frame,
+// live no sooner than LIVE_FRAME_MS after the last redraw. Nothing runs while
+// nothing arrives.
 function schedule() {
-  if (!frame) frame = requestAnimationFrame(render);
+  if (frame || frameTimer) return;
+  const wait = socket ? lastFrame + LIVE_FRAME_MS - performance.now() : 0;
+  if (wait <= 0) frame = requestAnimationFrame(render);
+  else {
+    frameTimer = setTimeout(() => {
+      frameTimer = 0;
+      schedule();
+    }, wait);
+  }
 }
 
 function render(now) {
   frame = 0;
+  lastFrame = now;
   const a = state.agents.get(selected);
   if (dirty.agents) {
     drawAgents();
@@ -496,7 +589,8 @@ function render(now) {
     dirty.marking = false;
   }
   if (dirty.curve) {
-    if (now - lastCurve >= CURVE_REDRAW_MS) {
+    const every = socket ? LIVE_CURVE_MS : REPLAY_CURVE_MS;
+    if (now - lastCurve >= every) {
       drawCurve(a);
       lastCurve = now;
       dirty.curve = false;
@@ -504,7 +598,7 @@ function render(now) {
       curveTimer = setTimeout(() => {
         curveTimer = 0;
         schedule();
-      }, CURVE_REDRAW_MS - (now - lastCurve));
+      }, every - (now - lastCurve));
     }
   }
   if (dirty.processes) {
@@ -602,7 +696,7 @@ function connect() {
     try {
       const record = JSON.parse(new TextDecoder().decode(new Uint8Array(event.data, 13)));
       if (topic !== BUNDLE) apply(topic, record);
-      else for (const r of record.records) if (TOPICS.has(r.topic)) apply(r.topic, r.record);
+      else applyBundle(record);
     } catch (e) {
       console.warn(`a record on ${topic} could not be read: ${e}`);
     }

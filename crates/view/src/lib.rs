@@ -25,11 +25,12 @@
 //!   kind it is; [`FeedEvent::from_payload`] reads it back). A client that
 //!   subscribes to `/learnpnp/plan` or `/learnpnp/curve` is sent the plans and
 //!   the curve published so far, so a page opened mid-run can draw them.
-//! - **The page's bundle**: [`BUNDLE_CHANNEL`] carries, once a [`TICK`], the
-//!   records of the channels that move at the run's pace (markings, choices,
-//!   episodes) in one message, so that a client following the run (the page)
-//!   is sent tens of messages a second rather than one per record. It is
-//!   built only while a client subscribes to it, and not recorded.
+//! - **The page's bundle**: [`BUNDLE_CHANNEL`] carries, once every [`BUNDLE_EVERY`], for
+//!   each agent, what the page draws of the records that come at the run's
+//!   pace (the latest marking, each choice point's latest choice, counts, the
+//!   episodes' returns), so that a page following a fast run is sent a few
+//!   kilobytes a tick rather than every record. It is built only while a
+//!   client subscribes to it, and not recorded.
 //! - **MCAP**: the same channels, written by the SDK's writer to `FILE.part`
 //!   and renamed to `FILE` when the view closes (so a file under the final
 //!   name is complete). Chunks are not compressed, so that the page's small
@@ -39,6 +40,7 @@
 
 #![deny(missing_docs)]
 
+mod bundle;
 mod http;
 mod pnp_monitor;
 
@@ -56,6 +58,8 @@ use foxglove::websocket::{ChannelView, Client, ServerListener};
 use foxglove::{ChannelBuilder, Context, McapWriteOptions, McapWriter, McapWriterHandle, RawChannel, Schema, SinkId};
 use learnpnp_feed::{CHANNELS, FeedEvent, FeedSink, MarkingSample, PlanShape, Source};
 
+pub use bundle::BUNDLE_CHANNEL;
+use bundle::{BUNDLE_SCHEMA, Bundle};
 pub use pnp_monitor::PNP_MONITOR_PORT;
 
 /// The view's default port (Foxglove's usual WebSocket port).
@@ -71,15 +75,6 @@ const CHOICE: usize = 2;
 const EPISODE: usize = 4;
 const CURVE: usize = 5;
 
-/// The page's channel: each message holds, in the order they were published,
-/// the markings, choices and episode ends one [`TICK`] gathered, as
-/// `{"records":[{"topic":CHANNEL,"record":RECORD},...]}` (each `RECORD` what
-/// its channel carries).
-pub const BUNDLE_CHANNEL: &str = "/learnpnp/bundle";
-
-/// The JSON schema of a [`BUNDLE_CHANNEL`] message.
-const BUNDLE_SCHEMA: &str = r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"Bundle","type":"object","required":["records"],"properties":{"records":{"type":"array","items":{"type":"object","required":["topic","record"],"properties":{"topic":{"type":"string"},"record":{"type":"object"}}}}}}"#;
-
 /// The agent whose markings PNP's monitor line follows (a PNP observer watches one plan).
 const MONITORED: Source = Source { run: 0, agent: 0 };
 
@@ -94,6 +89,11 @@ const CLOSE_GRACE: Duration = Duration::from_millis(200);
 /// woke (so a client is sent bursts, at most this much late, rather than a
 /// write per record).
 pub const TICK: Duration = Duration::from_millis(20);
+
+/// How often the page's bundle ([`BUNDLE_CHANNEL`]) is sent: as often as the
+/// page redraws live (twice a second), since a bundle holds the latest of
+/// what the page draws and counts the rest.
+pub const BUNDLE_EVERY: Duration = Duration::from_millis(500);
 
 /// The most curve points kept for clients that connect mid-run.
 const CURVE_KEPT: usize = 100_000;
@@ -492,6 +492,7 @@ impl Worker {
     ) -> Result<Counts, ViewError> {
         run_in_background();
         let mut next = Instant::now() + TICK;
+        let mut next_bundle = Instant::now() + BUNDLE_EVERY;
         'ticks: loop {
             // Until the tick, unless a publisher finds the queue half full.
             std::thread::park_timeout(next.saturating_duration_since(Instant::now()));
@@ -516,7 +517,10 @@ impl Worker {
                     Err(TryRecvError::Empty) => break,
                 }
             }
-            self.bundle.send();
+            if Instant::now() >= next_bundle {
+                self.bundle.send();
+                next_bundle = (next_bundle + BUNDLE_EVERY).max(Instant::now());
+            }
         }
         self.bundle.send();
         self.bundle.channel.close();
@@ -547,8 +551,11 @@ impl Worker {
     fn log(&mut self, kind: usize, json: Vec<u8>) {
         self.channels[kind].log(&json);
         self.counts.0[kind] += 1;
-        if matches!(kind, MARKING | CHOICE | EPISODE) {
-            self.bundle.add(CHANNELS[kind], &json);
+        match kind {
+            MARKING => self.bundle.add_marking(&json),
+            CHOICE => self.bundle.add_choice(&json),
+            EPISODE => self.bundle.add_episode(&json),
+            _ => {}
         }
         match kind {
             PLAN => {
@@ -579,52 +586,5 @@ impl Worker {
     fn keep_plan(&mut self, shape: &PlanShape, json: Vec<u8>) {
         self.plans
             .insert(shape.source.clone(), (json, pnp_monitor::LineFormat::new(shape)));
-    }
-}
-
-/// The [`BUNDLE_CHANNEL`] message being gathered over one tick.
-struct Bundle {
-    channel: Arc<RawChannel>,
-    /// `{"records":[` and the records added so far, comma-separated.
-    json: Vec<u8>,
-    records: usize,
-}
-
-impl Bundle {
-    const OPEN: &'static [u8] = br#"{"records":["#;
-
-    fn new(channel: Arc<RawChannel>) -> Bundle {
-        Bundle {
-            channel,
-            json: Self::OPEN.to_vec(),
-            records: 0,
-        }
-    }
-
-    /// Adds a record (`json`, what channel `topic` carries), while a client subscribes.
-    fn add(&mut self, topic: &str, json: &[u8]) {
-        if !self.channel.has_sinks() {
-            return;
-        }
-        if self.records > 0 {
-            self.json.push(b',');
-        }
-        self.json.extend_from_slice(br#"{"topic":""#);
-        self.json.extend_from_slice(topic.as_bytes());
-        self.json.extend_from_slice(br#"","record":"#);
-        self.json.extend_from_slice(json);
-        self.json.push(b'}');
-        self.records += 1;
-    }
-
-    /// Logs what was gathered, if anything, and starts the next message.
-    fn send(&mut self) {
-        if self.records == 0 {
-            return;
-        }
-        self.json.extend_from_slice(b"]}");
-        self.channel.log(&self.json);
-        self.json.truncate(Self::OPEN.len());
-        self.records = 0;
     }
 }

@@ -178,7 +178,7 @@ fn a_client_of_the_foxglove_protocol_sees_markings_and_choices_with_the_plans_la
             std::thread::spawn(move || run_watched(&spec, &view))
         };
         let mut received: Vec<FeedEvent> = Vec::new();
-        let mut bundled: Vec<FeedEvent> = Vec::new();
+        let mut bundles: Vec<serde_json::Value> = Vec::new();
         let deadline = Instant::now() + Duration::from_secs(60);
         let kinds = |received: &[FeedEvent]| received.iter().map(FeedEvent::kind).collect::<HashSet<_>>();
         // Until every kind has come and a choice shows values learned.
@@ -187,7 +187,7 @@ fn a_client_of_the_foxglove_protocol_sees_markings_and_choices_with_the_plans_la
                 .iter()
                 .any(|e| matches!(e, FeedEvent::Choice(c) if c.options.iter().any(|o| o.updates > 0)))
         };
-        while (kinds(&received).len() < wanted.len() || !learned(&received) || bundled.is_empty())
+        while (kinds(&received).len() < wanted.len() || !learned(&received) || bundles.is_empty())
             && Instant::now() < deadline
         {
             let Ok(Some(Ok(message))) = tokio::time::timeout(Duration::from_secs(5), socket.next()).await else {
@@ -198,12 +198,7 @@ fn a_client_of_the_foxglove_protocol_sees_markings_and_choices_with_the_plans_la
                 let subscription = u32::from_le_bytes(data[1..5].try_into().expect("4 bytes"));
                 let topic = &topics[&u64::from(subscription)];
                 if topic == BUNDLE_CHANNEL {
-                    let bundle: serde_json::Value = serde_json::from_slice(&data[13..]).expect("JSON");
-                    for entry in bundle["records"].as_array().expect("records") {
-                        let record = serde_json::to_vec(&entry["record"]).expect("JSON");
-                        let topic = entry["topic"].as_str().expect("a topic");
-                        bundled.push(FeedEvent::from_payload(topic, &record).expect("a record of the feed"));
-                    }
+                    bundles.push(serde_json::from_slice(&data[13..]).expect("JSON"));
                     continue;
                 }
                 let event = FeedEvent::from_payload(topic, &data[13..]).expect("a record of the feed");
@@ -213,14 +208,26 @@ fn a_client_of_the_foxglove_protocol_sees_markings_and_choices_with_the_plans_la
             }
         }
         runner.join().expect("the run ends");
-        // The bundles hold the markings, choices and episode ends, in the
-        // order of their own channels' messages (which come first).
+        // Each bundle sums up the next stretch of the markings, choices and
+        // episode ends on their own channels (which come first).
         let paced: Vec<&FeedEvent> = received
             .iter()
             .filter(|e| matches!(e, FeedEvent::Marking(_) | FeedEvent::Choice(_) | FeedEvent::Episode(_)))
             .collect();
-        assert!(!bundled.is_empty() && bundled.len() <= paced.len());
-        assert!(bundled.iter().zip(&paced).all(|(b, p)| b == *p));
+        let mut rest = paced.as_slice();
+        for bundle in &bundles {
+            let agents = bundle["agents"].as_array().expect("agents");
+            assert_eq!(agents.len(), 1, "one agent: {bundle}");
+            let stretch_len = ["markings", "sub_plan_markings", "choices", "episodes"]
+                .iter()
+                .map(|count| agents[0][*count].as_u64().expect("a count"))
+                .sum::<u64>();
+            let stretch_len = usize::try_from(stretch_len).expect("a length");
+            assert!(stretch_len > 0 && stretch_len <= rest.len(), "{bundle}");
+            let (stretch, after) = rest.split_at(stretch_len);
+            rest = after;
+            assert_eq!(&agents[0], &sum_up(stretch), "{bundle}");
+        }
         received
     });
     let plan = received
@@ -418,4 +425,56 @@ fn nothing_listens_beyond_loopback_by_default() {
     let quiet = View::start(ViewOptions::default()).expect("the view starts");
     assert_eq!((quiet.address(), quiet.pnp_monitor_address()), (None, None));
     quiet.close().expect("the view closes");
+}
+
+/// What a bundle of the page's channel holds of `records` (one agent's
+/// markings, choices and episode ends, in order): see `learnpnp_view`'s bundle.
+fn sum_up(records: &[&FeedEvent]) -> serde_json::Value {
+    let mut part = serde_json::json!({
+        "markings": 0, "marking": null, "sub_plan_markings": 0, "sub_plan_marking": null,
+        "choices": 0, "latest_choices": [], "episodes": 0, "returns": [], "last_episode": null,
+    });
+    let mut points: Vec<String> = Vec::new();
+    let bump = |part: &mut serde_json::Value, count: &str| {
+        part[count] = serde_json::json!(part[count].as_u64().expect("a count") + 1);
+    };
+    for record in records {
+        match record {
+            FeedEvent::Marking(m) => {
+                part["source"] = serde_json::to_value(&m.source).expect("JSON");
+                let (count, latest) = match m.sub_plan {
+                    None => ("markings", "marking"),
+                    Some(_) => ("sub_plan_markings", "sub_plan_marking"),
+                };
+                bump(&mut part, count);
+                part[latest] = serde_json::to_value(m).expect("JSON");
+            }
+            FeedEvent::Choice(c) => {
+                part["source"] = serde_json::to_value(&c.source).expect("JSON");
+                bump(&mut part, "choices");
+                let value = serde_json::to_value(c).expect("JSON");
+                let latest = part["latest_choices"].as_array_mut().expect("an array");
+                match points.iter().position(|p| *p == c.choice_point) {
+                    Some(i) => latest[i] = value,
+                    None => {
+                        points.push(c.choice_point.clone());
+                        latest.push(value);
+                    }
+                }
+            }
+            FeedEvent::Episode(e) => {
+                part["source"] = serde_json::to_value(&e.source).expect("JSON");
+                bump(&mut part, "episodes");
+                if !e.evaluation {
+                    part["returns"]
+                        .as_array_mut()
+                        .expect("an array")
+                        .push(serde_json::json!([e.episode, e.episode_return]));
+                }
+                part["last_episode"] = serde_json::json!(e.episode);
+            }
+            _ => unreachable!("only markings, choices and episode ends are summed up"),
+        }
+    }
+    part
 }
