@@ -23,6 +23,9 @@
 # episodes.csv is byte-identical. ARGS are passed to every run (none: the
 # main job's defaults); CLIENT_PREFIX runs the client under a command (e.g.
 # "chrt -b 0": as a background process).
+# JOB=experiment measures the same in one process: `learnpnp experiment
+# $EXPERIMENT` (default: keepaway-position, Soft-SoSMC, two runs on the
+# machine's two cores), its cycles/s read from its summary.json.
 #   BIN=target/release ROUNDS=5 bash docs/results/measure-view-cost.sh
 #   ARGS="--episodes 3000" MODES="none served page all" bash docs/results/measure-view-cost.sh
 set -u
@@ -33,10 +36,12 @@ ARGS=${ARGS:-}
 MODES=${MODES:-none page}
 CLIENT_PREFIX=${CLIENT_PREFIX:-}
 CHROMIUM=${CHROMIUM:-chromium}
+JOB=${JOB:-supervisor}
+EXPERIMENT=${EXPERIMENT:-keepaway-position --algo soft-sosmc --runs 2}
 HERE=$(dirname "$0")
 PAGE_TOPICS=$(grep -E '^const (LIVE_TOPICS|BUNDLE) ' "$HERE/../../crates/view/page/app.js" | grep -o '"/learnpnp/[a-z]*"' | tr -d '"' | sort -u)
 rm -rf "$OUT"; mkdir -p "$OUT"
-echo "commit $(git -C "$HERE" rev-parse --short HEAD 2>/dev/null)$(git -C "$HERE" diff --quiet 2>/dev/null || echo +changes), binaries $BIN, $(nproc) cores, $(date -u +%FT%TZ), args: ${ARGS:-(defaults)}"
+echo "commit $(git -C "$HERE" rev-parse --short HEAD 2>/dev/null)$(git -C "$HERE" diff --quiet 2>/dev/null || echo +changes), binaries $BIN, $(nproc) cores, $(date -u +%FT%TZ), job: $JOB$([ $JOB = experiment ] && echo " $EXPERIMENT"), args: ${ARGS:-(defaults)}"
 echo "the page's channels: $(echo $PAGE_TOPICS)"
 printf '%-6s %-5s %-16s %10s %8s %8s %9s %10s\n' mode round load-before cycles/s wall_s cpu_s messages client_cpu_s
 read -ra modes <<< "$MODES"
@@ -47,7 +52,11 @@ for round in $(seq 1 "$ROUNDS"); do
     mode=${modes[$(((i + round - 1) % ${#modes[@]}))]}
     dir=$OUT/$mode-$round
     load=$(cut -d' ' -f1-3 /proc/loadavg)
-    run=("$BIN/learnpnp-supervisor" --out "$dir" $ARGS)
+    case $JOB in
+      supervisor) run=("$BIN/learnpnp-supervisor" --out "$dir" $ARGS) ;;
+      experiment) run=("$BIN/learnpnp" experiment $EXPERIMENT --out "$dir" $ARGS) ;;
+      *) echo "unknown job $JOB" >&2; exit 2 ;;
+    esac
     client=
     case $mode in
       none) ;;
@@ -84,7 +93,11 @@ for round in $(seq 1 "$ROUNDS"); do
       echo "messages - client_cpu_s $(echo "scale=2; ($(browser_ticks) - $before) / $(getconf CLK_TCK)" | bc)" > "$dir.client"
       kill $browser; wait $browser 2>/dev/null; rm -rf "$profile"
     fi
-    cycles=$(grep -o '[0-9,.]* cycles/s' "$dir.log" | head -1 | cut -d' ' -f1 | tr -d ,)
+    if [ $JOB = supervisor ]; then
+      cycles=$(grep -o '[0-9,.]* cycles/s' "$dir.log" | head -1 | cut -d' ' -f1 | tr -d ,)
+    else
+      cycles=$(python3 -c 'import json, sys; print(round(json.load(open(sys.argv[1]))["cycles_per_second"]))' "$dir/summary.json")
+    fi
     read -r wall user sys < <(tail -1 "$dir.time")
     cpu=$(echo "$user + $sys" | bc)
     messages=-; client_cpu=-

@@ -23,12 +23,12 @@ const BUNDLE = "/learnpnp/bundle";
 const LIVE_TOPICS = new Set(["/learnpnp/plan", "/learnpnp/curve", "/learnpnp/health", "/learnpnp/latency", BUNDLE]);
 const SVG = "http://www.w3.org/2000/svg";
 const RETURN_WINDOW = 10; // episodes in the moving average of returns
-// Live, the page is redrawn at most twice a second and the chart once a
-// second, so that a page open on the machine of a run takes little of its
-// CPU (a redraw costs a browser milliseconds of style, layout and raster
-// work); replaying, the page is redrawn on every animation frame and the
-// chart four times a second.
-const LIVE_FRAME_MS = 500;
+// Live, the page and its chart are redrawn at most once a second, as often
+// as the server sends its bundle, so that a page open on the machine of a
+// run takes little of its CPU (a redraw costs a browser about ten
+// milliseconds of style, layout, paint and raster work); replaying, the page
+// is redrawn on every animation frame and the chart four times a second.
+const LIVE_FRAME_MS = 1000;
 const LIVE_CURVE_MS = 1000;
 const REPLAY_CURVE_MS = 250;
 const CURVE_POINTS = 480; // a line of the chart is drawn with at most this many points (one a pixel)

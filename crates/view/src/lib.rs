@@ -91,9 +91,9 @@ const CLOSE_GRACE: Duration = Duration::from_millis(200);
 pub const TICK: Duration = Duration::from_millis(20);
 
 /// How often the page's bundle ([`BUNDLE_CHANNEL`]) is sent: as often as the
-/// page redraws live (twice a second), since a bundle holds the latest of
+/// page redraws live (once a second), since a bundle holds the latest of
 /// what the page draws and counts the rest.
-pub const BUNDLE_EVERY: Duration = Duration::from_millis(500);
+pub const BUNDLE_EVERY: Duration = Duration::from_millis(1000);
 
 /// The most curve points kept for clients that connect mid-run.
 const CURVE_KEPT: usize = 100_000;
