@@ -3,8 +3,9 @@
 //! read from the page's `#state` element and its pixels from screenshots.
 //!
 //! - Live: `learnpnp experiment --view=127.0.0.1:0`, the page loaded from
-//!   it; a second later it has drawn more markings and more of the curve,
-//!   and the places drawn marked are the last marking's.
+//!   it; seconds later (it redraws once a second) it has drawn more
+//!   markings and more of the curve, and the places drawn marked are the
+//!   last marking's.
 //! - Replay: an MCAP file (built by the test, and one `learnpnp experiment
 //!   --record-mcap` wrote), served by the view at `/recording.mcap` and
 //!   loaded with `?mcap=/recording.mcap&t=F`, then the slider moved, then
@@ -779,15 +780,16 @@ fn a_live_run_is_drawn_as_it_learns() {
     page.open(&format!("http://{}/", run.address));
     let grown = |s: &Value| number(s, "markings") > 0 && number(s, "curvePoints") > 0 && s["marked"] != "";
     let first = page.wait_for(Duration::from_secs(30), "a marking and a curve point", grown);
-    std::thread::sleep(Duration::from_millis(1200));
+    // The page redraws live once a second: two and a half seconds hold two redraws.
+    std::thread::sleep(Duration::from_millis(2500));
     let second = page.state();
     assert!(
         number(&second, "markings") > number(&first, "markings"),
-        "more markings a second later: {first} then {second}"
+        "more markings later: {first} then {second}"
     );
     assert!(
         number(&second, "curvePoints") > number(&first, "curvePoints"),
-        "more curve points a second later: {first} then {second}"
+        "more curve points later: {first} then {second}"
     );
     // The places drawn marked are those of the last marking the page received.
     let sample: Value = serde_json::from_str(second["lastMarking"].as_str().expect("the last marking")).expect("JSON");

@@ -20,7 +20,7 @@ use std::borrow::Cow;
 use std::sync::Arc;
 
 use foxglove::RawChannel;
-use learnpnp_feed::{EpisodeEnd, Source};
+use learnpnp_feed::{ChoiceMade, EpisodeEnd, FeedEvent, MarkingSample, Source};
 use serde::{Deserialize, Serialize};
 
 /// The page's channel (see the module's documentation).
@@ -45,19 +45,82 @@ struct ChoiceKey<'a> {
     choice_point: Cow<'a, str>,
 }
 
+/// A latest marking or choice: as an agent process encoded it, or as a
+/// learner in the view's process published it (encoded only if it is still
+/// the latest when the bundle is sent).
+enum Kept {
+    Json(Vec<u8>),
+    Marking(MarkingSample),
+    Choice(ChoiceMade),
+}
+
+impl Kept {
+    /// Makes `slot` hold `json`, reusing its buffer.
+    fn keep_json(slot: &mut Option<Kept>, json: &[u8]) {
+        match slot {
+            Some(Kept::Json(kept)) => {
+                kept.clear();
+                kept.extend_from_slice(json);
+            }
+            _ => *slot = Some(Kept::Json(json.to_vec())),
+        }
+    }
+
+    /// Writes it as JSON.
+    fn write(&self, out: &mut Vec<u8>) {
+        match self {
+            Kept::Json(json) => out.extend_from_slice(json),
+            Kept::Marking(marking) => push_json(out, marking),
+            Kept::Choice(choice) => push_json(out, choice),
+        }
+    }
+}
+
 /// One agent's part of the bundle being gathered.
 #[derive(Default)]
 struct AgentPart {
     markings: u64,
-    marking: Option<Vec<u8>>,
+    marking: Option<Kept>,
     sub_plan_markings: u64,
-    sub_plan_marking: Option<Vec<u8>>,
+    sub_plan_marking: Option<Kept>,
     choices: u64,
     /// Each choice point's latest choice, in the order the points were first met.
-    latest_choices: Vec<(String, Vec<u8>)>,
+    latest_choices: Vec<(String, Option<Kept>)>,
     episodes: u64,
     returns: Vec<(u64, f64)>,
     last_episode: Option<u64>,
+}
+
+impl AgentPart {
+    /// The slot (and the count) of a root-plan marking, or of a sub-plan's.
+    fn marking_slot(&mut self, sub_plan: bool) -> (&mut u64, &mut Option<Kept>) {
+        if sub_plan {
+            (&mut self.sub_plan_markings, &mut self.sub_plan_marking)
+        } else {
+            (&mut self.markings, &mut self.marking)
+        }
+    }
+
+    /// The slot of `point`'s latest choice (counting the choice).
+    fn choice_slot(&mut self, point: &str) -> &mut Option<Kept> {
+        self.choices += 1;
+        let i = match self.latest_choices.iter().position(|(p, _)| p == point) {
+            Some(i) => i,
+            None => {
+                self.latest_choices.push((point.to_owned(), None));
+                self.latest_choices.len() - 1
+            }
+        };
+        &mut self.latest_choices[i].1
+    }
+
+    fn end_episode(&mut self, end: &EpisodeEnd) {
+        self.episodes += 1;
+        if !end.evaluation {
+            self.returns.push((end.episode, end.episode_return));
+        }
+        self.last_episode = Some(end.episode);
+    }
 }
 
 /// The [`BUNDLE_CHANNEL`] message being gathered.
@@ -76,11 +139,11 @@ impl Bundle {
         }
     }
 
-    fn agent(&mut self, source: Source) -> &mut AgentPart {
-        let i = match self.agents.iter().position(|(s, _)| *s == source) {
+    fn agent(&mut self, source: &Source) -> &mut AgentPart {
+        let i = match self.agents.iter().position(|(s, _)| s == source) {
             Some(i) => i,
             None => {
-                self.agents.push((source, AgentPart::default()));
+                self.agents.push((source.clone(), AgentPart::default()));
                 self.agents.len() - 1
             }
         };
@@ -95,15 +158,9 @@ impl Bundle {
         let Ok(key) = serde_json::from_slice::<MarkingKey>(json) else {
             return;
         };
-        let agent = self.agent(key.source);
-        let (count, latest) = match key.sub_plan {
-            None => (&mut agent.markings, &mut agent.marking),
-            Some(_) => (&mut agent.sub_plan_markings, &mut agent.sub_plan_marking),
-        };
+        let (count, slot) = self.agent(&key.source).marking_slot(key.sub_plan.is_some());
         *count += 1;
-        let latest = latest.get_or_insert_with(Vec::new);
-        latest.clear();
-        latest.extend_from_slice(json);
+        Kept::keep_json(slot, json);
     }
 
     /// Files a choice (`json`, what `/learnpnp/choice` carries), while a client subscribes.
@@ -114,21 +171,7 @@ impl Bundle {
         let Ok(key) = serde_json::from_slice::<ChoiceKey>(json) else {
             return;
         };
-        let agent = self.agent(key.source);
-        agent.choices += 1;
-        match agent
-            .latest_choices
-            .iter_mut()
-            .find(|(point, _)| *point == key.choice_point)
-        {
-            Some((_, latest)) => {
-                latest.clear();
-                latest.extend_from_slice(json);
-            }
-            None => agent
-                .latest_choices
-                .push((key.choice_point.into_owned(), json.to_vec())),
-        }
+        Kept::keep_json(self.agent(&key.source).choice_slot(&key.choice_point), json);
     }
 
     /// Files an episode's end (`json`, what `/learnpnp/episode` carries), while a client subscribes.
@@ -136,15 +179,37 @@ impl Bundle {
         if !self.channel.has_sinks() {
             return;
         }
-        let Ok(end) = serde_json::from_slice::<EpisodeEnd>(json) else {
-            return;
-        };
-        let agent = self.agent(end.source);
-        agent.episodes += 1;
-        if !end.evaluation {
-            agent.returns.push((end.episode, end.episode_return));
+        if let Ok(end) = serde_json::from_slice::<EpisodeEnd>(json) {
+            self.agent(&end.source).end_episode(&end);
         }
-        agent.last_episode = Some(end.episode);
+    }
+
+    /// Files a marking, choice or episode end published in the view's
+    /// process, while a client subscribes: it is encoded only if it is still
+    /// the latest of its kind when the bundle is sent.
+    pub(crate) fn add_event(&mut self, event: &FeedEvent) {
+        if !self.channel.has_sinks() {
+            return;
+        }
+        match event {
+            FeedEvent::Marking(marking) => {
+                let (count, slot) = self.agent(&marking.source).marking_slot(marking.sub_plan.is_some());
+                *count += 1;
+                match slot {
+                    Some(Kept::Marking(kept)) => kept.clone_from(marking),
+                    _ => *slot = Some(Kept::Marking(marking.clone())),
+                }
+            }
+            FeedEvent::Choice(choice) => {
+                let slot = self.agent(&choice.source).choice_slot(&choice.choice_point);
+                match slot {
+                    Some(Kept::Choice(kept)) => kept.clone_from(choice),
+                    _ => *slot = Some(Kept::Choice(choice.clone())),
+                }
+            }
+            FeedEvent::Episode(end) => self.agent(&end.source).end_episode(end),
+            _ => {}
+        }
     }
 
     /// Logs what was gathered, if anything, and starts the next message.
@@ -174,8 +239,8 @@ fn push_json<T: Serialize + ?Sized>(out: &mut Vec<u8>, value: &T) {
 
 /// Writes one agent's part of a bundle (see the module's documentation).
 fn write_agent(out: &mut Vec<u8>, source: &Source, part: &AgentPart) {
-    let raw_or_null = |out: &mut Vec<u8>, json: &Option<Vec<u8>>| match json {
-        Some(json) => out.extend_from_slice(json),
+    let raw_or_null = |out: &mut Vec<u8>, kept: &Option<Kept>| match kept {
+        Some(kept) => kept.write(out),
         None => out.extend_from_slice(b"null"),
     };
     out.extend_from_slice(br#"{"source":"#);
@@ -191,11 +256,16 @@ fn write_agent(out: &mut Vec<u8>, source: &Source, part: &AgentPart) {
     out.extend_from_slice(br#","choices":"#);
     push_json(out, &part.choices);
     out.extend_from_slice(br#","latest_choices":["#);
-    for (i, (_, choice)) in part.latest_choices.iter().enumerate() {
+    for (i, kept) in part
+        .latest_choices
+        .iter()
+        .filter_map(|(_, kept)| kept.as_ref())
+        .enumerate()
+    {
         if i > 0 {
             out.push(b',');
         }
-        out.extend_from_slice(choice);
+        kept.write(out);
     }
     out.extend_from_slice(br#"],"episodes":"#);
     push_json(out, &part.episodes);

@@ -507,11 +507,7 @@ impl Worker {
             // keep it in one pass, nor grow one bundle without bound.
             for _ in 0..queue.len().max(1) {
                 match queue.try_recv() {
-                    Ok(Command::Publish(event)) => {
-                        if let Ok(json) = event.payload_json() {
-                            self.log(event.kind(), json);
-                        }
-                    }
+                    Ok(Command::Publish(event)) => self.log_event(&event),
                     Ok(Command::Payload(kind, json)) => self.log(kind, json),
                     Ok(Command::Close) | Err(TryRecvError::Disconnected) => break 'ticks,
                     Err(TryRecvError::Empty) => break,
@@ -575,6 +571,24 @@ impl Worker {
                 }
             }
             _ => {}
+        }
+    }
+
+    /// Logs a record published in the view's process. It is encoded only
+    /// when something takes it as JSON (a client of its channel, the
+    /// recording, the plans and the curve kept, PNP's monitor line); the
+    /// page's bundle otherwise keeps it as it is.
+    fn log_event(&mut self, event: &FeedEvent) {
+        let kind = event.kind();
+        let wanted =
+            self.channels[kind].has_sinks() || matches!(kind, PLAN | CURVE) || (kind == MARKING && self.monitored());
+        if wanted {
+            if let Ok(json) = event.payload_json() {
+                self.log(kind, json);
+            }
+        } else {
+            self.counts.0[kind] += 1;
+            self.bundle.add_event(event);
         }
     }
 
