@@ -237,41 +237,47 @@ fn push_json<T: Serialize + ?Sized>(out: &mut Vec<u8>, value: &T) {
     let _ = serde_json::to_writer(&mut *out, value);
 }
 
+/// Writes a JSON value into a buffer.
+type WriteJson<'a> = dyn Fn(&mut Vec<u8>) + 'a;
+
 /// Writes one agent's part of a bundle (see the module's documentation).
 fn write_agent(out: &mut Vec<u8>, source: &Source, part: &AgentPart) {
-    let raw_or_null = |out: &mut Vec<u8>, kept: &Option<Kept>| match kept {
+    let kept_or_null = |out: &mut Vec<u8>, kept: &Option<Kept>| match kept {
         Some(kept) => kept.write(out),
         None => out.extend_from_slice(b"null"),
     };
-    out.extend_from_slice(br#"{"source":"#);
-    push_json(out, source);
-    out.extend_from_slice(br#","markings":"#);
-    push_json(out, &part.markings);
-    out.extend_from_slice(br#","marking":"#);
-    raw_or_null(out, &part.marking);
-    out.extend_from_slice(br#","sub_plan_markings":"#);
-    push_json(out, &part.sub_plan_markings);
-    out.extend_from_slice(br#","sub_plan_marking":"#);
-    raw_or_null(out, &part.sub_plan_marking);
-    out.extend_from_slice(br#","choices":"#);
-    push_json(out, &part.choices);
-    out.extend_from_slice(br#","latest_choices":["#);
-    for (i, kept) in part
-        .latest_choices
-        .iter()
-        .filter_map(|(_, kept)| kept.as_ref())
-        .enumerate()
-    {
+    let latest_choices = |out: &mut Vec<u8>| {
+        out.push(b'[');
+        let kept = part.latest_choices.iter().filter_map(|(_, kept)| kept.as_ref());
+        for (i, choice) in kept.enumerate() {
+            if i > 0 {
+                out.push(b',');
+            }
+            choice.write(out);
+        }
+        out.push(b']');
+    };
+    let fields: [(&str, &WriteJson); 10] = [
+        ("source", &|out| push_json(out, source)),
+        ("markings", &|out| push_json(out, &part.markings)),
+        ("marking", &|out| kept_or_null(out, &part.marking)),
+        ("sub_plan_markings", &|out| push_json(out, &part.sub_plan_markings)),
+        ("sub_plan_marking", &|out| kept_or_null(out, &part.sub_plan_marking)),
+        ("choices", &|out| push_json(out, &part.choices)),
+        ("latest_choices", &latest_choices),
+        ("episodes", &|out| push_json(out, &part.episodes)),
+        ("returns", &|out| push_json(out, &part.returns)),
+        ("last_episode", &|out| push_json(out, &part.last_episode)),
+    ];
+    out.push(b'{');
+    for (i, (name, write)) in fields.iter().enumerate() {
         if i > 0 {
             out.push(b',');
         }
-        kept.write(out);
+        out.push(b'"');
+        out.extend_from_slice(name.as_bytes());
+        out.extend_from_slice(b"\":");
+        write(out);
     }
-    out.extend_from_slice(br#"],"episodes":"#);
-    push_json(out, &part.episodes);
-    out.extend_from_slice(br#","returns":"#);
-    push_json(out, &part.returns);
-    out.extend_from_slice(br#","last_episode":"#);
-    push_json(out, &part.last_episode);
     out.push(b'}');
 }
