@@ -7,8 +7,9 @@
 //! `WatchedLearner` of the `learnpnp` crate does so for a learner). Publishing
 //! never blocks: a record goes into a bounded queue (dropped and counted when
 //! it is full), and one thread of the view, waking every [`TICK`] (or sooner
-//! once the queue is half full, so a fast learner loses nothing), encodes
-//! what has been queued as JSON and logs each record on its channel. The
+//! once the queue is half full, so a fast learner loses nothing), logs each
+//! record queued since on its channel, encoding it as JSON when something
+//! takes it (a client of the channel, the recording). The
 //! view's threads run as background threads ([`run_in_background`]): waking,
 //! they do not preempt a learner.
 //!
@@ -29,7 +30,7 @@
 //!   each agent, what the page draws of the records that come at the run's
 //!   pace (the latest marking, each choice point's latest choice, counts, the
 //!   episodes' returns), so that a page following a fast run is sent a few
-//!   kilobytes a tick rather than every record. It is built only while a
+//!   kilobytes a second rather than every record. It is built only while a
 //!   client subscribes to it, and not recorded.
 //! - **MCAP**: the same channels, written by the SDK's writer to `FILE.part`
 //!   and renamed to `FILE` when the view closes (so a file under the final
