@@ -1,0 +1,33 @@
+#!/bin/bash
+# The page's CPU in a browser (issue 40): the main job with a view (EPISODES
+# episodes), headless Chromium (Debian's `chromium`, or CHROMIUM; the page
+# tests' flags, software rendering) showing the page; after 6 s, each
+# process's CPU over 8 s (user+system from /proc/PID/stat), in % of one core:
+# the view process and every browser process by type, and their total.
+#   BIN=target/release bash docs/results/measure-page-cpu.sh
+set -u
+BIN=${BIN:-target/release}
+EPISODES=${EPISODES:-5000}
+PORT=${PORT:-18899}
+CHROMIUM=${CHROMIUM:-chromium}
+out=$(mktemp -d); profile=$(mktemp -d)
+"$BIN/learnpnp-supervisor" --out "$out/run" --episodes "$EPISODES" --view=127.0.0.1:$PORT > "$out/run.log" 2>&1 &
+run=$!
+until ss -ltnH "sport = :$PORT" | grep -q .; do sleep 0.05; done
+"$CHROMIUM" --headless --no-sandbox --disable-gpu --disable-quic --no-first-run --disable-background-networking \
+  --disable-component-update --disable-sync --hide-scrollbars --force-device-scale-factor=1 --window-size=1400,900 \
+  --user-data-dir="$profile" --remote-debugging-port=0 "http://127.0.0.1:$PORT/" > "$out/browser.log" 2>&1 &
+browser=$!
+sleep 6
+ticks() {
+  for p in $(pgrep -f "user-data-dir=$profile") $(pgrep -f learnpnp-view); do
+    kind=$(tr '\0' ' ' < /proc/$p/cmdline | grep -o -- '--type=[a-z-]*\|learnpnp-view' | head -1)
+    echo "$p:${kind:-browser} $(awk '{print $14 + $15}' /proc/$p/stat)"
+  done | sort
+}
+ticks > "$out/t0"; sleep 8; ticks > "$out/t1"
+hz=$(getconf CLK_TCK)
+join "$out/t0" "$out/t1" | awk -v hz="$hz" '{c = ($3 - $2) * 100 / hz / 8; t += c; printf "%-28s %5.2f%%\n", $1, c} END {printf "%-28s %5.2f%%\n", "total", t}'
+kill $browser; wait $run
+grep -o '[0-9,]* cycles/s' "$out/run.log"
+rm -rf "$out" "$profile"
