@@ -5,10 +5,13 @@
 #   none    no view;
 #   served  `--view`, no client connected (the agents' feed and the view
 #           process alone);
-#   page    `--view` and the page open: headless Chromium (Debian's
-#           `chromium`, or CHROMIUM; the page tests' flags, software
-#           rendering), started and settled before the run, opens
-#           http://ADDR/ in a tab once the view listens;
+#   blank   no view; a browser open on a blank page through the run:
+#           headless Chromium (Debian's `chromium`, or CHROMIUM; the page
+#           tests' flags, software rendering), started and settled before
+#           the run (a designer's browser, the page not open);
+#   page    `--view` and the page open: the same browser, started and
+#           settled on a blank page before the run, opens http://ADDR/ in a
+#           tab once the view listens;
 #   client  `--view` and a Foxglove client (foxglove_client.py, stdlib only)
 #           subscribed to the channels the page subscribes to live
 #           (`LIVE_TOPICS` in crates/view/page/app.js);
@@ -18,8 +21,9 @@
 # Prints, per run: the load before it, the run's cycles/s, its wall time and
 # the CPU its processes used (user+system, the supervisor and every child it
 # waited for: simulator, keepers, view), the client's messages and CPU (the
-# browser's CPU, all its processes, for page); then
-# each mode's median against no view's, and whether every run's
+# browser's CPU, all its processes, for blank and page); then
+# each mode's median against BASE's (default: the first of MODES), and
+# whether every run's
 # episodes.csv is byte-identical. ARGS are passed to every run (none: the
 # main job's defaults); CLIENT_PREFIX runs the client under a command (e.g.
 # "chrt -b 0": as a background process).
@@ -28,6 +32,7 @@
 # machine's two cores), its cycles/s read from its summary.json.
 #   BIN=target/release ROUNDS=5 bash docs/results/measure-view-cost.sh
 #   ARGS="--episodes 3000" MODES="none served page all" bash docs/results/measure-view-cost.sh
+#   MODES="blank page" bash docs/results/measure-view-cost.sh   # the browser open in both
 set -u
 BIN=${BIN:-target/release}
 OUT=${OUT:-/tmp/viewcost}
@@ -35,6 +40,7 @@ ROUNDS=${ROUNDS:-5}
 ARGS=${ARGS:-}
 MODES=${MODES:-none page}
 CLIENT_PREFIX=${CLIENT_PREFIX:-}
+BASE=${BASE:-${MODES%% *}}
 CHROMIUM=${CHROMIUM:-chromium}
 JOB=${JOB:-supervisor}
 EXPERIMENT=${EXPERIMENT:-keepaway-position --algo soft-sosmc --runs 2}
@@ -44,6 +50,20 @@ rm -rf "$OUT"; mkdir -p "$OUT"
 echo "commit $(git -C "$HERE" rev-parse --short HEAD 2>/dev/null)$(git -C "$HERE" diff --quiet 2>/dev/null || echo +changes), binaries $BIN, $(nproc) cores, $(date -u +%FT%TZ), job: $JOB$([ $JOB = experiment ] && echo " $EXPERIMENT"), args: ${ARGS:-(defaults)}"
 echo "the page's channels: $(echo $PAGE_TOPICS)"
 printf '%-6s %-5s %-16s %10s %8s %8s %9s %10s\n' mode round load-before cycles/s wall_s cpu_s messages client_cpu_s
+# The browser is started (on a blank page) and settled before the run, as a
+# browser a designer already has open; page opens the page in it once the
+# view listens. Its CPU (all its processes) is counted from the run's start.
+start_browser() {
+  profile=$(mktemp -d)
+  "$CHROMIUM" --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
+    --disable-background-networking --disable-component-update --disable-sync --hide-scrollbars \
+    --force-device-scale-factor=1 --window-size=1400,900 --user-data-dir="$profile" \
+    --remote-debugging-port=$((19200 + round)) about:blank > "$dir.browser" 2>&1 &
+  browser=$!
+  sleep 3
+  before=$(browser_ticks)
+}
+browser_ticks() { for p in $(pgrep -f "user-data-dir=$profile"); do awk '{print $14 + $15}' /proc/$p/stat; done | paste -sd+ | bc; }
 read -ra modes <<< "$MODES"
 for round in $(seq 1 "$ROUNDS"); do
   # Each round starts one mode later than the one before (none, served, page;
@@ -61,21 +81,13 @@ for round in $(seq 1 "$ROUNDS"); do
     case $mode in
       none) ;;
       served) run+=(--view=127.0.0.1:0) ;;
+      blank)
+        start_browser
+        client= ;;
       page)
         port=$((18800 + round))
         run+=(--view=127.0.0.1:$port)
-        # The browser is started (on a blank page) and settled before the
-        # run, as a browser a designer already has open; the page is opened
-        # in it once the view listens. Its CPU is counted from the run's start.
-        profile=$(mktemp -d)
-        "$CHROMIUM" --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
-          --disable-background-networking --disable-component-update --disable-sync --hide-scrollbars \
-          --force-device-scale-factor=1 --window-size=1400,900 --user-data-dir="$profile" \
-          --remote-debugging-port=$((19200 + round)) about:blank > "$dir.browser" 2>&1 &
-        browser=$!
-        sleep 3
-        browser_ticks() { for p in $(pgrep -f "user-data-dir=$profile"); do awk '{print $14 + $15}' /proc/$p/stat; done | paste -sd+ | bc; }
-        before=$(browser_ticks)
+        start_browser
         ( until ss -ltnH "sport = :$port" | grep -q .; do sleep 0.05; done
           curl -s -X PUT "http://127.0.0.1:$((19200 + round))/json/new?http://127.0.0.1:$port/" > /dev/null ) &
         client=$! ;;
@@ -89,7 +101,7 @@ for round in $(seq 1 "$ROUNDS"); do
     esac
     /usr/bin/time -f '%e %U %S' -o "$dir.time" "${run[@]}" > "$dir.log" 2>&1
     [ -n "$client" ] && wait $client
-    if [ $mode = page ]; then
+    if [ $mode = page ] || [ $mode = blank ]; then
       echo "messages - client_cpu_s $(echo "scale=2; ($(browser_ticks) - $before) / $(getconf CLK_TCK)" | bc)" > "$dir.client"
       kill $browser; wait $browser 2>/dev/null; rm -rf "$profile"
     fi
@@ -110,11 +122,11 @@ for round in $(seq 1 "$ROUNDS"); do
   done
 done
 median() { grep "^$1 " "$OUT/cycles" | cut -d' ' -f2 | sort -n | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
-none=$(median none)
+base=$(median "$BASE")
 for mode in $MODES; do
-  [ $mode = none ] && continue
+  [ "$mode" = "$BASE" ] && continue
   m=$(median $mode)
-  echo "median cycles/s: no view $none, $mode $m; ratio $(echo "scale=4; $m / $none" | bc) (bound: >= 0.97)"
+  echo "median cycles/s: $BASE $base, $mode $m; ratio $(echo "scale=4; $m / $base" | bc) (bound: >= 0.97)"
 done
 if [ "$(md5sum "$OUT"/*/episodes.csv | cut -d' ' -f1 | sort -u | wc -l)" = 1 ]; then
   echo "episodes.csv: byte-identical in all $(ls "$OUT"/*/episodes.csv | wc -l) runs"

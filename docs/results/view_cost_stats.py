@@ -1,20 +1,24 @@
 """The live view's cost from the tables `measure-view-cost.sh` prints: for
-each mode against no view, over every round of every file given, the mean of
-the per-round ratios (the mode's cycles/s over no view's in the same round)
+each mode against the base mode (no view, or BASE: `blank` when the browser
+was open in both), over every round of every file given, the mean of the
+per-round ratios (the mode's cycles/s over the base's in the same round)
 with a 95% bootstrap interval over rounds (seeded: the same files give the
 same figures), and the ratio of the medians.
 
     python3 docs/results/view_cost_stats.py RESULT.txt [RESULT.txt ...]
+    BASE=blank python3 docs/results/view_cost_stats.py RESULT.txt
 """
 import math
+import os
 import random
 import re
 import statistics
 import sys
 
-ROW = re.compile(r"^(none|served|page|client|all)\s+(\d+)\s+[\d.]+ [\d.]+ [\d.]+\s+(\d+)")
+BASE = os.environ.get("BASE", "none")
+ROW = re.compile(r"^(none|blank|served|page|client|all)\s+(\d+)\s+[\d.]+ [\d.]+ [\d.]+\s+(\d+)")
 
-ratios = {}  # mode -> [log(mode / none), one per round]
+ratios = {}  # mode -> [log(mode / base), one per round]
 values = {}  # mode -> [cycles/s]
 for path in sys.argv[1:]:
     rounds = {}
@@ -26,14 +30,14 @@ for path in sys.argv[1:]:
             values.setdefault(mode, []).append(cycles)
     for run in rounds.values():
         for mode, cycles in run.items():
-            if mode != "none" and "none" in run:
-                ratios.setdefault(mode, []).append(math.log(cycles / run["none"]))
+            if mode != BASE and BASE in run:
+                ratios.setdefault(mode, []).append(math.log(cycles / run[BASE]))
 for mode, logs in sorted(ratios.items()):
     rng = random.Random(1)
     boots = sorted(statistics.mean(rng.choices(logs, k=len(logs))) for _ in range(10000))
-    median_ratio = statistics.median(values[mode]) / statistics.median(values["none"])
+    median_ratio = statistics.median(values[mode]) / statistics.median(values[BASE])
     print(
         f"{mode}: {len(logs)} rounds, mean paired ratio {math.exp(statistics.mean(logs)):.3f} "
-        f"[95% CI {math.exp(boots[250]):.3f}, {math.exp(boots[9749]):.3f}]; medians: no view "
-        f"{statistics.median(values['none']):.0f}, {mode} {statistics.median(values[mode]):.0f}, ratio {median_ratio:.3f}"
+        f"[95% CI {math.exp(boots[250]):.3f}, {math.exp(boots[9749]):.3f}]; medians: {BASE} "
+        f"{statistics.median(values[BASE]):.0f}, {mode} {statistics.median(values[mode]):.0f}, ratio {median_ratio:.3f}"
     )

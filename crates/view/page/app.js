@@ -17,10 +17,11 @@ const TOPIC = {
   latency: "/learnpnp/latency",
 };
 const TOPICS = new Set(Object.values(TOPIC));
-// Live, the markings, choices and episode ends come in the server's bundle
-// (crates/view/src/bundle.rs), one message a tick; the rest on their own.
+// Live, the markings, choices, episode ends and the processes' health and
+// latency come in the server's bundle (crates/view/src/bundle.rs), one
+// message a second; the plans and the curve on their own.
 const BUNDLE = "/learnpnp/bundle";
-const LIVE_TOPICS = new Set(["/learnpnp/plan", "/learnpnp/curve", "/learnpnp/health", "/learnpnp/latency", BUNDLE]);
+const LIVE_TOPICS = new Set(["/learnpnp/plan", "/learnpnp/curve", BUNDLE]);
 const SVG = "http://www.w3.org/2000/svg";
 const RETURN_WINDOW = 10; // episodes in the moving average of returns
 // Live, the page and its chart are redrawn at most once a second, as often
@@ -149,9 +150,12 @@ function apply(topic, r) {
 }
 
 // Applies one bundle of the server's (see crates/view/src/bundle.rs): per
-// agent, the tick's last markings and each choice point's last choice, as
-// their own records, and how many came; the returns of its episodes.
+// agent, the second's last markings and each choice point's last choice, as
+// their own records, and how many came; the returns of its episodes; each
+// process's latest health and latency.
 function applyBundle(bundle) {
+  for (const h of bundle.processes) apply(TOPIC.health, h);
+  for (const l of bundle.latency) apply(TOPIC.latency, l);
   for (const b of bundle.agents) {
     const a = agentOf(b.source);
     if (b.sub_plan_marking) apply(TOPIC.marking, b.sub_plan_marking);

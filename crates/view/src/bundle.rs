@@ -1,11 +1,15 @@
 //! The page's channel, [`BUNDLE_CHANNEL`]: every [`crate::BUNDLE_EVERY`], for each agent, what
 //! the page draws of the records that come at the run's pace (markings,
-//! choices, episode ends) instead of every record. A page draws the latest
-//! marking and each choice point's latest choice, counts the rest, and plots
-//! every episode's return; so a bundle carries just that, and a page open on a
-//! fast run is sent (and parses) a few kilobytes a bundle, not every record.
+//! choices, episode ends) instead of every record, and the processes' latest
+//! health and latency. A page draws the latest marking and each choice
+//! point's latest choice, counts the rest, and plots every episode's return;
+//! so a bundle carries just that, and a page open on a fast run is sent (and
+//! parses) one message a second, not every record nor a message per process.
 //!
-//! A bundle is `{"agents":[AGENT,...]}`, an `AGENT` being
+//! A bundle is `{"agents":[AGENT,...],"processes":[HEALTH,...],"latency":[LATENCY,...]}`:
+//! `HEALTH` and `LATENCY` are what `/learnpnp/health` and `/learnpnp/latency`
+//! carry, the latest of each process (and each measure of its latency) that
+//! came since the last bundle. An `AGENT` is
 //! `{"source":SOURCE,"markings":N,"marking":MARKING|null,"sub_plan_markings":N,
 //! "sub_plan_marking":MARKING|null,"choices":N,"latest_choices":[CHOICE,...],
 //! "episodes":N,"returns":[[EPISODE,RETURN],...],"last_episode":EPISODE|null}`:
@@ -27,7 +31,7 @@ use serde::{Deserialize, Serialize};
 pub const BUNDLE_CHANNEL: &str = "/learnpnp/bundle";
 
 /// The JSON schema of a [`BUNDLE_CHANNEL`] message.
-pub(crate) const BUNDLE_SCHEMA: &str = r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"Bundle","type":"object","required":["agents"],"properties":{"agents":{"type":"array","items":{"type":"object","required":["source","markings","marking","sub_plan_markings","sub_plan_marking","choices","latest_choices","episodes","returns","last_episode"],"properties":{"source":{"type":"object"},"markings":{"type":"integer"},"marking":{"type":["object","null"]},"sub_plan_markings":{"type":"integer"},"sub_plan_marking":{"type":["object","null"]},"choices":{"type":"integer"},"latest_choices":{"type":"array","items":{"type":"object"}},"episodes":{"type":"integer"},"returns":{"type":"array","items":{"type":"array","prefixItems":[{"type":"integer"},{"type":["number","null"]}]}},"last_episode":{"type":["integer","null"]}}}}}}"#;
+pub(crate) const BUNDLE_SCHEMA: &str = r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"Bundle","type":"object","required":["agents","processes","latency"],"properties":{"processes":{"type":"array","items":{"type":"object"}},"latency":{"type":"array","items":{"type":"object"}},"agents":{"type":"array","items":{"type":"object","required":["source","markings","marking","sub_plan_markings","sub_plan_marking","choices","latest_choices","episodes","returns","last_episode"],"properties":{"source":{"type":"object"},"markings":{"type":"integer"},"marking":{"type":["object","null"]},"sub_plan_markings":{"type":"integer"},"sub_plan_marking":{"type":["object","null"]},"choices":{"type":"integer"},"latest_choices":{"type":"array","items":{"type":"object"}},"episodes":{"type":"integer"},"returns":{"type":"array","items":{"type":"array","prefixItems":[{"type":"integer"},{"type":["number","null"]}]}},"last_episode":{"type":["integer","null"]}}}}}}"#;
 
 /// What a bundle files a marking by.
 #[derive(Deserialize)]
@@ -35,6 +39,22 @@ struct MarkingKey {
     source: Source,
     #[serde(default)]
     sub_plan: Option<serde::de::IgnoredAny>,
+}
+
+/// What a bundle files a process's health by.
+#[derive(Deserialize)]
+struct HealthKey<'a> {
+    #[serde(borrow)]
+    process: Cow<'a, str>,
+}
+
+/// What a bundle files a latency summary by.
+#[derive(Deserialize)]
+struct LatencyKey<'a> {
+    #[serde(borrow)]
+    process: Cow<'a, str>,
+    #[serde(borrow)]
+    measure: Cow<'a, str>,
 }
 
 /// What a bundle files a choice by.
@@ -123,10 +143,55 @@ impl AgentPart {
     }
 }
 
+/// The latest record of each key (a process, or a process's measure), in
+/// the order the keys were first met, as JSON.
+struct Latest<K> {
+    records: Vec<(K, Vec<u8>)>,
+}
+
+impl<K: PartialEq> Latest<K> {
+    fn new() -> Self {
+        Latest { records: Vec::new() }
+    }
+
+    /// Makes `json` the latest record of `key`.
+    fn keep(&mut self, key: K, json: &[u8]) {
+        match self.records.iter_mut().find(|(k, _)| *k == key) {
+            Some((_, kept)) => {
+                kept.clear();
+                kept.extend_from_slice(json);
+            }
+            None => self.records.push((key, json.to_vec())),
+        }
+    }
+
+    fn is_empty(&self) -> bool {
+        self.records.is_empty()
+    }
+
+    fn clear(&mut self) {
+        self.records.clear();
+    }
+
+    /// Writes the records as a JSON array.
+    fn write(&self, out: &mut Vec<u8>) {
+        out.push(b'[');
+        for (i, (_, json)) in self.records.iter().enumerate() {
+            if i > 0 {
+                out.push(b',');
+            }
+            out.extend_from_slice(json);
+        }
+        out.push(b']');
+    }
+}
+
 /// The [`BUNDLE_CHANNEL`] message being gathered.
 pub(crate) struct Bundle {
     pub(crate) channel: Arc<RawChannel>,
     agents: Vec<(Source, AgentPart)>,
+    processes: Latest<String>,
+    latency: Latest<(String, String)>,
     json: Vec<u8>,
 }
 
@@ -135,6 +200,8 @@ impl Bundle {
         Bundle {
             channel,
             agents: Vec::new(),
+            processes: Latest::new(),
+            latency: Latest::new(),
             json: Vec::new(),
         }
     }
@@ -184,9 +251,31 @@ impl Bundle {
         }
     }
 
-    /// Files a marking, choice or episode end published in the view's
-    /// process, while a client subscribes: it is encoded only if it is still
-    /// the latest of its kind when the bundle is sent.
+    /// Files a process's health (`json`, what `/learnpnp/health` carries), while a client subscribes.
+    pub(crate) fn add_health(&mut self, json: &[u8]) {
+        if !self.channel.has_sinks() {
+            return;
+        }
+        if let Ok(key) = serde_json::from_slice::<HealthKey>(json) {
+            self.processes.keep(key.process.into_owned(), json);
+        }
+    }
+
+    /// Files a process's latency summary (`json`, what `/learnpnp/latency` carries), while a client subscribes.
+    pub(crate) fn add_latency(&mut self, json: &[u8]) {
+        if !self.channel.has_sinks() {
+            return;
+        }
+        if let Ok(key) = serde_json::from_slice::<LatencyKey>(json) {
+            self.latency
+                .keep((key.process.into_owned(), key.measure.into_owned()), json);
+        }
+    }
+
+    /// Files a record published in the view's process, while a client
+    /// subscribes: a marking or choice is encoded only if it is still the
+    /// latest of its kind when the bundle is sent; a process's health or
+    /// latency (once a second each) at once.
     pub(crate) fn add_event(&mut self, event: &FeedEvent) {
         if !self.channel.has_sinks() {
             return;
@@ -208,13 +297,17 @@ impl Bundle {
                 }
             }
             FeedEvent::Episode(end) => self.agent(&end.source).end_episode(end),
+            FeedEvent::Health(health) => self.processes.keep(health.process.clone(), &json_of(health)),
+            FeedEvent::Latency(summary) => self
+                .latency
+                .keep((summary.process.clone(), summary.measure.clone()), &json_of(summary)),
             _ => {}
         }
     }
 
     /// Logs what was gathered, if anything, and starts the next message.
     pub(crate) fn send(&mut self) {
-        if self.agents.is_empty() {
+        if self.agents.is_empty() && self.processes.is_empty() && self.latency.is_empty() {
             return;
         }
         self.json.clear();
@@ -225,10 +318,23 @@ impl Bundle {
             }
             write_agent(&mut self.json, source, part);
         }
-        self.json.extend_from_slice(b"]}");
+        self.json.extend_from_slice(br#"],"processes":"#);
+        self.processes.write(&mut self.json);
+        self.json.extend_from_slice(br#","latency":"#);
+        self.latency.write(&mut self.json);
+        self.json.push(b'}');
         self.channel.log(&self.json);
         self.agents.clear();
+        self.processes.clear();
+        self.latency.clear();
     }
+}
+
+/// A record as JSON.
+fn json_of<T: Serialize>(record: &T) -> Vec<u8> {
+    let mut json = Vec::new();
+    push_json(&mut json, record);
+    json
 }
 
 /// Writes `value` as JSON (a number that is not finite as `null`). Writing
@@ -280,4 +386,20 @@ fn write_agent(out: &mut Vec<u8>, source: &Source, part: &AgentPart) {
         write(out);
     }
     out.push(b'}');
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_latest_record_of_each_key_is_kept_in_the_order_keys_came() {
+        let mut latest = Latest::new();
+        latest.keep("keeper 2", br#"{"n":1}"#);
+        latest.keep("keeper 1", br#"{"n":2}"#);
+        latest.keep("keeper 2", br#"{"n":3}"#);
+        let mut out = Vec::new();
+        latest.write(&mut out);
+        assert_eq!(out, br#"[{"n":3},{"n":2}]"#);
+    }
 }

@@ -29,9 +29,13 @@
 //! - **The page's bundle**: [`BUNDLE_CHANNEL`] carries, once every [`BUNDLE_EVERY`], for
 //!   each agent, what the page draws of the records that come at the run's
 //!   pace (the latest marking, each choice point's latest choice, counts, the
-//!   episodes' returns), so that a page following a fast run is sent a few
-//!   kilobytes a second rather than every record. It is built only while a
+//!   episodes' returns) and the processes' latest health and latency, so that
+//!   a page following a fast run is sent one message a second rather than
+//!   every record and a message per process. It is built only while a
 //!   client subscribes to it, and not recorded.
+//! - **Plans**: a plan is logged when it is new or changed; an agent
+//!   process's resending of an unchanged plan (for a view started late) is
+//!   not passed on, since a client is sent the plans kept when it subscribes.
 //! - **MCAP**: the same channels, written by the SDK's writer to `FILE.part`
 //!   and renamed to `FILE` when the view closes (so a file under the final
 //!   name is complete). Chunks are not compressed, so that the page's small
@@ -75,6 +79,8 @@ const MARKING: usize = 1;
 const CHOICE: usize = 2;
 const EPISODE: usize = 4;
 const CURVE: usize = 5;
+const HEALTH: usize = 6;
+const LATENCY: usize = 7;
 
 /// The agent whose markings PNP's monitor line follows (a PNP observer watches one plan).
 const MONITORED: Source = Source { run: 0, agent: 0 };
@@ -546,20 +552,21 @@ impl Worker {
     /// monitor line. Only what needs a record's fields reads them: a plan, and
     /// a marking while the monitor line has clients.
     fn log(&mut self, kind: usize, json: Vec<u8>) {
-        self.channels[kind].log(&json);
         self.counts.0[kind] += 1;
+        if kind == PLAN {
+            self.log_plan(json);
+            return;
+        }
+        self.channels[kind].log(&json);
         match kind {
             MARKING => self.bundle.add_marking(&json),
             CHOICE => self.bundle.add_choice(&json),
             EPISODE => self.bundle.add_episode(&json),
+            HEALTH => self.bundle.add_health(&json),
+            LATENCY => self.bundle.add_latency(&json),
             _ => {}
         }
         match kind {
-            PLAN => {
-                if let Ok(shape) = serde_json::from_slice::<PlanShape>(&json) {
-                    self.keep_plan(&shape, json);
-                }
-            }
             CURVE if self.curve.len() < CURVE_KEPT => self.curve.push(json),
             MARKING if self.monitored() => {
                 // PNP's observer watches one plan: the first agent's root plan of the first run.
@@ -598,8 +605,20 @@ impl Worker {
         !self.clients.lock().unwrap_or_else(PoisonError::into_inner).is_empty()
     }
 
-    fn keep_plan(&mut self, shape: &PlanShape, json: Vec<u8>) {
+    /// Logs a plan and keeps it, unless it is the plan already kept for its
+    /// agent: an agent process sends its plan again every second for a view
+    /// started late, and every client that subscribes is sent the plans kept,
+    /// so a plan sent again unchanged would tell no client anything.
+    fn log_plan(&mut self, json: Vec<u8>) {
+        let Ok(shape) = serde_json::from_slice::<PlanShape>(&json) else {
+            self.channels[PLAN].log(&json);
+            return;
+        };
+        if self.plans.get(&shape.source).is_some_and(|(kept, _)| *kept == json) {
+            return;
+        }
+        self.channels[PLAN].log(&json);
         self.plans
-            .insert(shape.source.clone(), (json, pnp_monitor::LineFormat::new(shape)));
+            .insert(shape.source.clone(), (json, pnp_monitor::LineFormat::new(&shape)));
     }
 }

@@ -13,9 +13,10 @@ use std::time::{Duration, Instant};
 
 use super::agent_chassis::{Chassis, load_checkpoint};
 use super::sim_process::{FLOOR_END, floor_pong, keepaway_config};
+use super::world_agent::agent_compute_histogram;
 use super::{Clock, HEARTBEAT_EVERY, ProcessError, RunContext};
 use crate::ipc::convert::{Rejection, agent_report, command_message, read_episode_event, read_snapshot};
-use crate::ipc::protocol::{AgentNews, CommandReading, EpisodeNews, Order, ProcessState, Role, SnapshotMeta};
+use crate::ipc::protocol::{AgentNews, CommandReading, EpisodeNews, Order, ProcessState, Role, Roster, SnapshotMeta};
 use crate::ipc::services::{AgentPorts, node, receive};
 use crate::ipc::wait::{Idle, MAX_BLOCK, TIMED_WAIT_SLACK};
 use learnpnp::domains::keepaway::{KeepawayDomainConfig, PlanKeeper, RunSeeds, registry};
@@ -44,6 +45,15 @@ pub(crate) const EXPECT_LATE: Duration = Duration::from_millis(2);
 /// The name of keeper `k`'s compute-time histogram.
 pub fn compute_histogram(k: usize) -> String {
     format!("compute-keeper{}", k + 1)
+}
+
+/// The name of agent `k`'s compute-time histogram in a run of `roster`
+/// (a keeper's, or a world's agent's).
+pub(crate) fn roster_compute_histogram(roster: Roster, k: usize) -> String {
+    match roster {
+        Roster::Keepaway => compute_histogram(k),
+        Roster::World { .. } => agent_compute_histogram(k),
+    }
 }
 
 /// An agent's settings beyond the run's.

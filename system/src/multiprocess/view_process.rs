@@ -16,6 +16,7 @@ use std::time::{Duration, Instant};
 use learnpnp_feed::{FeedEvent, FeedSink, LatencySummary, ProcessHealth};
 use serde::{Deserialize, Serialize};
 
+use super::agent_process::roster_compute_histogram;
 use super::supervisor::ViewConfig;
 use super::{ProcessError, RunContext};
 use crate::ipc::convert::read_heartbeat;
@@ -144,7 +145,7 @@ pub fn run(
                 restarts: 0,
                 rejections: counts.feed.rejected.total() + counts.heartbeats_rejected,
             }));
-            for summary in latency_summaries(&context.work_dir) {
+            for summary in latency_summaries(&context.work_dir, roster) {
                 sink.publish(&FeedEvent::Latency(summary));
             }
             write_counts(&context.work_dir, &counts)?;
@@ -178,8 +179,10 @@ fn write_counts(work_dir: &Path, counts: &ViewCounts) -> Result<(), ProcessError
 
 /// The latency percentiles of every histogram in `work_dir`
 /// (`<name>.<pid>.hdr`, each incarnation of a process writing its own:
-/// merged by name); a file that does not read is passed over.
-fn latency_summaries(work_dir: &Path) -> Vec<LatencySummary> {
+/// merged by name), each filed under the process that writes it, named as its
+/// health is (an agent's compute time under the agent, the rest under the
+/// run's host); a file that does not read is passed over.
+fn latency_summaries(work_dir: &Path, roster: Roster) -> Vec<LatencySummary> {
     let mut merged: BTreeMap<String, Latency> = BTreeMap::new();
     let entries = std::fs::read_dir(work_dir).into_iter().flatten().flatten();
     for path in entries.map(|e| e.path()) {
@@ -200,9 +203,10 @@ fn latency_summaries(work_dir: &Path) -> Vec<LatencySummary> {
         .into_iter()
         .map(|(name, histogram)| {
             let p = histogram.percentiles();
-            let (process, measure) = match name.strip_prefix("compute-") {
-                Some(process) => (process.to_string(), "compute".to_string()),
-                None => ("host".to_string(), name),
+            let agent = (0..roster.agents()).find(|&k| roster_compute_histogram(roster, k) == name);
+            let (process, measure) = match agent {
+                Some(k) => (roster.agent(k).to_string(), "compute".to_string()),
+                None => (roster.host().to_string(), name),
             };
             LatencySummary {
                 process,
@@ -263,6 +267,33 @@ mod tests {
         );
         assert_eq!(histogram_name(Path::new("/r/view.json")), None);
         assert_eq!(histogram_name(Path::new("/r/a.b.hdr")), None);
+    }
+
+    #[test]
+    fn latency_is_filed_under_the_process_named_as_its_health_is() {
+        let dir = std::env::temp_dir().join(format!("learnpnp-view-latency-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for (file, name) in [
+            ("compute-keeper2.7.hdr", "compute-keeper2"),
+            ("roundtrip.8.hdr", "roundtrip"),
+        ] {
+            let mut histogram = Latency::new(name);
+            histogram.record(Duration::from_micros(20));
+            std::fs::write(dir.join(file), histogram.to_bytes().unwrap()).unwrap();
+        }
+        let mut filed: Vec<(String, String)> = latency_summaries(&dir, Roster::Keepaway)
+            .into_iter()
+            .map(|s| (s.process, s.measure))
+            .collect();
+        filed.sort();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(
+            filed,
+            [
+                (Role::Keeper(1).to_string(), "compute".to_string()),
+                (Role::Simulator.to_string(), "roundtrip".to_string()),
+            ]
+        );
     }
 
     #[test]

@@ -16,11 +16,11 @@ use crate::ipc::convert::Rejections;
 use crate::ipc::protocol::{Role, Roster};
 use crate::latency::Latency;
 use crate::multiprocess::agent_chassis::{checkpoint_name, resumed_file};
-use crate::multiprocess::agent_process::compute_histogram;
+use crate::multiprocess::agent_process::roster_compute_histogram;
 use crate::multiprocess::floor_probe::REMOTE_HOST_FLOOR;
 use crate::multiprocess::sim_process::{FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult, keeper_round_trip_histogram};
 use crate::multiprocess::view_process::ViewCounts;
-use crate::multiprocess::world_agent::{WORLD_TURNAROUND, agent_compute_histogram, agent_result_file};
+use crate::multiprocess::world_agent::{WORLD_TURNAROUND, agent_result_file};
 use learnpnp::learning::persist::{self, SavedValues};
 
 /// Whether a restarted agent resumed with exactly the values checkpointed
@@ -124,10 +124,7 @@ pub(super) fn read_histograms(dir: &Path, roster: Roster) -> Result<Vec<Latency>
         .map(|e| e.path())
         .collect();
     files.sort();
-    let compute = |k| match roster {
-        Roster::Keepaway => compute_histogram(k),
-        Roster::World { .. } => agent_compute_histogram(k),
-    };
+    let compute = |k| roster_compute_histogram(roster, k);
     let per_roster: Vec<String> = match roster {
         Roster::Keepaway => (0..roster.agents()).map(keeper_round_trip_histogram).collect(),
         Roster::World { .. } => vec![WORLD_TURNAROUND.to_string()],
