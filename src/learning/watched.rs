@@ -2,6 +2,7 @@
 //! wraps and publishes what happens to a [`FeedSink`] (the live feed of
 //! [`learnpnp_feed`]). A run with no view wraps nothing and pays nothing.
 
+use std::collections::HashMap;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -11,6 +12,7 @@ use learnpnp_feed::{
 };
 
 use super::{EpisodeMode, EpisodeStart, Learner, ValueTable};
+use crate::analysis::option_label;
 use crate::executor::{Chooser, PendingReward, PlanKey};
 use crate::net::{Marking, NodeRef, PlaceId};
 use crate::plan::Plan;
@@ -45,19 +47,45 @@ impl PlanLabels {
         self.places.get(index).cloned().unwrap_or_else(|| format!("p{index}"))
     }
 
-    /// The first place `to` holds more tokens in than `from`: what tells an
-    /// option's successor marking apart, named for a designer (an action's
-    /// execution place by the action's name).
-    fn gained(&self, from: &Marking, to: &Marking) -> Option<String> {
-        let i = from.tokens().iter().zip(to.tokens()).position(|(a, b)| b > a)?;
-        let name = self.place(i);
-        Some(name.strip_suffix(".exec").map(str::to_owned).unwrap_or(name))
-    }
-
     /// The first place `to` holds fewer tokens in than `from`: where a choice leaves from.
     fn lost(&self, from: &Marking, to: &Marking) -> Option<String> {
         let i = from.tokens().iter().zip(to.tokens()).position(|(a, b)| b < a)?;
         Some(self.place(i))
+    }
+}
+
+/// The options of one plan's choices named as `learnpnp values` names them:
+/// by the transitions that lead to them ([`option_label`]), each pair of
+/// markings worked out once.
+#[derive(Debug)]
+struct OptionNames {
+    plan: Plan,
+    known: HashMap<(Marking, Marking), String>,
+}
+
+/// How many option names [`OptionNames`] keeps before it starts again (a
+/// plan's choices are made at few markings; this bounds a plan with many).
+const OPTION_NAMES_KEPT: usize = 4096;
+
+impl OptionNames {
+    fn new(plan: &Plan) -> Self {
+        OptionNames {
+            plan: plan.clone(),
+            known: HashMap::new(),
+        }
+    }
+
+    /// The name of the option that leads from `from` to `to`.
+    fn name(&mut self, from: &Marking, to: &Marking) -> String {
+        if let Some(name) = self.known.get(&(from.clone(), to.clone())) {
+            return name.clone();
+        }
+        if self.known.len() >= OPTION_NAMES_KEPT {
+            self.known.clear();
+        }
+        let name = option_label(&self.plan, from, to);
+        self.known.insert((from.clone(), to.clone()), name.clone());
+        name
     }
 }
 
@@ -72,6 +100,8 @@ pub struct WatchedLearner {
     source: Source,
     /// Labels of the plan (index 0) and its sub-plans, in [`PlanKey`] order.
     plans: Vec<PlanLabels>,
+    /// Names of their choices' options, in the same order.
+    option_names: Vec<OptionNames>,
     episode: u64,
     episodes_begun: u64,
     evaluation: bool,
@@ -111,6 +141,7 @@ impl WatchedLearner {
             sink,
             source,
             plans: plan.activation_plans().into_iter().map(PlanLabels::new).collect(),
+            option_names: plan.activation_plans().into_iter().map(OptionNames::new).collect(),
             episode: 0,
             episodes_begun: 0,
             evaluation: false,
@@ -166,8 +197,9 @@ impl WatchedLearner {
         }
     }
 
-    fn publish_choice(&self, plan: PlanKey, state: &Marking, options: &[Marking], taken: usize) {
+    fn publish_choice(&mut self, plan: PlanKey, state: &Marking, options: &[Marking], taken: usize) {
         let labels = self.plans.get(usize::from(plan.0)).unwrap_or(&UNKNOWN_PLAN);
+        let mut names = self.option_names.get_mut(usize::from(plan.0));
         let table: &ValueTable = self.inner.values();
         let values: Vec<OptionValue> = options
             .iter()
@@ -175,7 +207,9 @@ impl WatchedLearner {
             .map(|(i, option)| {
                 let id = table.find(plan, option);
                 OptionValue {
-                    label: labels.gained(state, option).unwrap_or_else(|| format!("option {i}")),
+                    label: names
+                        .as_mut()
+                        .map_or_else(|| format!("option {i}"), |n| n.name(state, option)),
                     // A value never updated is the initial value, not a learned one.
                     value: id.filter(|&id| table.visits(id) > 0).map(|id| table.value(id)),
                     updates: id.map_or(0, |id| table.visits(id)),
@@ -381,5 +415,55 @@ mod tests {
         // The root plan's marking is written as before (no `sub_plan` key).
         let root_json = String::from_utf8(FeedEvent::Marking(markings[0].clone()).payload_json().unwrap()).unwrap();
         assert!(!root_json.contains("sub_plan"), "{root_json}");
+    }
+
+    #[test]
+    fn a_choices_options_are_named_by_the_transitions_that_lead_to_them() {
+        // keepaway_position's options all gain `decide` (and a position's
+        // memory place): a place could not tell them apart, a transition does.
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("plans/keepaway_position.pnml");
+        let plan = load_plan(&path, AllowedAtoms::Open).unwrap();
+        let (state, choice) = crate::analysis::choices_at(&plan, &plan.initial_marking())
+            .into_iter()
+            .map(|c| (plan.initial_marking(), c))
+            .next()
+            .expect("the plan chooses at its start");
+        let options: Vec<Marking> = choice.options.iter().map(|(_, next)| next.clone()).collect();
+        let kept = Arc::new(Kept::default());
+        let learner = MonteCarlo::new(
+            MonteCarloConfig {
+                gamma: 1.0,
+                alpha: 0.1,
+                exploration: Exploration::EpsilonGreedy(Schedule::constant(0.1)),
+                initial_value: 0.0,
+            },
+            seeded(1),
+        );
+        let mut watched = WatchedLearner::new(Box::new(learner), &plan, Source { run: 0, agent: 1 }, kept.clone());
+        for _ in 0..2 {
+            watched.choose(PlanKey::ROOT, &state, &options);
+        }
+        let choices: Vec<ChoiceMade> = kept
+            .0
+            .lock()
+            .unwrap()
+            .iter()
+            .filter_map(|e| match e {
+                FeedEvent::Choice(c) => Some(c.clone()),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(choices.len(), 2);
+        let expected: Vec<String> = choice
+            .options
+            .iter()
+            .map(|&(t, _)| crate::analysis::transition_name(&plan, t).to_owned())
+            .collect();
+        for made in &choices {
+            let labels: Vec<&str> = made.options.iter().map(|o| o.label.as_str()).collect();
+            assert_eq!(labels, expected);
+        }
+        let distinct: std::collections::HashSet<&String> = expected.iter().collect();
+        assert_eq!(distinct.len(), expected.len(), "{expected:?}");
     }
 }

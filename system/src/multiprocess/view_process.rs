@@ -9,9 +9,9 @@
 //! the view shows, and a restarted one carries its predecessor's counts on.
 
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::{Duration, Instant, SystemTime};
 
 use learnpnp_feed::{FeedEvent, FeedSink, LatencySummary, ProcessHealth};
 use serde::{Deserialize, Serialize};
@@ -106,6 +106,7 @@ pub fn run(
     let mut seen: BTreeMap<Role, Seen> = BTreeMap::new();
     let mut heartbeats_rejected = 0;
     let mut last_summary: Option<Instant> = None;
+    let mut latency = LatencyFiles::default();
     loop {
         let stopping = stop.load(Ordering::Relaxed);
         // The agents' records go on as they encoded them (checked, not encoded again).
@@ -145,8 +146,8 @@ pub fn run(
                 restarts: 0,
                 rejections: counts.feed.rejected.total() + counts.heartbeats_rejected,
             }));
-            for summary in latency_summaries(&context.work_dir, roster) {
-                sink.publish(&FeedEvent::Latency(summary));
+            for summary in latency.summaries(&context.work_dir, roster) {
+                sink.publish(&FeedEvent::Latency(summary.clone()));
             }
             write_counts(&context.work_dir, &counts)?;
         }
@@ -175,6 +176,36 @@ fn write_counts(work_dir: &Path, counts: &ViewCounts) -> Result<(), ProcessError
     let path = work_dir.join(VIEW_COUNTS_FILE);
     let json = serde_json::to_vec(counts).unwrap_or_default();
     atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })
+}
+
+/// The latency summaries of a work directory, read again only when its
+/// histogram files change (the processes write them now and then; decoding
+/// them every second was most of an idle view's work).
+#[derive(Debug, Default)]
+struct LatencyFiles {
+    /// Each histogram file's path, length and modification time when last read.
+    read: Vec<(PathBuf, u64, Option<SystemTime>)>,
+    summaries: Vec<LatencySummary>,
+}
+
+impl LatencyFiles {
+    /// The summaries of `work_dir`'s histograms as they are now.
+    fn summaries(&mut self, work_dir: &Path, roster: Roster) -> &[LatencySummary] {
+        let entries = std::fs::read_dir(work_dir).into_iter().flatten().flatten();
+        let mut now: Vec<(PathBuf, u64, Option<SystemTime>)> = entries
+            .filter(|e| histogram_name(&e.path()).is_some())
+            .filter_map(|e| {
+                let meta = e.metadata().ok()?;
+                Some((e.path(), meta.len(), meta.modified().ok()))
+            })
+            .collect();
+        now.sort();
+        if now != self.read {
+            self.summaries = latency_summaries(work_dir, roster);
+            self.read = now;
+        }
+        &self.summaries
+    }
 }
 
 /// The latency percentiles of every histogram in `work_dir`
@@ -294,6 +325,31 @@ mod tests {
                 (Role::Simulator.to_string(), "roundtrip".to_string()),
             ]
         );
+    }
+
+    #[test]
+    fn histograms_are_read_again_only_when_a_file_changes() {
+        let dir = std::env::temp_dir().join(format!("learnpnp-view-latency-files-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let write = |micros: &[u64]| {
+            let mut histogram = Latency::new("roundtrip");
+            for &us in micros {
+                histogram.record(Duration::from_micros(us));
+            }
+            std::fs::write(dir.join("roundtrip.8.hdr"), histogram.to_bytes().unwrap()).unwrap();
+        };
+        let mut files = LatencyFiles::default();
+        assert!(files.summaries(&dir, Roster::Keepaway).is_empty());
+        write(&[20]);
+        assert_eq!(files.summaries(&dir, Roster::Keepaway)[0].count, 1);
+        // Kept while the file stays as it was; another file's histogram, or
+        // the same file rewritten, is read.
+        let kept = files.read.clone();
+        assert_eq!(files.summaries(&dir, Roster::Keepaway)[0].count, 1);
+        assert_eq!(files.read, kept);
+        write(&[20, 30, 40]);
+        assert_eq!(files.summaries(&dir, Roster::Keepaway)[0].count, 3);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
