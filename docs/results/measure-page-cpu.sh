@@ -14,9 +14,7 @@ out=$(mktemp -d); profile=$(mktemp -d)
 "$BIN/learnpnp-supervisor" --out "$out/run" --episodes "$EPISODES" --view=127.0.0.1:$PORT > "$out/run.log" 2>&1 &
 run=$!
 until ss -ltnH "sport = :$PORT" | grep -q .; do sleep 0.05; done
-"$CHROMIUM" --headless --no-sandbox --disable-gpu --disable-quic --no-first-run --disable-background-networking \
-  --disable-component-update --disable-sync --hide-scrollbars --force-device-scale-factor=1 --window-size=1400,900 \
-  --user-data-dir="$profile" --remote-debugging-port=0 "http://127.0.0.1:$PORT/" > "$out/browser.log" 2>&1 &
+"$CHROMIUM" $(grep -v '^#' "$(dirname "$0")/chromium-flags") --user-data-dir="$profile" --remote-debugging-port=0 "http://127.0.0.1:$PORT/" > "$out/browser.log" 2>&1 &
 browser=$!
 sleep 6
 ticks() {

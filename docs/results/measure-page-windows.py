@@ -15,7 +15,6 @@ measure-view-cost.sh); what differs is the page open in a browser.
         [--seconds 6] [--settle 2] [--episodes 400000]
 """
 import argparse
-import glob
 import json
 import os
 import random
@@ -25,6 +24,8 @@ import subprocess
 import tempfile
 import time
 import urllib.request
+
+from run_journal import Journal, chromium_flags
 
 parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
 parser.add_argument("--bin", default="target/release", help="the directory of learnpnp-supervisor")
@@ -37,13 +38,11 @@ parser.add_argument("--chromium", default=os.environ.get("CHROMIUM", "chromium")
 args = parser.parse_args()
 
 debug_port = args.port + 400
+CHROMIUM_FLAGS = chromium_flags()
 out = tempfile.mkdtemp(prefix="learnpnp-page-windows-")
 profile = tempfile.mkdtemp(prefix="learnpnp-page-windows-profile-")
 browser = subprocess.Popen(
-    [args.chromium, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-     "--disable-background-networking", "--disable-component-update", "--disable-sync", "--hide-scrollbars",
-     "--force-device-scale-factor=1", "--window-size=1400,900", f"--user-data-dir={profile}",
-     f"--remote-debugging-port={debug_port}", "about:blank"],
+    [args.chromium, *CHROMIUM_FLAGS, f"--user-data-dir={profile}", f"--remote-debugging-port={debug_port}", "about:blank"],
     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 time.sleep(3)
 log = open(os.path.join(out, "run.log"), "w")
@@ -53,37 +52,13 @@ run = subprocess.Popen(
     stdout=log, stderr=subprocess.STDOUT)
 
 
-class Journal:
-    """The steps of the episodes the simulator has journaled so far (read on from where it was)."""
-
-    def __init__(self):
-        self.offset, self.steps, self.partial = 0, 0, b""
-
-    def read(self):
-        found = glob.glob(os.path.join(out, ".run.staging-*", "runs", "run-0", "simulator.journal"))
-        if not found:
-            return None
-        with open(found[0], "rb") as f:
-            f.seek(self.offset)
-            data = f.read()
-        self.offset += len(data)
-        lines = (self.partial + data).split(b"\n")
-        self.partial = lines.pop()
-        for line in lines:
-            try:
-                self.steps += json.loads(line)["outcome"]["steps"]
-            except (ValueError, KeyError, TypeError):
-                pass
-        return self.steps
-
-
 def devtools(path, method="GET"):
     request = urllib.request.Request(f"http://127.0.0.1:{debug_port}{path}", method=method)
     with urllib.request.urlopen(request, timeout=10) as response:
         return json.loads(response.read() or b"null")
 
 
-journal = Journal()
+journal = Journal(out)
 try:
     while journal.read() is None:
         time.sleep(0.1)

@@ -55,9 +55,7 @@ printf '%-6s %-5s %-16s %10s %8s %8s %9s %10s\n' mode round load-before cycles/s
 # view listens. Its CPU (all its processes) is counted from the run's start.
 start_browser() {
   profile=$(mktemp -d)
-  "$CHROMIUM" --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
-    --disable-background-networking --disable-component-update --disable-sync --hide-scrollbars \
-    --force-device-scale-factor=1 --window-size=1400,900 --user-data-dir="$profile" \
+  "$CHROMIUM" $(grep -v '^#' "$HERE/chromium-flags") --user-data-dir="$profile" \
     --remote-debugging-port=$((19200 + round)) about:blank > "$dir.browser" 2>&1 &
   browser=$!
   sleep 3
