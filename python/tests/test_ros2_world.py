@@ -146,6 +146,7 @@ def check_plan_state(echoed, counts):
     places = set(re.findall(r"<place id=[^>]*>.*?<name>\s*<value>([^<]*)</value>", pnml, re.S))
     actions = {p[: -len(".exec")] for p in places if p.endswith(".exec")}
     assert actions == {"forward", "back"}, places
+    transitions = set(re.findall(r"<transition id=[^>]*>.*?<name>\s*<value>([^<]*)</value>", pnml, re.S))
     got = {"currentActivePlaces": [], "runningActions": [], "choices": []}
     for line in echoed.read_text().splitlines():
         message = json.loads(line)
@@ -160,13 +161,15 @@ def check_plan_state(echoed, counts):
     choices = [json.loads(data) for data in got["choices"]]
     assert choices, counts
     for choice in choices:
+        # Each option is named by the transition that leads to it, as `learnpnp values` names it.
         names = [o["name"] for o in choice["options"]]
+        assert set(names) <= transitions, (choice, transitions)
         assert choice["choice"] in places and choice["chosen"] in names, choice
         assert all(o["value"] is None or isinstance(o["value"], float) for o in choice["options"]), choice
     # Once learned, the options have values, and going forward is worth more than going back.
     last = [c for c in choices if all(o["value"] is not None for o in c["options"])][-1]
     value = {o["name"]: o["value"] for o in last["options"]}
-    assert value["forward"] > value["back"], last
+    assert value["forward.start"] > value["back.start"], last
     assert counts["unreadable"] is None, counts
     assert counts["feed"]["received"] > 0, counts
     assert sum(counts["feed"]["rejected"].values()) == 0, counts
