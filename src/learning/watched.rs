@@ -60,7 +60,11 @@ impl PlanLabels {
 #[derive(Debug)]
 struct OptionNames {
     plan: Plan,
-    known: HashMap<(Marking, Marking), String>,
+    /// Names by the marking where the choice is made, then by the option's
+    /// marking (looked up by reference: nothing is cloned to find a name).
+    known: HashMap<Marking, HashMap<Marking, String>>,
+    /// How many names `known` holds.
+    kept: usize,
 }
 
 /// How many option names [`OptionNames`] keeps before it starts again (a
@@ -72,19 +76,25 @@ impl OptionNames {
         OptionNames {
             plan: plan.clone(),
             known: HashMap::new(),
+            kept: 0,
         }
     }
 
     /// The name of the option that leads from `from` to `to`.
     fn name(&mut self, from: &Marking, to: &Marking) -> String {
-        if let Some(name) = self.known.get(&(from.clone(), to.clone())) {
+        if let Some(name) = self.known.get(from).and_then(|options| options.get(to)) {
             return name.clone();
         }
-        if self.known.len() >= OPTION_NAMES_KEPT {
+        if self.kept >= OPTION_NAMES_KEPT {
             self.known.clear();
+            self.kept = 0;
         }
         let name = option_label(&self.plan, from, to);
-        self.known.insert((from.clone(), to.clone()), name.clone());
+        self.known
+            .entry(from.clone())
+            .or_default()
+            .insert(to.clone(), name.clone());
+        self.kept += 1;
         name
     }
 }
