@@ -382,12 +382,8 @@ mod tests {
         Marking::from_tokens(tokens)
     }
 
-    #[test]
-    fn sub_plans_markings_are_sampled_within_the_agents_budget_and_name_their_sub_plan() {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("plans/keepaway_position.schema");
-        let plan = load_plan(&path, AllowedAtoms::Open).unwrap();
-        let plans = plan.activation_plans();
-        let sub = plans[1];
+    /// Agent 1's Monte Carlo learner on `plan`, watched, and what it publishes.
+    fn watched(plan: &Plan) -> (WatchedLearner, Arc<Kept>) {
         let kept = Arc::new(Kept::default());
         let learner = MonteCarlo::new(
             MonteCarloConfig {
@@ -398,7 +394,17 @@ mod tests {
             },
             seeded(1),
         );
-        let mut watched = WatchedLearner::new(Box::new(learner), &plan, Source { run: 0, agent: 1 }, kept.clone());
+        let watched = WatchedLearner::new(Box::new(learner), plan, Source { run: 0, agent: 1 }, kept.clone());
+        (watched, kept)
+    }
+
+    #[test]
+    fn sub_plans_markings_are_sampled_within_the_agents_budget_and_name_their_sub_plan() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("plans/keepaway_position.schema");
+        let plan = load_plan(&path, AllowedAtoms::Open).unwrap();
+        let plans = plan.activation_plans();
+        let sub = plans[1];
+        let (mut watched, kept) = watched(&plan);
         let root = first_marked(plan.net().places().len());
         let inner = first_marked(sub.net().places().len());
         watched.plan_started(PlanKey::ROOT, &root);
@@ -433,23 +439,13 @@ mod tests {
         // memory place): a place could not tell them apart, a transition does.
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("plans/keepaway_position.pnml");
         let plan = load_plan(&path, AllowedAtoms::Open).unwrap();
-        let (state, choice) = crate::analysis::choices_at(&plan, &plan.initial_marking())
+        let state = plan.initial_marking();
+        let choice = crate::analysis::choices_at(&plan, &state)
             .into_iter()
-            .map(|c| (plan.initial_marking(), c))
             .next()
             .expect("the plan chooses at its start");
         let options: Vec<Marking> = choice.options.iter().map(|(_, next)| next.clone()).collect();
-        let kept = Arc::new(Kept::default());
-        let learner = MonteCarlo::new(
-            MonteCarloConfig {
-                gamma: 1.0,
-                alpha: 0.1,
-                exploration: Exploration::EpsilonGreedy(Schedule::constant(0.1)),
-                initial_value: 0.0,
-            },
-            seeded(1),
-        );
-        let mut watched = WatchedLearner::new(Box::new(learner), &plan, Source { run: 0, agent: 1 }, kept.clone());
+        let (mut watched, kept) = watched(&plan);
         for _ in 0..2 {
             watched.choose(PlanKey::ROOT, &state, &options);
         }
