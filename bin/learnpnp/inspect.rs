@@ -303,8 +303,19 @@ fn experiment_plan(values: &Path) -> Result<Option<Plan>> {
     };
     let json: serde_json::Value =
         serde_json::from_str(&text).with_context(|| format!("{} is not JSON", summary.display()))?;
-    let domain: DomainSpec = serde_json::from_value(json["spec"]["domain"].clone())
-        .with_context(|| format!("{}: no experiment domain in 'spec'", summary.display()))?;
+    // An experiment's summary holds its spec; the supervisor's (the main
+    // job's) holds the experiment's summary, spec and all, under `experiment`.
+    let spec = if json["spec"].is_null() {
+        &json["experiment"]["spec"]
+    } else {
+        &json["spec"]
+    };
+    let domain: DomainSpec = serde_json::from_value(spec["domain"].clone()).with_context(|| {
+        format!(
+            "{}: no experiment domain in 'spec' (an experiment's) or 'experiment.spec' (the supervisor's)",
+            summary.display()
+        )
+    })?;
     let plan = domain
         .load_plan()
         .with_context(|| format!("loading the plan named by {}", summary.display()))?;

@@ -73,6 +73,16 @@ fn values_are_grouped_by_choice_point_and_drawn_on_the_plan() {
         ok(&["values", &table, "--plan", &shipped_arg("penalty_kick_memory.pnml")]),
         csv
     );
+    // The supervisor's summary (the main job's) holds the experiment's under `experiment`.
+    let supervisor_like = dir.join("supervisor");
+    std::fs::create_dir_all(&supervisor_like).expect("a directory");
+    std::fs::copy(&table, supervisor_like.join("values.bin")).expect("copied");
+    let nested = serde_json::json!({ "mode": "lockstep", "experiment": summary });
+    std::fs::write(supervisor_like.join("summary.json"), nested.to_string()).expect("written");
+    assert_eq!(
+        ok(&["values", supervisor_like.join("values.bin").to_str().expect("a path")]),
+        csv
+    );
     let wrong = learnpnp(&["values", &table, "--plan", &shipped_arg("penalty_kick_plain.pnml")]);
     assert_eq!(wrong.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&wrong.stderr).contains("learned on plan 'penalty_kick_memory'"));
