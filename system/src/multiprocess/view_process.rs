@@ -178,78 +178,92 @@ fn write_counts(work_dir: &Path, counts: &ViewCounts) -> Result<(), ProcessError
     atomic_file::write_atomic(&path, &json).map_err(|source| ProcessError::Io { path, source })
 }
 
-/// The latency summaries of a work directory, read again only when its
-/// histogram files change (the processes write them now and then; decoding
-/// them every second was most of an idle view's work).
+/// A histogram file as last seen: its path, length and modification time.
+type FileStamp = (PathBuf, u64, Option<SystemTime>);
+
+/// The latency summaries of a work directory, each histogram read again only
+/// when one of its files changes (the processes rewrite theirs every few
+/// seconds, each on its own; decoding every file whenever one changed was
+/// most of an idle view's work).
 #[derive(Debug, Default)]
 struct LatencyFiles {
-    /// Each histogram file's path, length and modification time when last read.
-    read: Vec<(PathBuf, u64, Option<SystemTime>)>,
+    /// Each histogram's files when last read, and its summary (`None`: none of its files read).
+    read: BTreeMap<String, (Vec<FileStamp>, Option<LatencySummary>)>,
     summaries: Vec<LatencySummary>,
 }
 
 impl LatencyFiles {
-    /// The summaries of `work_dir`'s histograms as they are now.
+    /// The summaries of `work_dir`'s histograms as they are now, in the
+    /// histograms' name order.
     fn summaries(&mut self, work_dir: &Path, roster: Roster) -> &[LatencySummary] {
-        let entries = std::fs::read_dir(work_dir).into_iter().flatten().flatten();
-        let mut now: Vec<(PathBuf, u64, Option<SystemTime>)> = entries
-            .filter(|e| histogram_name(&e.path()).is_some())
-            .filter_map(|e| {
-                let meta = e.metadata().ok()?;
-                Some((e.path(), meta.len(), meta.modified().ok()))
-            })
-            .collect();
-        now.sort();
-        if now != self.read {
-            self.summaries = latency_summaries(work_dir, roster);
-            self.read = now;
+        let mut now: BTreeMap<String, Vec<FileStamp>> = BTreeMap::new();
+        for entry in std::fs::read_dir(work_dir).into_iter().flatten().flatten() {
+            let path = entry.path();
+            let (Some(name), Ok(meta)) = (histogram_name(&path), entry.metadata()) else {
+                continue;
+            };
+            now.entry(name)
+                .or_default()
+                .push((path, meta.len(), meta.modified().ok()));
+        }
+        let before = self.read.len();
+        self.read.retain(|name, _| now.contains_key(name));
+        let mut changed = self.read.len() != before;
+        for (name, mut stamps) in now {
+            stamps.sort();
+            if self.read.get(&name).is_some_and(|(read, _)| *read == stamps) {
+                continue;
+            }
+            let summary = latency_summary(&name, stamps.iter().map(|(path, ..)| path.as_path()), roster);
+            self.read.insert(name, (stamps, summary));
+            changed = true;
+        }
+        if changed {
+            self.summaries = self.read.values().filter_map(|(_, summary)| summary.clone()).collect();
         }
         &self.summaries
     }
 }
 
-/// The latency percentiles of every histogram in `work_dir`
+/// The latency percentiles of histogram `name` from its files `paths`
 /// (`<name>.<pid>.hdr`, each incarnation of a process writing its own:
-/// merged by name), each filed under the process that writes it, named as its
-/// health is (an agent's compute time under the agent, the rest under the
-/// run's host); a file that does not read is passed over.
-fn latency_summaries(work_dir: &Path, roster: Roster) -> Vec<LatencySummary> {
-    let mut merged: BTreeMap<String, Latency> = BTreeMap::new();
-    let entries = std::fs::read_dir(work_dir).into_iter().flatten().flatten();
-    for path in entries.map(|e| e.path()) {
-        let Some(name) = histogram_name(&path) else {
+/// merged), filed under the process that writes it, named as its health is
+/// (an agent's compute time under the agent, the rest under the run's host);
+/// a file that does not read is passed over, and a histogram none of whose
+/// files reads has none.
+fn latency_summary<'a>(name: &str, paths: impl Iterator<Item = &'a Path>, roster: Roster) -> Option<LatencySummary> {
+    let mut merged: Option<Latency> = None;
+    for path in paths {
+        let Ok(bytes) = std::fs::read(path) else {
             continue;
         };
-        let Ok(bytes) = std::fs::read(&path) else {
+        let Ok(histogram) = Latency::from_bytes(name, &bytes) else {
             continue;
         };
-        let Ok(histogram) = Latency::from_bytes(name.clone(), &bytes) else {
-            continue;
-        };
-        let total = merged.entry(name.clone()).or_insert_with(|| Latency::new(name));
-        // Histograms of one name have the same bounds; one that does not merge is passed over.
-        let _ = total.merge(&histogram);
-    }
-    merged
-        .into_iter()
-        .map(|(name, histogram)| {
-            let p = histogram.percentiles();
-            let agent = (0..roster.agents()).find(|&k| roster_compute_histogram(roster, k) == name);
-            let (process, measure) = match agent {
-                Some(k) => (roster.agent(k).to_string(), "compute".to_string()),
-                None => (roster.host().to_string(), name),
-            };
-            LatencySummary {
-                process,
-                measure,
-                count: histogram.count(),
-                p50_us: p.p50 as u64,
-                p90_us: p.p90 as u64,
-                p99_us: p.p99 as u64,
-                max_us: p.max as u64,
+        match &mut merged {
+            None => merged = Some(histogram),
+            // Histograms of one name have the same bounds; one that does not merge is passed over.
+            Some(total) => {
+                let _ = total.merge(&histogram);
             }
-        })
-        .collect()
+        }
+    }
+    let histogram = merged?;
+    let p = histogram.percentiles();
+    let agent = (0..roster.agents()).find(|&k| roster_compute_histogram(roster, k) == name);
+    let (process, measure) = match agent {
+        Some(k) => (roster.agent(k).to_string(), "compute".to_string()),
+        None => (roster.host().to_string(), name.to_string()),
+    };
+    Some(LatencySummary {
+        process,
+        measure,
+        count: histogram.count(),
+        p50_us: p.p50 as u64,
+        p90_us: p.p90 as u64,
+        p99_us: p.p99 as u64,
+        max_us: p.max as u64,
+    })
 }
 
 /// The histogram's name of a file `<name>.<pid>.hdr`.
@@ -312,9 +326,10 @@ mod tests {
             histogram.record(Duration::from_micros(20));
             std::fs::write(dir.join(file), histogram.to_bytes().unwrap()).unwrap();
         }
-        let mut filed: Vec<(String, String)> = latency_summaries(&dir, Roster::Keepaway)
-            .into_iter()
-            .map(|s| (s.process, s.measure))
+        let mut filed: Vec<(String, String)> = LatencyFiles::default()
+            .summaries(&dir, Roster::Keepaway)
+            .iter()
+            .map(|s| (s.process.clone(), s.measure.clone()))
             .collect();
         filed.sort();
         std::fs::remove_dir_all(&dir).unwrap();
@@ -328,27 +343,43 @@ mod tests {
     }
 
     #[test]
-    fn histograms_are_read_again_only_when_a_file_changes() {
+    fn a_histogram_is_read_again_only_when_one_of_its_files_changes() {
         let dir = std::env::temp_dir().join(format!("learnpnp-view-latency-files-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let write = |micros: &[u64]| {
-            let mut histogram = Latency::new("roundtrip");
+        let write = |file: &str, micros: &[u64]| {
+            let mut histogram = Latency::new(file.split('.').next().unwrap());
             for &us in micros {
                 histogram.record(Duration::from_micros(us));
             }
-            std::fs::write(dir.join("roundtrip.8.hdr"), histogram.to_bytes().unwrap()).unwrap();
+            std::fs::write(dir.join(file), histogram.to_bytes().unwrap()).unwrap();
+        };
+        let counts = |files: &mut LatencyFiles| -> Vec<(String, u64)> {
+            let summaries = files.summaries(&dir, Roster::Keepaway);
+            summaries.iter().map(|s| (s.measure.clone(), s.count)).collect()
         };
         let mut files = LatencyFiles::default();
-        assert!(files.summaries(&dir, Roster::Keepaway).is_empty());
-        write(&[20]);
-        assert_eq!(files.summaries(&dir, Roster::Keepaway)[0].count, 1);
-        // Kept while the file stays as it was; another file's histogram, or
-        // the same file rewritten, is read.
-        let kept = files.read.clone();
-        assert_eq!(files.summaries(&dir, Roster::Keepaway)[0].count, 1);
-        assert_eq!(files.read, kept);
-        write(&[20, 30, 40]);
-        assert_eq!(files.summaries(&dir, Roster::Keepaway)[0].count, 3);
+        assert!(counts(&mut files).is_empty());
+        write("roundtrip.8.hdr", &[20]);
+        write("floor.8.hdr", &[1, 2]);
+        assert_eq!(counts(&mut files), [("floor".into(), 2), ("roundtrip".into(), 1)]);
+        // The floor's file spoilt but left as it was seen (length and time):
+        // it is not read again, so its summary stays; the round trip's
+        // rewritten file is read.
+        let floor = dir.join("floor.8.hdr");
+        let seen = std::fs::metadata(&floor).unwrap();
+        std::fs::write(&floor, vec![0xff; seen.len() as usize]).unwrap();
+        std::fs::File::options()
+            .write(true)
+            .open(&floor)
+            .unwrap()
+            .set_modified(seen.modified().unwrap())
+            .unwrap();
+        write("roundtrip.8.hdr", &[20, 30, 40]);
+        assert_eq!(counts(&mut files), [("floor".into(), 2), ("roundtrip".into(), 3)]);
+        // A second incarnation's file is merged in; a removed file's histogram goes.
+        write("roundtrip.9.hdr", &[50]);
+        std::fs::remove_file(&floor).unwrap();
+        assert_eq!(counts(&mut files), [("roundtrip".into(), 4)]);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
