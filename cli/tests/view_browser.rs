@@ -5,7 +5,7 @@
 //! - Live: `learnpnp experiment --view=127.0.0.1:0`, the page loaded from
 //!   it; seconds later (it redraws once a second) it has drawn more
 //!   markings and more of the curve, and the places drawn marked are the
-//!   last marking's.
+//!   last marking's; with `?every=3` it redraws every 3 s.
 //! - Replay: an MCAP file (built by the test, and one `learnpnp experiment
 //!   --record-mcap` wrote), served by the view at `/recording.mcap` and
 //!   loaded with `?mcap=/recording.mcap&t=F`, then the slider moved, then
@@ -826,6 +826,21 @@ fn a_live_run_is_drawn_as_it_learns() {
     if let Some(path) = std::env::var_os("LEARNPNP_VIEW_SCREENSHOT") {
         std::fs::write(path, &shot).expect("the screenshot saved");
     }
+
+    // `?every=3`: redrawn every 3 s, so 6.5 s watched hold at most three
+    // redraws (and once a second, six or seven).
+    page.open(&format!("http://{}/?every=3", run.address));
+    page.wait_for(Duration::from_secs(30), "a marking and a curve point", grown);
+    let mut shown = std::collections::BTreeSet::new();
+    let watched = Instant::now();
+    while watched.elapsed() < Duration::from_millis(6500) {
+        shown.insert(number(&page.state(), "markings"));
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    assert!(
+        (2..=4).contains(&shown.len()),
+        "with ?every=3, 6.5 s show two to four redraws' counts: {shown:?}"
+    );
     drop(page);
     drop(run);
     let _ = std::fs::remove_dir_all(&dir);

@@ -2,8 +2,9 @@
 `learnpnp-supervisor` on its defaults, whole runs alternating between modes
 (the first mode of each round turns), each run's steps read from the
 simulator's journal (every episode's steps, appended as the episode ends).
-Modes: `none` (no view) and `page` (`--view`, a headless Chromium started on a
-blank page before the run and the page opened in a tab once the view listens).
+Modes: `none` (no view), `page` (`--view`, a headless Chromium started on a
+blank page before the run and the page opened in a tab once the view listens)
+and `page2` (the same, the page redrawn every 2 s: `?every=2`).
 
 It shows what a run's single figure hides: on this 2-core machine a run moves
 between two speeds for tens of seconds at a time, so whole runs differ by more
@@ -15,7 +16,7 @@ against the first mode's: the cost within either speed, apart from how long
 runs spent in each.
 
     python3 docs/results/measure-run-profile.py [--bin target/release] [--rounds 4]
-        [--modes none page] [--every 4] [--split 53.5]
+        [--modes none page page2] [--every 4] [--split 53.5]
 """
 import argparse
 import os
@@ -32,7 +33,7 @@ from run_journal import Journal, chromium_flags
 parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
 parser.add_argument("--bin", default="target/release", help="the directory of learnpnp-supervisor")
 parser.add_argument("--rounds", type=int, default=4)
-parser.add_argument("--modes", nargs="+", default=["none", "page"], choices=["none", "page"])
+parser.add_argument("--modes", nargs="+", default=["none", "page"], choices=["none", "page", "page2"])
 parser.add_argument("--every", type=float, default=4.0, help="seconds a stretch lasts")
 parser.add_argument("--split", type=float, default=53.5,
                     help="thousands of cycles/s between the two speeds (this machine's)")
@@ -43,12 +44,12 @@ args = parser.parse_args()
 CHROMIUM_FLAGS = chromium_flags()
 
 
-def open_page(port, debug_port):
-    """Opens the page in a tab once the view listens; whether it did."""
+def open_page(port, debug_port, query):
+    """Opens the page (with `query`) in a tab once the view listens; whether it did."""
     try:
         socket.create_connection(("127.0.0.1", port), timeout=0.2).close()
-        request = urllib.request.Request(f"http://127.0.0.1:{debug_port}/json/new?http://127.0.0.1:{port}/",
-                                         method="PUT")
+        request = urllib.request.Request(
+            f"http://127.0.0.1:{debug_port}/json/new?http://127.0.0.1:{port}/{query}", method="PUT")
         urllib.request.urlopen(request, timeout=5).read()
         return True
     except OSError:
@@ -60,7 +61,8 @@ def one_run(mode, round_):
     port, debug_port = args.port + round_, args.port + 400 + round_
     command = [os.path.join(args.bin, "learnpnp-supervisor"), "--out", os.path.join(out, "run")]
     browser = None
-    if mode == "page":
+    paged = mode in ("page", "page2")
+    if paged:
         browser = subprocess.Popen(
             [args.chromium, *CHROMIUM_FLAGS, f"--user-data-dir={os.path.join(out, 'profile')}",
              f"--remote-debugging-port={debug_port}", "about:blank"],
@@ -73,11 +75,11 @@ def one_run(mode, round_):
         journal = Journal(out)
         while journal.read() is None and run.poll() is None:
             time.sleep(0.05)
-        opened = mode != "page"
+        opened = not paged
         rates, last = [], (time.monotonic(), journal.read())
         while run.poll() is None:
             time.sleep(0.25)
-            opened = opened or open_page(port, debug_port)
+            opened = opened or open_page(port, debug_port, "%3Fevery=2" if mode == "page2" else "")
             now = time.monotonic()
             if now - last[0] >= args.every:
                 steps = journal.read()

@@ -12,6 +12,7 @@
 #   page    `--view` and the page open: the same browser, started and
 #           settled on a blank page before the run, opens http://ADDR/ in a
 #           tab once the view listens;
+#   page2   the same, the page redrawn every 2 s (http://ADDR/?every=2);
 #   client  `--view` and a Foxglove client (foxglove_client.py, stdlib only)
 #           subscribed to the channels the page subscribes to live
 #           (`LIVE_TOPICS` in crates/view/page/app.js);
@@ -82,12 +83,13 @@ for round in $(seq 1 "$ROUNDS"); do
       blank)
         start_browser
         client= ;;
-      page)
+      page | page2)
         port=$((18800 + round))
         run+=(--view=127.0.0.1:$port)
+        query=; [ $mode = page2 ] && query="%3Fevery=2"
         start_browser
         ( until ss -ltnH "sport = :$port" | grep -q .; do sleep 0.05; done
-          curl -s -X PUT "http://127.0.0.1:$((19200 + round))/json/new?http://127.0.0.1:$port/" > /dev/null ) &
+          curl -s -X PUT "http://127.0.0.1:$((19200 + round))/json/new?http://127.0.0.1:$port/$query" > /dev/null ) &
         client=$! ;;
       client | all)
         port=$((18800 + round))
@@ -99,7 +101,7 @@ for round in $(seq 1 "$ROUNDS"); do
     esac
     /usr/bin/time -f '%e %U %S' -o "$dir.time" "${run[@]}" > "$dir.log" 2>&1
     [ -n "$client" ] && wait $client
-    if [ $mode = page ] || [ $mode = blank ]; then
+    if [ $mode = page ] || [ $mode = page2 ] || [ $mode = blank ]; then
       echo "messages - client_cpu_s $(echo "scale=2; ($(browser_ticks) - $before) / $(getconf CLK_TCK)" | bc)" > "$dir.client"
       kill $browser; wait $browser 2>/dev/null; rm -rf "$profile"
     fi

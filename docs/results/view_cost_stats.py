@@ -16,7 +16,7 @@ import statistics
 import sys
 
 BASE = os.environ.get("BASE", "none")
-ROW = re.compile(r"^(none|blank|served|page|client|all)\s+(\d+)\s+[\d.]+ [\d.]+ [\d.]+\s+(\d+)")
+ROW = re.compile(r"^(none|blank|served|page2|page|client|all)\s+(\d+)\s+[\d.]+ [\d.]+ [\d.]+\s+(\d+)")
 
 ratios = {}  # mode -> [log(mode / base), one per round]
 values = {}  # mode -> [cycles/s]

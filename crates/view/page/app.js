@@ -25,14 +25,20 @@ const LIVE_TOPICS = new Set(["/learnpnp/plan", "/learnpnp/curve", BUNDLE]);
 const SVG = "http://www.w3.org/2000/svg";
 const RETURN_WINDOW = 10; // episodes in the moving average of returns
 // Live, the page and its chart are redrawn at most once a second, as often
-// as the server sends its bundle, so that a page open on the machine of a
-// run takes little of its CPU (a redraw costs a browser about ten
-// milliseconds of style, layout, paint and raster work); replaying, the page
+// as the server sends its bundle, or every `?every=SECONDS` (0.1 to 60), so
+// that a page open on the machine of a run takes little of its CPU (a redraw
+// costs a browser about ten milliseconds of style, layout, paint, raster and
+// compositing work in software; `?every=2` halves it); replaying, the page
 // is redrawn on every animation frame and the chart four times a second.
-const LIVE_FRAME_MS = 1000;
-const LIVE_CURVE_MS = 1000;
+const LIVE_FRAME_MS = liveFrameMs(new URLSearchParams(location.search).get("every"));
 const REPLAY_CURVE_MS = 250;
 const CURVE_POINTS = 480; // a line of the chart is drawn with at most this many points (one a pixel)
+
+// The live redraw period asked for by `?every=SECONDS`, in milliseconds.
+function liveFrameMs(every) {
+  const seconds = every === null ? NaN : Number(every);
+  return Number.isFinite(seconds) ? 1000 * Math.min(60, Math.max(0.1, seconds)) : 1000;
+}
 
 const $ = (id) => document.getElementById(id);
 const el = (name, attrs = {}, text) => {
@@ -493,6 +499,10 @@ function drawCurve(a) {
   });
 }
 
+// A heartbeat's age to the second: a healthy process's (a heartbeat every
+// 100 ms) reads "< 1 s" and its row is not drawn again each second.
+const heartbeatAge = (ms) => (ms < 1000 ? "< 1 s" : `${Math.floor(ms / 1000)} s`);
+
 function drawProcesses() {
   const names = [...new Set([...state.health.keys(), ...state.latency.keys()])].sort();
   $("processes-panel").hidden = names.length === 0;
@@ -513,7 +523,7 @@ function drawProcesses() {
       ? [...lat.values()].map((l) => `${l.measure}: ${l.p50_us} / ${l.p90_us} / ${l.p99_us} / ${l.max_us} (${l.count})`).join("; ")
       : "-";
     const cells = h
-      ? [name, h.pid ?? "-", h.alive ? "yes" : "no", `${h.heartbeat_age_ms} ms`, h.restarts, h.rejections, latency]
+      ? [name, h.pid ?? "-", h.alive ? "yes" : "no", heartbeatAge(h.heartbeat_age_ms), h.restarts, h.rejections, latency]
       : [name, "-", "-", "-", "-", "-", latency];
     cells.forEach((c, k) => setText(body.rows[i].cells[k], String(c)));
   });
@@ -593,7 +603,7 @@ function render(now) {
     dirty.marking = false;
   }
   if (dirty.curve) {
-    const every = socket ? LIVE_CURVE_MS : REPLAY_CURVE_MS;
+    const every = socket ? LIVE_FRAME_MS : REPLAY_CURVE_MS;
     if (now - lastCurve >= every) {
       drawCurve(a);
       lastCurve = now;
