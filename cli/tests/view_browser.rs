@@ -5,7 +5,8 @@
 //! - Live: `learnpnp experiment --view=127.0.0.1:0`, the page loaded from
 //!   it; seconds later (it redraws once a second) it has drawn more
 //!   markings and more of the curve, and the places drawn marked are the
-//!   last marking's; with `?every=3` it redraws every 3 s.
+//!   last marking's; with `?every=3` it redraws every 3 s, which the
+//!   header's "redraw every" shows and changes.
 //! - Replay: an MCAP file (built by the test, and one `learnpnp experiment
 //!   --record-mcap` wrote), served by the view at `/recording.mcap` and
 //!   loaded with `?mcap=/recording.mcap&t=F`, then the slider moved, then
@@ -586,6 +587,11 @@ fn assert_replays(browser: &Path, dir: &Path, file: Vec<u8>, records: &Records) 
         s["mode"] == "replay" && !s["tNs"].as_str().unwrap_or("").is_empty() || s["error"] != ""
     });
     assert_eq!(state["error"], "", "{state}");
+    assert_eq!(
+        page.eval("document.getElementById('every-control').hidden"),
+        json!(true),
+        "no live redraw period while replaying"
+    );
     assert_eq!(state["spanNs"], json!(span.to_string()));
     let t = check(&state, "t=0.5");
     assert!(t.abs_diff(span / 2) <= 1, "t=0.5 shows {t} ns of {span}");
@@ -841,6 +847,10 @@ fn a_live_run_is_drawn_as_it_learns() {
         (2..=4).contains(&shown.len()),
         "with ?every=3, 6.5 s show two to four redraws' counts: {shown:?}"
     );
+    // The header's "redraw every" shows it, and picking another period keeps it in the address.
+    assert_eq!(page.eval("document.getElementById('every').value"), json!("3"));
+    page.eval("const e = document.getElementById('every'); e.value = '2'; e.dispatchEvent(new Event('change')); 1");
+    assert_eq!(page.eval("location.search"), json!("?every=2"));
     drop(page);
     drop(run);
     let _ = std::fs::remove_dir_all(&dir);

@@ -25,17 +25,18 @@ const LIVE_TOPICS = new Set(["/learnpnp/plan", "/learnpnp/curve", BUNDLE]);
 const SVG = "http://www.w3.org/2000/svg";
 const RETURN_WINDOW = 10; // episodes in the moving average of returns
 // Live, the page and its chart are redrawn at most once a second, as often
-// as the server sends its bundle, or every `?every=SECONDS` (0.1 to 60), so
-// that a page open on the machine of a run takes little of its CPU (a redraw
-// costs a browser about ten milliseconds of style, layout, paint, raster and
-// compositing work in software; `?every=2` halves it); replaying, the page
-// is redrawn on every animation frame and the chart four times a second.
-const LIVE_FRAME_MS = liveFrameMs(new URLSearchParams(location.search).get("every"));
+// as the server sends its bundle, or as often as the header's "redraw every"
+// (or `?every=SECONDS`, 0.1 to 60) asks, so that a page open on the machine
+// of a run takes little of its CPU (a redraw costs a browser about ten
+// milliseconds of style, layout, paint, raster and compositing work in
+// software; every 2 s halves it); replaying, the page is redrawn on every
+// animation frame and the chart four times a second.
+let liveFrameMs = liveFrameMsOf(new URLSearchParams(location.search).get("every"));
 const REPLAY_CURVE_MS = 250;
 const CURVE_POINTS = 480; // a line of the chart is drawn with at most this many points (one a pixel)
 
 // The live redraw period asked for by `?every=SECONDS`, in milliseconds.
-function liveFrameMs(every) {
+function liveFrameMsOf(every) {
   const seconds = every === null ? NaN : Number(every);
   return Number.isFinite(seconds) ? 1000 * Math.min(60, Math.max(0.1, seconds)) : 1000;
 }
@@ -571,11 +572,11 @@ let lastCurve = -Infinity;
 let curveTimer = 0;
 
 // Redraws once, whatever came in meanwhile: on the next animation frame,
-// live no sooner than LIVE_FRAME_MS after the last redraw. Nothing runs while
+// live no sooner than liveFrameMs after the last redraw. Nothing runs while
 // nothing arrives.
 function schedule() {
   if (frame || frameTimer) return;
-  const wait = socket ? lastFrame + LIVE_FRAME_MS - performance.now() : 0;
+  const wait = socket ? lastFrame + liveFrameMs - performance.now() : 0;
   if (wait <= 0) frame = requestAnimationFrame(render);
   else {
     frameTimer = setTimeout(() => {
@@ -603,7 +604,7 @@ function render(now) {
     dirty.marking = false;
   }
   if (dirty.curve) {
-    const every = socket ? LIVE_FRAME_MS : REPLAY_CURVE_MS;
+    const every = socket ? liveFrameMs : REPLAY_CURVE_MS;
     if (now - lastCurve >= every) {
       drawCurve(a);
       lastCurve = now;
@@ -632,6 +633,29 @@ $("agent").addEventListener("change", (e) => {
   selected = e.target.value;
   redrawAll();
 });
+
+// The header's "redraw every" (on a page served live) shows the live period
+// (an `?every` it does not list is added to it) and sets it, kept in the
+// address so that a reload keeps it.
+function showEvery() {
+  $("every-control").hidden = !(location.protocol === "http:" || location.protocol === "https:");
+  const select = $("every");
+  const seconds = String(liveFrameMs / 1000);
+  if (![...select.options].some((o) => o.value === seconds)) select.add(new Option(`${seconds} s`, seconds));
+  select.value = seconds;
+}
+$("every").addEventListener("change", (e) => {
+  liveFrameMs = liveFrameMsOf(e.target.value);
+  const params = new URLSearchParams(location.search);
+  params.set("every", String(liveFrameMs / 1000));
+  history.replaceState(null, "", `?${params}`);
+  if (frameTimer) {
+    clearTimeout(frameTimer);
+    frameTimer = 0;
+  }
+  schedule();
+});
+showEvery();
 
 function setStatus(text, cls) {
   const s = $("status");
@@ -762,6 +786,7 @@ function load(buffer, name) {
   }
   replay.span = replay.messages.length ? replay.messages[replay.messages.length - 1].t : 0;
   $("replay").hidden = false;
+  $("every-control").hidden = true;
   $("state").dataset.mode = "replay";
   $("state").dataset.spanNs = String(replay.span);
   setStatus(`replay: ${name}${file.truncated ? " (truncated)" : ""}`, "replay");
