@@ -2,9 +2,11 @@
 `learnpnp-supervisor` on its defaults, whole runs alternating between modes
 (the first mode of each round turns), each run's steps read from the
 simulator's journal (every episode's steps, appended as the episode ends).
-Modes: `none` (no view), `page` (`--view`, a headless Chromium started on a
-blank page before the run and the page opened in a tab once the view listens)
-and `page2` (the same, the page redrawn every 2 s: `?every=2`).
+Modes: `none` (no view), `served` (`--view`, no client: the view process
+alone, as when the page is open on another machine), `page` (`--view`, a
+headless Chromium started on a blank page before the run and the page opened
+in a tab once the view listens) and `page2` (the same, the page redrawn every
+2 s: `?every=2`).
 
 It shows what a run's single figure hides: on this 2-core machine a run moves
 between two speeds for tens of seconds at a time, so whole runs differ by more
@@ -16,7 +18,7 @@ against the first mode's: the cost within either speed, apart from how long
 runs spent in each.
 
     python3 docs/results/measure-run-profile.py [--bin target/release] [--rounds 4]
-        [--modes none page page2] [--every 4] [--split 53.5]
+        [--modes none served page page2] [--every 4] [--split 53.5]
 """
 import argparse
 import os
@@ -33,7 +35,7 @@ from run_journal import Journal, chromium_flags
 parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
 parser.add_argument("--bin", default="target/release", help="the directory of learnpnp-supervisor")
 parser.add_argument("--rounds", type=int, default=4)
-parser.add_argument("--modes", nargs="+", default=["none", "page"], choices=["none", "page", "page2"])
+parser.add_argument("--modes", nargs="+", default=["none", "page"], choices=["none", "served", "page", "page2"])
 parser.add_argument("--every", type=float, default=4.0, help="seconds a stretch lasts")
 parser.add_argument("--split", type=float, default=53.5,
                     help="thousands of cycles/s between the two speeds (this machine's)")
@@ -68,6 +70,7 @@ def one_run(mode, round_):
              f"--remote-debugging-port={debug_port}", "about:blank"],
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         time.sleep(3)
+    if mode != "none":
         command.append(f"--view=127.0.0.1:{port}")
     with open(os.path.join(out, "run.log"), "w") as log:
         run = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT)
