@@ -5,8 +5,11 @@ simulator's journal (every episode's steps, appended as the episode ends).
 Modes: `none` (no view), `served` (`--view`, no client: the view process
 alone, as when the page is open on another machine), `page` (`--view`, a
 headless Chromium started on a blank page before the run and the page opened
-in a tab once the view listens) and `page2` (the same, the page redrawn every
-2 s: `?every=2`).
+in a tab once the view listens), `page2` (the same, the page redrawn every
+2 s: `?every=2`), and, to calibrate what other work costs the run, `burn` (no
+view; beside the run, a process of normal priority taking 10 ms of CPU once a
+second, 1% of a core, in one burst) and `burn-batch` (the same process
+scheduled as SCHED_BATCH, as the view's threads are).
 
 It shows what a run's single figure hides: on this 2-core machine a run moves
 between two speeds for tens of seconds at a time, so whole runs differ by more
@@ -18,7 +21,7 @@ against the first mode's: the cost within either speed, apart from how long
 runs spent in each.
 
     python3 docs/results/measure-run-profile.py [--bin target/release] [--rounds 4]
-        [--modes none served page page2] [--every 4] [--split 53.5]
+        [--modes none served page page2 burn burn-batch] [--every 4] [--split 53.5] [--job-args "--wait hybrid"]
 """
 import argparse
 import os
@@ -35,15 +38,26 @@ from run_journal import Journal, chromium_flags
 parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
 parser.add_argument("--bin", default="target/release", help="the directory of learnpnp-supervisor")
 parser.add_argument("--rounds", type=int, default=4)
-parser.add_argument("--modes", nargs="+", default=["none", "page"], choices=["none", "served", "page", "page2"])
+parser.add_argument("--modes", nargs="+", default=["none", "page"], choices=["none", "served", "page", "page2", "burn", "burn-batch"])
 parser.add_argument("--every", type=float, default=4.0, help="seconds a stretch lasts")
 parser.add_argument("--split", type=float, default=53.5,
                     help="thousands of cycles/s between the two speeds (this machine's)")
 parser.add_argument("--port", type=int, default=18800, help="the view's first port (loopback)")
+parser.add_argument("--job-args", default="", help="more arguments for every run, e.g. '--wait hybrid'")
 parser.add_argument("--chromium", default=os.environ.get("CHROMIUM", "chromium"))
 args = parser.parse_args()
 
 CHROMIUM_FLAGS = chromium_flags()
+
+# The `burn` modes' process: 10 ms of its own CPU time, then a second's sleep, over and over.
+BURNER = """
+import time
+while True:
+    start = time.thread_time()
+    while time.thread_time() - start < 0.010:
+        pass
+    time.sleep(1)
+"""
 
 
 def open_page(port, debug_port, query):
@@ -61,16 +75,19 @@ def open_page(port, debug_port, query):
 def one_run(mode, round_):
     out = tempfile.mkdtemp(prefix="learnpnp-run-profile-")
     port, debug_port = args.port + round_, args.port + 400 + round_
-    command = [os.path.join(args.bin, "learnpnp-supervisor"), "--out", os.path.join(out, "run")]
-    browser = None
+    command = [os.path.join(args.bin, "learnpnp-supervisor"), "--out", os.path.join(out, "run"), *args.job_args.split()]
+    beside = None  # the process beside the run: the browser, or the burner
     paged = mode in ("page", "page2")
     if paged:
-        browser = subprocess.Popen(
+        beside = subprocess.Popen(
             [args.chromium, *CHROMIUM_FLAGS, f"--user-data-dir={os.path.join(out, 'profile')}",
              f"--remote-debugging-port={debug_port}", "about:blank"],
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         time.sleep(3)
-    if mode != "none":
+    if mode in ("burn", "burn-batch"):
+        batch = ["chrt", "--batch", "0"] if mode == "burn-batch" else []
+        beside = subprocess.Popen([*batch, "python3", "-c", BURNER])
+    elif mode != "none":
         command.append(f"--view=127.0.0.1:{port}")
     with open(os.path.join(out, "run.log"), "w") as log:
         run = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT)
@@ -91,9 +108,9 @@ def one_run(mode, round_):
                 rates.append((steps - last[1]) / (now - last[0]))
                 last = (now, steps)
     finally:
-        if browser:
-            browser.kill()
-            browser.wait()
+        if beside:
+            beside.kill()
+            beside.wait()
         try:
             run.wait(timeout=60)
         except subprocess.TimeoutExpired:
