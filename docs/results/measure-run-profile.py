@@ -1,5 +1,5 @@
 """The main job's cycles/s through each run, every few seconds (issue 40):
-`learnpnp-supervisor` on its defaults, whole runs alternating between modes
+`learnpnp-supervisor` on its defaults (plus any `--job-args`), whole runs alternating between modes
 (the first mode of each round turns), each run's steps read from the
 simulator's journal (every episode's steps, appended as the episode ends).
 Modes: `none` (no view), `served` (`--view`, no client: the view process
