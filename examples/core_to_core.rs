@@ -74,11 +74,9 @@ fn run() -> Result<()> {
             if failed {
                 return;
             }
-            let mut seen = 0;
             while !done.load(Ordering::Acquire) {
                 let now = turn.load(Ordering::Acquire);
-                if now % 2 == 1 && now != seen {
-                    seen = now;
+                if now % 2 == 1 {
                     turn.store(now + 1, Ordering::Release);
                 } else {
                     std::hint::spin_loop();
