@@ -468,6 +468,13 @@ pub fn load(path: &Path) -> Result<SavedValues, PersistError> {
     parse(path, &bytes)
 }
 
+/// Reads a value file's `bytes` (called `path` in errors), checking magic,
+/// version, length, checksum and consistency, as [`load`] does: for bytes
+/// that arrive otherwise than from a file (a value file shipped between hosts).
+pub fn from_bytes(path: &Path, bytes: &[u8]) -> Result<SavedValues, PersistError> {
+    parse(path, bytes)
+}
+
 /// Reads `path`, or, if it cannot be used (missing, unreadable or corrupt),
 /// `<path>.prev` together with the error that made `path` unusable, so callers
 /// can report the problem and continue with the last good table.

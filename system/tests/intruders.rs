@@ -16,7 +16,9 @@ use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 use serde_json::{Value, json};
-use shm_layouts::{AgentReport, Control, Header, KeeperCommand, SENDER_SUPERVISOR, command, control, episode, report};
+use shm_layouts::{
+    AgentReport, Control, Header, Heartbeat, KeeperCommand, SENDER_SUPERVISOR, command, control, episode, report,
+};
 use zenoh::{Config, Session, Wait};
 
 use crate::hosts::{Certs, Hosts, SHORT, finished, host_a, keeper_3_remote, remote, remote_summary};
@@ -65,6 +67,17 @@ enum Attack {
     ReplayBegin,
     /// Ship files into host A's run directory (over the spec, over keeper 1's values).
     ShipFiles,
+    /// Ship files under names host B may use, but not what their names say
+    /// (text as histograms and values), and more of them than a run has.
+    ShipBadFiles,
+    /// Report keeper 3 lost: naming its live process, and a made-up one.
+    KeeperLost,
+    /// Subscribe to keeper 3's snapshots and stop reading for 20 s.
+    HangingReader,
+    /// Send keeper 3's commands with the right type and size but another
+    /// sender in the header, another run, NaN or an unknown kind; and a
+    /// heartbeat in keeper 3's name (host B's bridge refuses it).
+    ForgeContent,
 }
 
 impl Attack {
@@ -75,6 +88,10 @@ impl Attack {
             Attack::Stop => "stop",
             Attack::ReplayBegin => "replay-begin",
             Attack::ShipFiles => "ship-files",
+            Attack::ShipBadFiles => "ship-bad-files",
+            Attack::KeeperLost => "keeper-lost",
+            Attack::HangingReader => "hanging-reader",
+            Attack::ForgeContent => "forge-content",
         }
     }
 
@@ -85,6 +102,10 @@ impl Attack {
             Attack::Stop,
             Attack::ReplayBegin,
             Attack::ShipFiles,
+            Attack::ShipBadFiles,
+            Attack::KeeperLost,
+            Attack::HangingReader,
+            Attack::ForgeContent,
         ]
         .into_iter()
         .find(|a| a.name() == s)
@@ -100,6 +121,12 @@ const ENV_CERT_DIR: &str = "LEARNPNP_INTRUDER_CERT_DIR";
 
 /// How many times each forged message is sent.
 const FORGERIES: usize = 40;
+
+/// Histograms of keeper 3 the intruder ships.
+const BAD_HISTOGRAMS: usize = 70;
+
+/// How long the hanging reader stops reading.
+const HANG: Duration = Duration::from_secs(20);
 
 /// The intruder's Zenoh session: a client of host A's bridge.
 fn open(endpoint: &str, credentials: Credentials, ca: &str, cert_dir: &str) -> Result<Session, String> {
@@ -257,11 +284,145 @@ fn attack(session: &Session, attack: Attack) -> Value {
                 let _ = session.put(key(&format!("file/{name}")), b"forged".to_vec()).wait();
             }
         }
+        Attack::ShipBadFiles => {
+            let garbage = b"these are 23 bytes, no!".to_vec();
+            // 70 histograms of keeper 3, one of the floor.
+            for pid in 1..=BAD_HISTOGRAMS {
+                let name = format!("file/compute-keeper3.{pid}.hdr");
+                let _ = session.put(key(&name), garbage.clone()).wait();
+            }
+            let _ = session.put(key("file/floor-remote-host.1.hdr"), garbage.clone()).wait();
+            // Keeper 3's values, sent again and again until the run ends
+            // (past host B's own shipment), within a bound.
+            let deadline = Instant::now() + Duration::from_secs(90);
+            let mut quiet = 0;
+            while Instant::now() < deadline && quiet < 15 {
+                let _ = session.put(key("file/values-agent3.bin"), garbage.clone()).wait();
+                std::thread::sleep(Duration::from_millis(200));
+                // 3 s without a heartbeat: the run is over.
+                quiet = if beats.drain().count() == 0 { quiet + 1 } else { 0 };
+            }
+        }
+        Attack::KeeperLost => {
+            // Keeper 3's process, from its heartbeat (host B may read it).
+            let keeper_3 = session.declare_subscriber(key("learnpnp/heartbeat/2")).wait().unwrap();
+            let pid = loop {
+                if let Ok(sample) = keeper_3.recv() {
+                    let bytes = sample.payload().to_bytes();
+                    if bytes.len() == size_of::<Heartbeat>() {
+                        // SAFETY: the bytes are a heartbeat's (plain data).
+                        let beat: Heartbeat = unsafe { std::ptr::read_unaligned(bytes.as_ptr().cast()) };
+                        break beat.pid;
+                    }
+                }
+            };
+            for named in [pid, 4_000_000] {
+                let lost = Control {
+                    header: Header::new(SENDER_SUPERVISOR, run_id),
+                    command: control::KEEPER_LOST,
+                    target: 2,
+                    sequence: 1,
+                    pid: named,
+                    reserved: 0,
+                };
+                let _ = session
+                    .put(key("learnpnp/control/host-b"), bytes_of(&lost))
+                    .attachment(format!("learnpnp::Control;{}", shm_layouts::PROTOCOL_VERSION))
+                    .wait();
+                std::thread::sleep(Duration::from_millis(500));
+            }
+            received = 2;
+        }
+        Attack::HangingReader => {
+            let hanging = session
+                .declare_subscriber(key("learnpnp/keeper/2/snapshot"))
+                .callback(|_| std::thread::sleep(HANG))
+                .wait()
+                .unwrap();
+            std::thread::sleep(HANG + Duration::from_secs(2));
+            drop(hanging);
+        }
+        Attack::ForgeContent => {
+            let good = KeeperCommand {
+                header: Header::new(2, run_id),
+                episode: 1,
+                cycle_seq: 1,
+                kind: command::DASH,
+                flags: 0,
+                arg0: 50.0,
+                arg1: 0.0,
+            };
+            let forgeries = [
+                KeeperCommand {
+                    header: Header::new(0, run_id),
+                    ..good
+                },
+                KeeperCommand {
+                    header: Header::new(2, run_id + 1),
+                    ..good
+                },
+                KeeperCommand { arg0: f64::NAN, ..good },
+                KeeperCommand { kind: 99, ..good },
+            ];
+            for forged in &forgeries {
+                forge(
+                    session,
+                    &key("learnpnp/keeper/2/command"),
+                    "learnpnp::KeeperCommand",
+                    forged,
+                );
+            }
+            // Keeper 3's heartbeat, which host A's router passes on to host B's
+            // bridge: it takes heartbeats of host A's processes only.
+            let beat = Heartbeat {
+                header: Header::new(2, run_id),
+                pid: 1,
+                state: shm_layouts::state::RUNNING,
+                sequence: 1,
+                episodes: 0,
+                cycles: 0,
+                rejected: [0; shm_layouts::reject::COUNT],
+                missed_deadlines: 0,
+                aborted_episodes: 0,
+                checkpoints: 0,
+                checkpoint_failures: 0,
+            };
+            forge(session, &key("learnpnp/heartbeat/2"), "learnpnp::Heartbeat", &beat);
+        }
     }
     // Give the last puts time to leave before the session closes (under
     // load a close could drop what is still queued).
     std::thread::sleep(Duration::from_millis(500));
     json!({ "connected": true, "run_info": true, "received": received })
+}
+
+/// What the impostor of host A does: listens where host A would, with a
+/// certificate of another CA named as host A's, for this long.
+const IMPOSTOR_FOR: Duration = Duration::from_secs(30);
+
+/// The impostor's session: a router on `endpoint` with the certificate in `cert_dir`.
+fn impostor(endpoint: &str, ca: &str, cert_dir: &str) -> Result<Session, String> {
+    let mut config = Config::default();
+    let set = |config: &mut Config, key: &str, value: String| config.insert_json5(key, &value).unwrap();
+    let dir = Path::new(cert_dir);
+    let path = |f: &str| json!(dir.join(f).display().to_string()).to_string();
+    set(&mut config, "mode", "\"router\"".into());
+    set(&mut config, "scouting/multicast/enabled", "false".into());
+    set(
+        &mut config,
+        "listen/endpoints",
+        json!([format!("{endpoint}?multistream=0")]).to_string(),
+    );
+    let tls = "transport/link/tls";
+    set(
+        &mut config,
+        &format!("{tls}/root_ca_certificate"),
+        json!(ca).to_string(),
+    );
+    set(&mut config, &format!("{tls}/enable_mtls"), "true".into());
+    set(&mut config, &format!("{tls}/listen_certificate"), path("cert.pem"));
+    set(&mut config, &format!("{tls}/listen_private_key"), path("key.pem"));
+    zenoh::open(config).wait().map_err(|e| e.to_string())
 }
 
 /// Not a test of its own: the intruder process that [`attacked`] starts
@@ -273,6 +434,12 @@ fn intruder() {
         return;
     };
     let env = |k: &str| std::env::var(k).unwrap();
+    if attack_name == "impostor" {
+        let session = impostor(&env(ENV_ENDPOINT), &env(ENV_CA), &env(ENV_CERT_DIR));
+        println!("INTRUDER {}", json!({ "listening": session.is_ok() }));
+        std::thread::sleep(IMPOSTOR_FOR);
+        return;
+    }
     let credentials = Credentials::parse(&env(ENV_CREDENTIALS));
     let seen = match open(&env(ENV_ENDPOINT), credentials, &env(ENV_CA), &env(ENV_CERT_DIR)) {
         Ok(session) => {
@@ -383,6 +550,9 @@ fn attacked(attack: Attack) -> (Value, Value) {
         "the attacked run played the one-host episodes: {a}"
     );
     assert_eq!(a["complete"], true, "{a}");
+    // Host B's own checkpoint came through whatever else arrived.
+    let values = learnpnp::persist::load(&sandbox.out("a").join("runs/run-0/values-agent3.bin"));
+    assert!(values.is_ok(), "{values:?}");
     for entry in fs::read_dir(sandbox.out("a").join("runs/run-0")).unwrap().flatten() {
         let name = entry.file_name().to_string_lossy().into_owned();
         assert_ne!(name, "intruder.txt");
@@ -460,4 +630,115 @@ fn files_under_names_the_run_does_not_expect_are_refused() {
     let (a, _) = attacked(Attack::ShipFiles);
     // spec.json, keeper 1's and keeper 2's values, a file of any name.
     assert!(refused(&a, "access_denied") >= 4, "{}", a["link"]);
+}
+
+#[test]
+fn files_that_are_not_what_their_names_say_are_refused_and_the_run_reports_without_them() {
+    let (a, _) = attacked(Attack::ShipBadFiles);
+    let link = &a["link"];
+    // Keeper 3's histograms, the floor's, and the values at least once.
+    assert!(refused(&a, "file_content") >= BAD_HISTOGRAMS as u64 + 2, "{link}");
+    let listed = link["refused_files"].to_string();
+    for name in ["compute-keeper3.1.hdr", "floor-remote-host.1.hdr", "values-agent3.bin"] {
+        assert!(listed.contains(name), "{name}: {listed}");
+    }
+    let faults = a["faults"].to_string();
+    assert!(faults.contains("host B's file 'values-agent3.bin' refused"), "{faults}");
+    // Host A's own results are all there (`attacked` checked host B's values).
+    assert!(a["experiment"].is_object(), "{a}");
+}
+
+#[test]
+fn a_keeper_reported_lost_while_it_lives_is_refused_and_reported() {
+    let (a, _) = attacked(Attack::KeeperLost);
+    assert_eq!(
+        refused(&a, "forbidden_order"),
+        2,
+        "the live process and a made-up one: {}",
+        a["link"]
+    );
+    assert_eq!(a["aborted_episodes"], 0, "{a}");
+    let events = a["link"]["agents_lost"].as_array().unwrap();
+    assert_eq!(events.len(), 2, "{events:?}");
+    assert!(
+        events.iter().all(|e| e["accepted"] == false && e["agent"] == 3),
+        "{events:?}"
+    );
+    let faults = a["faults"].to_string();
+    assert!(faults.contains("host B reported agent 3 lost"), "{faults}");
+}
+
+#[test]
+fn a_reader_that_stops_reading_does_not_hold_up_the_run() {
+    // The attacked run must play the one-host episodes (checked by
+    // `attacked`): nothing reached host B late or not at all.
+    let (a, _) = attacked(Attack::HangingReader);
+    let host_b = &a["link"]["host_b"];
+    assert_eq!(host_b["lost"], 0, "{host_b}");
+    assert_eq!(a["link"]["lost"], 0, "{}", a["link"]);
+}
+
+#[test]
+fn commands_the_simulator_would_refuse_are_refused_on_the_link_and_host_b_reports_its_refusals() {
+    let (a, _) = attacked(Attack::ForgeContent);
+    let link = &a["link"];
+    assert_eq!(refused(&a, "wrong_sender"), 40, "keeper 1 in the header: {link}");
+    assert_eq!(refused(&a, "wrong_run"), 40, "{link}");
+    assert_eq!(refused(&a, "bad_content"), 80, "NaN, an unknown kind: {link}");
+    assert_eq!(
+        a["rejected_messages"]["simulator"]["sender"], 0,
+        "none reached the simulator: {a}"
+    );
+    // Host B's bridge refused the heartbeat in keeper 3's name; host A reports it.
+    assert_eq!(link["host_b"]["refused"]["wrong_key"], 40, "{link}");
+    let faults = a["faults"].to_string();
+    assert!(faults.contains("host B's bridge refused"), "{faults}");
+}
+
+#[test]
+fn host_b_refuses_a_host_a_of_another_ca_at_the_handshake_and_says_so() {
+    let sandbox = Sandbox::new("hosts-impostor");
+    let hosts = Hosts::new();
+    let certs: Certs = hosts.certs(&sandbox.out("certs"));
+    let other: Certs = hosts.certs(&sandbox.out("other-ca"));
+    let endpoint = hosts.endpoint();
+    let mut command = Command::new(std::env::current_exe().unwrap());
+    command
+        .args([
+            "--exact",
+            "intruders::intruder",
+            "--ignored",
+            "--nocapture",
+            "--test-threads",
+            "1",
+        ])
+        .env(ENV_ATTACK, "impostor")
+        .env(ENV_ENDPOINT, &endpoint)
+        .env(ENV_CA, Path::new(&other.host_a).join("ca.pem"))
+        .env(ENV_CERT_DIR, &other.host_a);
+    let mut impostor = hosts
+        .on(true, command)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_secs(2));
+    let b_out = sandbox.out("host-b");
+    let started = Instant::now();
+    let output = hosts
+        .on(false, remote(&sandbox, &b_out, &endpoint, &certs))
+        .output()
+        .unwrap();
+    let _ = impostor.kill();
+    let _ = impostor.wait();
+    let stderr = text(&output.stderr);
+    assert!(!output.status.success(), "{stderr}");
+    assert!(stderr.contains("refused at the TLS handshake"), "{stderr}");
+    assert!(
+        started.elapsed() < Duration::from_secs(50),
+        "given up before the 60 s join timeout: {stderr}"
+    );
+    let link: Value = serde_json::from_str(&fs::read_to_string(b_out.join("link.json")).unwrap()).unwrap();
+    assert!(link["refused"]["tls_handshake"].as_u64().unwrap() >= 3, "{link}");
 }

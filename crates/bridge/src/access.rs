@@ -13,8 +13,9 @@ use serde_json::{Value, json};
 use shm_layouts::services;
 
 use super::carry::{Direction, Route, Source, key};
-use super::remote::{ExpectedFiles, RUN_INFO_KEY, ack_key, file_key};
+use super::remote::{RUN_INFO_KEY, ack_key, file_key};
 use learnpnp_system::hosts::certs::{HOST_B_NAME, MONITOR_NAME};
+use learnpnp_system::hosts::shipped::ShippedFiles;
 
 /// The keys of `route` that host B publishes on, those host A's bridge
 /// subscribes to them by (announced to host B, whose publishers send only
@@ -56,7 +57,7 @@ fn rule(id: &str, messages: &[&str], flow: &str, keys: &[String]) -> Value {
 
 /// Host A's `access_control` for the run whose prefix is `prefix`, its
 /// bridge carrying `routes` and receiving `files` from host B.
-pub(crate) fn host_a_policy(prefix: &str, routes: &[Route], files: &ExpectedFiles) -> Value {
+pub(crate) fn host_a_policy(prefix: &str, routes: &[Route], files: &ShippedFiles) -> Value {
     let (mut published, mut announced, mut subscribed) = (Vec::new(), Vec::new(), Vec::new());
     for route in routes {
         let [p, a, s] = host_b_keys(prefix, route);

@@ -14,6 +14,7 @@
 use std::collections::BTreeMap;
 use std::fmt::Debug;
 use std::mem::size_of;
+use std::time::Instant;
 
 use crossbeam::channel::{Receiver, Sender, unbounded};
 use iceoryx2::node::Node;
@@ -23,11 +24,16 @@ use shm_layouts::{
     WorldVocabulary, control,
 };
 use zenoh::pubsub::{Publisher, Subscriber};
+use zenoh::qos::{CongestionControl, Priority};
 use zenoh::sample::Locality;
 use zenoh::{Session, Wait};
 
+use super::agents_lost::{Decision, RemoteAgents, Seen};
 use super::{BridgeError, zenoh_error};
+use learnpnp_system::hosts::inbound;
 use learnpnp_system::hosts::report::LinkRefusals;
+use learnpnp_system::ipc::convert::Rejection;
+use learnpnp_system::ipc::protocol::Roster;
 use learnpnp_system::ipc::services::{BridgePorts, Ipc, fail};
 use learnpnp_system::ipc::wait::WaitStrategy;
 
@@ -109,12 +115,14 @@ pub struct Moved {
     pub(crate) stop_requests: u64,
     /// Messages received and refused, by reason.
     pub refused: LinkRefusals,
+    /// Messages of the other host's that never arrived (gaps in a key's sequence numbers).
+    pub lost: u64,
 }
 
 impl Moved {
     /// Whether anything moved.
     pub(crate) fn any(&self) -> bool {
-        self.sent + self.received + self.refused.total() > 0
+        self.sent + self.received + self.refused.total() + self.lost > 0
     }
 
     /// The sum.
@@ -124,14 +132,38 @@ impl Moved {
             received: self.received + other.received,
             stop_requests: self.stop_requests + other.stop_requests,
             refused: self.refused.plus(&other.refused),
+            lost: self.lost + other.lost,
+        }
+    }
+
+    /// Counts a message refused for `why`, as the receiving process would have.
+    fn refuse(&mut self, why: Rejection) {
+        let refused = &mut self.refused;
+        match why {
+            Rejection::Version => refused.wrong_type += 1,
+            Rejection::Run => refused.wrong_run += 1,
+            Rejection::Sender => refused.wrong_sender += 1,
+            Rejection::Content | Rejection::Sequence => refused.bad_content += 1,
         }
     }
 }
 
 /// A carried service, whatever its payload.
 pub(crate) trait Carry {
-    /// Moves what is waiting, both ways.
-    fn pump(&mut self) -> Result<Moved, BridgeError>;
+    /// Moves what is waiting, both ways; what arrives from host B's agents
+    /// goes into `agents` (host A weighs host B's reports of lost agents by it).
+    fn pump(&mut self, agents: &mut RemoteAgents) -> Result<Moved, BridgeError>;
+}
+
+/// What a route's messages from the other host must hold beyond their type and size.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Expected {
+    /// The run's id.
+    pub run_id: u64,
+    /// The run's processes.
+    pub roster: Roster,
+    /// The agent whose service it is (a keeper's commands), if one's.
+    pub agent: Option<usize>,
 }
 
 /// A layout the bridge carries: every one begins with a [`Header`].
@@ -143,13 +175,74 @@ pub(crate) trait Carried: ZeroCopySend + Debug + Copy + Send + 'static {
     fn order(&self) -> Option<(u32, u32)> {
         None
     }
+
+    /// The process id an order names (`KEEPER_LOST`: the replacement's).
+    fn pid_named(&self) -> u32 {
+        0
+    }
+
+    /// Checks what the receiving process would refuse in a message from
+    /// the other host (the messages host B sends host A; the others are
+    /// checked by their receivers only), and what it shows of an agent.
+    fn check(&self, _expected: &Expected) -> Result<Seen, Rejection> {
+        Ok(Seen::Nothing)
+    }
+}
+
+impl Carried for KeeperCommand {
+    fn header(&self) -> &Header {
+        &self.header
+    }
+
+    fn check(&self, expected: &Expected) -> Result<Seen, Rejection> {
+        let keeper = expected.agent.ok_or(Rejection::Sender)?;
+        inbound::keeper_command(self, keeper, expected.run_id).map(|()| Seen::Nothing)
+    }
+}
+
+impl Carried for WorldCommand {
+    fn header(&self) -> &Header {
+        &self.header
+    }
+
+    fn check(&self, expected: &Expected) -> Result<Seen, Rejection> {
+        let agent = expected.agent.ok_or(Rejection::Sender)?;
+        inbound::world_command(self, agent, expected.run_id).map(|()| Seen::Nothing)
+    }
+}
+
+impl Carried for AgentReport {
+    fn header(&self) -> &Header {
+        &self.header
+    }
+
+    fn check(&self, expected: &Expected) -> Result<Seen, Rejection> {
+        Ok(match inbound::agent_report(self, expected.run_id, expected.roster)? {
+            (agent, Some(pid)) => Seen::Ready { agent, pid },
+            (_, None) => Seen::Nothing,
+        })
+    }
+}
+
+impl Carried for Heartbeat {
+    fn header(&self) -> &Header {
+        &self.header
+    }
+
+    fn check(&self, expected: &Expected) -> Result<Seen, Rejection> {
+        let (role, pid) = inbound::heartbeat(self, expected.run_id, expected.roster)?;
+        Ok(role
+            .agent_index()
+            .map_or(Seen::Nothing, |agent| Seen::Beat { agent, pid }))
+    }
 }
 
 /// Implements [`Carried`] for the layouts that are only a header and a body,
-/// and defines [`Payload`], one variant per carried layout (those and
-/// [`Control`]), with the opening of a carrier of each.
+/// checked by their receivers only, and defines [`Payload`], one variant per
+/// carried layout (those, and those with checks of their own), with the
+/// opening of a carrier of each.
 macro_rules! carried {
-    ($($t:ident),*) => {
+    ($($t:ident),*; $($checked:ident),*) => {
         $(impl Carried for $t {
             fn header(&self) -> &Header {
                 &self.header
@@ -160,7 +253,7 @@ macro_rules! carried {
         #[derive(Debug, Clone, Copy, PartialEq, Eq)]
         pub(crate) enum Payload {
             $($t,)*
-            Control,
+            $($checked,)*
         }
 
         impl Payload {
@@ -168,7 +261,7 @@ macro_rules! carried {
             pub(crate) fn opener(self) -> Opener {
                 match self {
                     $(Payload::$t => Carrier::<$t>::open,)*
-                    Payload::Control => Carrier::<Control>::open,
+                    $(Payload::$checked => Carrier::<$checked>::open,)*
                 }
             }
         }
@@ -177,13 +270,14 @@ macro_rules! carried {
 
 carried!(
     KeeperSnapshot,
-    KeeperCommand,
     EpisodeEvent,
     WorldSnapshot,
+    WorldVocabulary;
+    KeeperCommand,
     WorldCommand,
-    WorldVocabulary,
     AgentReport,
-    Heartbeat
+    Heartbeat,
+    Control
 );
 
 /// Opens the carrier of a route for one payload (see [`Payload::opener`]).
@@ -197,6 +291,14 @@ impl Carried for Control {
 
     fn order(&self) -> Option<(u32, u32)> {
         Some((self.command, self.target))
+    }
+
+    fn pid_named(&self) -> u32 {
+        self.pid
+    }
+
+    fn check(&self, expected: &Expected) -> Result<Seen, Rejection> {
+        inbound::control(self, expected.run_id).map(|()| Seen::Nothing)
     }
 }
 
@@ -234,9 +336,39 @@ pub(crate) struct Route {
     pub(crate) orders: Option<RemoteOrders>,
     /// The wake-up services of the processes here that receive it.
     pub(crate) receivers: Vec<String>,
-    /// The run's processes (the service's limits follow from them).
-    pub(crate) roster: learnpnp_system::ipc::protocol::Roster,
+    /// What its messages from the other host must hold (the roster also
+    /// sets the service's limits).
+    pub(crate) expected: Expected,
+    /// How what this host sends on it meets a congested link (see [`Sending`]).
+    pub(crate) sending: Sending,
 }
+
+/// How a route's messages are put on the link. Host A's bridge is the
+/// link's router: what it sends (and what host B sends that the router may
+/// pass to other subscribers, the heartbeats) is fanned out to every
+/// subscriber the access control admits, so a subscriber that stops reading
+/// must lose its own messages rather than block the router: such routes
+/// are droppable (Zenoh's congestion control `drop`, per destination queue,
+/// after [`WAIT_BEFORE_DROP`]); a loss on the real host's queue shows as a
+/// gap in the sequence numbers its bridge counts. What only host A's bridge
+/// receives (host B's commands, reports, orders and files) blocks instead:
+/// nothing of it may be lost.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Sending {
+    /// Never dropped: the caller waits for room on the link.
+    Blocking,
+    /// Dropped for a destination whose queue stays full.
+    Droppable,
+    /// Droppable, on the lowest data priority (heartbeats: their queue
+    /// never holds up the lock-step's messages).
+    Background,
+}
+
+/// How long a droppable message waits for room in a destination's queue
+/// before it is dropped for that destination (microseconds, Zenoh's
+/// `wait_before_drop`); later ones are dropped at once until the queue
+/// drains.
+pub(crate) const WAIT_BEFORE_DROP: &str = "10000";
 
 /// One service of `T`, carried.
 pub(crate) struct Carrier<T: Carried> {
@@ -245,8 +377,15 @@ pub(crate) struct Carrier<T: Carried> {
     base: String,
     source: Source,
     orders: Option<RemoteOrders>,
-    /// The publishers, by the last chunk of their key ("" for [`Source::Single`]).
-    publishers: BTreeMap<String, Publisher<'static>>,
+    expected: Expected,
+    sending: Sending,
+    /// The publishers, by the last chunk of their key ("" for [`Source::Single`]),
+    /// with the sequence number of the last message each sent.
+    publishers: BTreeMap<String, (Publisher<'static>, u64)>,
+    /// The sequence number each key of the other host's is expected to send next.
+    next_seq: BTreeMap<String, u64>,
+    /// Orders held until host A's view agrees (`KEEPER_LOST` from host B).
+    held: Vec<T>,
     sends: bool,
     session: Session,
     inbox: Option<Receiver<Arrival>>,
@@ -272,7 +411,7 @@ impl<T: Carried> Carrier<T> {
             route.point_to_point,
             &route.receivers,
             wait,
-            route.roster,
+            route.expected.roster,
         )?;
         let base = key(prefix, &route.service);
         let (inbox, subscriber) = if route.direction.receives() {
@@ -312,7 +451,11 @@ impl<T: Carried> Carrier<T> {
             base,
             source: route.source.clone(),
             orders: route.orders.clone(),
+            expected: route.expected,
+            sending: route.sending,
             publishers: BTreeMap::new(),
+            next_seq: BTreeMap::new(),
+            held: Vec::new(),
             sends: route.direction.sends(),
             session: session.clone(),
             inbox,
@@ -320,8 +463,9 @@ impl<T: Carried> Carrier<T> {
         }))
     }
 
-    /// The publisher for `value`'s key, declared on first use.
-    fn publisher(&mut self, value: &T) -> Result<&Publisher<'static>, BridgeError> {
+    /// The publisher for `value`'s key, declared on first use, and the
+    /// sequence number of its next message.
+    fn publisher(&mut self, value: &T) -> Result<(&Publisher<'static>, u64), BridgeError> {
         let chunk = match &self.source {
             Source::Single => String::new(),
             Source::BySender { .. } => value.header().sender.to_string(),
@@ -333,21 +477,54 @@ impl<T: Carried> Carrier<T> {
             } else {
                 format!("{}/{chunk}", self.base)
             };
-            let publisher = self.session.declare_publisher(key).wait().map_err(zenoh_error)?;
-            self.publishers.insert(chunk.clone(), publisher);
+            let (congestion, priority) = match self.sending {
+                Sending::Blocking => (CongestionControl::Block, Priority::Data),
+                Sending::Droppable => (CongestionControl::Drop, Priority::Data),
+                Sending::Background => (CongestionControl::Drop, Priority::DataLow),
+            };
+            let publisher = self
+                .session
+                .declare_publisher(key)
+                .express(true)
+                .congestion_control(congestion)
+                .priority(priority)
+                .wait()
+                .map_err(zenoh_error)?;
+            self.publishers.insert(chunk.clone(), (publisher, 0));
         }
-        Ok(&self.publishers[&chunk])
+        let (publisher, seq) = self
+            .publishers
+            .get_mut(&chunk)
+            .ok_or_else(|| zenoh_error("no publisher"))?;
+        *seq += 1;
+        Ok((publisher, *seq))
+    }
+
+    /// Counts the messages of the arrival's key that never came (a gap in
+    /// its sequence numbers; a lower number is the other bridge restarted).
+    fn count_gap(&mut self, arrival: &Arrival, seq: u64, moved: &mut Moved) {
+        let next = self.next_seq.entry(arrival.last_chunk.clone()).or_insert(seq);
+        if seq > *next {
+            moved.lost += seq - *next;
+        }
+        *next = seq + 1;
     }
 
     /// Checks what arrived; the message if it may be published here.
-    fn admit(&self, arrival: &Arrival, moved: &mut Moved) -> Option<T> {
-        if arrival.tag != self.tag {
-            moved.refused.wrong_type += 1;
-            return None;
-        }
+    fn admit(&mut self, arrival: &Arrival, moved: &mut Moved, agents: &mut RemoteAgents) -> Option<T> {
+        let seq = match split_tag(&arrival.tag, &self.tag) {
+            Some(seq) => seq,
+            None => {
+                moved.refused.wrong_type += 1;
+                return None;
+            }
+        };
         if arrival.payload.len() != size_of::<T>() {
             moved.refused.wrong_size += 1;
             return None;
+        }
+        if let Some(seq) = seq {
+            self.count_gap(arrival, seq, moved);
         }
         // SAFETY: the bytes are size_of::<T>() long, and every bit pattern
         // is a valid value of a shm_layouts type (integers, floats and arrays
@@ -364,6 +541,14 @@ impl<T: Carried> Carrier<T> {
                 return None;
             }
         }
+        let seen = match value.check(&self.expected) {
+            Ok(seen) => seen,
+            Err(why) => {
+                moved.refuse(why);
+                return None;
+            }
+        };
+        agents.see(seen, Instant::now());
         if let (Some(orders), Some((command, target))) = (&self.orders, value.order()) {
             if !orders.admits(command, target) {
                 moved.refused.forbidden_order += 1;
@@ -372,13 +557,63 @@ impl<T: Carried> Carrier<T> {
             if command == control::STOP {
                 moved.stop_requests += 1;
             }
+            if command == control::KEEPER_LOST {
+                // Host A's own view must agree first (see agents_lost).
+                agents.hold(target as usize, value.pid_named(), Instant::now());
+                self.held.push(value);
+                return None;
+            }
         }
         Some(value)
     }
+
+    /// Publishes the held orders host A's view now agrees with; counts
+    /// those it refuses.
+    fn release(&mut self, agents: &mut RemoteAgents, moved: &mut Moved) -> Result<(), BridgeError> {
+        for (agent, pid, decision) in agents.decide(Instant::now()) {
+            let Some(i) = self
+                .held
+                .iter()
+                .position(|v| v.order().map(|(_, t)| t as usize) == Some(agent) && v.pid_named() == pid)
+            else {
+                continue;
+            };
+            let value = self.held.remove(i);
+            match decision {
+                Decision::Pass => {
+                    eprintln!(
+                        "bridge: host B reported agent {} lost, replaced by process {pid}: passed on",
+                        agent + 1
+                    );
+                    self.ports.outlet.send(value)?;
+                    moved.received += 1;
+                }
+                Decision::Refuse => {
+                    eprintln!(
+                        "bridge: refused host B's report that agent {} was lost (process {pid})",
+                        agent + 1
+                    );
+                    moved.refused.forbidden_order += 1;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The sequence number in an arrival's tag (`TYPE;VERSION;SEQ`): `None`
+/// for an unknown type or version, `Some(None)` for a tag without one.
+fn split_tag(arrival: &[u8], tag: &[u8]) -> Option<Option<u64>> {
+    if arrival == tag {
+        return Some(None);
+    }
+    let rest = arrival.strip_prefix(tag)?.strip_prefix(b";")?;
+    let seq = std::str::from_utf8(rest).ok()?.parse::<u64>().ok()?;
+    Some(Some(seq))
 }
 
 impl<T: Carried> Carry for Carrier<T> {
-    fn pump(&mut self) -> Result<Moved, BridgeError> {
+    fn pump(&mut self, agents: &mut RemoteAgents) -> Result<Moved, BridgeError> {
         let mut moved = Moved::default();
         if self.sends {
             while let Some(sample) = self.ports.subscriber.receive().map_err(fail("receiving a sample"))? {
@@ -391,8 +626,10 @@ impl<T: Carried> Carry for Carrier<T> {
                 // reserved fields in place of padding (their tests pin every
                 // offset), so all size_of::<T>() bytes are initialised.
                 let bytes = unsafe { std::slice::from_raw_parts((&value as *const T).cast::<u8>(), size_of::<T>()) };
-                let tag = self.tag.clone();
-                self.publisher(&value)?
+                let mut tag = self.tag.clone();
+                let (publisher, seq) = self.publisher(&value)?;
+                tag.extend_from_slice(format!(";{seq}").as_bytes());
+                publisher
                     .put(bytes.to_vec())
                     .attachment(tag)
                     .wait()
@@ -403,11 +640,14 @@ impl<T: Carried> Carry for Carrier<T> {
         if let Some(inbox) = &self.inbox {
             let arrivals: Vec<Arrival> = inbox.try_iter().collect();
             for arrival in arrivals {
-                if let Some(value) = self.admit(&arrival, &mut moved) {
+                if let Some(value) = self.admit(&arrival, &mut moved, agents) {
                     self.ports.outlet.send(value)?;
                     moved.received += 1;
                 }
             }
+        }
+        if !self.held.is_empty() {
+            self.release(agents, &mut moved)?;
         }
         Ok(moved)
     }

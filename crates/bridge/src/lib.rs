@@ -27,6 +27,8 @@
 
 /// Host A's access control, made from the routes its bridge carries.
 pub mod access;
+/// Host B's reports of lost agents, weighed against host A's own view.
+pub(crate) mod agents_lost;
 /// One service carried between hosts as the layout's raw bytes.
 pub mod carry;
 /// The Zenoh session joining a run's hosts.
@@ -67,6 +69,17 @@ pub enum BridgeError {
     /// The run's description file cannot be read or written.
     #[error(transparent)]
     RunInfoFile(#[from] RunInfoError),
+    /// Host B refused host A's certificate: it will not change by waiting.
+    #[error(
+        "host A's certificate was refused at the TLS handshake {count} times ({reason}): \
+         it is not of this run's CA, or not for the address connected to"
+    )]
+    Handshake {
+        /// Refusals so far.
+        count: u64,
+        /// Why the last was refused.
+        reason: String,
+    },
 }
 
 /// A Zenoh error as a [`BridgeError`].
@@ -80,13 +93,15 @@ use std::time::{Duration, Instant};
 
 use shm_layouts::services;
 
-use carry::{Direction, Moved, Payload, RemoteOrders, Route, Source};
-use learnpnp_system::hosts::report::LinkReport;
+use agents_lost::RemoteAgents;
+use carry::{Direction, Expected, Moved, Payload, RemoteOrders, Route, Sending, Source};
+use learnpnp_system::hosts::report::{AgentLost, LinkReport, RefusedFile};
 use learnpnp_system::hosts::run_info::{RunInfo, RunInfoError};
+use learnpnp_system::hosts::shipped::ShippedFiles;
 use learnpnp_system::hosts::{JOIN_TIMEOUT, PLAIN_TCP_WARNING};
 use link::{Endpoints, Security};
 use refusals::ZenohRefusals;
-use remote::{ExpectedFiles, FileShipping, fetch_run_info, serve_run_info};
+use remote::{FileShipping, fetch_run_info, serve_run_info};
 
 use learnpnp_system::ipc::namespace::Namespace;
 use learnpnp_system::ipc::protocol::{Role, Roster};
@@ -152,6 +167,16 @@ fn routes(info: &RunInfo, side: Side) -> Vec<(Route, Payload)> {
         .filter(|r| !here(*r))
         .map(Role::sender)
         .collect();
+    let expected = Expected {
+        run_id: info.run_id,
+        roster,
+        agent: None,
+    };
+    // Host A's bridge fans out to every subscriber: droppable (see Sending).
+    let sending = match side {
+        Side::Host => Sending::Droppable,
+        Side::Remote => Sending::Blocking,
+    };
     let route = |service: String, point_to_point: bool, (direction, receivers): (Direction, Vec<String>)| Route {
         service,
         point_to_point,
@@ -159,7 +184,15 @@ fn routes(info: &RunInfo, side: Side) -> Vec<(Route, Payload)> {
         source: Source::Single,
         orders: None,
         receivers,
-        roster,
+        expected,
+        sending,
+    };
+    let agents_route = |a: usize, service: String, way: (Direction, Vec<String>)| Route {
+        expected: Expected {
+            agent: Some(a),
+            ..expected
+        },
+        ..route(service, true, way)
     };
     let mut out = Vec::new();
     for &a in &info.remote {
@@ -178,8 +211,8 @@ fn routes(info: &RunInfo, side: Side) -> Vec<(Route, Payload)> {
                 (services::WORLD_FLOOR_PONG.to_string(), Payload::WorldCommand),
             ),
         };
-        out.push((route(snapshot.0, true, down(wakes(&[agent]))), snapshot.1));
-        out.push((route(command.0, true, up(wakes(&[host]))), command.1));
+        out.push((agents_route(a, snapshot.0, down(wakes(&[agent]))), snapshot.1));
+        out.push((agents_route(a, command.0, up(wakes(&[host]))), command.1));
         if a == 0 {
             // The floor is measured with agent 0, wherever it is.
             out.push((route(ping.0, true, down(wakes(&[agent]))), ping.1));
@@ -214,6 +247,8 @@ fn routes(info: &RunInfo, side: Side) -> Vec<(Route, Payload)> {
     out.push((
         Route {
             source: by_sender,
+            // Fanned out by host A's router to monitors too, from either host.
+            sending: Sending::Background,
             ..route(services::HEARTBEAT.into(), false, (Direction::Both, Vec::new()))
         },
         Payload::Heartbeat,
@@ -242,12 +277,16 @@ fn routes(info: &RunInfo, side: Side) -> Vec<(Route, Payload)> {
 }
 
 /// What a bridge moved over its life.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Traffic {
     /// Messages.
     pub messages: Moved,
     /// Files shipped or received.
     pub files: usize,
+    /// The files refused (the first [`MAX_LISTED`](learnpnp_system::hosts::report::MAX_LISTED)).
+    pub refused_files: Vec<RefusedFile>,
+    /// Host A: host B's reports of lost agents, and what became of each.
+    pub agents_lost: Vec<AgentLost>,
 }
 
 /// Yielding between polls for this long after the last message (a
@@ -269,6 +308,8 @@ struct Reporting<'a> {
     zenoh: &'a ZenohRefusals,
     written: Option<LinkReport>,
     at: Instant,
+    /// The traffic last written.
+    traffic: Traffic,
 }
 
 impl<'a> Reporting<'a> {
@@ -282,6 +323,7 @@ impl<'a> Reporting<'a> {
             zenoh,
             written: None,
             at: Instant::now(),
+            traffic: Traffic::default(),
         }
     }
 
@@ -290,15 +332,19 @@ impl<'a> Reporting<'a> {
         let mut refused = traffic.messages.refused;
         refused.tls_handshake += tls_handshake;
         refused.access_denied += access_denied;
-        LinkReport {
+        self.earlier.plus(&LinkReport {
             security: self.earlier.security.clone(),
             warning: self.earlier.warning.clone(),
-            sent: self.earlier.sent + traffic.messages.sent,
-            received: self.earlier.received + traffic.messages.received,
-            files: self.earlier.files + traffic.files as u64,
-            stop_requests: self.earlier.stop_requests + traffic.messages.stop_requests,
-            refused: self.earlier.refused.plus(&refused),
-        }
+            sent: traffic.messages.sent,
+            received: traffic.messages.received,
+            files: traffic.files as u64,
+            stop_requests: traffic.messages.stop_requests,
+            refused,
+            lost: traffic.messages.lost,
+            refused_files: traffic.refused_files.clone(),
+            agents_lost: traffic.agents_lost.clone(),
+            host_b: None,
+        })
     }
 
     /// Writes the report if it changed (`now`: whenever due, else at most
@@ -308,6 +354,7 @@ impl<'a> Reporting<'a> {
             return Ok(());
         }
         self.at = Instant::now();
+        self.traffic.clone_from(traffic);
         let report = self.report(traffic);
         if self.written.as_ref() == Some(&report) {
             return Ok(());
@@ -321,13 +368,57 @@ impl<'a> Reporting<'a> {
     }
 }
 
+/// Host B gives up joining once host A's certificate was refused this often.
+const HANDSHAKE_TRIES: u64 = 3;
+
+/// Host B: opens the session, giving up once host A's certificate has been
+/// refused [`HANDSHAKE_TRIES`] times (waiting will not change it).
+fn open_remote(config: &BridgeConfig, zenoh: &ZenohRefusals) -> Result<zenoh::Session, BridgeError> {
+    let (tx, rx) = crossbeam::channel::bounded(1);
+    let (endpoints, security) = (config.endpoints.clone(), config.security.clone());
+    std::thread::spawn(move || {
+        let _ = tx.send(link::open(&endpoints, &security, None));
+    });
+    loop {
+        match rx.recv_timeout(Duration::from_millis(100)) {
+            Ok(opened) => return opened,
+            Err(crossbeam::channel::RecvTimeoutError::Timeout) => {
+                let (count, _) = zenoh.counts();
+                if count >= HANDSHAKE_TRIES {
+                    let reason = zenoh.last_handshake_refusal().unwrap_or_default();
+                    return Err(BridgeError::Handshake { count, reason });
+                }
+            }
+            Err(crossbeam::channel::RecvTimeoutError::Disconnected) => {
+                return Err(zenoh_error("opening the link failed without a word"));
+            }
+        }
+    }
+}
+
 /// Runs a bridge until `stop` is set: joins the link, serves or fetches the
 /// run's description, then carries the services and the files; keeps its
 /// [`LinkReport`] in the work directory, counting what Zenoh refused as
-/// `zenoh` saw it.
+/// `zenoh` saw it (also when it fails).
 pub fn run(config: &BridgeConfig, zenoh: &ZenohRefusals, stop: &AtomicBool) -> Result<Traffic, BridgeError> {
     let mut reporting = Reporting::new(&config.work_dir, &config.security, zenoh);
     reporting.write(&Traffic::default(), true)?;
+    let carried = carry_until_stopped(config, &mut reporting, stop);
+    if carried.is_err() {
+        // What was refused before the failure (a refused certificate) stays counted.
+        let traffic = reporting.traffic.clone();
+        reporting.write(&traffic, true)?;
+    }
+    carried
+}
+
+/// [`run`]'s work, reported through `reporting`.
+fn carry_until_stopped(
+    config: &BridgeConfig,
+    reporting: &mut Reporting<'_>,
+    stop: &AtomicBool,
+) -> Result<Traffic, BridgeError> {
+    let zenoh = reporting.zenoh;
     if config.security == Security::PlainTcp {
         eprintln!("bridge: warning: {PLAIN_TCP_WARNING}");
     }
@@ -337,7 +428,7 @@ pub fn run(config: &BridgeConfig, zenoh: &ZenohRefusals, stop: &AtomicBool) -> R
             let policy = match config.security {
                 Security::MutualTls(_) => {
                     let routes: Vec<Route> = routes(&info, Side::Host).into_iter().map(|(r, _)| r).collect();
-                    Some(access::host_a_policy(&info.prefix, &routes, &ExpectedFiles::of(&info)))
+                    Some(access::host_a_policy(&info.prefix, &routes, &ShippedFiles::of(&info)))
                 }
                 Security::PlainTcp => None,
             };
@@ -346,7 +437,7 @@ pub fn run(config: &BridgeConfig, zenoh: &ZenohRefusals, stop: &AtomicBool) -> R
             (session, info, Some(queryable))
         }
         Side::Remote => {
-            let session = link::open(&config.endpoints, &config.security, None)?;
+            let session = open_remote(config, zenoh)?;
             let info = fetch_run_info(&session, JOIN_TIMEOUT)?;
             info.write(&config.run_info)?;
             (session, info, None)
@@ -360,20 +451,25 @@ pub fn run(config: &BridgeConfig, zenoh: &ZenohRefusals, stop: &AtomicBool) -> R
         .map(|(route, payload)| payload.opener()(&node, &session, &info.prefix, route, info.wait, &doorbell))
         .collect::<Result<Vec<_>, _>>()?;
     let mut files = match config.side {
-        Side::Host => FileShipping::receiver(&session, &info.prefix, &config.work_dir, ExpectedFiles::of(&info))?,
+        Side::Host => FileShipping::receiver(&session, &info, &config.work_dir)?,
         Side::Remote => FileShipping::sender(&session, &info.prefix, &config.work_dir)?,
     };
     let mut traffic = Traffic::default();
+    let mut agents = RemoteAgents::default();
     let mut last = Instant::now();
     let mut last_files = Instant::now();
     while !stop.load(Ordering::Relaxed) {
         let mut moved = Moved::default();
         while rings.try_recv().is_ok() {}
         for carrier in &mut carriers {
-            moved = moved.plus(carrier.pump()?);
+            moved = moved.plus(carrier.pump(&mut agents)?);
         }
         if last_files.elapsed() >= Duration::from_millis(50) {
             traffic.files += files.pump(&session, &mut moved.refused)?;
+            if let FileShipping::Receiver(reception) = &files {
+                traffic.refused_files.clone_from(&reception.quarantine.refused);
+            }
+            traffic.agents_lost.clone_from(&agents.events);
             last_files = Instant::now();
             reporting.write(&traffic, false)?;
         }
@@ -382,7 +478,7 @@ pub fn run(config: &BridgeConfig, zenoh: &ZenohRefusals, stop: &AtomicBool) -> R
             eprintln!("bridge: the other host asked to stop the run");
             reporting.write(&traffic, true)?;
         }
-        if moved.any() {
+        if moved.any() || agents.holding() {
             last = Instant::now();
         } else if last.elapsed() < BUSY_FOR {
             std::thread::yield_now();
@@ -390,6 +486,10 @@ pub fn run(config: &BridgeConfig, zenoh: &ZenohRefusals, stop: &AtomicBool) -> R
             let _ = rings.recv_timeout(IDLE_WAIT);
         }
     }
+    if let FileShipping::Receiver(reception) = &files {
+        traffic.refused_files.clone_from(&reception.quarantine.refused);
+    }
+    traffic.agents_lost.clone_from(&agents.events);
     reporting.write(&traffic, true)?;
     Ok(traffic)
 }

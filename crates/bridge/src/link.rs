@@ -151,12 +151,19 @@ pub fn open(
     // in the background after (and after a cut link).
     set(&mut config, "connect/timeout_ms", "60000")?;
     set(&mut config, "connect/exit_on_failure", "false")?;
-    // Every message at once (not batched: a lock-step cycle waits for it),
-    // and none dropped when the link is congested (the run counts on each).
+    // Each publisher says how it meets a congested link (see
+    // carry::Sending): droppable where host A's router fans out, blocking
+    // where only host A's bridge receives; every message at once (express).
+    // Room for a burst of messages per priority and destination before a
+    // droppable one waits at all (16 batches, the most Zenoh allows: a
+    // message sent at once takes a batch to itself).
+    let queue = "transport/link/tx/queue";
+    set(&mut config, &format!("{queue}/size/data"), "16")?;
+    set(&mut config, &format!("{queue}/size/data_low"), "16")?;
     set(
         &mut config,
-        "qos/publication",
-        r#"[{ key_exprs: ["learnpnp/**"], config: { express: true, congestion_control: "block" } }]"#,
+        &format!("{queue}/congestion_control/drop/wait_before_drop"),
+        super::carry::WAIT_BEFORE_DROP,
     )?;
     zenoh::open(config).wait().map_err(zenoh_error)
 }

@@ -26,13 +26,28 @@ use tracing_subscriber::layer::{Context, Layer};
 pub struct ZenohRefusals {
     tls_handshake: Arc<AtomicU64>,
     access_denied: Arc<AtomicU64>,
+    /// Why the last peer was refused at the TLS handshake.
+    last_handshake: Arc<std::sync::Mutex<Option<String>>>,
 }
+
+/// What Zenoh says when this host, connecting, refuses the other's
+/// certificate (rustls's errors, as QUIC reports them).
+const CERTIFICATE_REFUSED: [&str; 4] = [
+    "invalid peer certificate",
+    "UnknownIssuer",
+    "BadSignature",
+    "NotValidForName",
+];
 
 /// Where zenoh's QUIC listener reports a peer it refused at the TLS handshake.
 const QUIC_TARGET: &str = "zenoh_link_commons::quic";
 
 /// Where zenoh's access control reports its decisions.
 const ACL_TARGET: &str = "zenoh::net::routing::interceptor::access_control";
+
+/// Where zenoh reports each failed attempt to connect (at debug level: a
+/// refused certificate is said only there).
+const CONNECT_TARGET: &str = "zenoh::net::runtime::orchestrator";
 
 /// The refusals of each kind printed to the log before they are only counted.
 const LOGGED_REFUSALS: u64 = 20;
@@ -58,6 +73,22 @@ impl ZenohRefusals {
         )
     }
 
+    /// Why the last peer was refused at the TLS handshake, if one was.
+    pub fn last_handshake_refusal(&self) -> Option<String> {
+        self.last_handshake.lock().ok().and_then(|last| last.clone())
+    }
+
+    /// Counts a peer refused at the TLS handshake, for `reason`.
+    fn handshake_refused(&self, reason: &str) {
+        let n = self.tls_handshake.fetch_add(1, Ordering::Relaxed) + 1;
+        if let Ok(mut last) = self.last_handshake.lock() {
+            *last = Some(reason.to_string());
+        }
+        if n <= LOGGED_REFUSALS {
+            eprintln!("bridge: refused a peer at the TLS handshake: {reason}");
+        }
+    }
+
     /// Installs the counter as the process's tracing subscriber (once, at start).
     pub fn install(&self) -> Result<(), String> {
         use tracing_subscriber::layer::SubscriberExt as _;
@@ -69,6 +100,7 @@ impl ZenohRefusals {
         let target = metadata.target();
         (target.starts_with("zenoh") && *metadata.level() <= Level::WARN)
             || (target.starts_with(ACL_TARGET) && *metadata.level() >= Level::INFO)
+            || (target == CONNECT_TARGET && *metadata.level() == Level::DEBUG)
     }
 
     /// Counts one of the access control's events.
@@ -134,11 +166,12 @@ impl<S: Subscriber> Layer<S> for ZenohRefusals {
         {
             // The listener's accept failed: the TLS handshake (or reading the
             // peer's certificate) refused the peer.
-            let n = self.tls_handshake.fetch_add(1, Ordering::Relaxed) + 1;
-            if n <= LOGGED_REFUSALS {
-                let reason = message.0.split(" Hint").next().unwrap_or_default();
-                eprintln!("bridge: refused a peer at the TLS handshake: {reason}");
-            }
+            self.handshake_refused(message.0.split(" Hint").next().unwrap_or_default());
+        } else if CERTIFICATE_REFUSED.iter().any(|m| message.0.contains(m)) {
+            // Connecting, this host refused the other's certificate.
+            self.handshake_refused(&message.0);
+        } else if *event.metadata().level() == Level::DEBUG {
+            // The connector's other news: not the log's business.
         } else {
             // Zenoh's other warnings and errors go to the bridge's log.
             eprintln!("bridge: zenoh: {}: {}", event.metadata().level(), message.0);

@@ -9,13 +9,14 @@ use std::time::{Duration, Instant};
 
 use crossbeam::channel::{Receiver, unbounded};
 use zenoh::pubsub::Subscriber;
+use zenoh::qos::CongestionControl;
 use zenoh::query::Queryable;
 use zenoh::{Session, Wait};
 
 use super::{BridgeError, zenoh_error};
 use learnpnp_system::hosts::report::LinkRefusals;
 use learnpnp_system::hosts::run_info::{OUTBOX, RunInfo};
-use learnpnp_system::ipc::protocol::Roster;
+use learnpnp_system::hosts::shipped::Quarantine;
 
 /// The Zenoh key of the run's description (one run per link).
 pub(crate) const RUN_INFO_KEY: &str = "learnpnp/run-info";
@@ -69,61 +70,6 @@ pub(crate) fn ack_key(prefix: &str, name: &str) -> String {
     super::carry::key(prefix, &format!("file-ack/{name}"))
 }
 
-/// The files host B may ship to host A: its agents' checkpoints, results
-/// and histograms, under the names the run gives them, and nothing else (not
-/// `spec.json`, not another agent's values).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct ExpectedFiles {
-    /// Names shipped as they are.
-    exact: Vec<String>,
-    /// Histograms, shipped as `STEM.PID.hdr`.
-    histograms: Vec<String>,
-}
-
-impl ExpectedFiles {
-    /// The files of `info`'s remote agents.
-    pub(crate) fn of(info: &RunInfo) -> Self {
-        use learnpnp_system::multiprocess::agent_chassis::checkpoint_name;
-        use learnpnp_system::multiprocess::agent_process::compute_histogram;
-        use learnpnp_system::multiprocess::floor_probe::REMOTE_HOST_FLOOR;
-        use learnpnp_system::multiprocess::sim_process::ROUND_TRIP;
-        use learnpnp_system::multiprocess::world_agent::{
-            WORLD_TURNAROUND, agent_compute_histogram, agent_result_file,
-        };
-        let mut exact: Vec<String> = info.remote.iter().map(|&a| checkpoint_name(a)).collect();
-        let mut histograms = vec![REMOTE_HOST_FLOOR.to_string()];
-        match info.roster {
-            Roster::Keepaway => histograms.extend(info.remote.iter().map(|&k| compute_histogram(k))),
-            Roster::World { .. } => {
-                exact.extend(info.remote.iter().map(|&a| agent_result_file(a)));
-                histograms.extend(info.remote.iter().map(|&a| agent_compute_histogram(a)));
-                histograms.extend([ROUND_TRIP.to_string(), WORLD_TURNAROUND.to_string()]);
-            }
-        }
-        ExpectedFiles { exact, histograms }
-    }
-
-    /// Whether a file called `name` may arrive.
-    pub(crate) fn admits(&self, name: &str) -> bool {
-        if self.exact.iter().any(|e| e == name) {
-            return true;
-        }
-        let Some(stem_pid) = name.strip_suffix(".hdr") else {
-            return false;
-        };
-        let Some((stem, pid)) = stem_pid.rsplit_once('.') else {
-            return false;
-        };
-        !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()) && self.histograms.iter().any(|h| h == stem)
-    }
-
-    /// The file names as key expressions (a histogram's process id as `$*`).
-    pub(crate) fn key_patterns(&self) -> Vec<String> {
-        let histograms = self.histograms.iter().map(|h| format!("{h}.$*.hdr"));
-        self.exact.iter().cloned().chain(histograms).collect()
-    }
-}
-
 /// How often an unacknowledged file is sent again.
 const RESEND_EVERY: Duration = Duration::from_millis(500);
 
@@ -146,18 +92,21 @@ pub enum FileShipping {
         _subscriber: Subscriber<()>,
     },
     /// Host A's side.
-    Receiver {
-        /// Where the files go.
-        work_dir: PathBuf,
-        /// The run's prefix.
-        prefix: String,
-        /// The names that may arrive.
-        expected: ExpectedFiles,
-        /// Files that arrived (name, bytes).
-        arrivals: Receiver<(String, Vec<u8>)>,
-        /// Held for the files.
-        _subscriber: Subscriber<()>,
-    },
+    Receiver(Box<Reception>),
+}
+
+/// Host A's reception of host B's files: each passes the [`Quarantine`]
+/// (written there, checked, moved into the run only if good) and is
+/// acknowledged once in the run; a refused one is never acknowledged.
+pub struct Reception {
+    /// The run's prefix.
+    prefix: String,
+    /// Where files wait to be checked.
+    pub(crate) quarantine: Quarantine,
+    /// Files that arrived (name, bytes).
+    arrivals: Receiver<(String, Vec<u8>)>,
+    /// Held for the files.
+    _subscriber: Subscriber<()>,
 }
 
 /// The file name at the end of a key (`.../file/NAME`): a plain name only.
@@ -194,14 +143,10 @@ impl FileShipping {
         })
     }
 
-    /// Host A: writes the files host B ships into `work_dir`, those of
-    /// the `expected` names only.
-    pub(crate) fn receiver(
-        session: &Session,
-        prefix: &str,
-        work_dir: &Path,
-        expected: ExpectedFiles,
-    ) -> Result<Self, BridgeError> {
+    /// Host A: writes the files host B ships for the run `info` into
+    /// `work_dir`, those of the expected names and content only.
+    pub(crate) fn receiver(session: &Session, info: &RunInfo, work_dir: &Path) -> Result<Self, BridgeError> {
+        let prefix = info.prefix.as_str();
         let (tx, rx) = unbounded();
         let subscriber = session
             .declare_subscriber(file_key(prefix, "*"))
@@ -212,13 +157,12 @@ impl FileShipping {
             })
             .wait()
             .map_err(zenoh_error)?;
-        Ok(FileShipping::Receiver {
-            work_dir: work_dir.to_path_buf(),
+        Ok(FileShipping::Receiver(Box::new(Reception {
             prefix: prefix.to_string(),
-            expected,
+            quarantine: Quarantine::new(info, work_dir),
             arrivals: rx,
             _subscriber: subscriber,
-        })
+        })))
     }
 
     /// Sends, resends or writes what is due; returns how many files moved.
@@ -257,92 +201,39 @@ impl FileShipping {
                     let bytes = std::fs::read(entry.path()).map_err(io(&entry.path()))?;
                     session
                         .put(file_key(prefix, &name), bytes)
+                        .congestion_control(CongestionControl::Block)
                         .wait()
                         .map_err(zenoh_error)?;
                     sent.insert(name, Instant::now());
                 }
                 Ok(moved)
             }
-            FileShipping::Receiver {
-                work_dir,
-                prefix,
-                expected,
-                arrivals,
-                ..
-            } => {
+            FileShipping::Receiver(reception) => {
                 let mut moved = 0;
-                while let Ok((name, bytes)) = arrivals.try_recv() {
-                    if !expected.admits(&name) {
-                        refused.file_name += 1;
-                        continue;
+                while let Ok((name, bytes)) = reception.arrivals.try_recv() {
+                    match reception.quarantine.take(&name, &bytes) {
+                        Ok(Ok(())) => {
+                            // Droppable: a subscriber to the acknowledgements
+                            // that stops reading must not block host A
+                            // (a lost one is asked for again: the file comes again).
+                            session
+                                .put(ack_key(&reception.prefix, &name), Vec::<u8>::new())
+                                .congestion_control(CongestionControl::Drop)
+                                .wait()
+                                .map_err(zenoh_error)?;
+                            moved += 1;
+                        }
+                        Ok(Err(refusal)) => refusal.count(refused),
+                        Err(source) => {
+                            return Err(BridgeError::Io {
+                                path: PathBuf::from(name),
+                                source,
+                            });
+                        }
                     }
-                    let path = work_dir.join(&name);
-                    atomic_file::write_atomic(&path, &bytes).map_err(io(&path))?;
-                    session
-                        .put(ack_key(prefix, &name), Vec::<u8>::new())
-                        .wait()
-                        .map_err(zenoh_error)?;
-                    moved += 1;
                 }
                 Ok(moved)
             }
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use learnpnp_system::ipc::wait::WaitStrategy;
-    use learnpnp_system::multiprocess::Clock;
-
-    fn info(roster: Roster, remote: Vec<usize>) -> RunInfo {
-        RunInfo {
-            prefix: "lpabc_".into(),
-            run_id: 7,
-            run: 0,
-            roster,
-            remote,
-            clock: Clock::Lockstep,
-            wait: WaitStrategy::Yield,
-            checkpoint_every: 10,
-            floor_round_trips: 100,
-            spec: serde_json::Value::Null,
-        }
-    }
-
-    #[test]
-    fn host_b_ships_its_own_agents_files_only() {
-        let keepaway = ExpectedFiles::of(&info(Roster::Keepaway, vec![2]));
-        for name in [
-            "values-agent3.bin",
-            "compute-keeper3.4242.hdr",
-            "floor-remote-host.17.hdr",
-        ] {
-            assert!(keepaway.admits(name), "{name}");
-        }
-        for name in [
-            "spec.json",
-            "values.bin",
-            "values-agent2.bin",
-            "compute-keeper1.4242.hdr",
-            "compute-keeper3..hdr",
-            "compute-keeper3.12x.hdr",
-            "run-info.json",
-            "",
-        ] {
-            assert!(!keepaway.admits(name), "{name}");
-        }
-        let world = ExpectedFiles::of(&info(Roster::World { agents: 2 }, vec![0]));
-        for name in [
-            "values.bin",
-            "agent1.json",
-            "compute-agent1.9.hdr",
-            "world-turnaround.9.hdr",
-        ] {
-            assert!(world.admits(name), "{name}");
-        }
-        assert!(!world.admits("agent2.json"));
-        assert!(keepaway.key_patterns().contains(&"compute-keeper3.$*.hdr".to_string()));
     }
 }

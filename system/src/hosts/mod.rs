@@ -6,10 +6,14 @@
 
 /// The private CA of a run's hosts and their certificates.
 pub mod certs;
+/// What a message carried from another host must hold.
+pub mod inbound;
 /// What a host's bridges did over a run.
 pub mod report;
 /// Host A's description of a run for the other hosts.
 pub mod run_info;
+/// The files host B ships to host A, and what each must hold.
+pub mod shipped;
 
 use std::time::Duration;
 

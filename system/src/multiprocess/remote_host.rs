@@ -27,8 +27,10 @@ use super::supervisor::config::{EXIT_CANNOT_RESUME, SupervisorError, json_error}
 use super::supervisor::hand_off::BRIDGE_STOP_GRACE;
 use super::supervisor::watch::Fault;
 use crate::hosts::JOIN_TIMEOUT;
+use crate::hosts::report::LINK_REPORT_FILE;
 use crate::hosts::report::LinkReport;
 use crate::hosts::run_info::{OUTBOX, RunInfo};
+use crate::hosts::shipped::HOST_B_LINK_REPORT;
 use crate::ipc::convert::{control_message, read_heartbeat};
 use crate::ipc::namespace::Namespace;
 use crate::ipc::protocol::{Order, Role, Roster};
@@ -353,10 +355,14 @@ impl Host<'_> {
                 names.push(name);
             }
         }
-        for name in names {
+        let mut shipped: Vec<(String, String)> = names.into_iter().map(|n| (n.clone(), n)).collect();
+        // This host's link counts, for host A's report (as they stand now:
+        // its bridge rewrites them within a second of a change).
+        shipped.push((LINK_REPORT_FILE.to_string(), HOST_B_LINK_REPORT.to_string()));
+        for (name, as_name) in shipped {
             let from = self.work_dir.join(&name);
             if let Ok(bytes) = fs::read(&from) {
-                let to = outbox.join(&name);
+                let to = outbox.join(&as_name);
                 atomic_file::write_atomic(&to, &bytes).map_err(io_error(&to))?;
             }
         }

@@ -222,14 +222,7 @@ pub(crate) fn summarize(
         rejected_messages: rejected,
         checkpoint_failures: records.iter().map(|r| r.checkpoint_failures).sum(),
         faults: records.iter().flat_map(|r| r.faults.iter().cloned()).collect(),
-        link: records.iter().filter_map(|r| r.link.clone()).reduce(|a, b| LinkReport {
-            sent: a.sent + b.sent,
-            received: a.received + b.received,
-            files: a.files + b.files,
-            stop_requests: a.stop_requests + b.stop_requests,
-            refused: a.refused.plus(&b.refused),
-            ..a
-        }),
+        link: records.iter().filter_map(|r| r.link.clone()).reduce(|a, b| a.plus(&b)),
         view: records.iter().filter_map(|r| r.view.clone()).reduce(|a, b| a.add(&b)),
         leftover_shm_files: records.iter().map(|r| r.leftover_files).sum(),
         ipc_prefixes: records.iter().map(|r| r.prefix.clone()).collect(),

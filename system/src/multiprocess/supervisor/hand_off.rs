@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 use super::config::{Cluster, SupervisorError, json_error};
 use super::watch::Watch;
 use crate::hosts::report::LinkReport;
+use crate::hosts::shipped::HOST_B_LINK_REPORT;
 use crate::ipc::protocol::{Order, Role, Roster};
 use crate::multiprocess::agent_chassis::checkpoint_name;
 use crate::multiprocess::sim_process::SimulatorResult;
@@ -140,7 +141,11 @@ impl Watch<'_> {
             );
         }
         self.config.cluster.as_ref()?;
-        let link = LinkReport::read(&self.context.work_dir).unwrap_or_default();
+        let mut link = LinkReport::read(&self.context.work_dir).unwrap_or_default();
+        // Host B's own counts, shipped with its files (checked on arrival).
+        link.host_b = LinkReport::read_file(&self.context.work_dir.join(HOST_B_LINK_REPORT))
+            .ok()
+            .map(Box::new);
         if let Some(warning) = &link.warning {
             self.fault(warning.clone(), "run as asked".into());
         }
@@ -160,6 +165,68 @@ impl Watch<'_> {
                 "the run was stopped".into(),
             );
         }
+        for file in &link.refused_files {
+            self.fault(
+                format!(
+                    "host B's file '{}' refused ({}): {}",
+                    file.name, file.reason, file.detail
+                ),
+                "not written into the run; host A reports without it".into(),
+            );
+        }
+        if link.lost > 0 {
+            self.fault(
+                format!(
+                    "{} messages from host B never arrived (gaps in their sequence numbers)",
+                    link.lost
+                ),
+                "the run went on without them".into(),
+            );
+        }
+        self.agents_lost_faults(&link, sim);
+        if let Some(b) = link.host_b.clone() {
+            if b.refused.total() > 0 {
+                self.fault(
+                    format!(
+                        "host B's bridge refused {} messages or peers on the link: {:?}",
+                        b.refused.total(),
+                        b.refused
+                    ),
+                    "none of them reached host B's agents".into(),
+                );
+            }
+            if b.lost > 0 {
+                self.fault(
+                    format!(
+                        "{} messages from host A never reached host B (gaps in their sequence numbers)",
+                        b.lost
+                    ),
+                    "host B's agents went on without them".into(),
+                );
+            }
+        }
         Some(link)
+    }
+
+    /// Every report from host B that one of its agents was lost, as a fault:
+    /// passed on, with the episode it aborted; or refused, with why.
+    fn agents_lost_faults(&mut self, link: &LinkReport, sim: &SimulatorResult) {
+        let mut aborted = sim.totals.aborted.iter();
+        for event in &link.agents_lost {
+            let what = format!(
+                "host B reported agent {} lost (replacement process {})",
+                event.agent, event.pid
+            );
+            let outcome = if event.accepted {
+                let episode = aborted.by_ref().find(|a| a.keepers.contains(&event.agent)).map_or_else(
+                    || "no episode aborted".to_string(),
+                    |a| format!("episode {} aborted", a.episode),
+                );
+                format!("passed on ({}): {episode}", event.why)
+            } else {
+                format!("refused as a forbidden order: {}", event.why)
+            };
+            self.fault(what, outcome);
+        }
     }
 }

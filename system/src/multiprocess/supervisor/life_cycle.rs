@@ -17,6 +17,7 @@ use super::config::{
 use super::observe::{Request, RunObserver, RunView};
 use super::results::{describe, last_log_line, log_tail};
 use super::watch::{Fault, Fleet, PendingResume, Watch};
+use crate::hosts::report::LinkReport;
 use crate::ipc::convert::{control_message, read_heartbeat};
 use crate::ipc::namespace::Namespace;
 use crate::ipc::protocol::{Order, ProcessState, Role, Roster};
@@ -384,8 +385,14 @@ impl Watch<'_> {
         if now.duration_since(quiet_since) <= limit {
             return Ok(());
         }
+        let cause = match self.config.cluster {
+            Some(_) => LinkReport::read(&self.context.work_dir)
+                .and_then(|link| link.stall_cause())
+                .unwrap_or_else(|| "nothing seen on the link explains it".into()),
+            None => "no process reported a cause".into(),
+        };
         let what = format!(
-            "lock-step stalled: no cycle for {} s while the {host} runs (a message lost between hosts?)",
+            "lock-step stalled: no cycle for {} s while the {host} runs ({cause})",
             limit.as_secs()
         );
         self.fault(what.clone(), "run stopped; every agent checkpoints".into());

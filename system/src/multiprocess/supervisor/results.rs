@@ -116,8 +116,10 @@ pub(super) fn log_tail(path: &Path) -> String {
 }
 
 /// Reads every histogram the processes of a run of `roster` wrote into
-/// `dir`, the incarnations of each process merged (`<name>.<pid>.hdr`).
-pub(super) fn read_histograms(dir: &Path, roster: Roster) -> Result<Vec<Latency>, SupervisorError> {
+/// `dir`, the incarnations of each process merged (`<name>.<pid>.hdr`); a
+/// file that cannot be read or decoded is left out, and said in the second
+/// list (the run's report never fails for one file).
+pub(super) fn read_histograms(dir: &Path, roster: Roster) -> Result<(Vec<Latency>, Vec<String>), SupervisorError> {
     let mut files: Vec<PathBuf> = fs::read_dir(dir)
         .map_err(io_error(dir))?
         .flatten()
@@ -134,6 +136,7 @@ pub(super) fn read_histograms(dir: &Path, roster: Roster) -> Result<Vec<Latency>
         .chain((0..roster.agents()).map(compute))
         .chain(per_roster);
     let mut histograms = Vec::new();
+    let mut unreadable = Vec::new();
     for name in names {
         let mut merged = Latency::new(name.clone());
         for path in &files {
@@ -142,13 +145,18 @@ pub(super) fn read_histograms(dir: &Path, roster: Roster) -> Result<Vec<Latency>
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_default();
             if file.starts_with(&format!("{name}.")) && file.ends_with(".hdr") {
-                let bytes = fs::read(path).map_err(io_error(path))?;
-                merged.merge(&Latency::from_bytes(name.clone(), &bytes)?)?;
+                let read = fs::read(path)
+                    .map_err(|e| e.to_string())
+                    .and_then(|bytes| Latency::from_bytes(name.clone(), &bytes).map_err(|e| e.to_string()))
+                    .and_then(|h| merged.merge(&h).map_err(|e| e.to_string()));
+                if let Err(e) = read {
+                    unreadable.push(format!("{}: {e}", path.display()));
+                }
             }
         }
         histograms.push(merged);
     }
-    Ok(histograms)
+    Ok((histograms, unreadable))
 }
 
 impl Watch<'_> {
@@ -178,9 +186,19 @@ impl Watch<'_> {
             }
             Roster::World { agents } => agents,
         };
-        let values = self.final_values(learning, failure.is_some())?;
+        let values = self.final_values(learning, failure.is_some());
         let checkpoint_failures = self.pulses.values().map(|p| p.checkpoint_failures).sum();
         let link = self.link_faults(&sim);
+        if let Some(floor) = &self.floor {
+            floor.save()?;
+        }
+        let (histograms, unreadable) = read_histograms(&self.context.work_dir, self.roster)?;
+        for problem in unreadable {
+            self.fault(
+                format!("a histogram cannot be read: {problem}"),
+                "left out of the report".into(),
+            );
+        }
         let work_dir = &self.context.work_dir;
         Ok(RunRecord {
             run: self.context.run,
@@ -190,12 +208,7 @@ impl Watch<'_> {
             restarts: self.restarts.values().sum::<u32>(),
             resumes: self.resume_checks(learning),
             faults: std::mem::take(&mut self.faults),
-            histograms: {
-                if let Some(floor) = &self.floor {
-                    floor.save()?;
-                }
-                read_histograms(work_dir, self.roster)?
-            },
+            histograms,
             checkpoint_failures,
             values,
             seconds,
@@ -244,18 +257,27 @@ impl Watch<'_> {
         }
     }
 
-    /// The `learning` keepers' last checkpoints (as many as load, if the run failed).
-    pub(super) fn final_values(&self, learning: usize, failed: bool) -> Result<Vec<SavedValues>, SupervisorError> {
+    /// The `learning` keepers' last checkpoints, up to the first that does
+    /// not load (a fault naming it, unless the run failed: then its agents
+    /// may not have written theirs).
+    pub(super) fn final_values(&mut self, learning: usize, failed: bool) -> Vec<SavedValues> {
         let mut values = Vec::new();
         for k in 0..learning {
             let path = self.context.work_dir.join(checkpoint_name(k));
             match persist::load(&path) {
                 Ok(v) => values.push(v),
-                Err(e) if !failed => return Err(e.into()),
-                Err(_) => break,
+                Err(e) => {
+                    if !failed {
+                        self.fault(
+                            format!("keeper {}'s final values cannot be read: {e}", k + 1),
+                            "the report lacks its values and those of the keepers after it".into(),
+                        );
+                    }
+                    break;
+                }
             }
         }
-        Ok(values)
+        values
     }
 
     /// For each agent restarted: did it resume with the checkpointed values?
