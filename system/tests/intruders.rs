@@ -550,6 +550,13 @@ fn attacked(attack: Attack) -> (Value, Value) {
         "the attacked run played the one-host episodes: {a}"
     );
     assert_eq!(a["complete"], true, "{a}");
+    // No peer held up host A's bridge until Zenoh gave up on it (a
+    // subscriber that stops reading loses its own messages instead).
+    let bridge_log = fs::read_to_string(sandbox.out("a").join("runs/run-0/bridge.log")).unwrap_or_default();
+    assert!(
+        !bridge_log.contains("Unable to push non droppable"),
+        "host A's bridge blocked on a peer: {bridge_log}"
+    );
     // Host B's own checkpoint came through whatever else arrived.
     let values = learnpnp::persist::load(&sandbox.out("a").join("runs/run-0/values-agent3.bin"));
     assert!(values.is_ok(), "{values:?}");
