@@ -1,16 +1,16 @@
 //! Petri Net Plans generated from planners' plans, as PNPgen (the PNP
 //! library's generator) does, with the learner in mind.
 //!
-//! - [`linear`]: a linear plan, from an IPC plan file or PNPgen's `a|30; b`
-//!   line, to a sequence ([`GeneratedPlan::sequence`]);
-//! - [`merge`]: the k best plans of a planner merged by their common prefixes
+//! - [`linear`](crate::generate::linear): a linear plan, from an IPC plan file or PNPgen's `a|30; b`
+//!   line, to a sequence ([`GeneratedPlan::sequence`](crate::generate::GeneratedPlan::sequence));
+//! - [`merge`](crate::generate::merge): the k best plans of a planner merged by their common prefixes
 //!   into one plan whose choice points are where they differ;
-//! - [`conditional`]: PNPgen's conditional plan (states, actions, edges
+//! - [`conditional`](crate::generate::conditional): PNPgen's conditional plan (states, actions, edges
 //!   labelled by sensing outcomes) to a plan with sensing;
-//! - [`rules`]: PNPgen's execution rules, `*if* COND *during* ACTION *do*
+//! - [`rules`](crate::generate::rules): PNPgen's execution rules, `*if* COND *during* ACTION *do*
 //!   RECOVERY`, added as interrupts with their recovery branches.
 //!
-//! Every plan is made with [`PlanBuilder`]'s operators, so it reads, checks,
+//! Every plan is made with [`PlanBuilder`](crate::plan::PlanBuilder)'s operators, so it reads, checks,
 //! saves (JARP or standard PNML) and runs as a drawn one; the builder's
 //! layered layout places its nodes.
 
