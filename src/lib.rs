@@ -153,6 +153,9 @@ pub mod dot;
 pub mod executor;
 /// Experiments over many seeded runs.
 pub mod experiment;
+/// Plans generated from planners' plans: linear and conditional plans, the k
+/// best plans merged into choice points, execution rules.
+pub mod generate;
 /// The live feed's records and sink (the `learnpnp-feed` crate).
 pub use learnpnp_feed as feed;
 pub(crate) mod json_float;

@@ -9,6 +9,7 @@ mod analysis_choice;
 mod condition_grammar;
 mod dot_export;
 mod executor_semantics;
+mod generate_plans;
 mod keepaway_decisions;
 mod keepaway_episodes;
 mod keepaway_interception;

@@ -3,6 +3,7 @@
 //! into `out/` on the thesis's parameters.
 
 mod experiment;
+mod generate;
 mod inspect;
 mod merge;
 mod replay;
@@ -42,6 +43,10 @@ enum Command {
     Dot(inspect::DotArgs),
     /// Convert a plan between the PNP editor's PNML and standard PNML.
     Convert(inspect::ConvertArgs),
+    /// A plan from planners' plans: a linear plan (IPC plan file or PNPgen's
+    /// line) as a sequence, k plans merged into choice points where they
+    /// differ, or a conditional plan; execution rules added as interrupts.
+    Generate(generate::GenerateArgs),
     /// Run a learning experiment with the thesis's evaluation protocol.
     Experiment(Box<experiment::ExperimentArgs>),
     /// Reproduce figures of the thesis (all of them by default).
@@ -113,6 +118,7 @@ fn main() -> ExitCode {
         Some(Command::Check(args)) => return inspect::check(&args),
         Some(Command::Dot(args)) => inspect::dot(&args),
         Some(Command::Convert(args)) => inspect::convert(&args),
+        Some(Command::Generate(args)) => generate::run(&args),
         Some(Command::Experiment(args)) => experiment::run(&args),
         Some(Command::Reproduce(args)) => reproduce::run(&args),
         Some(Command::Merge(args)) => merge::run(&args),

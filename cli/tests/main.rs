@@ -34,6 +34,7 @@ mod cli;
 mod domain_descriptions;
 mod experiment_options;
 mod experiment_resume;
+mod generate_cli;
 mod headless;
 mod keepaway_replay;
 mod learned_values;

@@ -5,6 +5,8 @@ use std::sync::Arc;
 
 use learnpnp::agent::stepwise;
 use learnpnp::analysis::{self, CheckReport};
+use learnpnp::condition::AtomTable;
+use learnpnp::generate;
 use learnpnp::learning::by_choice::group_by_choice;
 use learnpnp::pnml::{self, Dialect};
 use learnpnp::{AllowedAtoms, Plan, dot, load_plan, persist, schema};
@@ -24,6 +26,21 @@ pub struct PyPlan {
 }
 
 impl PyPlan {
+    /// `generated` with `rules` applied (atoms checked against `atoms`), as a plan.
+    fn generated(
+        mut generated: generate::GeneratedPlan,
+        rules: Option<&str>,
+        atoms: Option<Vec<String>>,
+    ) -> PyResult<Self> {
+        if let Some(text) = rules {
+            let rules = generate::rules::parse_rules(text).map_err(value_error)?;
+            let table: Option<AtomTable> = atoms.as_ref().map(|a| a.iter().map(String::as_str).collect());
+            generated.apply_rules(&rules, table.as_ref()).map_err(value_error)?;
+        }
+        let plan = generated.into_plan(AllowedAtoms::Open).map_err(value_error)?;
+        Ok(PyPlan { inner: Arc::new(plan) })
+    }
+
     /// The failures of the structural checks (`learnpnp check`), as lines.
     pub(crate) fn failures(&self) -> Vec<String> {
         match self.inner.schema_process() {
@@ -53,6 +70,39 @@ impl PyPlan {
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
         let plan = load_plan(&path, AllowedAtoms::Open).map_err(|e| load_error(py, &e))?;
         Ok(PyPlan { inner: Arc::new(plan) })
+    }
+
+    /// A plan generated from linear plans (`learnpnp generate`): each plan a
+    /// list of actions (`"move_a_b"`, or PNPgen's `"goto|30"` with a
+    /// timeout); several plans merge into one with a choice point wherever
+    /// they differ. `rules`: execution rules (`*if* COND *during* ACTION *do*
+    /// RECOVERY`, one a line); `atoms`: the atoms their conditions may test
+    /// (any by default). Raises `ValueError` naming what cannot be generated.
+    #[staticmethod]
+    #[pyo3(signature = (name, plans, rules = None, atoms = None))]
+    fn from_plans(
+        name: &str,
+        plans: Vec<Vec<String>>,
+        rules: Option<&str>,
+        atoms: Option<Vec<String>>,
+    ) -> PyResult<Self> {
+        let plans = plans
+            .iter()
+            .map(|p| generate::linear::parse_pnpgen_line(&p.join(";")))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(value_error)?;
+        let generated = generate::GeneratedPlan::merged(name, &plans).map_err(value_error)?;
+        Self::generated(generated, rules, atoms)
+    }
+
+    /// A plan generated from a conditional plan in PNPgen's form (states,
+    /// actions, edges labelled by sensing outcomes), with optional execution
+    /// `rules` as in `from_plans`.
+    #[staticmethod]
+    #[pyo3(signature = (name, text, rules = None, atoms = None))]
+    fn from_conditional(name: &str, text: &str, rules: Option<&str>, atoms: Option<Vec<String>>) -> PyResult<Self> {
+        let generated = generate::GeneratedPlan::conditional(name, text).map_err(value_error)?;
+        Self::generated(generated, rules, atoms)
     }
 
     /// The plan's name.

@@ -38,6 +38,14 @@ class Tracker:
 class Plan:
     @staticmethod
     def load(path: _Path) -> "Plan": ...
+    @staticmethod
+    def from_plans(
+        name: str, plans: Sequence[Sequence[str]], rules: Optional[str] = None, atoms: Optional[Sequence[str]] = None
+    ) -> "Plan": ...
+    @staticmethod
+    def from_conditional(
+        name: str, text: str, rules: Optional[str] = None, atoms: Optional[Sequence[str]] = None
+    ) -> "Plan": ...
     @property
     def name(self) -> str: ...
     @property
