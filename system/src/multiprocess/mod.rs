@@ -36,6 +36,8 @@ pub mod bench_world;
 pub mod chaos;
 /// The iceoryx2 floor: the bare round trip of a run's payloads.
 pub mod floor_probe;
+/// Real time on absolute deadlines, with the heartbeat kept while asleep.
+pub(crate) mod cadence;
 /// Garbage on a run's services, published as a foreign process would.
 pub mod garbage;
 /// A journal of whole episodes.
