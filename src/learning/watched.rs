@@ -7,8 +7,8 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use learnpnp_feed::{
-    ACTION_MARKINGS_PER_SECOND, ChoiceMade, EpisodeEnd, FeedEvent, FeedSink, MARKINGS_PER_SECOND, MarkingSample, OptionValue, PlaceShape,
-    PlaceTokens, PlanShape, RewardSample, Source, TransitionShape,
+    ACTION_MARKINGS_PER_SECOND, ChoiceMade, EpisodeEnd, FeedEvent, FeedSink, MARKINGS_PER_SECOND, MarkingSample,
+    OptionValue, PlaceShape, PlaceTokens, PlanShape, RewardSample, Source, TransitionShape,
 };
 
 use super::{EpisodeMode, EpisodeStart, Learner, ValueTable};

@@ -515,8 +515,7 @@ pub(crate) fn parse(file: &Path, text: &str) -> Result<Loaded, MappingError> {
                 return Err(entry(
                     what,
                     "sequence",
-                    "[answer] matches answers by `sequence`: name the command's field the world writes it into"
-                        .into(),
+                    "[answer] matches answers by `sequence`: name the command's field the world writes it into".into(),
                 ));
             }
             (None, _) => {}
@@ -680,7 +679,10 @@ impl<F: Fn(String, &str, String) -> MappingError> Checker<'_, F> {
                 return Err(self.err(
                     what,
                     &s.field,
-                    format!("{d:?} is derived from a message with numeric {} ({t} has no numeric '{input}')", d.inputs().join(", ")),
+                    format!(
+                        "{d:?} is derived from a message with numeric {} ({t} has no numeric '{input}')",
+                        d.inputs().join(", ")
+                    ),
                 ));
             }
         }
@@ -705,7 +707,9 @@ impl<F: Fn(String, &str, String) -> MappingError> Checker<'_, F> {
                 return Err(self.err(
                     what,
                     "between",
-                    format!("[{lo}, {hi}]: the lower bound comes first (on a yaw, [a, b] with a > b is the arc through ±π)"),
+                    format!(
+                        "[{lo}, {hi}]: the lower bound comes first (on a yaw, [a, b] with a > b is the arc through ±π)"
+                    ),
                 ));
             }
             return match kind {
@@ -984,7 +988,11 @@ type = "std_msgs/msg/Int32"
         let dir = std::env::temp_dir().join(format!("learnpnp-ros2-yaw-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("Point.msg"), "float64 x\nfloat64 y\nfloat64 z\n").unwrap();
-        std::fs::write(dir.join("Quaternion.msg"), "float64 x\nfloat64 y\nfloat64 z\nfloat64 w\n").unwrap();
+        std::fs::write(
+            dir.join("Quaternion.msg"),
+            "float64 x\nfloat64 y\nfloat64 z\nfloat64 w\n",
+        )
+        .unwrap();
         std::fs::write(
             dir.join("Pose.msg"),
             "geometry_msgs/Point position\ngeometry_msgs/Quaternion orientation\n",
@@ -1013,14 +1021,24 @@ type = "std_msgs/msg/Int32"
                 (-std::f64::consts::FRAC_PI_2, [false, false, false]),
             ] {
                 let p = pose(roll, yaw);
-                assert!((heading.number(&p).unwrap() - yaw).abs() < 1e-12, "roll {roll}, yaw {yaw}");
-                assert_eq!([east.holds(&p), north.holds(&p), west.holds(&p)], holds, "roll {roll}, yaw {yaw}");
+                assert!(
+                    (heading.number(&p).unwrap() - yaw).abs() < 1e-12,
+                    "roll {roll}, yaw {yaw}"
+                );
+                assert_eq!(
+                    [east.holds(&p), north.holds(&p), west.holds(&p)],
+                    holds,
+                    "roll {roll}, yaw {yaw}"
+                );
             }
         }
         // Facing exactly west: +π or -π, the same heading.
         assert!(west.holds(&pose(0.0, std::f64::consts::PI)) && west.holds(&pose(0.0, -std::f64::consts::PI)));
         assert!(!east.holds(&Value::fields([])), "no quaternion, no yaw");
-        assert!(on_a_number.contains("[[atom]] 'facing_east': 'orientation.z'") && on_a_number.contains("not a message"), "{on_a_number}");
+        assert!(
+            on_a_number.contains("[[atom]] 'facing_east': 'orientation.z'") && on_a_number.contains("not a message"),
+            "{on_a_number}"
+        );
         assert!(of_a_point.contains("no numeric 'w'"), "{of_a_point}");
         assert!(backwards.contains("the lower bound comes first"), "{backwards}");
     }

@@ -794,7 +794,9 @@ impl Value {
                 *at = Value::Struct(BTreeMap::new());
             }
             let Value::Struct(fields) = at else { return };
-            at = fields.entry(field.to_string()).or_insert(Value::Struct(BTreeMap::new()));
+            at = fields
+                .entry(field.to_string())
+                .or_insert(Value::Struct(BTreeMap::new()));
         }
         *at = value;
     }

@@ -579,11 +579,7 @@ impl ServedWorld for Ros2World {
         let fluents = m
             .fluents
             .iter()
-            .map(|f| {
-                self.latest(&f.source)
-                    .and_then(|v| f.source.number(&v))
-                    .unwrap_or(0.0)
-            })
+            .map(|f| self.latest(&f.source).and_then(|v| f.source.number(&v)).unwrap_or(0.0))
             .collect();
         Observation { atoms, fluents }
     }
@@ -966,7 +962,11 @@ sequence = "command"
         mode.store(2, Ordering::Relaxed);
         assert_eq!(world.step(&[Some(0)])[0].action, ActionStatus::Finished);
         mode.store(1, Ordering::Relaxed);
-        assert_eq!(world.step(&[Some(0)])[0].action, ActionStatus::Failed, "no answer of its own");
+        assert_eq!(
+            world.step(&[Some(0)])[0].action,
+            ActionStatus::Failed,
+            "no answer of its own"
+        );
         mode.store(0, Ordering::Relaxed);
         assert_eq!(world.step(&[Some(0)])[0].action, ActionStatus::Finished);
         let after = world.counts();

@@ -128,7 +128,11 @@ mod tests {
         std::thread::sleep(Duration::from_millis(12));
         cadence.worked();
         cadence.next();
-        assert_eq!(cadence.late(), late + 1, "a cycle whose work overran its deadline is late, once");
+        assert_eq!(
+            cadence.late(),
+            late + 1,
+            "a cycle whose work overran its deadline is late, once"
+        );
         assert!(cadence.deadline() > Instant::now(), "the next deadline is ahead");
         assert_eq!(cadence.deadline().duration_since(t0).as_nanos() % 5_000_000, 0);
         assert_eq!(cadence.cycles(), 2);

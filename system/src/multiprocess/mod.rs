@@ -32,12 +32,12 @@ pub mod background_save;
 pub mod bench_latency;
 /// How the generic path's cost grows with the agents.
 pub mod bench_world;
+/// Real time on absolute deadlines, with the heartbeat kept while asleep.
+pub(crate) mod cadence;
 /// Faults injected at seeded random times during a soak.
 pub mod chaos;
 /// The iceoryx2 floor: the bare round trip of a run's payloads.
 pub mod floor_probe;
-/// Real time on absolute deadlines, with the heartbeat kept while asleep.
-pub(crate) mod cadence;
 /// Garbage on a run's services, published as a foreign process would.
 pub mod garbage;
 /// A journal of whole episodes.
