@@ -5,8 +5,14 @@
 //! at the end; the episode terminates when every agent is there, and is cut
 //! short after `STEP_LIMIT` steps. Started by `learnpnp-supervisor
 //! --world-cmd learnpnp-corridor --plan plans/corridor.pnml`.
+//!
+//! `learnpnp-corridor --answer-ms MIN-MAX` plays a robot that answers each
+//! step in MIN to MAX milliseconds (uniform, seeded by the run's seed): in
+//! real time the world's log ends with the cycle it kept (cycles, seconds,
+//! rate, late cycles), which is how the cadence is measured against a robot.
 
 use std::process::ExitCode;
+use std::time::Duration;
 
 use learnpnp_system::ipc::world::{ActionStatus, Vocabulary};
 use learnpnp_system::multiprocess::world_host::{Observation, ServedWorld, StepResult, serve};
@@ -25,6 +31,38 @@ const FORWARD: usize = 0;
 struct Corridors {
     positions: Vec<u32>,
     steps: u32,
+    /// A robot's answer time, if it plays one.
+    answer: Option<AnswerTime>,
+}
+
+/// A robot's answer time: uniform in `min..=max` milliseconds (xorshift64*).
+#[derive(Debug)]
+struct AnswerTime {
+    min: u64,
+    max: u64,
+    state: u64,
+}
+
+impl AnswerTime {
+    /// Parses `MIN-MAX` (milliseconds).
+    fn parse(text: &str) -> Result<Self, String> {
+        let bad = || format!("--answer-ms: '{text}' is not MIN-MAX in milliseconds (e.g. 5-20)");
+        let (min, max) = text.split_once('-').ok_or_else(bad)?;
+        let (min, max): (u64, u64) = (min.parse().map_err(|_| bad())?, max.parse().map_err(|_| bad())?);
+        if min > max || max > 60_000 {
+            return Err(bad());
+        }
+        Ok(AnswerTime { min, max, state: 1 })
+    }
+
+    /// The next answer time.
+    fn draw(&mut self) -> Duration {
+        self.state ^= self.state >> 12;
+        self.state ^= self.state << 25;
+        self.state ^= self.state >> 27;
+        let r = self.state.wrapping_mul(0x2545_F491_4F6C_DD1D);
+        Duration::from_millis(self.min + r % (self.max - self.min + 1))
+    }
 }
 
 impl Corridors {
@@ -43,7 +81,10 @@ impl ServedWorld for Corridors {
         }
     }
 
-    fn reset(&mut self, _seed: Option<u64>) {
+    fn reset(&mut self, seed: Option<u64>) {
+        if let (Some(answer), Some(seed)) = (&mut self.answer, seed) {
+            answer.state = seed | 1;
+        }
         self.steps = 0;
         self.positions.iter_mut().for_each(|p| *p = 0);
     }
@@ -60,6 +101,9 @@ impl ServedWorld for Corridors {
             self.positions = vec![0; actions.len()];
         }
         self.steps += 1;
+        if let Some(answer) = &mut self.answer {
+            std::thread::sleep(answer.draw());
+        }
         actions
             .iter()
             .enumerate()
@@ -99,12 +143,28 @@ fn main() -> ExitCode {
         .ok()
         .and_then(|n| n.parse().ok())
         .unwrap_or(1);
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let answer = match args.as_slice() {
+        [] => None,
+        [flag, range] if flag == "--answer-ms" => match AnswerTime::parse(range) {
+            Ok(answer) => Some(answer),
+            Err(e) => {
+                eprintln!("error: learnpnp-corridor: {e}");
+                return ExitCode::FAILURE;
+            }
+        },
+        _ => {
+            eprintln!("error: learnpnp-corridor: usage: learnpnp-corridor [--answer-ms MIN-MAX]");
+            return ExitCode::FAILURE;
+        }
+    };
     let mut world = Corridors {
         positions: vec![0; agents],
         steps: 0,
+        answer,
     };
     match serve(&mut world) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(_) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: learnpnp-corridor: {e}");
             ExitCode::FAILURE

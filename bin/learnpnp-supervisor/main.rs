@@ -309,6 +309,12 @@ fn world_command(args: &RunArgs) -> Result<Option<String>> {
     };
     let exe = std::env::current_exe().context("locating learnpnp-supervisor")?;
     let world = exe.with_file_name("learnpnp-ros2-world");
+    if !world.exists() {
+        bail!(
+            "--ros2: the ROS 2 world {} is not built (build it: cargo build --release -p learnpnp-ros2)",
+            world.display()
+        );
+    }
     if let Some(spaced) = [world.as_path(), mapping.as_path()]
         .into_iter()
         .find(|p| p.to_string_lossy().chars().any(char::is_whitespace))

@@ -7,8 +7,8 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use learnpnp_feed::{
-    ChoiceMade, EpisodeEnd, FeedEvent, FeedSink, MARKINGS_PER_SECOND, MarkingSample, OptionValue, PlaceShape,
-    PlaceTokens, PlanShape, RewardSample, Source, TransitionShape,
+    ACTION_MARKINGS_PER_SECOND, ChoiceMade, EpisodeEnd, FeedEvent, FeedSink, MARKINGS_PER_SECOND, MarkingSample,
+    OptionValue, PlaceShape, PlaceTokens, PlanShape, RewardSample, Source, TransitionShape,
 };
 
 use super::{EpisodeMode, EpisodeStart, Learner, ValueTable};
@@ -102,8 +102,11 @@ impl OptionNames {
 /// A [`Learner`] that publishes to a feed: its plan's shape once, the
 /// markings of the plan and its sub-plans (at most [`MARKINGS_PER_SECOND`] a
 /// second in all, each naming its sub-plan, with the rewards
-/// received since the previous one), every choice with the options' values
-/// and update counts, and every episode's end and return.
+/// received since the previous one; and besides, at most
+/// [`ACTION_MARKINGS_PER_SECOND`] a second, each marking whose running
+/// actions are others than the last published, so that each action a robot
+/// runs is seen), every choice with the options' values and update counts,
+/// and every episode's end and return.
 pub struct WatchedLearner {
     inner: Box<dyn Learner>,
     sink: Arc<dyn FeedSink>,
@@ -120,6 +123,12 @@ pub struct WatchedLearner {
     /// Rewards received since the last reward sample.
     unsent_reward: f64,
     next_sample: Instant,
+    /// When a marking whose running actions changed may next be published.
+    next_action_sample: Instant,
+    /// The running actions (indices) of the marking examined last, and of
+    /// the last published one, with their plans.
+    running: (PlanKey, Vec<usize>),
+    running_sent: (PlanKey, Vec<usize>),
 }
 
 impl std::fmt::Debug for WatchedLearner {
@@ -141,6 +150,9 @@ static UNKNOWN_PLAN: PlanLabels = PlanLabels {
 /// The interval between two marking samples.
 const SAMPLE_PERIOD: Duration = Duration::from_nanos(1_000_000_000 / MARKINGS_PER_SECOND as u64);
 
+/// The interval between two markings published because their running actions changed.
+const ACTION_SAMPLE_PERIOD: Duration = Duration::from_nanos(1_000_000_000 / ACTION_MARKINGS_PER_SECOND as u64);
+
 impl WatchedLearner {
     /// Wraps `inner`, the learner of `source` running `plan`, and publishes
     /// the plan's shape to `sink` at once.
@@ -159,24 +171,38 @@ impl WatchedLearner {
             episode_return: 0.0,
             unsent_reward: 0.0,
             next_sample: Instant::now(),
+            next_action_sample: Instant::now(),
+            running: (PlanKey::ROOT, Vec::new()),
+            running_sent: (PlanKey::ROOT, Vec::new()),
         }
     }
 
     /// Publishes `plan`'s marking if the agent's budget of markings allows
-    /// (one clock read; the root plan and its sub-plans share the budget).
+    /// (the root plan and its sub-plans share the budget), or if actions
+    /// other than the last published run in it and the budget of such
+    /// markings allows.
     fn sample(&mut self, plan: PlanKey, marking: &Marking) {
         let now = Instant::now();
-        if now < self.next_sample {
+        let labels = self.plans.get(usize::from(plan.0)).unwrap_or(&UNKNOWN_PLAN);
+        self.running.0 = plan;
+        self.running.1.clear();
+        self.running.1.extend(
+            labels
+                .actions
+                .iter()
+                .enumerate()
+                .filter(|(_, (_, places))| places.iter().any(|&p| marking.get(p) > 0))
+                .map(|(i, _)| i),
+        );
+        if now >= self.next_sample {
+            self.next_sample = now + SAMPLE_PERIOD;
+        } else if !self.running.1.is_empty() && self.running != self.running_sent && now >= self.next_action_sample {
+            self.next_action_sample = now + ACTION_SAMPLE_PERIOD;
+        } else {
             return;
         }
-        self.next_sample = now + SAMPLE_PERIOD;
-        let labels = self.plans.get(usize::from(plan.0)).unwrap_or(&UNKNOWN_PLAN);
-        let running = labels
-            .actions
-            .iter()
-            .filter(|(_, places)| places.iter().any(|&p| marking.get(p) > 0))
-            .map(|(name, _)| name.clone())
-            .collect();
+        self.running_sent.clone_from(&self.running);
+        let running = self.running.1.iter().map(|&i| labels.actions[i].0.clone()).collect();
         self.sink.publish(&FeedEvent::Marking(MarkingSample {
             source: self.source.clone(),
             sub_plan: (plan != PlanKey::ROOT).then(|| labels.name.clone()),
@@ -431,6 +457,56 @@ mod tests {
         // The root plan's marking is written as before (no `sub_plan` key).
         let root_json = String::from_utf8(FeedEvent::Marking(markings[0].clone()).payload_json().unwrap()).unwrap();
         assert!(!root_json.contains("sub_plan"), "{root_json}");
+    }
+
+    /// The markings published, in order.
+    fn markings(kept: &Kept) -> Vec<MarkingSample> {
+        kept.0
+            .lock()
+            .unwrap()
+            .iter()
+            .filter_map(|e| match e {
+                FeedEvent::Marking(m) => Some(m.clone()),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn each_action_started_is_published_beyond_the_markings_budget() {
+        // A robot's steps: each action ends (no action runs) and the next
+        // starts at once, a cycle of the robot later (here a little more
+        // than the action markings' interval, far less than the markings').
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("plans/corridor.pnml");
+        let plan = load_plan(&path, AllowedAtoms::Open).unwrap();
+        let places = plan.net().places().len();
+        let (mut watched, kept) = watched(&plan);
+        watched.plan_started(PlanKey::ROOT, &first_marked(places));
+        let actions: Vec<(String, PlaceId)> = plan
+            .actions()
+            .iter()
+            .map(|a| (a.name.clone(), a.exec_places[0]))
+            .collect();
+        assert!(actions.len() >= 2, "{actions:?}");
+        let idle = Marking::from_tokens(vec![0; places]);
+        let mut started = Vec::new();
+        for step in 0..6 {
+            let (name, place) = &actions[step % actions.len()];
+            let mut running = vec![0; places];
+            running[place.index()] = 1;
+            std::thread::sleep(ACTION_SAMPLE_PERIOD + Duration::from_millis(1));
+            watched.transition(PlanKey::ROOT, &idle, 0.0, 1);
+            watched.transition(PlanKey::ROOT, &Marking::from_tokens(running), 0.0, 0);
+            started.push(name.clone());
+        }
+        let published = markings(&kept);
+        // After the plan's start (published first):
+        let shown: Vec<&str> = published[1..]
+            .iter()
+            .filter(|m| !m.running.is_empty())
+            .map(|m| m.running[0].as_str())
+            .collect();
+        assert_eq!(shown, started, "every action started, in order: {published:?}");
     }
 
     #[test]

@@ -319,6 +319,66 @@ fn in_real_time_the_world_keeps_its_clock_and_counts_the_commands_that_miss_it()
     sandbox.assert_clean(&prefixes(&s));
 }
 
+/// The heartbeat timeout of the long real-time run (the supervisor's least).
+const SHORT_HEARTBEAT_TIMEOUT_S: u64 = 3;
+
+#[test]
+fn in_real_time_a_world_heartbeats_through_its_cycles_and_lives_through_many_heartbeat_timeouts() {
+    let sandbox = Sandbox::new("world-realtime-long");
+    let period_ms = 50;
+    let mut args = corridor_run(40);
+    args.extend(
+        [
+            "--mode",
+            "realtime",
+            "--world-period-ms",
+            &period_ms.to_string(),
+            "--heartbeat-timeout",
+            &SHORT_HEARTBEAT_TIMEOUT_S.to_string(),
+        ]
+        .map(str::to_string),
+    );
+    let output = run(&sandbox, "long", &args);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let out = sandbox.out("long");
+    let s = summary(&out);
+    assert_eq!(s["complete"], true, "{s}");
+    assert_eq!(s["restarts"], 0, "no process was taken as silent: {s}");
+    assert_eq!(s["faults"].as_array().map_or(0, Vec::len), 0, "{s}");
+    // The world's last line: the cycles it kept on its clock. Cycles on a
+    // grid of 50 ms cannot outnumber the run's time: these many make the run
+    // longer than three heartbeat timeouts.
+    let log = fs::read_to_string(run_work_dir(&out, 0).join("world.log")).unwrap();
+    let line = log
+        .lines()
+        .rev()
+        .find(|l| l.starts_with("world: real time: "))
+        .unwrap_or_else(|| panic!("the world says the cycle it kept: {log}"));
+    let cycles: u64 = line["world: real time: ".len()..]
+        .split(' ')
+        .next()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    let needed = 3 * SHORT_HEARTBEAT_TIMEOUT_S * 1000 / period_ms;
+    assert!(cycles > needed, "{cycles} cycles of {period_ms} ms: {line}");
+    sandbox.assert_clean(&prefixes(&s));
+}
+
+#[test]
+fn a_world_whose_program_does_not_exist_is_an_error_naming_it() {
+    let sandbox = Sandbox::new("world-missing");
+    let mut args = corridor_run(5);
+    args[1] = "/nonexistent/learnpnp-ros2-world".to_string();
+    let output = run(&sandbox, "missing", &args);
+    assert!(!output.status.success());
+    let stderr = text(&output.stderr);
+    assert!(
+        stderr.contains("/nonexistent/learnpnp-ros2-world does not exist")
+            && stderr.contains("cargo build --release -p learnpnp-ros2"),
+        "{stderr}"
+    );
+}
+
 #[test]
 fn a_world_run_by_a_shell_dies_with_a_killed_supervisor_and_the_next_launch_cleans_up() {
     let sandbox = Sandbox::new("world-orphan");

@@ -20,6 +20,11 @@ use serde::{Deserialize, Serialize};
 /// The most markings a second an agent sends to a view; every choice is sent.
 pub const MARKINGS_PER_SECOND: u32 = 30;
 
+/// Beyond [`MARKINGS_PER_SECOND`], the most markings a second an agent
+/// sends in which the running actions changed to others (an action
+/// started): a robot's plan shows each action it runs.
+pub const ACTION_MARKINGS_PER_SECOND: u32 = 200;
+
 /// Where a record comes from: the run and the agent within it
 /// (for example run 0, agent 2), or a process of the system.
 #[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

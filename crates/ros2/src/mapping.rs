@@ -144,6 +144,38 @@ pub struct Interface {
     pub file: PathBuf,
 }
 
+/// A value derived from a field that is a message.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Derived {
+    /// The yaw of a quaternion (`geometry_msgs/msg/Quaternion`, or any
+    /// message with numeric `x`, `y`, `z`, `w`): the rotation about z in
+    /// radians, `atan2(2 (w z + x y), 1 - 2 (y² + z²))`, in (-π, π]
+    /// (0: facing +x, π/2: facing +y, ±π: facing -x; REP 103's z-up frames).
+    Yaw,
+}
+
+impl Derived {
+    /// The derived value of `v` (the field the source names), if it has
+    /// what it is derived from.
+    fn of(self, v: &Value) -> Option<f64> {
+        match self {
+            Derived::Yaw => {
+                let c = |n: &str| v.get(n).and_then(Value::as_f64);
+                let (x, y, z, w) = (c("x")?, c("y")?, c("z")?, c("w")?);
+                Some((2.0 * (w * z + x * y)).atan2(1.0 - 2.0 * (y * y + z * z)))
+            }
+        }
+    }
+
+    /// The fields it is derived from.
+    fn inputs(self) -> &'static [&'static str] {
+        match self {
+            Derived::Yaw => &["x", "y", "z", "w"],
+        }
+    }
+}
+
 /// Where a value comes from: a field of a topic's messages, or of a service's response.
 #[derive(Debug, Clone)]
 pub(crate) struct Source {
@@ -155,6 +187,25 @@ pub(crate) struct Source {
     pub type_name: String,
     /// The field, dotted for nested ones (`range`, `header.stamp.sec`).
     pub field: String,
+    /// A value derived from the field (a message), instead of the field itself.
+    pub derive: Option<Derived>,
+}
+
+impl Source {
+    /// The source's value in `message` (a message or response): its field,
+    /// or the value derived from it.
+    pub(crate) fn read(&self, message: &Value) -> Option<Value> {
+        let v = message.path(&self.field)?;
+        match self.derive {
+            None => Some(v.clone()),
+            Some(d) => d.of(v).map(Value::Float),
+        }
+    }
+
+    /// The source's value in `message` as a number.
+    pub(crate) fn number(&self, message: &Value) -> Option<f64> {
+        self.read(message).as_ref().and_then(Value::as_f64)
+    }
 }
 
 /// An entry as written: a source, and for conditions one of `equals`, `below`, `above`.
@@ -169,9 +220,11 @@ struct RawEntry {
     type_name: String,
     #[serde(default = "default_field")]
     field: String,
+    derive: Option<Derived>,
     equals: Option<toml::Value>,
     below: Option<f64>,
     above: Option<f64>,
+    between: Option<[f64; 2]>,
 }
 
 impl RawEntry {
@@ -181,11 +234,12 @@ impl RawEntry {
             service: self.service.clone(),
             type_name: self.type_name.clone(),
             field: self.field.clone(),
+            derive: self.derive,
         }
     }
 }
 
-/// A condition on a field: one of `equals`, `below`, `above`.
+/// A condition on a field: one of `equals`, `below`, `above`, `between`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(from = "RawEntry")]
 pub struct Condition {
@@ -199,6 +253,9 @@ pub struct Condition {
     pub below: Option<f64>,
     /// True when the field is above this.
     pub above: Option<f64>,
+    /// True when the field is within these bounds (both included; on a
+    /// yaw, `[a, b]` with `a > b` is the arc from `a` through ±π to `b`).
+    pub between: Option<[f64; 2]>,
 }
 
 impl From<RawEntry> for Condition {
@@ -209,6 +266,7 @@ impl From<RawEntry> for Condition {
             equals: r.equals,
             below: r.below,
             above: r.above,
+            between: r.between,
         }
     }
 }
@@ -226,9 +284,9 @@ pub struct Reading {
 impl TryFrom<RawEntry> for Reading {
     type Error = String;
     fn try_from(r: RawEntry) -> Result<Self, String> {
-        if r.equals.is_some() || r.below.is_some() || r.above.is_some() {
+        if r.equals.is_some() || r.below.is_some() || r.above.is_some() || r.between.is_some() {
             return Err(format!(
-                "'{}': a reading takes no condition (equals, below, above)",
+                "'{}': a reading takes no condition (equals, below, above, between)",
                 r.name
             ));
         }
@@ -255,6 +313,9 @@ pub struct ActionMap {
     /// The message (for a topic) or goal (for an action), by field.
     #[serde(default)]
     pub message: toml::Table,
+    /// The numeric field the world writes each command's sequence number
+    /// into (needed on a topic's command when `[answer]` has `sequence`).
+    pub sequence: Option<String>,
 }
 
 /// `[answer]`: the robot's answer to each command and reset (lock-step).
@@ -266,6 +327,10 @@ pub struct Answer {
     /// Its type.
     #[serde(rename = "type")]
     pub type_name: String,
+    /// The numeric field of the answer that carries the sequence number of
+    /// the command it answers: an answer to another command is refused and
+    /// counted (none: any message on the topic is the answer).
+    pub sequence: Option<String>,
 }
 
 /// `[reset]`: the service starting an episode.
@@ -425,6 +490,36 @@ pub(crate) fn parse(file: &Path, text: &str) -> Result<Loaded, MappingError> {
     }
     if let Some(a) = &mapping.answer {
         check.msg_type("[answer]", &a.type_name)?;
+        if let Some(field) = &a.sequence {
+            check.sequence_field("[answer]", &a.type_name, field)?;
+        }
+    }
+    for a in &mapping.actions {
+        let what = format!("[[action]] '{}'", a.name);
+        match (&a.sequence, mapping.answer.as_ref().and_then(|a| a.sequence.as_ref())) {
+            (Some(field), Some(_)) => {
+                let message_type = match &a.topic {
+                    Some(_) => a.type_name.clone(),
+                    None => format!("{}_Goal", a.type_name),
+                };
+                check.sequence_field(&what, &message_type, field)?;
+            }
+            (Some(field), None) => {
+                return Err(entry(
+                    what,
+                    field,
+                    "a command's sequence number is matched by [answer]'s `sequence`: give it there".into(),
+                ));
+            }
+            (None, Some(_)) if a.topic.is_some() => {
+                return Err(entry(
+                    what,
+                    "sequence",
+                    "[answer] matches answers by `sequence`: name the command's field the world writes it into".into(),
+                ));
+            }
+            (None, _) => {}
+        }
     }
     let namespace = &mapping.plan_state.namespace;
     if !namespace.starts_with('/')
@@ -510,6 +605,21 @@ impl<F: Fn(String, &str, String) -> MappingError> Checker<'_, F> {
         }
     }
 
+    /// Checks that `field` of `message_type` is a number (a sequence number's field).
+    fn sequence_field(&self, what: &str, message_type: &str, field: &str) -> Result<(), MappingError> {
+        let source = Source {
+            topic: Some(String::new()),
+            service: None,
+            type_name: message_type.to_string(),
+            field: field.to_string(),
+            derive: None,
+        };
+        match self.field(what, &source)? {
+            FieldKind::Number => Ok(()),
+            _ => Err(self.err(what, field, "a sequence number's field is numeric")),
+        }
+    }
+
     fn field(&self, what: &str, s: &Source) -> Result<FieldKind, MappingError> {
         let mut t = self.source_type(what, s)?;
         let parts: Vec<&str> = s.field.split('.').collect();
@@ -532,10 +642,16 @@ impl<F: Fn(String, &str, String) -> MappingError> Checker<'_, F> {
             match &f.elem {
                 Elem::Nested(n) if i + 1 < parts.len() => t = n.clone(),
                 Elem::Nested(n) => {
-                    return Err(self.err(what, &s.field, format!("'{part}' is a {n}, name one of its fields")));
+                    return match s.derive {
+                        Some(d) => self.derived_from(what, s, n, d),
+                        None => Err(self.err(what, &s.field, format!("'{part}' is a {n}, name one of its fields"))),
+                    };
                 }
                 Elem::Prim(_) if i + 1 < parts.len() => {
                     return Err(self.err(what, &s.field, format!("'{part}' has no fields")));
+                }
+                Elem::Prim(_) if s.derive.is_some() => {
+                    return Err(self.err(what, &s.field, format!("'{part}' is not a message to derive from")));
                 }
                 Elem::Prim(p) => {
                     return Ok(match p {
@@ -549,6 +665,30 @@ impl<F: Fn(String, &str, String) -> MappingError> Checker<'_, F> {
         Err(self.err(what, &s.field, "empty field"))
     }
 
+    /// A value derived from message type `t` (the field `s` names): a
+    /// number, if `t` has the numeric fields it is derived from.
+    fn derived_from(&self, what: &str, s: &Source, t: &str, d: Derived) -> Result<FieldKind, MappingError> {
+        let def = self.registry.msg(t).map_err(|e| self.err(what, t, e.to_string()))?;
+        for input in d.inputs() {
+            let numeric = def.fields.iter().any(|f| {
+                f.name == *input
+                    && f.shape == Shape::Single
+                    && matches!(&f.elem, Elem::Prim(p) if !matches!(p, crate::types::Prim::Bool | crate::types::Prim::String | crate::types::Prim::BoundedString(_)))
+            });
+            if !numeric {
+                return Err(self.err(
+                    what,
+                    &s.field,
+                    format!(
+                        "{d:?} is derived from a message with numeric {} ({t} has no numeric '{input}')",
+                        d.inputs().join(", ")
+                    ),
+                ));
+            }
+        }
+        Ok(FieldKind::Number)
+    }
+
     fn numeric(&self, what: &str, s: &Source) -> Result<(), MappingError> {
         match self.field(what, s)? {
             FieldKind::Text => Err(self.err(what, &s.field, "a string is not a number")),
@@ -558,6 +698,25 @@ impl<F: Fn(String, &str, String) -> MappingError> Checker<'_, F> {
 
     fn condition(&self, what: &str, c: &Condition) -> Result<(), MappingError> {
         let kind = self.field(what, &c.source)?;
+        if let Some([lo, hi]) = c.between {
+            if c.equals.is_some() || c.below.is_some() || c.above.is_some() {
+                return Err(self.err(what, "between", "give exactly one of equals, below, above, between"));
+            }
+            let arc = c.source.derive == Some(Derived::Yaw) && lo > hi;
+            if !(lo <= hi || arc) || lo.is_nan() || hi.is_nan() {
+                return Err(self.err(
+                    what,
+                    "between",
+                    format!(
+                        "[{lo}, {hi}]: the lower bound comes first (on a yaw, [a, b] with a > b is the arc through ±π)"
+                    ),
+                ));
+            }
+            return match kind {
+                FieldKind::Number => Ok(()),
+                _ => Err(self.err(what, &c.source.field, "between needs a numeric field")),
+            };
+        }
         match (&c.equals, c.below, c.above) {
             (Some(v), None, None) => {
                 let fits = matches!(
@@ -576,7 +735,7 @@ impl<F: Fn(String, &str, String) -> MappingError> Checker<'_, F> {
                 FieldKind::Number => Ok(()),
                 _ => Err(self.err(what, &c.source.field, "below and above need a numeric field")),
             },
-            _ => Err(self.err(what, "equals", "give exactly one of equals, below, above")),
+            _ => Err(self.err(what, "equals", "give exactly one of equals, below, above, between")),
         }
     }
 
@@ -623,9 +782,20 @@ impl<F: Fn(String, &str, String) -> MappingError> Checker<'_, F> {
 impl Condition {
     /// Whether `value` (a message or response) meets the condition.
     pub(crate) fn holds(&self, value: &Value) -> bool {
-        let Some(v) = value.path(&self.source.field) else {
+        let Some(v) = self.source.read(value) else {
             return false;
         };
+        let v = &v;
+        if let Some([lo, hi]) = self.between {
+            // On a yaw, [lo, hi] with lo > hi is the arc through ±π.
+            return v.as_f64().is_some_and(|x| {
+                if lo <= hi {
+                    lo <= x && x <= hi
+                } else {
+                    x >= lo || x <= hi
+                }
+            });
+        }
         if let Some(want) = &self.equals {
             return match (v, want) {
                 (Value::Bool(a), toml::Value::Boolean(b)) => a == b,
@@ -745,5 +915,131 @@ type = "std_srvs/srv/Empty"
             e.contains("[[action]] 'back': 'std_msgs/msg/Float64': '/corridor/cmd' is already mapped with the type std_msgs/msg/Int32"),
             "{e}"
         );
+    }
+
+    const POSE: &str = r#"
+[zenoh]
+connect = ["tcp/127.0.0.1:7447"]
+
+[[interfaces]]
+name = "geometry_msgs/msg/Point"
+file = "Point.msg"
+
+[[interfaces]]
+name = "geometry_msgs/msg/Quaternion"
+file = "Quaternion.msg"
+
+[[interfaces]]
+name = "geometry_msgs/msg/Pose"
+file = "Pose.msg"
+
+[[atom]]
+name = "facing_east"
+topic = "/robot/pose"
+type = "geometry_msgs/msg/Pose"
+field = "orientation"
+derive = "yaw"
+between = [-0.4, 0.4]
+
+[[atom]]
+name = "facing_north"
+topic = "/robot/pose"
+type = "geometry_msgs/msg/Pose"
+field = "orientation"
+derive = "yaw"
+above = 1.2
+
+[[atom]]
+name = "facing_west"
+topic = "/robot/pose"
+type = "geometry_msgs/msg/Pose"
+field = "orientation"
+derive = "yaw"
+between = [2.36, -2.36]
+
+[[fluent]]
+name = "heading"
+topic = "/robot/pose"
+type = "geometry_msgs/msg/Pose"
+field = "orientation"
+derive = "yaw"
+
+[[action]]
+name = "turn"
+topic = "/robot/cmd"
+type = "std_msgs/msg/Int32"
+"#;
+
+    /// A pose rotated by `roll` about x, then `yaw` about z (pitch 0).
+    fn pose(roll: f64, yaw: f64) -> Value {
+        let (sr, cr) = (roll / 2.0).sin_cos();
+        let (sy, cy) = (yaw / 2.0).sin_cos();
+        let q = Value::fields([
+            ("x", Value::Float(sr * cy)),
+            ("y", Value::Float(sr * sy)),
+            ("z", Value::Float(cr * sy)),
+            ("w", Value::Float(cr * cy)),
+        ]);
+        Value::fields([("position", Value::fields([])), ("orientation", q)])
+    }
+
+    #[test]
+    fn a_yaw_is_derived_from_a_poses_quaternion_and_read_by_atoms_and_fluents() {
+        let dir = std::env::temp_dir().join(format!("learnpnp-ros2-yaw-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("Point.msg"), "float64 x\nfloat64 y\nfloat64 z\n").unwrap();
+        std::fs::write(
+            dir.join("Quaternion.msg"),
+            "float64 x\nfloat64 y\nfloat64 z\nfloat64 w\n",
+        )
+        .unwrap();
+        std::fs::write(
+            dir.join("Pose.msg"),
+            "geometry_msgs/Point position\ngeometry_msgs/Quaternion orientation\n",
+        )
+        .unwrap();
+        let loaded = parse(&dir.join("m.toml"), POSE);
+        let bad = |text: String| parse(&dir.join("m.toml"), &text).unwrap_err().to_string();
+        let on_a_number = bad(POSE.replacen("field = \"orientation\"", "field = \"orientation.z\"", 1));
+        let of_a_point = bad(POSE.replacen("field = \"orientation\"", "field = \"position\"", 1));
+        let backwards = bad(POSE.replacen(
+            "field = \"orientation\"\nderive = \"yaw\"\nbetween = [-0.4, 0.4]",
+            "field = \"orientation.z\"\nbetween = [0.4, -0.4]",
+            1,
+        ));
+        std::fs::remove_dir_all(&dir).unwrap();
+        let m = loaded.unwrap().mapping;
+        let [east, north, west] = [&m.atoms[0], &m.atoms[1], &m.atoms[2]];
+        let heading = &m.fluents[0].source;
+        for roll in [0.0, 0.3, -1.0] {
+            for (yaw, holds) in [
+                (0.0, [true, false, false]),
+                (0.3, [true, false, false]),
+                (std::f64::consts::FRAC_PI_2, [false, true, false]),
+                (3.0, [false, true, true]),
+                (-3.0, [false, false, true]),
+                (-std::f64::consts::FRAC_PI_2, [false, false, false]),
+            ] {
+                let p = pose(roll, yaw);
+                assert!(
+                    (heading.number(&p).unwrap() - yaw).abs() < 1e-12,
+                    "roll {roll}, yaw {yaw}"
+                );
+                assert_eq!(
+                    [east.holds(&p), north.holds(&p), west.holds(&p)],
+                    holds,
+                    "roll {roll}, yaw {yaw}"
+                );
+            }
+        }
+        // Facing exactly west: +π or -π, the same heading.
+        assert!(west.holds(&pose(0.0, std::f64::consts::PI)) && west.holds(&pose(0.0, -std::f64::consts::PI)));
+        assert!(!east.holds(&Value::fields([])), "no quaternion, no yaw");
+        assert!(
+            on_a_number.contains("[[atom]] 'facing_east': 'orientation.z'") && on_a_number.contains("not a message"),
+            "{on_a_number}"
+        );
+        assert!(of_a_point.contains("no numeric 'w'"), "{of_a_point}");
+        assert!(backwards.contains("the lower bound comes first"), "{backwards}");
     }
 }

@@ -785,6 +785,22 @@ impl Value {
         path.split('.').try_fold(self, |v, f| v.get(f))
     }
 
+    /// Sets the field at a dotted path, making the messages on the way
+    /// (a value that is not a message on the way is replaced by one).
+    pub(crate) fn set_path(&mut self, path: &str, value: Value) {
+        let mut at = self;
+        for field in path.split('.') {
+            if !matches!(at, Value::Struct(_)) {
+                *at = Value::Struct(BTreeMap::new());
+            }
+            let Value::Struct(fields) = at else { return };
+            at = fields
+                .entry(field.to_string())
+                .or_insert(Value::Struct(BTreeMap::new()));
+        }
+        *at = value;
+    }
+
     /// The value as a number (booleans as 0 or 1).
     pub(crate) fn as_f64(&self) -> Option<f64> {
         match self {

@@ -3,6 +3,7 @@
 //! stepped in lock-step (each step waits for the robot's answer, so the run
 //! goes at the robot's rate).
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
@@ -30,6 +31,12 @@ pub struct Counts {
     pub unknown_action_status: u64,
     /// Answers, results or replies that did not come in time.
     pub timeouts: u64,
+    /// Answers refused: for another command than the one awaited (or with
+    /// no sequence number), when `[answer]` matches them by `sequence`.
+    pub unmatched_answers: u64,
+    /// Steps whose action failed (a timeout, a refused or failed goal, a
+    /// command that could not be sent): the plan was told it failed.
+    pub failed_actions: u64,
     /// Goals the robot rejected.
     pub goals_rejected: u64,
     /// Feedback messages received.
@@ -47,6 +54,11 @@ struct State {
     latest: BTreeMap<String, Value>,
     /// Answers received.
     answers: u64,
+    /// The sequence number of the command whose answer is awaited
+    /// (answers matched by `sequence`).
+    expected: Option<i64>,
+    /// The last sequence number answered.
+    matched: Option<i64>,
     /// Reward received on the reward topic since it was last taken.
     reward: f64,
     counts: Counts,
@@ -78,8 +90,8 @@ impl Shared {
 
 /// How a plan action reaches the robot.
 enum Command {
-    /// A message on a topic.
-    Topic(Box<(Arc<Publisher>, Value)>),
+    /// A message on a topic (and the field its sequence number goes in).
+    Topic(Box<(Arc<Publisher>, Value, Option<String>)>),
     /// A goal to a ROS 2 action.
     Action(Box<Goal>),
 }
@@ -96,12 +108,23 @@ struct ActionClients {
 struct Goal {
     clients: Arc<ActionClients>,
     goal: Value,
+    /// The goal's field its sequence number goes in.
+    sequence: Option<String>,
 }
 
 /// A service polled after each step for a value.
 struct Polled {
     client: Client,
-    field: String,
+    source: Source,
+}
+
+/// The answer a step or reset waits for.
+#[derive(Debug, Clone, Copy)]
+enum Awaited {
+    /// Any answer after this many.
+    After(u64),
+    /// The answer carrying this sequence number.
+    Sequence(i64),
 }
 
 /// A ROS 2 robot as a world.
@@ -116,6 +139,8 @@ pub struct Ros2World {
     end_value: Option<Value>,
     _subscriptions: Vec<Subscription>,
     goals: AtomicU64,
+    /// Commands numbered so far (answers matched by `sequence`).
+    sequence: i64,
     steps: u32,
     timeout: Duration,
 }
@@ -156,20 +181,40 @@ impl Ros2World {
         }
         if let Some(r) = m.reward.as_ref().filter(|r| r.source.topic.is_some()) {
             let sh = Arc::clone(&shared);
-            let field = r.source.field.clone();
+            let source = r.source.clone();
             let topic = r.source.topic.clone().unwrap_or_default();
             subscriptions.push(node.subscribe(&topic, &r.source.type_name, move |r| match r {
                 Ok(Received { value, .. }) => {
-                    sh.lock().reward += value.path(&field).and_then(Value::as_f64).unwrap_or(0.0);
+                    sh.lock().reward += source.number(&value).unwrap_or(0.0);
                 }
                 Err(refusal) => sh.refuse(&refusal),
             })?);
         }
         if let Some(a) = &m.answer {
             let sh = Arc::clone(&shared);
+            let sequence = a.sequence.clone();
+            let topic = a.topic.clone();
             subscriptions.push(node.subscribe(&a.topic, &a.type_name, move |r| match r {
-                Ok(_) => {
-                    sh.lock().answers += 1;
+                Ok(Received { value, .. }) => {
+                    let mut s = sh.lock();
+                    s.answers += 1;
+                    if let Some(field) = &sequence {
+                        let number = value.path(field).and_then(Value::as_f64);
+                        match (number, s.expected) {
+                            (Some(n), Some(e)) if n == e as f64 => s.matched = Some(e),
+                            (number, expected) => {
+                                s.counts.unmatched_answers += 1;
+                                drop(s);
+                                let awaited = expected.map_or("none".to_string(), |e| e.to_string());
+                                let carried = number.map_or("none".to_string(), |n| n.to_string());
+                                eprintln!(
+                                    "learnpnp-ros2-world: refused: an answer on '{topic}' for command {carried} (awaited: {awaited})"
+                                );
+                                return;
+                            }
+                        }
+                    }
+                    drop(s);
                     sh.changed.notify_all();
                 }
                 Err(refusal) => sh.refuse(&refusal),
@@ -192,7 +237,7 @@ impl Ros2World {
             .map(|(s, r)| {
                 Ok::<_, Ros2Error>(Polled {
                     client: node.client(s, &r.source.type_name)?,
-                    field: r.source.field.clone(),
+                    source: r.source.clone(),
                 })
             })
             .transpose()?;
@@ -214,6 +259,7 @@ impl Ros2World {
             end_value: None,
             _subscriptions: subscriptions,
             goals: AtomicU64::new(0),
+            sequence: 0,
             steps: 0,
             timeout,
         })
@@ -229,14 +275,35 @@ impl Ros2World {
         self.shared.lock().answers
     }
 
-    /// Waits for an answer after `before` (when the mapping has one).
-    fn await_answer(&self, before: u64) {
+    /// Whether answers are matched to commands by their sequence number.
+    fn matched(&self) -> bool {
+        self.loaded
+            .mapping
+            .answer
+            .as_ref()
+            .is_some_and(|a| a.sequence.is_some())
+    }
+
+    /// Numbers the next command: the answer awaited from now on.
+    fn next_sequence(&mut self) -> i64 {
+        self.sequence += 1;
+        self.shared.lock().expected = Some(self.sequence);
+        self.sequence
+    }
+
+    /// Waits for the answer `awaited` (when the mapping has answers): false
+    /// if it did not come in time (counted).
+    fn await_answer(&self, awaited: Awaited) -> bool {
         if self.loaded.mapping.answer.is_none() {
-            return;
+            return true;
         }
+        let answered = |s: &State| match awaited {
+            Awaited::After(before) => s.answers > before,
+            Awaited::Sequence(n) => s.matched == Some(n),
+        };
         let deadline = Instant::now() + self.timeout;
         let mut s = self.shared.lock();
-        while s.answers <= before {
+        while !answered(&s) {
             let left = deadline.saturating_duration_since(Instant::now());
             if left.is_zero() {
                 s.counts.timeouts += 1;
@@ -251,7 +318,7 @@ impl Ros2World {
                         .unwrap_or_default(),
                     self.timeout.as_millis()
                 );
-                return;
+                return false;
             }
             s = self
                 .shared
@@ -260,6 +327,7 @@ impl Ros2World {
                 .unwrap_or_else(std::sync::PoisonError::into_inner)
                 .0;
         }
+        true
     }
 
     /// Counts a failed call and says what it was.
@@ -348,7 +416,7 @@ impl Ros2World {
         let mut reward = self.loaded.mapping.step_reward + std::mem::take(&mut self.shared.lock().reward);
         if let Some(p) = &self.reward_service {
             match p.client.call(&Value::fields([]), self.timeout) {
-                Ok(v) => reward += v.path(&p.field).and_then(Value::as_f64).unwrap_or(0.0),
+                Ok(v) => reward += p.source.number(&v).unwrap_or(0.0),
                 Err(e) => self.failed("reward service", &e),
             }
         }
@@ -362,6 +430,18 @@ impl Ros2World {
                 Err(e) => self.failed("end service", &e),
             }
         }
+    }
+}
+
+/// `message` with sequence number `n` in its field, if `numbered`.
+fn with_number<'v>(message: &'v Value, numbered: Option<(&str, i64)>) -> Cow<'v, Value> {
+    match numbered {
+        Some((field, n)) => {
+            let mut v = message.clone();
+            v.set_path(field, Value::Int(n));
+            Cow::Owned(v)
+        }
+        None => Cow::Borrowed(message),
     }
 }
 
@@ -392,13 +472,14 @@ fn command(
                 p
             }
         };
-        return Ok(Command::Topic(Box::new((publisher, message))));
+        return Ok(Command::Topic(Box::new((publisher, message, a.sequence.clone()))));
     }
     let action = a.action.clone().unwrap_or_default();
     if let Some(c) = made.clients.get(&node.qualify(&action)) {
         return Ok(Command::Action(Box::new(Goal {
             clients: Arc::clone(c),
             goal: message,
+            sequence: a.sequence.clone(),
         })));
     }
     let t = &a.type_name;
@@ -439,6 +520,7 @@ fn command(
     Ok(Command::Action(Box::new(Goal {
         clients: c,
         goal: message,
+        sequence: a.sequence.clone(),
     })))
 }
 
@@ -476,7 +558,11 @@ impl ServedWorld for Ros2World {
                 }
             }
         }
-        self.await_answer(before);
+        // Answers matched by sequence number: the reset service's reply
+        // (matched by its request) is the reset's answer.
+        if !self.matched() {
+            self.await_answer(Awaited::After(before));
+        }
         self.shared.lock().reward = 0.0;
         self.poll_end();
     }
@@ -493,11 +579,7 @@ impl ServedWorld for Ros2World {
         let fluents = m
             .fluents
             .iter()
-            .map(|f| {
-                self.latest(&f.source)
-                    .and_then(|v| v.path(&f.source.field).and_then(Value::as_f64))
-                    .unwrap_or(0.0)
-            })
+            .map(|f| self.latest(&f.source).and_then(|v| f.source.number(&v)).unwrap_or(0.0))
             .collect();
         Observation { atoms, fluents }
     }
@@ -505,20 +587,41 @@ impl ServedWorld for Ros2World {
     fn step(&mut self, actions: &[Option<usize>]) -> Vec<StepResult> {
         self.steps += 1;
         self.shared.lock().counts.steps += 1;
-        let before = self.answers();
-        let status = match actions.first().copied().flatten().and_then(|a| self.commands.get(a)) {
+        let index = actions.first().copied().flatten().filter(|&a| a < self.commands.len());
+        // The command's sequence number, written into its field, when
+        // answers are matched by it; else any answer after the command's.
+        let field = index.and_then(|a| match &self.commands[a] {
+            Command::Topic(t) => t.2.clone(),
+            Command::Action(g) => g.sequence.clone(),
+        });
+        let (awaited, numbered) = match &field {
+            Some(field) => {
+                let n = self.next_sequence();
+                (Some(Awaited::Sequence(n)), Some((field.as_str(), n)))
+            }
+            // A goal's result, matched by its request, is its answer.
+            None if self.matched() => (None, None),
+            None => (Some(Awaited::After(self.answers())), None),
+        };
+        let status = match index.map(|a| &self.commands[a]) {
             None => ActionStatus::None,
-            Some(Command::Topic(t)) => match t.0.publish(&t.1) {
+            Some(Command::Topic(t)) => match t.0.publish(&with_number(&t.1, numbered)) {
                 Ok(()) => ActionStatus::Finished,
                 Err(e) => {
                     self.failed("command", &e);
                     ActionStatus::Failed
                 }
             },
-            Some(Command::Action(g)) => self.run_goal(&g.clients, &g.goal),
+            Some(Command::Action(g)) => self.run_goal(&g.clients, &with_number(&g.goal, numbered)),
         };
-        if status != ActionStatus::None {
-            self.await_answer(before);
+        // An answer that does not come in time fails the action; a failed
+        // action waits for nothing more.
+        let status = match (status, awaited) {
+            (ActionStatus::Finished, Some(awaited)) if !self.await_answer(awaited) => ActionStatus::Failed,
+            (status, _) => status,
+        };
+        if status == ActionStatus::Failed {
+            self.shared.lock().counts.failed_actions += 1;
         }
         let reward = self.take_reward();
         self.poll_end();
@@ -783,5 +886,92 @@ equals = true
         world.step(&[None]);
         assert!(world.truncated(), "max_steps = 2");
         assert_eq!(world.counts().timeouts, 0);
+    }
+
+    const MATCHED: &str = r#"
+timeout_ms = 400
+[zenoh]
+connect = ["tcp/127.0.0.1:9"]
+
+[[interfaces]]
+name = "corridor_msgs/msg/Cmd"
+file = "Cmd.msg"
+
+[[interfaces]]
+name = "corridor_msgs/msg/Done"
+file = "Done.msg"
+
+[[action]]
+name = "forward"
+topic = "/robot/cmd"
+type = "corridor_msgs/msg/Cmd"
+message = { direction = 1 }
+sequence = "seq"
+
+[answer]
+topic = "/robot/done"
+type = "corridor_msgs/msg/Done"
+sequence = "command"
+"#;
+
+    /// Each command carries its sequence number; the robot's answer is taken
+    /// only if it carries it back: a stale answer is refused and counted, and
+    /// a step with no matching answer times out as a failed action.
+    #[test]
+    fn answers_are_matched_to_their_commands_and_a_step_without_one_fails() {
+        let dir = std::env::temp_dir().join(format!("learnpnp-ros2-matched-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("Cmd.msg"), "int32 direction\nint64 seq\n").unwrap();
+        std::fs::write(dir.join("Done.msg"), "int64 command\n").unwrap();
+        std::fs::write(dir.join("m.toml"), MATCHED).unwrap();
+        let loaded = mapping::load(&dir.join("m.toml")).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        let registry = Arc::new(loaded.registry.clone());
+        let (a, b) = loopback_pair();
+        let world_node = Node::new(a, Arc::clone(&registry), 0, "/", "learnpnp_world").unwrap();
+        let robot = Node::new(b, Arc::clone(&registry), 0, "/", "robot").unwrap();
+        let done = Arc::new(robot.publisher("/robot/done", "corridor_msgs/msg/Done").unwrap());
+        // 0: the robot answers with the command's number; 1: with the one
+        // before only (a late answer of the previous step); 2: both, the stale one first.
+        let mode = Arc::new(AtomicI64::new(0));
+        let (m, d) = (Arc::clone(&mode), Arc::clone(&done));
+        let _commands = robot
+            .subscribe("/robot/cmd", "corridor_msgs/msg/Cmd", move |r| {
+                let Ok(Received { value, .. }) = r else { return };
+                let seq = value.get("seq").and_then(Value::as_f64).unwrap() as i64;
+                let answer = |n: i64| d.publish(&Value::fields([("command", Value::Int(n))])).unwrap();
+                match m.load(Ordering::Relaxed) {
+                    0 => answer(seq),
+                    1 => answer(seq - 1),
+                    _ => {
+                        answer(seq - 1);
+                        answer(seq);
+                    }
+                }
+            })
+            .unwrap();
+        let mut world = Ros2World::new(loaded, world_node).unwrap();
+        world.reset(None);
+        // Until the two sessions see each other's subscriptions, commands
+        // and answers are lost (timeouts).
+        let start = Instant::now();
+        while world.step(&[Some(0)])[0].action != ActionStatus::Finished {
+            assert!(start.elapsed() < Duration::from_secs(30), "{:?}", world.counts());
+        }
+        let before = world.counts();
+        mode.store(2, Ordering::Relaxed);
+        assert_eq!(world.step(&[Some(0)])[0].action, ActionStatus::Finished);
+        mode.store(1, Ordering::Relaxed);
+        assert_eq!(
+            world.step(&[Some(0)])[0].action,
+            ActionStatus::Failed,
+            "no answer of its own"
+        );
+        mode.store(0, Ordering::Relaxed);
+        assert_eq!(world.step(&[Some(0)])[0].action, ActionStatus::Finished);
+        let after = world.counts();
+        assert_eq!(after.unmatched_answers - before.unmatched_answers, 2, "{after:?}");
+        assert_eq!(after.timeouts - before.timeouts, 1, "{after:?}");
+        assert_eq!(after.failed_actions - before.failed_actions, 1, "{after:?}");
     }
 }

@@ -57,6 +57,14 @@ pub enum LaunchError {
     /// Building the missing binaries failed.
     #[error("building {SIM_BINARY} and {AGENT_BINARY} failed: {0}")]
     Build(std::process::ExitStatus),
+    /// The world's program does not exist.
+    #[error("the world's program {program} does not exist ({hint})")]
+    WorldMissing {
+        /// The program, as the world's command names it.
+        program: String,
+        /// How to get it.
+        hint: String,
+    },
     /// Starting a process failed.
     #[error("starting {what}: {source}")]
     Spawn {
@@ -344,7 +352,26 @@ pub(crate) fn spawn_world(
         .env(world_env::PERIOD_MS, period.as_millis().to_string())
         .env(world_env::WAIT, context.wait.name())
         .env(world_env::SEED, seed.to_string());
-    spawn_command(command, Role::World, line, log)
+    let program = command.get_program().to_string_lossy().into_owned();
+    spawn_command(command, Role::World, line, log).map_err(|e| match e {
+        LaunchError::Spawn { source, .. } if source.kind() == io::ErrorKind::NotFound => LaunchError::WorldMissing {
+            hint: build_hint(&program),
+            program,
+        },
+        other => other,
+    })
+}
+
+/// How to build `program` if it is one of this repository's worlds.
+fn build_hint(program: &str) -> String {
+    let name = Path::new(program).file_name().map(|n| n.to_string_lossy().into_owned());
+    match name.as_deref() {
+        Some("learnpnp-ros2-world") => "build it: cargo build --release -p learnpnp-ros2".into(),
+        Some("learnpnp-corridor") => {
+            "build it: cargo build --release -p learnpnp-system --bin learnpnp-corridor".into()
+        }
+        _ => "check the world's command (--world-cmd)".into(),
+    }
 }
 
 /// The process running `line`: a simple command (words only) is run

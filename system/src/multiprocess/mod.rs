@@ -32,6 +32,8 @@ pub mod background_save;
 pub mod bench_latency;
 /// How the generic path's cost grows with the agents.
 pub mod bench_world;
+/// Real time on absolute deadlines, with the heartbeat kept while asleep.
+pub(crate) mod cadence;
 /// Faults injected at seeded random times during a soak.
 pub mod chaos;
 /// The iceoryx2 floor: the bare round trip of a run's payloads.

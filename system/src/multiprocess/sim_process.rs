@@ -16,6 +16,7 @@ use std::time::{Duration, Instant};
 use serde::{Deserialize, Serialize};
 use shm_layouts::{Header, KeeperCommand, KeeperSnapshot, PROTOCOL_VERSION, SENDER_SIMULATOR};
 
+use super::cadence::{Cadence, sleep_until};
 use super::journal::{self, Journal};
 use super::{Clock, Pacemaker, ProcessError, RunContext};
 use crate::ipc::convert::{
@@ -101,6 +102,10 @@ pub struct SimTotals {
     pub missed_deadlines: u64,
     /// Real time: commands that arrived after their cycle was stepped.
     pub(crate) late_commands: u64,
+    /// Real time: cycles whose work (the simulator's step, the snapshots)
+    /// ran past their deadline (the next cycle kept the grid of absolute deadlines).
+    #[serde(default)]
+    pub late_cycles: u64,
     /// Episodes discarded because a keeper was lost.
     pub(crate) aborted: Vec<AbortedEpisode>,
     /// Messages refused.
@@ -253,6 +258,8 @@ struct RemoteTeam {
     seconds_per_cycle: f64,
     start: EpisodeStart,
     cycles: u32,
+    /// Real time: the episode's cycles on absolute deadlines.
+    cadence: Option<Cadence>,
 }
 
 impl RemoteTeam {
@@ -296,6 +303,7 @@ impl KeeperTeam for RemoteTeam {
         link.totals.episode_seq += 1;
         self.start = start;
         self.cycles = 0;
+        self.cadence = (link.context.clock == Clock::Realtime).then(|| Cadence::new(self.period));
         let event = episode_event(link.totals.episode_seq, EpisodeNews::Begin(start), link.context.run_id);
         link.ports.episode.send(event).map_err(remote)
     }
@@ -330,7 +338,10 @@ impl KeeperTeam for RemoteTeam {
                 .send(snapshot(view, &meta, run_id))
                 .map_err(remote)?;
         }
-        let deadline = (link.context.clock == Clock::Realtime).then(|| published[0] + self.period);
+        if let Some(cadence) = &mut self.cadence {
+            cadence.worked();
+        }
+        let deadline = self.cadence.as_ref().map(Cadence::deadline);
         let mut work_left = true;
         let mut commands: [Option<Command>; NUM_KEEPERS] = [None; NUM_KEEPERS];
         let mut idle = Idle::new(link.context.wait);
@@ -399,8 +410,14 @@ impl KeeperTeam for RemoteTeam {
             work_left = meanwhile();
         }
         if let Some(deadline) = deadline {
-            sample_floor(link, published[0] + self.period / 2, deadline)?;
-            std::thread::sleep(deadline.saturating_duration_since(Instant::now()));
+            let halfway = deadline.checked_sub(self.period / 2).unwrap_or(deadline);
+            sample_floor(link, halfway, deadline)?;
+            sleep_until(deadline, || link.housekeeping())?;
+        }
+        if let Some(cadence) = &mut self.cadence {
+            let late = cadence.late();
+            cadence.next();
+            link.totals.late_cycles += cadence.late() - late;
         }
         link.totals.cycles += 1;
         Ok(TeamStep::Commands(commands.map(|c| c.unwrap_or(Command::None))))
@@ -567,10 +584,10 @@ fn measure_floor(link: &mut Link, round_trips: usize) -> Result<(), TaskError> {
 /// side over the whole run. An echo not back by the cycle's `deadline` is
 /// given up (none is recorded); a cycle that ran past `at` takes no sample.
 fn sample_floor(link: &mut Link, at: Instant, deadline: Instant) -> Result<(), TaskError> {
-    let Some(wait) = at.checked_duration_since(Instant::now()) else {
+    if Instant::now() > at {
         return Ok(());
-    };
-    std::thread::sleep(wait);
+    }
+    sleep_until(at, || link.housekeeping())?;
     link.floor_pings += 1;
     let sequence = link.floor_pings;
     let sent = send_ping(link, sequence, true)?;
@@ -702,6 +719,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
         seconds_per_cycle,
         start: EpisodeStart::LEARN,
         cycles: 0,
+        cadence: None,
     };
     let mut output = RunOutput::default();
     let outcome = (|| -> Result<(), TaskError> {

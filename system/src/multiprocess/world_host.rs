@@ -10,6 +10,9 @@ use std::time::{Duration, Instant};
 
 use shm_layouts::MAX_FLUENTS;
 
+use serde::Serialize;
+
+use super::cadence::{Cadence, sleep_until};
 use super::launch::world_env;
 use super::{Clock, HEARTBEAT_EVERY, Pacemaker};
 use crate::ipc::convert::{Rejection, read_agent_report, read_control};
@@ -77,6 +80,27 @@ pub enum WorldHostError {
     /// The namespace is unusable.
     #[error(transparent)]
     Namespace(#[from] crate::ipc::namespace::NamespaceError),
+}
+
+/// What a served world did, for its log or report.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct Served {
+    /// Snapshots published (every cycle, lock-step or real time).
+    pub snapshots: u64,
+    /// Real time: cycles ended on the world's clock.
+    pub realtime_cycles: u64,
+    /// Real time: cycles whose work (stepping the world, publishing) ran
+    /// past their deadline (counted; the next cycle kept the grid).
+    pub late_cycles: u64,
+    /// Real time: seconds on the world's clock (from the agents' readiness).
+    pub realtime_seconds: f64,
+}
+
+impl Served {
+    /// Real time: the cycles kept a second (none in lock-step).
+    pub fn rate(&self) -> Option<f64> {
+        (self.realtime_seconds > 0.0).then(|| self.realtime_cycles as f64 / self.realtime_seconds)
+    }
 }
 
 /// How often a world awaiting commands looks at the supervisor's orders.
@@ -163,6 +187,12 @@ struct Host<'w, W: ServedWorld> {
     lost: bool,
     stop: bool,
     first_reset: bool,
+    /// When the host last kept house.
+    housekept: Instant,
+    /// Real time: the cycle on the world's clock since the agents were last ready.
+    cadence: Option<Cadence>,
+    /// What was served (real time: the cadences before the current one).
+    served: Served,
     /// The process that started the world.
     parent: libc::pid_t,
 }
@@ -186,6 +216,7 @@ impl<W: ServedWorld> Host<'_, W> {
 
     /// Heartbeat, the supervisor's orders, the agents' reports.
     fn housekeeping(&mut self) -> Result<(), WorldHostError> {
+        self.housekept = Instant::now();
         self.pacemaker.pulse.cycles = self.cycle;
         let beats = self.pacemaker.pulse.sequence;
         self.pacemaker.tick(&self.ports.heartbeat)?;
@@ -245,13 +276,16 @@ impl<W: ServedWorld> Host<'_, W> {
             if self.ready.iter().all(Option::is_some) {
                 self.lost = false;
                 self.pacemaker.pulse.state = ProcessState::Running;
+                self.end_cadence();
+                self.cadence = (self.run.clock == Clock::Realtime).then(|| Cadence::new(self.run.period));
                 return Ok(true);
             }
             idle.pause(&self.ports.wake, MAX_BLOCK)?;
         }
     }
 
-    /// Publishes each agent's snapshot of the world now.
+    /// Publishes each agent's snapshot of the world now (the end of a
+    /// cycle's work).
     fn publish(&mut self, status: EpisodeStatus, results: &[StepResult]) -> Result<(), WorldHostError> {
         self.cycle += 1;
         for a in 0..self.run.agents {
@@ -281,6 +315,32 @@ impl<W: ServedWorld> Host<'_, W> {
             };
             self.ports.snapshots[a].send(world_snapshot(&view, a, self.run.run_id))?;
         }
+        // Real time: the cycle's work is done.
+        if let Some(cadence) = &mut self.cadence {
+            cadence.worked();
+        }
+        Ok(())
+    }
+
+    /// Real time: adds the cadence under way to what was served.
+    fn end_cadence(&mut self) {
+        if let Some(cadence) = self.cadence.take() {
+            self.served.realtime_cycles += cadence.cycles();
+            self.served.late_cycles += cadence.late();
+            self.served.realtime_seconds += cadence.seconds();
+        }
+    }
+
+    /// Real time: sleeps out the cycle, keeping house (the heartbeat, the
+    /// supervisor's orders), and begins the next on the grid.
+    fn end_cycle(&mut self) -> Result<(), WorldHostError> {
+        let Some(deadline) = self.cadence.as_ref().map(Cadence::deadline) else {
+            return Ok(());
+        };
+        sleep_until(deadline, || self.housekeeping())?;
+        if let Some(cadence) = &mut self.cadence {
+            cadence.next();
+        }
         Ok(())
     }
 
@@ -298,7 +358,6 @@ impl<W: ServedWorld> Host<'_, W> {
         let agents = self.run.agents;
         let mut commands: Vec<Option<Option<usize>>> = vec![None; agents];
         let mut idle = Idle::new(self.run.wait);
-        let mut kept = Instant::now();
         loop {
             for (a, slot) in commands.iter_mut().enumerate() {
                 while slot.is_none() {
@@ -331,10 +390,10 @@ impl<W: ServedWorld> Host<'_, W> {
                 return Ok(Ok(commands));
             }
             // The supervisor and the agents' reports every HOUSEKEEPING_EVERY
-            // while the commands are awaited, not at each poll.
-            if kept.elapsed() >= HOUSEKEEPING_EVERY {
+            // of the wall clock while commands are awaited, not at each poll
+            // (however quickly each cycle's commands come).
+            if self.housekept.elapsed() >= HOUSEKEEPING_EVERY {
                 self.housekeeping()?;
-                kept = Instant::now();
             }
             if self.stop {
                 return Ok(Err(Interruption::Stop));
@@ -355,18 +414,15 @@ impl<W: ServedWorld> Host<'_, W> {
         self.world.reset(seed);
         self.episode += 1;
         self.step = 0;
-        let realtime = self.run.clock == Clock::Realtime;
         let mut last: Vec<Option<usize>> = vec![None; self.run.agents];
         self.publish(EpisodeStatus::Running, &[])?;
         loop {
-            let deadline = realtime.then(|| Instant::now() + self.run.period);
+            let deadline = self.cadence.as_ref().map(Cadence::deadline);
             let answers = match self.collect(deadline)? {
                 Ok(answers) => answers,
                 Err(interruption) => return Ok(Err(interruption)),
             };
-            if let Some(deadline) = deadline {
-                std::thread::sleep(deadline.saturating_duration_since(Instant::now()));
-            }
+            self.end_cycle()?;
             if answers.iter().all(Option::is_none) && last.iter().all(Option::is_none) {
                 // Real time, nothing told yet: the same state again a cycle later.
                 self.publish(EpisodeStatus::Running, &[])?;
@@ -395,16 +451,22 @@ impl<W: ServedWorld> Host<'_, W> {
             self.publish(status, &results)?;
             if status.ended() {
                 // Each agent acknowledges the end once it has learned from it.
-                let deadline = realtime.then(|| Instant::now() + self.run.period);
-                return Ok(self.collect(deadline)?.map(drop));
+                let deadline = self.cadence.as_ref().map(Cadence::deadline);
+                let acknowledged = self.collect(deadline)?.map(drop);
+                if acknowledged.is_ok() {
+                    self.end_cycle()?;
+                }
+                return Ok(acknowledged);
             }
         }
     }
 }
 
 /// Serves `world` as the world process of the run in this process's
-/// environment until the supervisor says stop.
-pub fn serve<W: ServedWorld>(world: &mut W) -> Result<(), WorldHostError> {
+/// environment until the supervisor says stop: what was served. In real
+/// time its last line on stderr is the cycle it kept (cycles, seconds,
+/// rate, late cycles).
+pub fn serve<W: ServedWorld>(world: &mut W) -> Result<Served, WorldHostError> {
     let run = WorldRun::from_env()?;
     let mut vocabulary = world.vocabulary();
     vocabulary.agents = run.agents;
@@ -427,6 +489,9 @@ pub fn serve<W: ServedWorld>(world: &mut W) -> Result<(), WorldHostError> {
         lost: false,
         stop: false,
         first_reset: true,
+        housekept: Instant::now(),
+        cadence: None,
+        served: Served::default(),
         // SAFETY: getppid has no effects.
         parent: unsafe { libc::getppid() },
         run,
@@ -449,5 +514,18 @@ pub fn serve<W: ServedWorld>(world: &mut W) -> Result<(), WorldHostError> {
     }
     host.pacemaker.pulse.state = ProcessState::Stopping;
     host.pacemaker.beat(&host.ports.heartbeat)?;
-    Ok(())
+    host.end_cadence();
+    host.served.snapshots = host.cycle;
+    let served = host.served;
+    if let Some(rate) = served.rate() {
+        eprintln!(
+            "world: real time: {} cycles in {:.1} s: {rate:.3} a second (period {} ms: {:.3}), {} late",
+            served.realtime_cycles,
+            served.realtime_seconds,
+            host.run.period.as_millis(),
+            1.0 / host.run.period.as_secs_f64(),
+            served.late_cycles
+        );
+    }
+    Ok(served)
 }

@@ -18,7 +18,7 @@ use learnpnp_ros2::node::Node;
 use learnpnp_ros2::plan_state::Republisher;
 use learnpnp_ros2::world::{Counts, Ros2World};
 use learnpnp_ros2::{link, mapping};
-use learnpnp_system::multiprocess::world_host::{WorldRun, serve};
+use learnpnp_system::multiprocess::world_host::{Served, WorldRun, serve};
 use serde::Serialize;
 
 /// A ROS 2 robot as a learnpnp world.
@@ -32,11 +32,13 @@ struct Args {
     report: Option<PathBuf>,
 }
 
-/// The world's report: its counts, and the plan state's (none when off).
+/// The world's report: its counts, what was served (real time: the cycle
+/// kept), and the plan state's counts (none when off).
 #[derive(Serialize)]
 struct Report {
     #[serde(flatten)]
     world: Counts,
+    served: Option<Served>,
     plan_state: Option<PlanStateCounts>,
 }
 
@@ -80,6 +82,7 @@ fn run() -> anyhow::Result<()> {
     let served = serve(&mut world);
     let counts = Report {
         world: world.counts(),
+        served: served.as_ref().ok().copied(),
         plan_state: republisher.map(FeedRepublisher::stop),
     };
     eprintln!("learnpnp-ros2-world: {}", serde_json::to_string(&counts)?);
