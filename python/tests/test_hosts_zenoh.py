@@ -2,8 +2,8 @@
 independent Zenoh client of the run's link, on host B, with the read-only
 monitor certificate that `learnpnp-supervisor link-certs` made for the run
 (QUIC with TLS 1.3, mutual authentication by the run's CA): it reads the
-heartbeats the bridges carry (raw `Heartbeat` layouts tagged with their type
-and protocol version), decoded with the world kit's ctypes mirror, and cannot
+heartbeats the bridges carry (raw `Heartbeat` layouts tagged with their type,
+protocol version and the sender's sequence number), decoded with the world kit's ctypes mirror, and cannot
 publish (host A's access control denies it and counts it). Host A (the
 corridor world, its supervisor and bridge) and host B (`learnpnp-supervisor
 remote` with the agent, and the Zenoh client) are two network namespaces this
@@ -16,6 +16,7 @@ endpoints.
 import contextlib
 import json
 import os
+import re
 import socket
 import subprocess
 import sys
@@ -138,7 +139,7 @@ def test_a_monitor_on_host_b_reads_the_heartbeats_of_a_run_across_hosts_and_cann
     heard = {int(sender): beat for sender, beat in json.loads(client.stdout).items()}
     run_id = json.loads((sandbox / "b" / "summary.json").read_text())["run_id"]
     assert set(heard) == {0, 100}, "the agent's (host B) and the world's (host A) heartbeats"
-    assert all(beat["tag"] == "learnpnp::Heartbeat;1" for beat in heard.values())
+    assert all(re.fullmatch(r"learnpnp::Heartbeat;1;\d+", beat["tag"]) for beat in heard.values()), heard
     assert all(beat["run_id"] == run_id and beat["pid"] > 0 for beat in heard.values())
     summary = json.loads((sandbox / "a" / "summary.json").read_text())
     assert summary["complete"] and summary["experiment"]["final_greedy_mean"] == -4.0
