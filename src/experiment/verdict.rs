@@ -235,3 +235,74 @@ pub fn verdict_markdown(figures: &[(&Figure, &[SummaryFile])]) -> String {
     }
     md
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::experiment::presets;
+
+    /// The summaries of `figure`'s curves with the given (mean, low, high).
+    fn scored(figure: &str, scores: &[(f64, f64, f64)]) -> Vec<SummaryFile> {
+        let figure = presets::figure(figure).expect("a preset");
+        figure
+            .curves
+            .into_iter()
+            .zip(scores)
+            .map(|(spec, &(mean, low, high))| SummaryFile {
+                runs_completed: spec.protocol.runs,
+                spec,
+                final_mean: mean,
+                final_ci95: [low, high],
+                final_greedy_mean: None,
+                final_greedy_ci95: None,
+                wall_seconds: 1.0,
+                total_episodes: 1,
+                episodes_per_second: 1.0,
+                actions_per_second: 1.0,
+                cycles_per_second: None,
+                complete: true,
+            })
+            .collect()
+    }
+
+    fn claim(figure: &str, thesis_starts: &str) -> &'static Claim {
+        CLAIMS
+            .iter()
+            .find(|c| c.figure == figure && c.thesis.starts_with(thesis_starts))
+            .expect("the claim")
+    }
+
+    #[test]
+    fn the_rules_decide_the_verdicts() {
+        // 6.3's curves: e-greedy Sarsa, optimistic Sarsa, e-SoSMC 100, e-SoSMC 50.
+        let apart = scored(
+            "6.3",
+            &[
+                (-0.97, -1.03, -0.91),
+                (0.20, 0.18, 0.23),
+                (0.26, 0.24, 0.28),
+                (0.06, 0.01, 0.11),
+            ],
+        );
+        let faster = claim("6.3", "optimistic");
+        assert_eq!(judge(faster, &apart).unwrap().1, Verdict::Reproduced);
+        let optimum = claim("6.3", "e-SoSMC, 100");
+        assert_eq!(judge(optimum, &apart).unwrap().1, Verdict::Reproduced);
+        let short = scored(
+            "6.3",
+            &[(0.2, 0.1, 0.3), (0.2, 0.1, 0.3), (0.20, 0.17, 0.23), (0.2, 0.1, 0.3)],
+        );
+        assert_eq!(judge(faster, &short).unwrap().1, Verdict::DiffersCauseUnknown);
+        assert_eq!(judge(optimum, &short).unwrap().1, Verdict::DiffersCauseUnknown);
+        assert_eq!(
+            judge(claim("6.3", "e-SoSMC, 50"), &short).unwrap().1,
+            Verdict::DiffersCauseUnknown
+        );
+        // A claim with a known cause says it; a missing curve gives no row.
+        let tie = scored("6.13", &[(-8.38, -8.62, -8.14), (-8.51, -8.66, -8.35)]);
+        let (ours, verdict) = judge(claim("6.13", "Soft-SoSMC"), &tie).unwrap();
+        assert!(ours.contains("Soft-SoSMC -8.5100"), "{ours}");
+        assert!(matches!(verdict, Verdict::DiffersCauseShown(_)));
+        assert!(judge(claim("7.3", "Soft-SoSMC well ahead of Sarsa(0.9) with"), &tie).is_none());
+    }
+}
