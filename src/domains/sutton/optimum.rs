@@ -3,7 +3,7 @@
 //! express greedily): the ceiling Figure 6.13's learners are judged against.
 //!
 //! Moves are deterministic, so a policy's value is found by following it from
-//! every start cell (the evaluation protocol of [`super::Sutton`]): entering
+//! every start cell (the evaluation protocol of Sutton's grid): entering
 //! the goal after `k` moves returns `-(k - 1)`, an episode cut after
 //! `max_actions` moves returns `-max_actions`. The best policy is found by
 //! branch and bound over the observations: a partial policy is bounded by the
