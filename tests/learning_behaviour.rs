@@ -247,6 +247,46 @@ fn the_threshold_rule_overrides_a_forced_exploration() {
     assert!(episode(&mut agent, forced, 0.0));
 }
 
+/// One choice between two options; option 0 returns -1, option 1 returns -2.
+fn two_returns_episode(learner: &mut dyn Learner) {
+    learner.begin_episode(EpisodeStart::LEARN);
+    let state = Marking::from_tokens(vec![1, 0, 0]);
+    let options = [Marking::from_tokens(vec![0, 1, 0]), Marking::from_tokens(vec![0, 0, 1])];
+    learner.plan_started(PlanKey::ROOT, &state);
+    let i = learner.choose(PlanKey::ROOT, &state, &options);
+    learner.transition(PlanKey::ROOT, &options[i], 0.0, 1);
+    learner.end_episode(PendingReward {
+        reward: if i == 0 { -1.0 } else { -2.0 },
+        elapsed: 1,
+    });
+}
+
+/// Figure 4.3's assessment counts exploiting episodes since the last
+/// exploration; Algorithm 1's (`samples:K`) counts samples of the current
+/// policy, so a change of the exploited policy restarts the count. From
+/// values of 0 with step 1, the first two exploiting episodes take both
+/// options (each lowers the one it took): the policy changes, and the fourth
+/// episode explores only under Figure 4.3's count.
+#[test]
+fn the_assessment_counts_episodes_or_samples_of_the_current_policy() {
+    for seed in 0..20 {
+        let explored = |assessment: Assessment| {
+            let mut config = sosmc(0, assessment);
+            config.initial_value = 0.0;
+            config.step_size = StepSize::Constant(1.0);
+            let mut agent = SoSmc::new(config, seeded(seed));
+            (0..4)
+                .map(|_| {
+                    two_returns_episode(&mut agent);
+                    agent.exploratory()
+                })
+                .collect::<Vec<bool>>()
+        };
+        assert_eq!(explored(Assessment::AfterK(3)), [false, false, false, true]);
+        assert_eq!(explored(Assessment::AfterKSamples(3)), [false, false, false, false]);
+    }
+}
+
 #[test]
 fn inverse_step_size_restarts_estimates_after_a_policy_change() {
     let mut config = sosmc(0, Assessment::Never);

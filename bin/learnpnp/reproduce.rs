@@ -16,8 +16,11 @@ use learnpnp::experiment::ranges;
 use learnpnp::experiment::report::summary_markdown;
 use learnpnp::experiment::result_dir::ResultDir;
 use learnpnp::experiment::shard::Shard;
-use learnpnp::experiment::spec::ExperimentSpec;
+use learnpnp::experiment::spec::{DomainSpec, ExperimentSpec};
+use learnpnp::experiment::verdict::verdict_markdown;
+use learnpnp_cli::args::named;
 use learnpnp_cli::interrupt::Interrupt;
+use learnpnp_keepaway::params::RefereeRule;
 use serde::{Deserialize, Serialize};
 
 use super::experiment::{Finished, default_threads, run_into};
@@ -44,13 +47,22 @@ pub struct ReproduceArgs {
     /// and draws the figures.
     #[arg(long)]
     shard: Option<Shard>,
+    /// Keepaway figures: the referee's turnover rule, rcssserver-11 (the
+    /// default, 4 cycles of taker possession) or rcssserver-9.4.5 (5 cycles).
+    #[arg(long, value_parser = named::<RefereeRule>())]
+    referee: Option<RefereeRule>,
+    /// Keepaway figures: the distance d (m) at which the fixed keepers pass and
+    /// the learner's closest-taker feature flips (default: the text-fixed d,
+    /// `DEFAULT_HOLD_THRESHOLD`; 5 for the framework's radius used before issue 56).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::DISTANCE.parse(s))]
+    keepaway_threshold: Option<f64>,
 }
 
 /// The file of a reproduction's shard naming what it reproduced, for `learnpnp merge`.
 pub const REPRODUCE_SHARD_FILE: &str = "reproduce-shard.json";
 
 /// What [`REPRODUCE_SHARD_FILE`] says.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReproduceShard {
     /// The shard.
     pub shard: Shard,
@@ -58,6 +70,12 @@ pub struct ReproduceShard {
     pub figures: Vec<String>,
     /// The runs override, if any.
     pub runs: Option<usize>,
+    /// The Keepaway referee override, if any.
+    #[serde(default)]
+    pub referee: Option<RefereeRule>,
+    /// The Keepaway threshold override, if any.
+    #[serde(default)]
+    pub keepaway_threshold: Option<f64>,
 }
 
 impl Default for ReproduceArgs {
@@ -69,6 +87,8 @@ impl Default for ReproduceArgs {
             runs: None,
             resume: false,
             shard: None,
+            referee: None,
+            keepaway_threshold: None,
         }
     }
 }
@@ -81,6 +101,8 @@ impl ReproduceArgs {
             figures: record.figures.clone(),
             out,
             runs: record.runs,
+            referee: record.referee,
+            keepaway_threshold: record.keepaway_threshold,
             resume: true,
             ..ReproduceArgs::default()
         }
@@ -167,6 +189,15 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
         for spec in &mut figure.curves {
             if let Some(runs) = args.runs {
                 spec.protocol.runs = runs;
+            }
+            if let DomainSpec::Keepaway { config, .. } = &mut spec.domain {
+                if let Some(referee) = args.referee {
+                    config.referee = referee;
+                }
+                if let Some(d) = args.keepaway_threshold {
+                    config.hold_threshold = d;
+                    config.thresholds.closest_taker = d;
+                }
             }
             spec.validate()
                 .with_context(|| format!("figure {}: {}", figure.id, spec.label))?;
@@ -268,6 +299,8 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
             shard,
             figures: args.figures.clone(),
             runs: args.runs,
+            referee: args.referee,
+            keepaway_threshold: args.keepaway_threshold,
         };
         let path = args.out.join(REPRODUCE_SHARD_FILE);
         write_atomic(&path, &serde_json::to_vec_pretty(&record)?)?;
@@ -280,6 +313,10 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
     let path = args.out.join("summary.md");
     let listed: Vec<(&Figure, &[SummaryFile])> = done.iter().map(|(f, s)| (f, s.as_slice())).collect();
     write_atomic(&path, summary_markdown(&listed).as_bytes())?;
+    let verdicts = verdict_markdown(&listed);
+    if verdicts.lines().count() > 2 {
+        println!("\nThe thesis's claims, checked (also in summary.md):\n\n{verdicts}");
+    }
     println!(
         "summary table: {} ({} figures in {})",
         path.display(),

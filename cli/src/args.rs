@@ -140,7 +140,7 @@ pub struct ExperimentFlags {
     /// (VALUE or START:END:OVER).
     #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| parse_schedule_in(s, ranges::EXPLORATION))]
     initial_parameter: Option<Schedule>,
-    /// SoSMC: exploration in the assessing phase: never, per-decision, every:N, after:K.
+    /// SoSMC: exploration in the assessing phase: never, per-decision, every:N, after:K, samples:K.
     #[arg(long)]
     assess: Option<AssessmentArg>,
     /// SoSMC: step size of exploiting updates: a number above 0, up to 1, or 'inverse' (1/n).

@@ -65,6 +65,14 @@ pub trait Task {
     /// The learners of the task (one per learning agent).
     fn learners(&self) -> Vec<&dyn Learner>;
 
+    /// Primitive actions (moves; Keepaway: simulated cycles) of every episode
+    /// the task has played so far, of every kind (learning, evaluation,
+    /// greedy, recorded, and Keepaway's episodes played again after the team
+    /// aborted them); `None` if the task does not count them.
+    fn actions_played(&self) -> Option<u64> {
+        None
+    }
+
     /// The episodes the domain's configuration asks to replay, played after
     /// the run's last evaluation and each recorded as its domain's log text
     /// (Keepaway: a RoboCup game log); none by default.

@@ -19,6 +19,8 @@ use crate::learning::{EpisodeMode, Learner};
 use crate::plan::{AllowedAtoms, Plan, catalog};
 use crate::rng::SimRng;
 
+pub mod optimum;
+
 /// Rows of the grid.
 pub(crate) const ROWS: i8 = 6;
 /// Columns of the grid.
@@ -225,6 +227,10 @@ impl Task for Sutton {
 
     fn learners(&self) -> Vec<&dyn Learner> {
         self.task.learners()
+    }
+
+    fn actions_played(&self) -> Option<u64> {
+        self.task.actions_played()
     }
 }
 

@@ -75,6 +75,8 @@ pub struct PlanTask<W> {
     agent: PlanAgent<W>,
     world: W,
     traced: Vec<(String, StateKey)>,
+    /// Primitive actions of every episode run so far.
+    actions_played: u64,
 }
 
 impl<W: EpisodeWorld> PlanTask<W> {
@@ -88,7 +90,12 @@ impl<W: EpisodeWorld> PlanTask<W> {
         traced: Vec<(String, StateKey)>,
     ) -> Result<Self, TaskError> {
         let agent = PlanAgent::new(plan, registry, learner)?;
-        Ok(PlanTask { agent, world, traced })
+        Ok(PlanTask {
+            agent,
+            world,
+            traced,
+            actions_played: 0,
+        })
     }
 
     /// The world.
@@ -102,6 +109,7 @@ impl<W: EpisodeWorld> PlanTask<W> {
         let steps = self
             .agent
             .run(&mut self.world, EpisodeStart::of(mode), limit, W::over)?;
+        self.actions_played += u64::from(self.world.actions());
         Ok(EpisodeOutcome {
             ret: self.world.ret(),
             actions: self.world.actions(),
@@ -119,6 +127,10 @@ impl<W: EpisodeWorld> Task for PlanTask<W> {
 
     fn traced_values(&self) -> Vec<(String, f64)> {
         traced(self.agent.learner(), &self.traced)
+    }
+
+    fn actions_played(&self) -> Option<u64> {
+        Some(self.actions_played)
     }
 
     fn learners(&self) -> Vec<&dyn Learner> {

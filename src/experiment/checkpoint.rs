@@ -26,7 +26,8 @@ pub const CHECKPOINT: &str = "completed-runs.bin";
 const MAGIC: [u8; 8] = *b"LPNPRUNS";
 
 /// The format version this build writes and reads.
-const FORMAT_VERSION: u32 = 1;
+/// 2: a run counts the actions of every episode it played (`RunOutput::actions_played`).
+const FORMAT_VERSION: u32 = 2;
 
 /// Bytes before the payload.
 const HEADER_LEN: usize = 16;

@@ -303,7 +303,8 @@ pub(crate) fn default_protocol(domain: &DomainSpec) -> Protocol {
 }
 
 /// How the assessing phase of SoSMC explores, as written on the command line:
-/// `never`, `per-decision`, `every:N` or `after:K`.
+/// `never`, `per-decision`, `every:N`, `after:K` (K exploiting episodes since
+/// the last exploratory one) or `samples:K` (K samples of the current policy).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct AssessmentArg(pub Assessment);
 
@@ -316,8 +317,11 @@ impl FromStr for AssessmentArg {
             None if s == "per-decision" => Assessment::PerDecision,
             Some(("every", n)) => Assessment::EveryN(ranges::WINDOW.parse(n)?),
             Some(("after", k)) => Assessment::AfterK(ranges::WHOLE.parse(k)?),
+            Some(("samples", k)) => Assessment::AfterKSamples(ranges::WHOLE.parse(k)?),
             _ => {
-                return Err(format!("'{s}': expected never, per-decision, every:N or after:K"));
+                return Err(format!(
+                    "'{s}': expected never, per-decision, every:N, after:K or samples:K"
+                ));
             }
         }))
     }
@@ -546,6 +550,10 @@ mod tests {
         assert!(parse_schedule("0.2:0").is_err());
         assert_eq!("every:20".parse::<AssessmentArg>().unwrap().0, Assessment::EveryN(20));
         assert_eq!("after:5".parse::<AssessmentArg>().unwrap().0, Assessment::AfterK(5));
+        assert_eq!(
+            "samples:5".parse::<AssessmentArg>().unwrap().0,
+            Assessment::AfterKSamples(5)
+        );
         assert!("often".parse::<AssessmentArg>().is_err());
         assert_eq!(parse_step_size("inverse").unwrap(), StepSize::InverseCount);
         assert_eq!(

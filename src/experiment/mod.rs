@@ -28,4 +28,6 @@ pub mod shard;
 /// What an experiment runs.
 pub mod spec;
 pub(crate) mod stats;
+/// The verdict table: each claim of the thesis checked on the reproduced curves.
+pub mod verdict;
 mod watched;

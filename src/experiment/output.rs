@@ -39,9 +39,13 @@ pub struct SummaryFile {
     pub total_episodes: u64,
     /// `total_episodes / wall_seconds`.
     pub episodes_per_second: f64,
-    /// Primitive actions (moves, cycles) per second over learning episodes.
+    /// Primitive actions (moves, cycles) of the learning episodes, per second
+    /// of the whole wall time (evaluations included).
     pub actions_per_second: f64,
-    /// Keepaway: simulated cycles per second over learning episodes.
+    /// Primitive actions of every episode played, of every kind (learning,
+    /// evaluation, greedy, recorded; Keepaway: every simulated cycle), per
+    /// second of wall time, in every domain; absent where the task does not
+    /// count them (the multi-process runs).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cycles_per_second: Option<f64>,
     /// Whether every planned run completed; false for an interrupted
@@ -202,8 +206,7 @@ pub fn summary(output: &ExperimentOutput) -> SummaryFile {
         total_episodes: total,
         episodes_per_second: total as f64 / wall,
         actions_per_second: output.total_actions() as f64 / wall,
-        cycles_per_second: matches!(output.spec.domain, crate::experiment::spec::DomainSpec::Keepaway { .. })
-            .then(|| output.total_actions() as f64 / wall),
+        cycles_per_second: output.actions_played().map(|n| n as f64 / wall),
         complete: output.is_complete(),
         runs_completed: output.runs.len(),
     }

@@ -462,7 +462,19 @@ fn figure_7_3() -> Figure {
         title: "Keepaway, single agent learning the pass decision: Sarsa(0.9) against Soft-SoSMC",
         claim: "Sarsa(0.9) only learns to hold the ball about 9 s; Soft-SoSMC (100-episode initial phase, 18 s threshold over 200 exploiting episodes) reaches 16 s within 1000 episodes and about 20 s by 5000; the hand-coded policy measures about 16 s",
         kind: FigureKind::Curves,
-        curves: sarsa_against_sosmc(&d, p),
+        curves: {
+            let mut curves = sarsa_against_sosmc(&d, p);
+            // Section 6.1.2's alpha, the only Sarsa step size the text gives;
+            // the rest as the preset Sarsa.
+            curves.push(experiment(
+                "Sarsa(0.9), alpha 0.01 (6.1.2)",
+                d.clone(),
+                Algorithm::SarsaLambda,
+                with_td(Algorithm::SarsaLambda, &d, |c| c.alpha = 0.01),
+                p,
+            ));
+            curves
+        },
     }
 }
 

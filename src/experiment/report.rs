@@ -22,6 +22,14 @@ pub fn summary_markdown(figures: &[(&Figure, &[SummaryFile])]) -> String {
          confidence interval over the runs; the greedy score is the return of each run's greedy \
          policy at the end, averaged likewise.\n",
     );
+    let verdicts = super::verdict::verdict_markdown(figures);
+    if verdicts.lines().count() > 2 {
+        md.push_str(
+            "\n## Verdict\n\nEach claim of the thesis whose figure was reproduced here, checked on the final \
+             scores by the rule beside it (`src/experiment/verdict.rs`); docs/results/RESULTS.md discusses them.\n\n",
+        );
+        md.push_str(&verdicts);
+    }
     for (figure, summaries) in figures {
         let _ = write!(md, "\n## Figure {}: {}\n\n", figure.id, figure.title);
         let _ = writeln!(md, "Thesis: {}\n", figure.claim);

@@ -46,8 +46,13 @@ pub struct RunOutput {
     pub values: Vec<SavedValues>,
     /// Episodes of every kind this run executed.
     pub episodes_run: u64,
-    /// Primitive actions (moves, cycles) over those episodes.
+    /// Primitive actions (moves, cycles) of the learning episodes.
     pub actions: u64,
+    /// Primitive actions (moves, Keepaway's cycles) of every episode the run
+    /// played, of every kind ([`Task::actions_played`]); `None` where the
+    /// task does not count them.
+    #[serde(default)]
+    pub actions_played: Option<u64>,
     /// Game logs (`.rcg` text) of the recorded episodes (run 0 only).
     pub replays: Vec<String>,
 }
@@ -75,6 +80,11 @@ impl ExperimentOutput {
     /// Primitive actions over all runs.
     pub(crate) fn total_actions(&self) -> u64 {
         self.runs.iter().map(|r| r.actions).sum()
+    }
+
+    /// Primitive actions of every episode over all runs, if every run counted them.
+    pub(crate) fn actions_played(&self) -> Option<u64> {
+        self.runs.iter().map(|r| r.actions_played).sum()
     }
 
     /// Whether every planned run completed.
@@ -177,6 +187,7 @@ pub fn run_protocol(
     let first = run == 0;
     out.run = run;
     let eval_cost = p.eval_episodes as u64;
+    let played_before = task.actions_played();
     out.evals.push(task.evaluate(p.eval_episodes)?);
     out.episodes_run += eval_cost;
     let mut since_report = 0;
@@ -213,6 +224,7 @@ pub fn run_protocol(
         // Played last, so that recording changes no result of the run.
         out.replays = task.replays()?;
     }
+    out.actions_played = played_before.zip(task.actions_played()).map(|(a, b)| b - a);
     Ok(true)
 }
 

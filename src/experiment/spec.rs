@@ -217,16 +217,19 @@ impl DomainSpec {
         matches!(self, DomainSpec::Sutton { .. })
     }
 
-    /// A known optimum to draw beside the curves: in Parr and Russell's grid
-    /// with the thesis's plan, the exact value of the best memoryless policy.
+    /// A known optimum to draw beside the curves: in Parr and Russell's and
+    /// in Sutton's grid with the thesis's plan, the exact value of the best
+    /// memoryless (deterministic) policy.
     pub fn reference(&self) -> Option<Reference> {
+        let best = |value: f64| Reference {
+            label: format!("best memoryless policy, exact: {value:.3}"),
+            value,
+        };
         match self {
             DomainSpec::ParrRussell { config, plan: None } => {
-                parr_russell::optimum::optimum(config).map(|(_, value)| Reference {
-                    label: format!("best memoryless policy, exact: {value:.3}"),
-                    value,
-                })
+                parr_russell::optimum::optimum(config).map(|(_, value)| best(value))
             }
+            DomainSpec::Sutton { config, plan: None } => Some(best(sutton::optimum::optimum(config).1)),
             _ => None,
         }
     }

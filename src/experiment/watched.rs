@@ -56,6 +56,10 @@ impl Task for WatchedTask {
         self.inner.traced_values()
     }
 
+    fn actions_played(&self) -> Option<u64> {
+        self.inner.actions_played()
+    }
+
     fn learners(&self) -> Vec<&dyn Learner> {
         self.inner.learners()
     }

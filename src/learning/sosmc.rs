@@ -34,8 +34,15 @@ pub enum Assessment {
     /// One exploratory episode every `n`, decided from the episode number alone,
     /// so that several agents agree without talking (section 4.4).
     EveryN(u64),
-    /// An exploratory episode once the greedy policy has been assessed for `k` episodes.
+    /// An exploratory episode once the greedy policy has been assessed for
+    /// `k` episodes: exploiting episodes since the last exploratory one
+    /// (Figure 4.3's assessment), whatever policies they followed.
     AfterK(u64),
+    /// An exploratory episode once the current policy has been sampled `k`
+    /// times: exploiting episodes since the last exploratory one or the last
+    /// change of the exploited policy, whichever is later (Algorithm 1's "the
+    /// current estimate is considered accurate", section 4.2.2's k samples).
+    AfterKSamples(u64),
 }
 
 /// The step size of exploiting updates.
@@ -196,6 +203,9 @@ pub struct SoSmc {
     left_greedy: bool,
     exploratory: bool,
     exploit_streak: u64,
+    /// Exploiting episodes of the current policy since the last exploratory
+    /// one or the last change of the exploited policy.
+    policy_samples: u64,
     window: VecDeque<f64>,
     suspended: bool,
     ids: Vec<KeyId>,
@@ -226,6 +236,7 @@ impl SoSmc {
             left_greedy: false,
             exploratory: false,
             exploit_streak: 0,
+            policy_samples: 0,
             window: VecDeque::new(),
             suspended: false,
             ids: Vec::new(),
@@ -267,6 +278,7 @@ impl SoSmc {
             Assessment::PerDecision => Kind::PerDecision,
             Assessment::EveryN(n) if n > 0 && (since + 1).is_multiple_of(n) => Kind::Explore,
             Assessment::AfterK(k) if self.exploit_streak >= k => Kind::Explore,
+            Assessment::AfterKSamples(k) if self.policy_samples >= k => Kind::Explore,
             _ => Kind::Exploit,
         }
     }
@@ -281,14 +293,17 @@ impl SoSmc {
         }
     }
 
-    fn update(&mut self) {
+    /// Updates the values from the episode; whether an exploiting episode
+    /// took another option than the last exploiting episodes at some observation.
+    fn update(&mut self) -> bool {
         let exploit = !self.exploratory;
+        let mut switched = false;
         if exploit {
             let mut changed = false;
             for &(obs, after) in &self.decisions {
-                if self.last_policy.insert(obs, after) != Some(after) {
-                    changed = true;
-                }
+                let before = self.last_policy.insert(obs, after);
+                changed |= before != Some(after);
+                switched |= before.is_some_and(|b| b != after);
             }
             if changed {
                 self.counts.iter_mut().for_each(|c| *c = 0);
@@ -314,6 +329,7 @@ impl SoSmc {
                 self.values.visit(id);
             }
         }
+        switched
     }
 }
 
@@ -401,12 +417,14 @@ impl Learner for SoSmc {
         if !self.learning {
             return;
         }
-        self.update();
+        let changed = self.update();
         self.repick = self.exploratory;
         if self.exploratory {
             self.exploit_streak = 0;
+            self.policy_samples = 0;
         } else {
             self.exploit_streak += 1;
+            self.policy_samples = if changed { 1 } else { self.policy_samples + 1 };
             if let Some(rule) = self.config.threshold {
                 let ret = level(&mut self.levels, PlanKey::ROOT).total_return(self.config.gamma);
                 self.window.push_back(ret);

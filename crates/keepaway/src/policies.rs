@@ -1,6 +1,6 @@
 //! Baseline decisions for the keeper with the ball.
 
-use super::features::{DEFAULT_HOLD_THRESHOLD, PassLineDistances};
+use super::features::{DEFAULT_HOLD_THRESHOLD, FRAMEWORK_NEAR_RADIUS, PassLineDistances};
 use super::keeper::{KeeperAction, KeeperPolicy};
 use super::params::KeepawayConfig;
 use super::state_vars::StateVars;
@@ -44,7 +44,7 @@ impl BaselinePolicy {
 
 /// The hand-coded policy's choice from the 13 state variables.
 pub fn hand_coded(s: &StateVars) -> KeeperAction {
-    if s.d_k1_t[0] > 5.0 {
+    if s.d_k1_t[0] > FRAMEWORK_NEAR_RADIUS {
         return KeeperAction::Hold;
     }
     let mut best = KeeperAction::Hold;

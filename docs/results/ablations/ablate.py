@@ -41,6 +41,12 @@ SUTTON_200 = SUTTON.replace("--runs 50", "--runs 200")
 PASS = "keepaway-pass --runs 10 --episodes 3000 --eval-every 500 --eval-episodes 20 --greedy-episodes 50"
 POSITION = "keepaway-position --runs 10 --episodes 3000 --eval-every 500 --eval-episodes 20 --greedy-episodes 50"
 FIXED = "keepaway-fixed --runs 10 --episodes 10 --eval-every 10 --eval-episodes 200"
+# The fixed policies at the baselines preset's protocol: 20 runs of 1000 evaluated episodes.
+FIXED_20 = "keepaway-fixed --runs 20 --episodes 50 --eval-every 50 --eval-episodes 1000"
+# Section 7.2's threshold team (all three keepers) at every pass distance d,
+# 2 m to 7 m in 0.5 m steps (issue 56: the text's claim that it beats the best
+# published team fixes d as the best team's, above the hand-coded team's).
+THRESHOLD_DISTANCES = [2.0 + 0.5 * i for i in range(11)]
 # Soft-SoSMC's rule before issue 37: no estimate, untried options weighed as the best.
 AS_BEST = "--initial-value=-inf --unestimated as-best"
 # The perception modes: the framework's players (see synchronisation), the
@@ -100,6 +106,51 @@ SARSA_7_3 = [
 ]
 # The learning curve's level at these episodes (from each row's curve.csv).
 LEVELS_7_3 = (500, 1000, 2500, 5000, 10000)
+# Figure 6.13's levels: Soft-SoSMC's slow start (far behind at 1000) to the end.
+LEVELS_6_13 = (200, 1000, 2000, 5000, 12000, 40000)
+# Issue 56: Algorithm 1's deviations on Figure 6.3's e-SoSMC 100 (200 runs).
+# Each row changes one thing; the last combines them. Section 6.1.2 gives no
+# epsilon for the initial phase (only "epsilon-greedy as its strategy Sigma
+# during the first phase"): 0.1 is e-SoSMC's epsilon after it here, 0.2 the
+# first epsilon of 6.4's schedule. The assessment's count matters only when
+# the second phase explores, which 6.3's does not: its rows explore after k =
+# 50 (Figure 4.3's k) exploiting episodes, counted both ways.
+SOSMC_100 = f"{SOSMC_6_3} --initial-phase 100"
+ALGORITHM_1 = [
+    ("defaults: greedy anew, uniform initial phase, no exploration after it", ""),
+    ("Algorithm 1's last policy in exploiting episodes", "--exploit-policy last"),
+    ("the text's epsilon-greedy initial phase, epsilon 0.1", "--initial-parameter 0.1"),
+    ("the text's epsilon-greedy initial phase, epsilon 0.2", "--initial-parameter 0.2"),
+    ("explore after 50 exploiting episodes (Figure 4.3's count)", "--assess after:50"),
+    ("explore after 50 samples of the current policy (Algorithm 1's)", "--assess samples:50"),
+    ("all three: last policy, epsilon 0.1 initial phase, samples of the current policy",
+     "--exploit-policy last --initial-parameter 0.1 --assess samples:50"),
+    ("last policy and epsilon 0.1 initial phase, no exploration after it",
+     "--exploit-policy last --initial-parameter 0.1"),
+]
+# Issue 56: Soft-SoSMC's slow start on 6.13 (50 runs): its step and its
+# optimistic start, each changed alone, beside Sarsa.
+
+
+def algorithm_1_flags(flags):
+    """SOSMC_100 with a row's flags replacing its own (a flag is given once)."""
+    base = SOSMC_100
+    for flag, default in (("--initial-parameter", "1"), ("--assess", "never")):
+        if flag in flags:
+            base = base.replace(f"{flag} {default}", "")
+    return f"{base} {flags}"
+
+
+SLOW_START_6_13 = [
+    ("sarsa-lambda; defaults", "--algo sarsa-lambda"),
+    ("soft-sosmc; defaults (step 0.01, from 0: optimistic, no initial phase)", "--algo soft-sosmc"),
+    ("soft-sosmc; step 0.05", "--algo soft-sosmc --step-size 0.05"),
+    ("soft-sosmc; step 0.1 (Sarsa's alpha here)", "--algo soft-sosmc --step-size 0.1"),
+    ("soft-sosmc; step 1/n", "--algo soft-sosmc --step-size inverse"),
+    ("soft-sosmc; from -20 (pessimistic), no initial phase", "--algo soft-sosmc --initial-value=-20"),
+    ("soft-sosmc; from -20, 100-episode initial phase (Algorithm 1)", "--algo soft-sosmc --initial-value=-20 --initial-phase 100"),
+    ("soft-sosmc; from -10 (halfway)", "--algo soft-sosmc --initial-value=-10"),
+]
 
 SWEEPS = {
     "7.3": ("curve", [
@@ -120,6 +171,13 @@ SWEEPS = {
         *[(f"{policy}; {v}", f"{FIXED} --policy {policy} {flags}")
           for policy in ("handcoded", "threshold") for v, flags in VISIONS],
         *[(f"threshold; framework, passes at {d} m", f"{FIXED} --policy threshold --hold-threshold {d}") for d in (3.0, 7.0)],
+    ], None),
+    "6.3-algorithm-1": ("curve", [(label, algorithm_1_flags(flags)) for label, flags in ALGORITHM_1], None),
+    "6.13-slow-start": ("levels-6.13", [(label, f"{SUTTON} {flags}") for label, flags in SLOW_START_6_13], None),
+    "threshold-d": ("threshold", [
+        ("hand-coded", f"{FIXED_20} --policy handcoded"),
+        *[(f"threshold; passes at {d:.1f} m", f"{FIXED_20} --policy threshold --hold-threshold {d}")
+          for d in THRESHOLD_DISTANCES],
     ], None),
     "referee-baselines": ("curve", [
         (f"{policy}; {r}", f"{FIXED} --policy {policy} {flags}")
@@ -219,8 +277,10 @@ def run(learnpnp, flags, out, seed=None):
     done = [r for r, _, files in os.walk(out) if "summary.json" in files]
     if done and json.load(open(os.path.join(done[0], "summary.json"))).get("complete"):
         return done[0]
-    # One worker thread: the results are the same whatever the number (runner.rs).
-    args = [learnpnp, "experiment", *flags.split(), "--threads", "1", "--out", out]
+    # One worker thread unless ABLATE_THREADS says otherwise: the results are
+    # the same whatever the number (runner.rs).
+    threads = os.environ.get("ABLATE_THREADS", "1")
+    args = [learnpnp, "experiment", *flags.split(), "--threads", threads, "--out", out]
     if seed is not None:
         args += ["--seed", str(seed)]
     subprocess.run(args, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -284,6 +344,26 @@ def curve_sweep(learnpnp, out, rows):
         sys.stdout.flush()
 
 
+def threshold_sweep(learnpnp, out, rows):
+    """Like curve_sweep (the first row is the hand-coded team), then the rule
+    of issue 56: d is the best threshold team's distance, which must be above
+    the hand-coded team."""
+    print("| setting | final score | 95% CI over runs | greedy policy's score |")
+    print("|---|---|---|---|")
+    means = []
+    for label, flags in rows:
+        d, cells = run_row(learnpnp, out, label, flags)
+        s = json.load(open(os.path.join(d, "summary.json")))
+        means.append((label, s["final_mean"], s["final_ci95"]))
+        print(f"| {label} | {cells} |")
+        sys.stdout.flush()
+    (_, hand, hand_ci), teams = means[0], means[1:]
+    label, best, ci = max(teams, key=lambda t: t[1])
+    verdict = "above" if ci[0] > hand_ci[1] else ("not above" if best <= hand else "above in mean, intervals overlapping")
+    print(f"\nThe best threshold team: {label}, {best:.3f} s ({ci[0]:.3f} .. {ci[1]:.3f}); "
+          f"hand-coded {hand:.3f} s ({hand_ci[0]:.3f} .. {hand_ci[1]:.3f}): {verdict}.")
+
+
 def run_row(learnpnp, out, label, flags):
     """Runs one setting; its result directory and its table cells: final
     score, 95% CI over runs, the greedy policy's score."""
@@ -318,6 +398,20 @@ def pooled(dirs):
     m = statistics.mean(final)
     levels = " | ".join(f"{statistics.mean(by[e]):.2f}" if e in by else "-" for e in LEVELS_7_3)
     return n, m, m - h, m + h, levels
+
+
+def levels_6_13_sweep(learnpnp, out, rows):
+    """Like curve_sweep, plus the curve's level at LEVELS_6_13 episodes."""
+    heads = " | ".join(f"at {n}" for n in LEVELS_6_13)
+    print(f"| setting | final score | 95% CI over runs | {heads} |")
+    print("|---|---|---|" + "---|" * len(LEVELS_6_13))
+    for label, flags in rows:
+        d, cells = run_row(learnpnp, out, label, flags)
+        with open(os.path.join(d, "curve.csv")) as f:
+            curve = {int(r["episode"]): float(r["mean"]) for r in csv.DictReader(f)}
+        levels = " | ".join(f"{curve[n]:.2f}" if n in curve else "-" for n in LEVELS_6_13)
+        print(f"| {label} | {cells.rsplit(' | ', 1)[0]} | {levels} |")
+        sys.stdout.flush()
 
 
 def levels_sweep(learnpnp, out, rows):
@@ -395,6 +489,10 @@ def main():
             trace_sweep(learnpnp, os.path.join(out, name), rows, seeds)
         elif kind == "compare":
             compare_sweep(learnpnp, os.path.join(out, name), rows)
+        elif kind == "levels-6.13":
+            levels_6_13_sweep(learnpnp, os.path.join(out, name), rows)
+        elif kind == "threshold":
+            threshold_sweep(learnpnp, os.path.join(out, name), rows)
         elif kind == "levels":
             levels_sweep(learnpnp, os.path.join(out, name), rows)
         else:

@@ -40,6 +40,8 @@ pub struct KeepawayTask {
     config: KeepawayDomainConfig,
     game: Game,
     team: Box<dyn KeeperTeam>,
+    /// Simulated cycles of every episode played, aborted ones included.
+    cycles_played: u64,
 }
 
 impl KeepawayTask {
@@ -64,7 +66,12 @@ impl KeepawayTask {
         seeds: RunSeeds,
     ) -> Result<Self, TaskError> {
         let game = Game::new(config.simulator(), seeds.simulator).map_err(|e| TaskError::Invalid(e.to_string()))?;
-        Ok(KeepawayTask { config, game, team })
+        Ok(KeepawayTask {
+            config,
+            game,
+            team,
+            cycles_played: 0,
+        })
     }
 
     /// Plays one episode; an episode the team aborts is discarded and played again.
@@ -117,6 +124,7 @@ impl KeepawayTask {
                 return Ok(None);
             };
             let commands = self.game.commands(cycle, keepers);
+            self.cycles_played += 1;
             if let Some(log) = log.as_deref_mut() {
                 let world = self.game.simulator().field();
                 log.show(world, &self.team.notes());
@@ -173,6 +181,10 @@ impl Task for KeepawayTask {
 
     fn learners(&self) -> Vec<&dyn Learner> {
         self.team.learners()
+    }
+
+    fn actions_played(&self) -> Option<u64> {
+        Some(self.cycles_played)
     }
 
     fn replays(&mut self) -> Result<Vec<String>, TaskError> {
