@@ -500,16 +500,6 @@ impl<T: Carried> Carrier<T> {
         Ok((publisher, *seq))
     }
 
-    /// Counts the messages of the arrival's key that never came (a gap in
-    /// its sequence numbers; a lower number is the other bridge restarted).
-    fn count_gap(&mut self, arrival: &Arrival, seq: u64, moved: &mut Moved) {
-        let next = self.next_seq.entry(arrival.last_chunk.clone()).or_insert(seq);
-        if seq > *next {
-            moved.lost += seq - *next;
-        }
-        *next = seq + 1;
-    }
-
     /// Checks what arrived; the message if it may be published here.
     fn admit(&mut self, arrival: &Arrival, moved: &mut Moved, agents: &mut RemoteAgents) -> Option<T> {
         let seq = match split_tag(&arrival.tag, &self.tag) {
@@ -524,7 +514,7 @@ impl<T: Carried> Carrier<T> {
             return None;
         }
         if let Some(seq) = seq {
-            self.count_gap(arrival, seq, moved);
+            moved.lost += gap(&mut self.next_seq, &arrival.last_chunk, seq);
         }
         // SAFETY: the bytes are size_of::<T>() long, and every bit pattern
         // is a valid value of a shm_layouts type (integers, floats and arrays
@@ -601,6 +591,17 @@ impl<T: Carried> Carrier<T> {
     }
 }
 
+/// The messages of key `chunk` that never came before the one numbered
+/// `seq` (a gap in its sequence numbers; a lower number than expected is the
+/// other bridge restarted, counting from 1 again); `next` holds the number
+/// each key is expected to send next.
+fn gap(next: &mut BTreeMap<String, u64>, chunk: &str, seq: u64) -> u64 {
+    let expected = next.entry(chunk.to_string()).or_insert(seq);
+    let lost = seq.saturating_sub(*expected);
+    *expected = seq + 1;
+    lost
+}
+
 /// The sequence number in an arrival's tag (`TYPE;VERSION;SEQ`): `None`
 /// for an unknown type or version, `Some(None)` for a tag without one.
 fn split_tag(arrival: &[u8], tag: &[u8]) -> Option<Option<u64>> {
@@ -656,6 +657,34 @@ impl<T: Carried> Carry for Carrier<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_tag_is_the_type_and_version_with_a_sequence_number_or_without() {
+        let tag = b"learnpnp::Heartbeat;1";
+        assert_eq!(split_tag(b"learnpnp::Heartbeat;1", tag), Some(None));
+        assert_eq!(split_tag(b"learnpnp::Heartbeat;1;42", tag), Some(Some(42)));
+        for other in [
+            &b"learnpnp::Heartbeat;2;42"[..],
+            b"learnpnp::Control;1;42",
+            b"learnpnp::Heartbeat;1;",
+            b"learnpnp::Heartbeat;1;x",
+            b"learnpnp::Heartbeat;1;-1",
+            b"",
+        ] {
+            assert_eq!(split_tag(other, tag), None, "{}", String::from_utf8_lossy(other));
+        }
+    }
+
+    #[test]
+    fn gaps_in_a_keys_sequence_numbers_are_messages_lost() {
+        let mut next = BTreeMap::new();
+        assert_eq!(gap(&mut next, "2", 5), 0, "the first number heard starts the count");
+        assert_eq!(gap(&mut next, "2", 6), 0);
+        assert_eq!(gap(&mut next, "2", 9), 2, "7 and 8 never came");
+        assert_eq!(gap(&mut next, "0", 1), 0, "each key counts for itself");
+        assert_eq!(gap(&mut next, "2", 1), 0, "a restarted bridge counts from 1 again");
+        assert_eq!(gap(&mut next, "2", 3), 1);
+    }
 
     #[test]
     fn host_b_may_order_its_own_agents_lost_and_the_run_stopped_only() {
