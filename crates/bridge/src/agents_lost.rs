@@ -1,15 +1,15 @@
 //! Host B's reports that one of its agents was lost (`KEEPER_LOST`, naming
 //! the agent and its replacement's process id), weighed by host A's bridge
-//! against what it has seen of host B's agents itself ([`RemoteAgents`]):
+//! against what it has seen of host B's agents itself ([`RemoteAgents`](crate::agents_lost::RemoteAgents)):
 //! their heartbeats and their readiness reports, which all pass through it.
 //!
 //! A report is passed on to the simulator or world (which then aborts the
 //! episode and waits for the replacement) only when host A's own view
 //! agrees: the replacement, a process that was not the agent in service,
 //! reported ready, or the agent in service has been silent for
-//! [`SILENT_AFTER`]. A report naming the agent in service, or a process
+//! [`SILENT_AFTER`](crate::agents_lost::SILENT_AFTER). A report naming the agent in service, or a process
 //! that never reports ready while the agent in service keeps beating for
-//! [`HOLD_AT_MOST`], is refused (counted as a forbidden order). Every
+//! [`HOLD_AT_MOST`](crate::agents_lost::HOLD_AT_MOST), is refused (counted as a forbidden order). Every
 //! report is listed in host A's link report with what became of it.
 
 use std::collections::{BTreeMap, BTreeSet};

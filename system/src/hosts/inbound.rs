@@ -2,7 +2,7 @@
 //! publishes it here: the checks the receiving process makes (protocol
 //! version, run, sender, kinds and tags, finite numbers), made once more at
 //! the link, so that a refusal of something the other host sent is counted
-//! as the link's ([`super::report::LinkRefusals`]) and is a fault of the
+//! as the link's ([`LinkRefusals`](crate::hosts::report::LinkRefusals)) and is a fault of the
 //! run, not only a process's rejected message. The receiving process still
 //! checks everything itself.
 

@@ -1,6 +1,6 @@
-//! The files host B ships to host A at the end of a run ([`ShippedFiles`]):
+//! The files host B ships to host A at the end of a run ([`ShippedFiles`](crate::hosts::shipped::ShippedFiles)):
 //! which names may arrive, how large and how many, and what each must hold
-//! ([`FileKind::check`]). Host A's result never depends on one of them being
+//! ([`FileKind::check`](crate::hosts::shipped::FileKind::check)). Host A's result never depends on one of them being
 //! good: its bridge writes what arrives into a quarantine beside the run,
 //! checks it there, and moves it into the run only if it passed; anything
 //! else is refused and counted, and host A reports without it.
