@@ -452,14 +452,10 @@ fn intruder() {
     println!("INTRUDER {seen}");
 }
 
-/// Starts an intruder with `credentials` on host B for `attack`.
-fn start_intruder(
-    hosts: &Hosts,
-    attack: Attack,
-    credentials: Credentials,
-    ca: &Path,
-    certs: &Path,
-) -> std::process::Child {
+/// This test binary run again as the intruder process ([`intruder`]),
+/// told to do `attack` against `endpoint` with the CA `ca` and the
+/// certificate in `certs`.
+fn intruder_command(attack: &str, endpoint: &str, ca: &Path, certs: &Path) -> Command {
     let mut command = Command::new(std::env::current_exe().unwrap());
     command
         .args([
@@ -470,11 +466,23 @@ fn start_intruder(
             "--test-threads",
             "1",
         ])
-        .env(ENV_ATTACK, attack.name())
-        .env(ENV_CREDENTIALS, credentials.name())
-        .env(ENV_ENDPOINT, hosts.endpoint())
+        .env(ENV_ATTACK, attack)
+        .env(ENV_ENDPOINT, endpoint)
         .env(ENV_CA, ca)
         .env(ENV_CERT_DIR, certs);
+    command
+}
+
+/// Starts an intruder with `credentials` on host B for `attack`.
+fn start_intruder(
+    hosts: &Hosts,
+    attack: Attack,
+    credentials: Credentials,
+    ca: &Path,
+    certs: &Path,
+) -> std::process::Child {
+    let mut command = intruder_command(attack.name(), &hosts.endpoint(), ca, certs);
+    command.env(ENV_CREDENTIALS, credentials.name());
     hosts
         .on(false, command)
         .stdin(Stdio::null())
@@ -709,20 +717,8 @@ fn host_b_refuses_a_host_a_of_another_ca_at_the_handshake_and_says_so() {
     let certs: Certs = hosts.certs(&sandbox.out("certs"));
     let other: Certs = hosts.certs(&sandbox.out("other-ca"));
     let endpoint = hosts.endpoint();
-    let mut command = Command::new(std::env::current_exe().unwrap());
-    command
-        .args([
-            "--exact",
-            "intruders::intruder",
-            "--ignored",
-            "--nocapture",
-            "--test-threads",
-            "1",
-        ])
-        .env(ENV_ATTACK, "impostor")
-        .env(ENV_ENDPOINT, &endpoint)
-        .env(ENV_CA, Path::new(&other.host_a).join("ca.pem"))
-        .env(ENV_CERT_DIR, &other.host_a);
+    let other_a = Path::new(&other.host_a);
+    let command = intruder_command("impostor", &endpoint, &other_a.join("ca.pem"), other_a);
     let mut impostor = hosts
         .on(true, command)
         .stdin(Stdio::null())
