@@ -149,16 +149,7 @@ impl Watch<'_> {
         if let Some(warning) = &link.warning {
             self.fault(warning.clone(), "run as asked".into());
         }
-        if link.refused.total() > 0 {
-            self.fault(
-                format!(
-                    "the bridge refused {} messages or peers on the link: {:?}",
-                    link.refused.total(),
-                    link.refused
-                ),
-                "none of them reached the run".into(),
-            );
-        }
+        self.link_traffic_faults(&link, ["the bridge", "host B", "host A", "the run"]);
         if link.stop_requests > 0 {
             self.fault(
                 "host B's supervisor ordered the run to stop".into(),
@@ -174,38 +165,35 @@ impl Watch<'_> {
                 "not written into the run; host A reports without it".into(),
             );
         }
+        self.agents_lost_faults(&link, sim);
+        if let Some(b) = &link.host_b {
+            self.link_traffic_faults(b, ["host B's bridge", "host A", "host B", "host B's agents"]);
+        }
+        Some(link)
+    }
+
+    /// What one host's bridge refused and lost, as faults: `[whose bridge,
+    /// the other host, this host, what its messages are for]`.
+    fn link_traffic_faults(&mut self, link: &LinkReport, [bridge, other, this, reached]: [&str; 4]) {
+        if link.refused.total() > 0 {
+            self.fault(
+                format!(
+                    "{bridge} refused {} messages or peers on the link: {:?}",
+                    link.refused.total(),
+                    link.refused
+                ),
+                format!("none of them reached {reached}"),
+            );
+        }
         if link.lost > 0 {
             self.fault(
                 format!(
-                    "{} messages from host B never arrived (gaps in their sequence numbers)",
+                    "{} messages from {other} never reached {this} (gaps in their sequence numbers)",
                     link.lost
                 ),
-                "the run went on without them".into(),
+                format!("{reached} went on without them"),
             );
         }
-        self.agents_lost_faults(&link, sim);
-        if let Some(b) = link.host_b.clone() {
-            if b.refused.total() > 0 {
-                self.fault(
-                    format!(
-                        "host B's bridge refused {} messages or peers on the link: {:?}",
-                        b.refused.total(),
-                        b.refused
-                    ),
-                    "none of them reached host B's agents".into(),
-                );
-            }
-            if b.lost > 0 {
-                self.fault(
-                    format!(
-                        "{} messages from host A never reached host B (gaps in their sequence numbers)",
-                        b.lost
-                    ),
-                    "host B's agents went on without them".into(),
-                );
-            }
-        }
-        Some(link)
     }
 
     /// Every report from host B that one of its agents was lost, as a fault:
