@@ -189,7 +189,9 @@ fn a_loop_that_reaches_neither_goal_nor_failure_end_fails_effectiveness() {
         panic!("only 'lost' reaches neither: {report}");
     };
     assert!(
-        report.to_string().contains("cannot reach a goal marking nor a failure end"),
+        report
+            .to_string()
+            .contains("cannot reach a goal marking nor a failure end"),
         "{report}"
     );
 }

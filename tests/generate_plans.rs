@@ -13,8 +13,8 @@ use std::sync::Arc;
 use learnpnp::agent::stepwise::{ActionOutcome, StepwiseAgent};
 use learnpnp::analysis::{self, Outcome};
 use learnpnp::condition::AtomTable;
-use learnpnp::experiment::defaults::plan_learner;
 use learnpnp::executor::Status;
+use learnpnp::experiment::defaults::plan_learner;
 use learnpnp::experiment::spec::Algorithm;
 use learnpnp::generate::linear::{parse_ipc_plan, parse_linear_plan, parse_pnpgen_line};
 use learnpnp::generate::rules::parse_rules;
@@ -283,7 +283,10 @@ fn an_episode_ending_in_the_failure_end_is_failed_for_every_learner() {
 fn learned_route(algorithm: Algorithm, seed: u64, episodes: usize) -> Vec<String> {
     let mut generated = GeneratedPlan::merged("routes", &plans(&["risky", "safe slow"])).expect("merge");
     generated
-        .apply_rules(&parse_rules("*if* danger *during* risky *do* fail_plan").expect("reads"), None)
+        .apply_rules(
+            &parse_rules("*if* danger *during* risky *do* fail_plan").expect("reads"),
+            None,
+        )
         .expect("applies");
     let plan = Arc::new(generated.into_plan(AllowedAtoms::Open).expect("plan"));
     let mut agent = StepwiseAgent::new(plan, plan_learner(algorithm).build(rng::seeded(seed))).expect("binds");
@@ -436,4 +439,114 @@ proptest! {
         let plan = Plan::from_net(net, AllowedAtoms::Open).expect("plan");
         prop_assert_eq!(analysis::check(&plan, analysis::DEFAULT_LIMIT).outcome(), Outcome::Passed);
     }
+}
+
+/// What every element of a kind carries in the JARP files of PetriNetPlans
+/// (v1.4.7: the editor's own plans, e.g. `PNP/plantests/*.pnml`, and what
+/// PNPgen writes for JARP): a path below the element, and its attributes.
+const JARP_ELEMENTS: &[(&str, &[(&str, &[&str])])] = &[
+    (
+        "place",
+        &[
+            ("", &["id"]),
+            ("graphics/position", &["x", "y"]),
+            ("graphics/size", &["width", "height"]),
+            ("name/value", &[]),
+            ("name/graphics/offset", &["x", "y"]),
+            ("initialMarking/value", &[]),
+            ("toolspecific", &["tool", "version"]),
+        ],
+    ),
+    (
+        "transition",
+        &[
+            ("", &["id"]),
+            ("graphics/position", &["x", "y"]),
+            ("graphics/size", &["width", "height"]),
+            ("name/value", &[]),
+            ("name/graphics/offset", &["x", "y"]),
+            ("toolspecific", &["tool", "version"]),
+        ],
+    ),
+    (
+        "arc",
+        &[
+            ("", &["id", "source", "target"]),
+            ("inscription/value", &[]),
+            ("inscription/graphics/offset", &["x", "y"]),
+            ("toolspecific", &["tool", "version"]),
+        ],
+    ),
+];
+
+/// The child of `node` at `path` (`a/b`), if any.
+fn at<'a>(node: roxmltree::Node<'a, 'a>, path: &str) -> Option<roxmltree::Node<'a, 'a>> {
+    path.split('/')
+        .filter(|s| !s.is_empty())
+        .try_fold(node, |n, step| n.children().find(|c| c.has_tag_name(step)))
+}
+
+/// `text` (JARP PNML) has JARP's element structure, unique ids, arcs between
+/// them, and a layered layout: every node placed, no two at one position.
+fn assert_jarp_structure(name: &str, text: &str) {
+    let doc = roxmltree::Document::parse(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let net = at(doc.root(), "pnml/net").unwrap_or_else(|| panic!("{name}: pnml/net"));
+    assert_eq!(net.attribute("type"), Some("PTNet"), "{name}");
+    assert!(at(net, "name/value").is_some(), "{name}: net/name/value");
+    let mut ids = BTreeSet::new();
+    let mut positions = BTreeSet::new();
+    for &(kind, required) in JARP_ELEMENTS {
+        for element in net.children().filter(|c| c.has_tag_name(kind)) {
+            let id = element.attribute("id").unwrap_or("?");
+            for &(path, attributes) in required {
+                let found = at(element, path).unwrap_or_else(|| panic!("{name}: {kind} {id} lacks {path}"));
+                for attribute in attributes {
+                    assert!(
+                        found.attribute(*attribute).is_some(),
+                        "{name}: {kind} {id}: {path} lacks '{attribute}'"
+                    );
+                }
+            }
+            if kind == "arc" {
+                continue;
+            }
+            assert!(ids.insert(id.to_string()), "{name}: id {id} twice");
+            let position = at(element, "graphics/position").expect("checked above");
+            let xy = (position.attribute("x").expect("x"), position.attribute("y").expect("y"));
+            assert!(
+                positions.insert((xy.0.to_string(), xy.1.to_string())),
+                "{name}: {kind} {id} at {xy:?}, where another node is"
+            );
+        }
+    }
+    for arc in net.children().filter(|c| c.has_tag_name("arc")) {
+        for end in ["source", "target"] {
+            let node = arc.attribute(end).expect("checked above");
+            assert!(ids.contains(node), "{name}: arc's {end} {node} is no node");
+        }
+    }
+}
+
+#[test]
+fn generated_plans_in_jarp_have_jarps_element_structure_and_a_layered_layout() {
+    let mut checked = 0;
+    for entry in std::fs::read_dir(fixture("")).expect("fixtures") {
+        let path = entry.expect("an entry").path();
+        if path.extension().is_some_and(|e| e == "pnml") {
+            let text = std::fs::read_to_string(&path).expect("reads");
+            assert_jarp_structure(&path.display().to_string(), &text);
+            checked += 1;
+        }
+    }
+    assert!(checked >= 4, "the golden plans: {checked}");
+    let k = plans(&["a b c", "a c", "b c", "b a c"]);
+    let mut merged = GeneratedPlan::merged("merged", &k).expect("merge");
+    merged
+        .apply_rules(
+            &parse_rules("*if* stuck *during* c *do* fail_plan").expect("reads"),
+            None,
+        )
+        .expect("applies");
+    let net = merged.into_net().expect("net");
+    assert_jarp_structure("merged", &pnml::write(&net, Dialect::Jarp));
 }

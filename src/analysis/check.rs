@@ -265,7 +265,12 @@ impl Checker<'_> {
                 .filter(|&s| !may_reach_goal[s.index()] && self.fail(graph, s) == Tri::No)
                 .count();
             notes.push(Note::FailureEnds {
-                places: self.plan.fail().iter().map(|&(p, _)| Element::place(self.plan, p)).collect(),
+                places: self
+                    .plan
+                    .fail()
+                    .iter()
+                    .map(|&(p, _)| Element::place(self.plan, p))
+                    .collect(),
                 committed: committed.saturating_mul(others),
             });
         }

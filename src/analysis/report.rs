@@ -348,9 +348,7 @@ impl fmt::Display for Failure {
                 write_examples(f, examples)
             }
             Failure::GoalUnreachable { why } => {
-                f.write_str(
-                    "no goal marking is reachable from the initial marking: every run ends in a failure end",
-                )?;
+                f.write_str("no goal marking is reachable from the initial marking: every run ends in a failure end")?;
                 write_why(f, why)
             }
             Failure::DeadMarkings {
