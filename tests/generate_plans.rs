@@ -441,10 +441,13 @@ proptest! {
     }
 }
 
+/// A path below an element (`""`: the element itself) and the attributes it carries.
+type Required = (&'static str, &'static [&'static str]);
+
 /// What every element of a kind carries in the JARP files of PetriNetPlans
 /// (v1.4.7: the editor's own plans, e.g. `PNP/plantests/*.pnml`, and what
 /// PNPgen writes for JARP): a path below the element, and its attributes.
-const JARP_ELEMENTS: &[(&str, &[(&str, &[&str])])] = &[
+const JARP_ELEMENTS: &[(&str, &[Required])] = &[
     (
         "place",
         &[
