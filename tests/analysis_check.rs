@@ -114,7 +114,7 @@ fn a_dead_end_branch_fails_only_the_markings_after_it() {
         Failure::NoGoalReachable {
             markings: 1,
             examples,
-            ending_in_fail: 0,
+            failure_ends: false,
             why,
         },
     ] = failures_of(&report, Property::Effectiveness)[..]
@@ -143,6 +143,90 @@ fn fail_markings_are_terminal_and_excluded() {
     b.transition("look.end [not ok]", &[(exec, 1)], &[(fail, 1)]);
     let report = check(&build(b), LIMIT);
     assert!(report.passed(), "{report}");
+}
+
+#[test]
+fn a_recovery_that_gives_up_ends_in_the_declared_failure_end_and_passes() {
+    // PNPgen's fail_plan: the recovery's markings can end only in `fail`.
+    let (mut b, exec, goal) = looking("gives_up");
+    b.transition("look.end [ok]", &[(exec, 1)], &[(goal, 1)]);
+    let lost = b.place("lost");
+    b.transition("look.end [not ok]", &[(exec, 1)], &[(lost, 1)]);
+    let fail = b.place("fail");
+    b.action_into(lost, "report", fail);
+    let report = check(&build(b), LIMIT);
+    assert!(report.passed(), "{report}");
+    let [Note::FailureEnds { places, committed }] = &report.notes[..] else {
+        panic!("the failure end is noted: {report}");
+    };
+    let names: Vec<&str> = places.iter().map(|p| p.name()).collect();
+    assert_eq!(names, ["fail"]);
+    assert_eq!(*committed, 2, "lost and report.exec can end only in fail");
+    let text = report.to_string();
+    assert!(text.contains("2 reachable marking(s) can end only there"), "{text}");
+    assert_eq!(report.to_json()["failure_ends"][0]["label"], "fail");
+}
+
+#[test]
+fn a_loop_that_reaches_neither_goal_nor_failure_end_fails_effectiveness() {
+    let (mut b, exec, goal) = looking("spins");
+    b.transition("look.end [ok]", &[(exec, 1)], &[(goal, 1)]);
+    let fail = b.place("fail");
+    b.transition("look.fail", &[(exec, 1)], &[(fail, 1)]);
+    let lost = b.place("lost");
+    b.transition("look.end [not ok]", &[(exec, 1)], &[(lost, 1)]);
+    b.transition("spin", &[(lost, 1)], &[(lost, 1)]);
+    let report = check(&build(b), LIMIT);
+    assert_eq!(verdict(&report, Property::Effectiveness), &Verdict::Failed, "{report}");
+    let [
+        Failure::NoGoalReachable {
+            markings: 1,
+            failure_ends: true,
+            ..
+        },
+    ] = failures_of(&report, Property::Effectiveness)[..]
+    else {
+        panic!("only 'lost' reaches neither: {report}");
+    };
+    assert!(
+        report
+            .to_string()
+            .contains("cannot reach a goal marking nor a failure end"),
+        "{report}"
+    );
+}
+
+#[test]
+fn a_dead_end_beside_a_failure_end_still_fails_deadlock() {
+    let (mut b, exec, goal) = looking("dead_beside_fail");
+    b.transition("look.end [ok]", &[(exec, 1)], &[(goal, 1)]);
+    let fail = b.place("fail");
+    b.transition("look.fail", &[(exec, 1)], &[(fail, 1)]);
+    let lost = b.place("lost");
+    b.transition("look.end [not ok]", &[(exec, 1)], &[(lost, 1)]);
+    let report = check(&build(b), LIMIT);
+    assert_eq!(verdict(&report, Property::Deadlock), &Verdict::Failed, "{report}");
+    assert_eq!(verdict(&report, Property::Effectiveness), &Verdict::Failed, "{report}");
+    assert!(!report.passed());
+}
+
+#[test]
+fn a_plan_that_can_only_fail_fails_effectiveness() {
+    let mut b = PlanBuilder::new("only_fails");
+    let init = b.initial_place("init");
+    let fail = b.place("fail");
+    b.action_into(init, "A", fail);
+    b.goal_place();
+    let report = check(&build(b), LIMIT);
+    assert_eq!(verdict(&report, Property::Effectiveness), &Verdict::Failed, "{report}");
+    let [Failure::GoalUnreachable { why }] = failures_of(&report, Property::Effectiveness)[..] else {
+        panic!("the goal is unreachable: {report}");
+    };
+    assert!(why[0].contains("has no incoming arc"), "{why:?}");
+    assert!(
+        report.to_string().contains("every run ends in a failure end"),
+        "{report}"
+    );
 }
 
 #[test]

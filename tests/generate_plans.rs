@@ -13,11 +13,13 @@ use std::sync::Arc;
 use learnpnp::agent::stepwise::{ActionOutcome, StepwiseAgent};
 use learnpnp::analysis::{self, Outcome};
 use learnpnp::condition::AtomTable;
+use learnpnp::executor::Status;
 use learnpnp::experiment::defaults::plan_learner;
 use learnpnp::experiment::spec::Algorithm;
 use learnpnp::generate::linear::{parse_ipc_plan, parse_linear_plan, parse_pnpgen_line};
 use learnpnp::generate::rules::parse_rules;
 use learnpnp::generate::{GenerateError, GeneratedPlan, PlanStep};
+use learnpnp::learning::EpisodeMode;
 use learnpnp::net::{NodeRef, PetriNet, PlaceId};
 use learnpnp::plan::{AllowedAtoms, Plan};
 use learnpnp::pnml::{self, Dialect};
@@ -211,22 +213,121 @@ fn execution_rules_add_interrupts_with_their_recovery() {
     }
 }
 
-#[test]
-fn a_fail_plan_rule_leads_into_the_fail_marking_which_effectiveness_reports() {
+/// PNPgen's printer plan with a rule that gives up on a low battery.
+fn giving_up() -> GeneratedPlan {
     let rules = parse_rules("*if* lowbattery *during* say *do* goto_recharge; fail_plan").expect("reads");
     let mut generated = GeneratedPlan::sequence(
-        "fails",
+        "gives_up",
         &parse_pnpgen_line("goto; say_hello; goto_home").expect("reads"),
     );
     generated.apply_rules(&rules, None).expect("applies");
-    let plan = Plan::from_net(generated.into_net().expect("net"), AllowedAtoms::Open).expect("plan");
-    assert_eq!(plan.net().places_labelled("fail").count(), 1);
-    let report = analysis::check(&plan, analysis::DEFAULT_LIMIT);
-    let failures: Vec<String> = report.failures.iter().map(ToString::to_string).collect();
-    assert!(
-        failures.len() == 1 && failures[0].contains("can still end in a fail marking"),
-        "only the recovery's markings, which end in fail by design: {failures:?}"
-    );
+    generated
+}
+
+#[test]
+fn a_fail_plan_rule_ends_in_a_declared_failure_end_that_check_accepts_and_pnml_keeps() {
+    let net = giving_up().into_net().expect("net");
+    for dialect in [Dialect::Jarp, Dialect::Standard] {
+        let back = pnml::parse(&pnml::write(&net, dialect), "x").expect("reads back");
+        let plan = Plan::from_net(back, AllowedAtoms::Open).expect("plan");
+        let ends: Vec<&str> = plan
+            .fail()
+            .iter()
+            .map(|&(p, _)| plan.net().places()[p.index()].label.as_str())
+            .collect();
+        assert_eq!(ends, ["fail"], "{dialect:?}: the failure end is kept");
+        let report = analysis::check(&plan, analysis::DEFAULT_LIMIT);
+        assert_eq!(report.outcome(), Outcome::Passed, "{dialect:?}: {report}");
+        // The recovery's markings: before goto_recharge, during and after it.
+        assert!(
+            report.to_string().contains("3 reachable marking(s) can end only there"),
+            "{report}"
+        );
+    }
+}
+
+#[test]
+fn an_episode_ending_in_the_failure_end_is_failed_for_every_learner() {
+    let plan = Arc::new(giving_up().into_plan(AllowedAtoms::Open).expect("plan"));
+    for &algorithm in Algorithm::ALL {
+        let learner = plan_learner(algorithm).build(rng::seeded(5));
+        let mut agent = StepwiseAgent::new(plan.clone(), learner).expect("binds");
+        let low = agent.atom("lowbattery").expect("an atom");
+        let mut ran: Vec<String> = Vec::new();
+        let mut next = agent.act(ActionOutcome::Finished).expect("steps");
+        while let Some(i) = next {
+            let name = agent.action_names()[i].clone();
+            agent.reward(-1.0).expect("reward");
+            next = if name == "say_hello" {
+                // The battery runs low while it speaks: the rule interrupts it.
+                agent.set_atoms(&[low]);
+                agent.act(ActionOutcome::Running)
+            } else {
+                agent.act(ActionOutcome::Finished)
+            }
+            .expect("steps");
+            ran.push(name);
+            assert!(ran.len() < 10, "{}: the plan ends", algorithm.name());
+        }
+        assert_eq!(ran, ["goto", "say_hello", "goto_recharge"], "{}", algorithm.name());
+        assert_eq!(agent.status(), Status::Failed, "{}", algorithm.name());
+        agent.end_episode();
+        assert!(!agent.in_episode());
+    }
+}
+
+/// The greedy route after `episodes` of learning with `algorithm` (seed
+/// `seed`) on two routes, `risky` (which always fails, by a `fail_plan`
+/// rule) and `safe slow` (which reaches the goal, paid 10); every action
+/// costs 1: failing ends the episode with what was earned so far.
+fn learned_route(algorithm: Algorithm, seed: u64, episodes: usize) -> Vec<String> {
+    let mut generated = GeneratedPlan::merged("routes", &plans(&["risky", "safe slow"])).expect("merge");
+    generated
+        .apply_rules(
+            &parse_rules("*if* danger *during* risky *do* fail_plan").expect("reads"),
+            None,
+        )
+        .expect("applies");
+    let plan = Arc::new(generated.into_plan(AllowedAtoms::Open).expect("plan"));
+    let mut agent = StepwiseAgent::new(plan, plan_learner(algorithm).build(rng::seeded(seed))).expect("binds");
+    let danger = agent.atom("danger").expect("an atom");
+    agent.set_atoms(&[danger]);
+    let mut route = Vec::new();
+    for episode in 0..=episodes {
+        if episode == episodes {
+            agent.set_mode(EpisodeMode::Greedy);
+        }
+        route.clear();
+        let mut next = agent.act(ActionOutcome::Finished).expect("steps");
+        while let Some(i) = next {
+            let name = agent.action_names()[i].clone();
+            agent.reward(-1.0).expect("reward");
+            // The world decides the rule: danger holds while `risky` runs.
+            let outcome = if name == "risky" {
+                ActionOutcome::Running
+            } else {
+                ActionOutcome::Finished
+            };
+            route.push(name);
+            next = agent.act(outcome).expect("steps");
+        }
+        match agent.status() {
+            Status::Goal => agent.reward(10.0).expect("reward"),
+            status => assert_eq!(status, Status::Failed, "the plan has ended"),
+        }
+        agent.end_episode();
+    }
+    route
+}
+
+#[test]
+fn learners_avoid_the_route_that_ends_in_failure() {
+    for &algorithm in Algorithm::ALL.iter().filter(|&&a| a != Algorithm::Random) {
+        let safe = (0..10)
+            .filter(|&seed| learned_route(algorithm, seed, 200) == ["safe", "slow"])
+            .count();
+        assert!(safe >= 9, "{}: the safe route in {safe} of 10 seeds", algorithm.name());
+    }
 }
 
 #[test]
@@ -338,4 +439,117 @@ proptest! {
         let plan = Plan::from_net(net, AllowedAtoms::Open).expect("plan");
         prop_assert_eq!(analysis::check(&plan, analysis::DEFAULT_LIMIT).outcome(), Outcome::Passed);
     }
+}
+
+/// A path below an element (`""`: the element itself) and the attributes it carries.
+type Required = (&'static str, &'static [&'static str]);
+
+/// What every element of a kind carries in the JARP files of PetriNetPlans
+/// (v1.4.7: the editor's own plans, e.g. `PNP/plantests/*.pnml`, and what
+/// PNPgen writes for JARP): a path below the element, and its attributes.
+const JARP_ELEMENTS: &[(&str, &[Required])] = &[
+    (
+        "place",
+        &[
+            ("", &["id"]),
+            ("graphics/position", &["x", "y"]),
+            ("graphics/size", &["width", "height"]),
+            ("name/value", &[]),
+            ("name/graphics/offset", &["x", "y"]),
+            ("initialMarking/value", &[]),
+            ("toolspecific", &["tool", "version"]),
+        ],
+    ),
+    (
+        "transition",
+        &[
+            ("", &["id"]),
+            ("graphics/position", &["x", "y"]),
+            ("graphics/size", &["width", "height"]),
+            ("name/value", &[]),
+            ("name/graphics/offset", &["x", "y"]),
+            ("toolspecific", &["tool", "version"]),
+        ],
+    ),
+    (
+        "arc",
+        &[
+            ("", &["id", "source", "target"]),
+            ("inscription/value", &[]),
+            ("inscription/graphics/offset", &["x", "y"]),
+            ("toolspecific", &["tool", "version"]),
+        ],
+    ),
+];
+
+/// The child of `node` at `path` (`a/b`), if any.
+fn at<'a>(node: roxmltree::Node<'a, 'a>, path: &str) -> Option<roxmltree::Node<'a, 'a>> {
+    path.split('/')
+        .filter(|s| !s.is_empty())
+        .try_fold(node, |n, step| n.children().find(|c| c.has_tag_name(step)))
+}
+
+/// `text` (JARP PNML) has JARP's element structure, unique ids, arcs between
+/// them, and a layered layout: every node placed, no two at one position.
+fn assert_jarp_structure(name: &str, text: &str) {
+    let doc = roxmltree::Document::parse(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let net = at(doc.root(), "pnml/net").unwrap_or_else(|| panic!("{name}: pnml/net"));
+    assert_eq!(net.attribute("type"), Some("PTNet"), "{name}");
+    assert!(at(net, "name/value").is_some(), "{name}: net/name/value");
+    let mut ids = BTreeSet::new();
+    let mut positions = BTreeSet::new();
+    for &(kind, required) in JARP_ELEMENTS {
+        for element in net.children().filter(|c| c.has_tag_name(kind)) {
+            let id = element.attribute("id").unwrap_or("?");
+            for &(path, attributes) in required {
+                let found = at(element, path).unwrap_or_else(|| panic!("{name}: {kind} {id} lacks {path}"));
+                for attribute in attributes {
+                    assert!(
+                        found.attribute(*attribute).is_some(),
+                        "{name}: {kind} {id}: {path} lacks '{attribute}'"
+                    );
+                }
+            }
+            if kind == "arc" {
+                continue;
+            }
+            assert!(ids.insert(id.to_string()), "{name}: id {id} twice");
+            let position = at(element, "graphics/position").expect("checked above");
+            let xy = (position.attribute("x").expect("x"), position.attribute("y").expect("y"));
+            assert!(
+                positions.insert((xy.0.to_string(), xy.1.to_string())),
+                "{name}: {kind} {id} at {xy:?}, where another node is"
+            );
+        }
+    }
+    for arc in net.children().filter(|c| c.has_tag_name("arc")) {
+        for end in ["source", "target"] {
+            let node = arc.attribute(end).expect("checked above");
+            assert!(ids.contains(node), "{name}: arc's {end} {node} is no node");
+        }
+    }
+}
+
+#[test]
+fn generated_plans_in_jarp_have_jarps_element_structure_and_a_layered_layout() {
+    let mut checked = 0;
+    for entry in std::fs::read_dir(fixture("")).expect("fixtures") {
+        let path = entry.expect("an entry").path();
+        if path.extension().is_some_and(|e| e == "pnml") {
+            let text = std::fs::read_to_string(&path).expect("reads");
+            assert_jarp_structure(&path.display().to_string(), &text);
+            checked += 1;
+        }
+    }
+    assert!(checked >= 4, "the golden plans: {checked}");
+    let k = plans(&["a b c", "a c", "b c", "b a c"]);
+    let mut merged = GeneratedPlan::merged("merged", &k).expect("merge");
+    merged
+        .apply_rules(
+            &parse_rules("*if* stuck *during* c *do* fail_plan").expect("reads"),
+            None,
+        )
+        .expect("applies");
+    let net = merged.into_net().expect("net");
+    assert_jarp_structure("merged", &pnml::write(&net, Dialect::Jarp));
 }

@@ -112,3 +112,33 @@ fn generate_errors_name_the_file_line_and_token() {
     assert!(text(&out.stderr).contains("'door_lockd'"), "{}", text(&out.stderr));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_fail_plan_rule_generates_a_plan_that_check_passes_with_its_failure_end() {
+    let dir = temp_dir("generate-fail-plan");
+    let line = write_in(&dir, "printer.plan", "goto_printer|30; say_hello; goto_home|15\n");
+    let rules = write_in(
+        &dir,
+        "gives_up.er",
+        "*if* lowbattery *during* goto *do* goto_recharge; fail_plan\n",
+    );
+    for dialect in ["jarp", "standard"] {
+        let out_file = dir.join(format!("gives_up-{dialect}.pnml"));
+        let out = learnpnp(&[
+            "generate",
+            line.to_str().expect("utf-8"),
+            "--rules",
+            rules.to_str().expect("utf-8"),
+            "--to",
+            dialect,
+            "-o",
+            out_file.to_str().expect("utf-8"),
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        let check = learnpnp(&["check", "--json", out_file.to_str().expect("utf-8")]);
+        assert_eq!(check.status.code(), Some(0), "{}", text(&check.stdout));
+        let report: serde_json::Value = serde_json::from_slice(&check.stdout).expect("json");
+        assert_eq!(report["failure_ends"][0]["label"], "fail", "{report}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

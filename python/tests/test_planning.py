@@ -63,12 +63,16 @@ def test_the_command_line_wrapper_writes_a_plan_that_loads(tmp_path):
     assert plan.name == "problem" and "move_annex_office" in plan.actions
 
 
-def test_planner_errors_name_the_planner(tmp_path, monkeypatch):
+def test_planner_errors_name_the_planner():
     domain, problem = DELIVERY / "domain.pddl", DELIVERY / "problem.pddl"
     with pytest.raises(PlanningError, match="planner 'lama'"):
         plans_from_pddl(domain, problem, planner="lama")
     with pytest.raises(PlanningError, match="'fast-downward' finds one plan"):
         plans_from_pddl(domain, problem, k=3, planner="fast-downward")
+
+
+def test_a_planner_that_finds_no_plan_says_so(tmp_path):
+    domain, problem = DELIVERY / "domain.pddl", DELIVERY / "problem.pddl"
     unsolvable = tmp_path / "unsolvable.pddl"
     unsolvable.write_text(problem.read_text().replace("(connected annex office) (connected office annex)", "").replace(
         "(connected hall office) (connected office hall)", ""
@@ -76,12 +80,24 @@ def test_planner_errors_name_the_planner(tmp_path, monkeypatch):
     for planner, k in (("symk", 2), ("fast-downward", 1)):
         with pytest.raises(PlanningError, match=f"planner '{planner}' found no plan"):
             plans_from_pddl(domain, unsolvable, k=k, planner=planner)
+
+
+def test_a_planner_that_times_out_names_the_planner_and_the_timeout():
+    # A millisecond: the planners' own start takes longer, so neither can answer in time.
+    logistics = PDDL / "logistics"
+    for planner, k in (("symk", 3), ("fast-downward", 1)):
+        with pytest.raises(PlanningError, match=f"planner '{planner}' timed out after 0.001 s on .*problem.pddl"):
+            plans_from_pddl(logistics / "domain.pddl", logistics / "problem.pddl", k=k, planner=planner, timeout=0.001)
+
+
+def test_a_planner_not_installed_says_what_to_install(monkeypatch):
     import unified_planning.shortcuts as shortcuts
 
     bare = types.SimpleNamespace(credits_stream=None, factory=types.SimpleNamespace(engines=[]))
     monkeypatch.setattr(shortcuts, "get_environment", lambda: bare)
-    with pytest.raises(PlanningError, match="'symk' is not installed: pip install up-symk"):
-        plans_from_pddl(domain, problem, planner="symk")
+    for planner, package in (("symk", "up-symk"), ("fast-downward", "up-fast-downward")):
+        with pytest.raises(PlanningError, match=f"planner '{planner}' is not installed: pip install {package}"):
+            plans_from_pddl(DELIVERY / "domain.pddl", DELIVERY / "problem.pddl", k=1, planner=planner)
 
 
 def test_without_unified_planning_the_error_says_what_to_install(monkeypatch):

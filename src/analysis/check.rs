@@ -4,7 +4,11 @@
 //!   may (memory places, loop counters: thesis 5.5); they get a note.
 //! - Minimality: every transition fires somewhere in the explored graph.
 //! - Effectiveness: a goal marking is reachable from every reachable marking
-//!   that is not a fail marking.
+//!   (thesis Definition 3), or a declared failure end is: a fail marking
+//!   (places labelled `fail`), where PNP's executor ends the plan as failed,
+//!   as a `fail_plan` execution rule's recovery does. The goal must stay
+//!   reachable from the initial marking: a plan that can only fail fails.
+//!   The failure ends and the markings that can end only there are noted.
 //! - Deadlock: a marking with no enabled transition is a goal or fail marking.
 //!
 //! Every property reads the one [`Exploration`] of the plan, part by part
@@ -238,10 +242,10 @@ impl Checker<'_> {
         reached
     }
 
-    /// Effectiveness, decided on the ending part: a goal marking is reachable
-    /// from a marking of the plan exactly when it is from its ending part's
-    /// marking (the other parts hold no goal or fail place and never block
-    /// it).
+    /// Effectiveness, decided on the ending part: a goal or fail marking is
+    /// reachable from a marking of the plan exactly when it is from its
+    /// ending part's marking (the other parts hold no goal or fail place and
+    /// never block it).
     fn effectiveness(&self, failures: &mut Vec<Failure>, notes: &mut Vec<Note>) -> Verdict {
         let Some(graph) = self.exploration.ending().filter(|_| !self.plan.goal().is_empty()) else {
             notes.push(Note::NoGoal);
@@ -252,19 +256,41 @@ impl Checker<'_> {
         let may_reach_goal = Self::reaching(graph, &predecessors, |s| {
             self.goal(graph, s) != Tri::No || !graph.is_expanded(s)
         });
+        let may_fail = Self::reaching(graph, &predecessors, |s| self.fail(graph, s) != Tri::No);
+        let others = product(self.exploration.parts()[1..].iter().map(Reachability::len));
+        let failure_ends = !self.plan.fail().is_empty();
+        if failure_ends {
+            let committed = graph
+                .states()
+                .filter(|&s| !may_reach_goal[s.index()] && self.fail(graph, s) == Tri::No)
+                .count();
+            notes.push(Note::FailureEnds {
+                places: self
+                    .plan
+                    .fail()
+                    .iter()
+                    .map(|&(p, _)| Element::place(self.plan, p))
+                    .collect(),
+                committed: committed.saturating_mul(others),
+            });
+        }
         let stuck: Vec<StateId> = graph
             .states()
-            .filter(|&s| !may_reach_goal[s.index()] && self.fail(graph, s) == Tri::No)
+            .filter(|&s| !may_reach_goal[s.index()] && !may_fail[s.index()])
             .collect();
         if !stuck.is_empty() {
-            let may_fail = Self::reaching(graph, &predecessors, |s| self.fail(graph, s) != Tri::No);
-            let others = product(self.exploration.parts()[1..].iter().map(Reachability::len));
-            let ending_in_fail = stuck.iter().filter(|s| may_fail[s.index()]).count();
             failures.push(Failure::NoGoalReachable {
                 markings: stuck.len().saturating_mul(others),
-                ending_in_fail: ending_in_fail.saturating_mul(others),
+                failure_ends,
                 why: diagnosis::no_goal(self.plan, self.exploration, graph, self.bounds, &stuck),
                 examples: self.examples(&stuck),
+            });
+            return Verdict::Failed;
+        }
+        if !may_reach_goal[StateId::initial().index()] {
+            let initial = [StateId::initial()];
+            failures.push(Failure::GoalUnreachable {
+                why: diagnosis::no_goal(self.plan, self.exploration, graph, self.bounds, &initial),
             });
             return Verdict::Failed;
         }
@@ -393,11 +419,8 @@ mod tests {
                 let counts = match f {
                     Failure::UnsafeExecution { place, .. } => vec![place.index()],
                     Failure::DeadTransition { transition, .. } => vec![transition.index()],
-                    Failure::NoGoalReachable {
-                        markings,
-                        ending_in_fail,
-                        ..
-                    } => vec![*markings, *ending_in_fail],
+                    Failure::NoGoalReachable { markings, .. } => vec![*markings],
+                    Failure::GoalUnreachable { .. } => Vec::new(),
                     Failure::DeadMarkings { markings, .. } => vec![*markings],
                 };
                 (f.property(), counts)

@@ -91,7 +91,10 @@ pub enum Property {
     Safety,
     /// Every transition fires in some firing sequence (L1-liveness).
     Minimality,
-    /// A goal marking is reachable from every reachable marking.
+    /// A goal marking is reachable from every reachable marking (thesis
+    /// Definition 3), but from those that can end only in a declared failure
+    /// end (PNP's fail marking, where the plan ends as failed); and from the
+    /// initial marking always.
     Effectiveness,
     /// Every marking with no enabled transition is a goal or fail marking.
     Deadlock,
@@ -121,7 +124,9 @@ impl Property {
         match self {
             Property::Safety => "no execution place holds more than one token",
             Property::Minimality => "every transition can fire",
-            Property::Effectiveness => "a goal marking is reachable from every reachable marking",
+            Property::Effectiveness => {
+                "a goal marking is reachable from every reachable marking (or a declared failure end is)"
+            }
             Property::Deadlock => "every dead marking is a goal or fail marking",
         }
     }
@@ -245,17 +250,23 @@ pub enum Failure {
         /// Why, in the drawing's terms (an input place never marked...).
         why: Vec<String>,
     },
-    /// Reachable markings, not fail markings, from which no goal marking is
-    /// reachable (effectiveness).
+    /// Reachable markings from which neither a goal marking nor a declared
+    /// failure end (a fail marking) is reachable (effectiveness).
     NoGoalReachable {
         /// How many explored markings.
         markings: usize,
-        /// How many of them can still end in a fail marking.
-        ending_in_fail: usize,
+        /// Whether the plan declares failure ends (which they cannot reach either).
+        failure_ends: bool,
         /// Why, in the drawing's terms (a goal place with no incoming arc, a loop...).
         why: Vec<String>,
         /// A few of them, nearest to the initial marking first.
         examples: Vec<Example>,
+    },
+    /// No goal marking is reachable from the initial marking: every run ends
+    /// in a failure end (effectiveness).
+    GoalUnreachable {
+        /// Why, in the drawing's terms (a goal place never marked...).
+        why: Vec<String>,
     },
     /// Reachable markings with no enabled transition that are neither goal nor
     /// fail markings: the plan stops there for good.
@@ -275,7 +286,7 @@ impl Failure {
         match self {
             Failure::UnsafeExecution { .. } => Property::Safety,
             Failure::DeadTransition { .. } => Property::Minimality,
-            Failure::NoGoalReachable { .. } => Property::Effectiveness,
+            Failure::NoGoalReachable { .. } | Failure::GoalUnreachable { .. } => Property::Effectiveness,
             Failure::DeadMarkings { .. } => Property::Deadlock,
         }
     }
@@ -325,16 +336,20 @@ impl fmt::Display for Failure {
             }
             Failure::NoGoalReachable {
                 markings,
-                ending_in_fail,
+                failure_ends,
                 why,
                 examples,
             } => {
                 write!(f, "{markings} reachable marking(s) cannot reach a goal marking")?;
-                if *ending_in_fail > 0 {
-                    write!(f, " ({ending_in_fail} of them can still end in a fail marking)")?;
+                if *failure_ends {
+                    f.write_str(" nor a failure end")?;
                 }
                 write_why(f, why)?;
                 write_examples(f, examples)
+            }
+            Failure::GoalUnreachable { why } => {
+                f.write_str("no goal marking is reachable from the initial marking: every run ends in a failure end")?;
+                write_why(f, why)
             }
             Failure::DeadMarkings {
                 markings,
@@ -369,6 +384,15 @@ pub enum Note {
     /// The plan has no goal places: it runs until stopped, and effectiveness
     /// does not apply.
     NoGoal,
+    /// The plan declares failure ends (its fail places, PNP's `fail`): the
+    /// plan ends there as failed, as in a goal it ends as done.
+    FailureEnds {
+        /// The fail places, with their ids and labels.
+        places: Vec<Element>,
+        /// How many reachable markings, not fail markings, can end only there
+        /// (a recovery that gives up).
+        committed: usize,
+    },
 }
 
 impl fmt::Display for Note {
@@ -390,6 +414,14 @@ impl fmt::Display for Note {
             ),
             Note::NoGoal => {
                 f.write_str("the plan has no goal places: it runs until stopped, effectiveness does not apply")
+            }
+            Note::FailureEnds { places, committed } => {
+                let places: Vec<String> = places.iter().map(ToString::to_string).collect();
+                write!(
+                    f,
+                    "failure end {}: the plan ends there as failed; {committed} reachable marking(s) can end only there",
+                    places.join(" + ")
+                )
             }
         }
     }
@@ -483,7 +515,8 @@ impl CheckReport {
     /// [`Verdict::summary`]), `reasons` (property -> why it is inconclusive or
     /// does not apply), `bounds` (`at_most_one`: how many places; `above_one`:
     /// place and bound, a number or `unbounded`; `never_marked`: places),
-    /// `choice_points` (place and options), `failures`, `notes` and `warnings`
+    /// `choice_points` (place and options), `failure_ends` (the fail places,
+    /// where the plan ends as failed), `failures`, `notes` and `warnings`
     /// (as the text words them), and `text` (the report as text, in full).
     /// Places and transitions are `{"id", "label"}`.
     pub fn to_json(&self) -> serde_json::Value {
@@ -520,6 +553,16 @@ impl CheckReport {
             .collect();
         let failures: Vec<String> = self.failures.iter().map(ToString::to_string).collect();
         let notes: Vec<String> = self.notes.iter().map(ToString::to_string).collect();
+        let failure_ends: Vec<Value> = self
+            .notes
+            .iter()
+            .filter_map(|n| match n {
+                Note::FailureEnds { places, .. } => Some(places),
+                _ => None,
+            })
+            .flatten()
+            .map(element)
+            .collect();
         json!({
             "plan": self.plan,
             "result": self.outcome().name(),
@@ -541,6 +584,7 @@ impl CheckReport {
             },
             "choice_points": choice_points,
             "failures": failures,
+            "failure_ends": failure_ends,
             "notes": notes,
             "warnings": self.warnings,
             "text": self.to_string(),

@@ -17,7 +17,8 @@ const PTNET_TYPE: &str = "http://www.pnml.org/version-2009/grammar/ptnet";
 ///
 /// [`Dialect::Jarp`] writes what the JARP editor writes: a `PTNet` net whose
 /// nodes sit directly in it, `<name><value>` labels, `Default,N` initial markings
-/// and inscriptions, graphics for nodes with a position, and a comment
+/// and inscriptions, graphics for nodes with a position, label and inscription
+/// offsets, JARP's `toolspecific` drawing settings, and a comment
 /// `PLAN NAME: <name>` (the name also goes in `net/name`).
 /// [`Dialect::Standard`] writes the 2009 place/transition grammar: namespace,
 /// `ptnet` type, one page, `<text>` values, no initial marking when it is 0 and
@@ -53,20 +54,26 @@ fn write_jarp(w: &mut XmlWriter, net: &PetriNet, ids: &mut FreshIds) {
         w.start_element("place");
         attribute(w, "id", &place.id);
         jarp_graphics(w, place.position, (32, 32));
-        named(w, "name", "value", &place.label);
+        jarp_label(w, &place.label, (0, 40));
         named(w, "initialMarking", "value", &format!("Default,{}", place.initial));
+        jarp_tool(w, Some(PLACE_FILL));
         w.end_element();
     }
     for transition in net.transitions() {
         w.start_element("transition");
         attribute(w, "id", &transition.id);
         jarp_graphics(w, transition.position, (48, 8));
-        named(w, "name", "value", &transition.label);
+        jarp_label(w, &transition.label, (0, -20));
+        jarp_tool(w, Some(TRANSITION_FILL));
         w.end_element();
     }
     for arc in net.arcs() {
         start_arc(w, net, arc);
-        named(w, "inscription", "value", &format!("Default,{}", arc.weight));
+        w.start_element("inscription");
+        text_element(w, "value", &format!("Default,{}", arc.weight));
+        jarp_offset(w, (0, 0));
+        w.end_element();
+        jarp_tool(w, None);
         w.end_element();
     }
     w.start_element("comment");
@@ -115,6 +122,50 @@ fn write_standard(w: &mut XmlWriter, net: &PetriNet, ids: &mut FreshIds) {
     w.end_element();
 }
 
+/// JARP's fill colour of places (white).
+const PLACE_FILL: &str = "java.awt.Color[r=255,g=255,b=255]";
+/// JARP's fill colour of transitions (grey-blue, as PNPgen draws them).
+const TRANSITION_FILL: &str = "java.awt.Color[r=200,g=200,b=220]";
+
+/// A node's label as JARP writes it: its value and where it is drawn,
+/// `offset` from the node.
+fn jarp_label(w: &mut XmlWriter, label: &str, offset: (i32, i32)) {
+    w.start_element("name");
+    text_element(w, "value", label);
+    jarp_offset(w, offset);
+    w.end_element();
+}
+
+/// `<graphics><offset x= y=/></graphics>`: where JARP draws a label or an
+/// inscription, relative to its node or arc.
+fn jarp_offset(w: &mut XmlWriter, (x, y): (i32, i32)) {
+    w.start_element("graphics");
+    w.start_element("offset");
+    w.write_attribute("x", &x);
+    w.write_attribute("y", &y);
+    w.end_element();
+    w.end_element();
+}
+
+/// JARP's own drawing settings (`toolspecific tool="JARP"`): a node's frame
+/// and `fill` colours, or an arc's colour and arrow (no `fill`).
+fn jarp_tool(w: &mut XmlWriter, fill: Option<&str>) {
+    w.start_element("toolspecific");
+    w.write_attribute("tool", "JARP");
+    w.write_attribute("version", "1.2");
+    let frame = if fill.is_some() {
+        "java.awt.Color[r=0,g=0,b=0]"
+    } else {
+        "java.awt.Color[r=128,g=128,b=128]"
+    };
+    named(w, "FrameColor", "value", frame);
+    match fill {
+        Some(fill) => named(w, "FillColor", "value", fill),
+        None => named(w, "ArrowMode", "value", "2"),
+    }
+    w.end_element();
+}
+
 /// JARP's node graphics: position and size (JARP's default sizes).
 fn jarp_graphics(w: &mut XmlWriter, position: Option<Position>, (width, height): (u32, u32)) {
     let Some(position) = position.filter(is_finite) else {
@@ -154,12 +205,17 @@ fn position_element(w: &mut XmlWriter, position: Position) {
 /// `<outer><inner>text</inner></outer>`, the text written verbatim (no indentation).
 fn named(w: &mut XmlWriter, outer: &str, inner: &str, text: &str) {
     w.start_element(outer);
-    w.start_element(inner);
+    text_element(w, inner, text);
+    w.end_element();
+}
+
+/// `<element>text</element>`, the text written verbatim (no indentation).
+fn text_element(w: &mut XmlWriter, element: &str, text: &str) {
+    w.start_element(element);
     w.set_preserve_whitespaces(true);
     w.write_text(&escape(text, false));
     w.end_element();
     w.set_preserve_whitespaces(false);
-    w.end_element();
 }
 
 /// An attribute with its value fully escaped.
