@@ -315,7 +315,7 @@ def test_lockstep_episodes_refusals_loss_and_stop(run):
     # Refused commands, each counted by its reason and none applied.
     expected = [0] * Reject.COUNT
     for spoil, reason in [
-        (dict(version=2), Reject.VERSION),
+        (dict(version=world.PROTOCOL_VERSION + 1), Reject.VERSION),
         (dict(run_id=RUN_ID + 1), Reject.RUN),
         (dict(sender=1), Reject.SENDER),
         (dict(action=len(ACTIONS)), Reject.CONTENT),

@@ -218,6 +218,7 @@ impl<W: ServedWorld> Host<'_, W> {
     fn housekeeping(&mut self) -> Result<(), WorldHostError> {
         self.housekept = Instant::now();
         self.pacemaker.pulse.cycles = self.cycle;
+        self.pacemaker.pulse.late_cycles = self.served.late_cycles + self.cadence.as_ref().map_or(0, Cadence::late);
         let beats = self.pacemaker.pulse.sequence;
         self.pacemaker.tick(&self.ports.heartbeat)?;
         // SAFETY: getppid has no effects.
@@ -512,9 +513,10 @@ pub fn serve<W: ServedWorld>(world: &mut W) -> Result<Served, WorldHostError> {
             break;
         }
     }
-    host.pacemaker.pulse.state = ProcessState::Stopping;
-    host.pacemaker.beat(&host.ports.heartbeat)?;
     host.end_cadence();
+    host.pacemaker.pulse.state = ProcessState::Stopping;
+    host.pacemaker.pulse.late_cycles = host.served.late_cycles;
+    host.pacemaker.beat(&host.ports.heartbeat)?;
     host.served.snapshots = host.cycle;
     let served = host.served;
     if let Some(rate) = served.rate() {
