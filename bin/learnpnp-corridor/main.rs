@@ -10,12 +10,19 @@
 //! step in MIN to MAX milliseconds (uniform, seeded by the run's seed): in
 //! real time the world's log ends with the cycle it kept (cycles, seconds,
 //! rate, late cycles), which is how the cadence is measured against a robot.
+//!
+//! `--stall-ms MS` plays a robot that takes MS milliseconds to answer the
+//! first step of the world process, the world keeping house while it waits
+//! (as a ROS 2 world waits for its robot): it lives through a stall longer
+//! than the heartbeat timeout. `--hang-ms MS` blocks the first step MS
+//! milliseconds without keeping house: a hung world, which the supervisor
+//! kills as silent.
 
 use std::process::ExitCode;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use learnpnp_system::ipc::world::{ActionStatus, Vocabulary};
-use learnpnp_system::multiprocess::world_host::{Observation, ServedWorld, StepResult, serve};
+use learnpnp_system::multiprocess::world_host::{Housekeeping, Observation, ServedWorld, StepResult, serve};
 
 /// Cells of a corridor.
 const LENGTH: u32 = 5;
@@ -33,6 +40,35 @@ struct Corridors {
     steps: u32,
     /// A robot's answer time, if it plays one.
     answer: Option<AnswerTime>,
+    /// The first step's stall or hang, if it plays one (taken by the first step).
+    first_step: Option<FirstStep>,
+}
+
+/// How the first step of the world process blocks.
+#[derive(Debug, Clone, Copy)]
+struct FirstStep {
+    /// For how long.
+    wait: Duration,
+    /// Whether the world keeps house while it waits (a stall) or not (a hang).
+    keeping_house: bool,
+}
+
+impl FirstStep {
+    /// Blocks for the step's wait, keeping house in slices if it may.
+    fn block(self, house: &mut Housekeeping<'_>) {
+        let until = Instant::now() + self.wait;
+        if !self.keeping_house {
+            std::thread::sleep(self.wait);
+            return;
+        }
+        while house.keep() {
+            let left = until.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return;
+            }
+            std::thread::sleep(left.min(Housekeeping::EVERY));
+        }
+    }
 }
 
 /// A robot's answer time: uniform in `min..=max` milliseconds (xorshift64*).
@@ -81,7 +117,7 @@ impl ServedWorld for Corridors {
         }
     }
 
-    fn reset(&mut self, seed: Option<u64>) {
+    fn reset(&mut self, seed: Option<u64>, _house: &mut Housekeeping<'_>) {
         if let (Some(answer), Some(seed)) = (&mut self.answer, seed) {
             answer.state = seed | 1;
         }
@@ -96,13 +132,16 @@ impl ServedWorld for Corridors {
         }
     }
 
-    fn step(&mut self, actions: &[Option<usize>]) -> Vec<StepResult> {
+    fn step(&mut self, actions: &[Option<usize>], house: &mut Housekeeping<'_>) -> Vec<StepResult> {
         if self.positions.len() != actions.len() {
             self.positions = vec![0; actions.len()];
         }
         self.steps += 1;
         if let Some(answer) = &mut self.answer {
             std::thread::sleep(answer.draw());
+        }
+        if let Some(first) = self.first_step.take() {
+            first.block(house);
         }
         actions
             .iter()
@@ -137,6 +176,35 @@ impl ServedWorld for Corridors {
     }
 }
 
+/// The robot's answer time and the first step's block, from the arguments.
+fn parse(args: &[String]) -> Result<(Option<AnswerTime>, Option<FirstStep>), String> {
+    const USAGE: &str = "usage: learnpnp-corridor [--answer-ms MIN-MAX] [--stall-ms MS | --hang-ms MS]";
+    let mut answer = None;
+    let mut first_step = None;
+    for pair in args.chunks(2) {
+        let [flag, value] = pair else {
+            return Err(USAGE.into());
+        };
+        let wait = || {
+            value
+                .parse()
+                .map(Duration::from_millis)
+                .map_err(|_| format!("{flag}: '{value}' is not a number of milliseconds"))
+        };
+        match flag.as_str() {
+            "--answer-ms" => answer = Some(AnswerTime::parse(value)?),
+            "--stall-ms" | "--hang-ms" if first_step.is_none() => {
+                first_step = Some(FirstStep {
+                    wait: wait()?,
+                    keeping_house: flag == "--stall-ms",
+                });
+            }
+            _ => return Err(USAGE.into()),
+        }
+    }
+    Ok((answer, first_step))
+}
+
 fn main() -> ExitCode {
     learnpnp_system::multiprocess::start_process();
     let agents = std::env::var(learnpnp_system::multiprocess::supervisor::world_env::AGENTS)
@@ -144,17 +212,10 @@ fn main() -> ExitCode {
         .and_then(|n| n.parse().ok())
         .unwrap_or(1);
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let answer = match args.as_slice() {
-        [] => None,
-        [flag, range] if flag == "--answer-ms" => match AnswerTime::parse(range) {
-            Ok(answer) => Some(answer),
-            Err(e) => {
-                eprintln!("error: learnpnp-corridor: {e}");
-                return ExitCode::FAILURE;
-            }
-        },
-        _ => {
-            eprintln!("error: learnpnp-corridor: usage: learnpnp-corridor [--answer-ms MIN-MAX]");
+    let (answer, first_step) = match parse(&args) {
+        Ok(parsed) => parsed,
+        Err(e) => {
+            eprintln!("error: learnpnp-corridor: {e}");
             return ExitCode::FAILURE;
         }
     };
@@ -162,6 +223,7 @@ fn main() -> ExitCode {
         positions: vec![0; agents],
         steps: 0,
         answer,
+        first_step,
     };
     match serve(&mut world) {
         Ok(_) => ExitCode::SUCCESS,

@@ -25,6 +25,7 @@ import time
 import pytest
 
 pytest.importorskip("zenoh")
+PROTOCOL_VERSION = pytest.importorskip("learnpnp.world").PROTOCOL_VERSION
 
 # Run by host B's Python (in host B's namespace), with the monitor's
 # certificate: reads heartbeats from the link at ENDPOINT until it has heard
@@ -139,7 +140,8 @@ def test_a_monitor_on_host_b_reads_the_heartbeats_of_a_run_across_hosts_and_cann
     heard = {int(sender): beat for sender, beat in json.loads(client.stdout).items()}
     run_id = json.loads((sandbox / "b" / "summary.json").read_text())["run_id"]
     assert set(heard) == {0, 100}, "the agent's (host B) and the world's (host A) heartbeats"
-    assert all(re.fullmatch(r"learnpnp::Heartbeat;1;\d+", beat["tag"]) for beat in heard.values()), heard
+    tag = rf"learnpnp::Heartbeat;{PROTOCOL_VERSION};\d+"
+    assert all(re.fullmatch(tag, beat["tag"]) for beat in heard.values()), heard
     assert all(beat["run_id"] == run_id and beat["pid"] > 0 for beat in heard.values())
     summary = json.loads((sandbox / "a" / "summary.json").read_text())
     assert summary["complete"] and summary["experiment"]["final_greedy_mean"] == -4.0

@@ -150,7 +150,8 @@ def check_plan_state(echoed, counts):
     got = {"currentActivePlaces": [], "runningActions": [], "choices": []}
     for line in echoed.read_text().splitlines():
         message = json.loads(line)
-        got[message["topic"]].append(message["data"])
+        if message["topic"] in got:
+            got[message["topic"]].append(message["data"])
     assert got["currentActivePlaces"], counts
     for data in got["currentActivePlaces"]:
         assert data and set(data.split(",")) <= places, data
@@ -218,10 +219,13 @@ def test_in_real_time_the_robot_is_commanded_at_its_rate_and_latencies_are_recor
     rate (--world-period-ms 50: a 20 Hz robot): the robot, which logs the
     wall-clock time of each command it gets, is commanded once a cycle (the
     median gap between its commands is the period, within scheduling
-    jitter), and the run writes its latency histograms."""
+    jitter), the run writes its latency histograms, and each action the
+    robot is commanded in an episode shows on the plan's ``runningActions``
+    in that episode."""
     period_ms = 50
     log = sandbox / "commands.log"
-    robot = start_robot(router, sandbox, "--log", str(log))
+    timeline = sandbox / "plan_state.jsonl"
+    robot = start_robot(router, sandbox, "--log", str(log), "--plan-state", str(timeline))
     try:
         extra = ("--mode", "realtime", "--world-period-ms", str(period_ms))
         summary, counts = learn(supervisor, sandbox, router, "realtime", "3", episodes=3, extra=extra)
@@ -239,6 +243,27 @@ def test_in_real_time_the_robot_is_commanded_at_its_rate_and_latencies_are_recor
     for histogram in ("roundtrip", "world-turnaround", "compute", "floor"):
         assert (latency / f"{histogram}.hgrm").stat().st_size > 0, histogram
     assert summary["latency_us"]["p50"] > 0, summary
+    check_running_actions(timeline)
+
+
+def check_running_actions(timeline):
+    """Every action the robot was commanded in an episode, it saw on
+    ``runningActions`` in the same episode (the robot's timeline cut at its
+    resets): the plan's state shows the action a robot is executing."""
+    episodes = []
+    for line in timeline.read_text().splitlines():
+        message = json.loads(line)
+        if message["topic"] == "reset":
+            episodes.append({"commanded": set(), "shown": set()})
+        elif episodes and message["topic"] == "command":
+            episodes[-1]["commanded"].add(message["data"])
+        elif episodes and message["topic"] == "runningActions":
+            episodes[-1]["shown"].update(a for a in message["data"].split(",") if a)
+    played = [e for e in episodes if e["commanded"]]
+    # 3 learning episodes and the greedy ones, each of 4 moves at least.
+    assert len(played) >= 3 + GREEDY, episodes
+    for episode in played:
+        assert episode["commanded"] <= episode["shown"], (episode, episodes)
 
 
 def ros2_world_pids(marker):

@@ -35,6 +35,8 @@ SEED = 12345
 RUN_ID = 0xC0FFEE_0000_0001
 READY_PID = 4242
 TIMEOUT_S = 5.0
+#: Set (milliseconds) in the world's environment, its first step takes that long.
+SLOW_FIRST_STEP = "LEARNPNP_TEST_SLOW_FIRST_STEP_MS"
 
 
 class Corridor(gym.Env):
@@ -49,6 +51,9 @@ class Corridor(gym.Env):
         return self.position, {}
 
     def step(self, action):
+        slow_ms = int(os.environ.pop(SLOW_FIRST_STEP, "0"))
+        if slow_ms:
+            time.sleep(slow_ms / 1000)
         self.position = min(max(self.position + (1 if action == RIGHT else -1), 0), LENGTH - 1)
         done = self.position == LENGTH - 1
         return self.position, float(done), done, False, {}
@@ -159,10 +164,10 @@ class Run:
         self.services.append(service)
         return service
 
-    def start_world(self, clock, wait, period_ms=0):
+    def start_world(self, clock, wait, period_ms=0, **more):
         self.process = subprocess.Popen(
             [sys.executable, __file__],
-            env={**os.environ, **run_environment(self.prefix, self.root, clock, wait, period_ms)},
+            env={**os.environ, **run_environment(self.prefix, self.root, clock, wait, period_ms), **more},
             stdout=subprocess.PIPE,
             stderr=subprocess.PIPE,
             text=True,
@@ -304,7 +309,8 @@ def test_lockstep_episodes_refusals_loss_and_stop(run):
     run.report_ready(READY_PID)
 
     first = run.snapshot()
-    assert (first.header.version, first.header.sender, first.header.run_id) == (1, world.SENDER_WORLD, RUN_ID)
+    header = first.header
+    assert (header.version, header.sender, header.run_id) == (world.PROTOCOL_VERSION, world.SENDER_WORLD, RUN_ID)
     assert (first.episode, first.cycle, first.step, first.agent) == (1, 1, 0, 0)
     assert (first.episode_status, first.action_status, first.reward) == (EpisodeStatus.RUNNING, ActionStatus.NONE, 0.0)
     assert atoms_of(first) == {f"at_{starts[0]}"}
@@ -315,7 +321,7 @@ def test_lockstep_episodes_refusals_loss_and_stop(run):
     # Refused commands, each counted by its reason and none applied.
     expected = [0] * Reject.COUNT
     for spoil, reason in [
-        (dict(version=2), Reject.VERSION),
+        (dict(version=world.PROTOCOL_VERSION + 1), Reject.VERSION),
         (dict(run_id=RUN_ID + 1), Reject.RUN),
         (dict(sender=1), Reject.SENDER),
         (dict(action=len(ACTIONS)), Reject.CONTENT),
@@ -414,6 +420,25 @@ def test_realtime_waits_a_period_repeats_the_last_action_and_drops_late_commands
     beat = run.heartbeat(after_s=0.15)
     assert list(beat.rejected) == [0] * Reject.COUNT
     assert beat.missed_deadlines >= 3
+    run.stop_world()
+
+
+def test_realtime_a_late_cycle_is_counted_and_the_next_keeps_the_grid(run):
+    period_ms = 100
+    run.start_world("realtime", "hybrid", period_ms, **{SLOW_FIRST_STEP: str(period_ms * 5 // 2)})
+    run.vocabulary_names()
+    run.report_ready(READY_PID)
+    first = run.snapshot()
+    second = run.snapshot()  # unanswered at the episode's first step
+    run.command(second, RIGHT)
+    run.snapshot()  # its step took two periods and a half: a late cycle
+    later = [run.snapshot() for _ in range(3)]  # unanswered: the last action again
+    # Cycle k still ends at t0 + (k + 1) x period: the late cycle moved no deadline.
+    for snapshot in later:
+        offset_ms = (snapshot.sent_ns - first.sent_ns) % (period_ms * 1_000_000) / 1e6
+        assert min(offset_ms, period_ms - offset_ms) < period_ms / 4, offset_ms
+    beat = run.heartbeat(after_s=0.15)
+    assert beat.late_cycles >= 1
     run.stop_world()
 
 

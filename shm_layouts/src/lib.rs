@@ -20,7 +20,7 @@
 use iceoryx2::prelude::ZeroCopySend;
 
 /// The version of this protocol; a message with another version is rejected.
-pub const PROTOCOL_VERSION: u32 = 1;
+pub const PROTOCOL_VERSION: u32 = 2;
 
 /// Keepers in Keepaway 3 vs 2 (one agent process each).
 pub const NUM_KEEPERS: usize = 3;
@@ -289,6 +289,9 @@ pub struct Heartbeat {
     pub checkpoints: u64,
     /// Agent: checkpoint writes that failed (the previous one kept).
     pub checkpoint_failures: u64,
+    /// Simulator or world (real time): cycles whose work ran past their
+    /// deadline (each counted, the next kept on the grid).
+    pub late_cycles: u64,
 }
 
 /// Tags of a [`Control`] command.
@@ -639,7 +642,7 @@ mod tests {
 
     #[test]
     fn heartbeat_layout() {
-        assert_eq!((size_of::<Heartbeat>(), align_of::<Heartbeat>()), (120, 8));
+        assert_eq!((size_of::<Heartbeat>(), align_of::<Heartbeat>()), (128, 8));
         assert_eq!(offset_of!(Heartbeat, pid), 16);
         assert_eq!(offset_of!(Heartbeat, state), 20);
         assert_eq!(offset_of!(Heartbeat, sequence), 24);
@@ -650,6 +653,7 @@ mod tests {
         assert_eq!(offset_of!(Heartbeat, aborted_episodes), 96);
         assert_eq!(offset_of!(Heartbeat, checkpoints), 104);
         assert_eq!(offset_of!(Heartbeat, checkpoint_failures), 112);
+        assert_eq!(offset_of!(Heartbeat, late_cycles), 120);
     }
 
     #[test]
@@ -778,7 +782,8 @@ mod tests {
                 missed_deadlines,
                 aborted_episodes,
                 checkpoints,
-                checkpoint_failures
+                checkpoint_failures,
+                late_cycles
             ),
             layout!(Control, header, command, target, sequence, pid, reserved),
         ];

@@ -386,6 +386,7 @@ fn attack(session: &Session, attack: Attack) -> Value {
                 aborted_episodes: 0,
                 checkpoints: 0,
                 checkpoint_failures: 0,
+                late_cycles: 0,
             };
             forge(session, &key("learnpnp/heartbeat/2"), "learnpnp::Heartbeat", &beat);
         }

@@ -294,6 +294,7 @@ fn lockstep_matches_in_process(domain: &str, algo: &str, values: &[&str]) {
     assert_eq!(s["mode"], "lockstep");
     assert_eq!(s["complete"], true);
     assert_eq!(s["restarts"], 0);
+    assert_eq!(s["late_cycles"]["simulator"], 0, "lock-step keeps no cycle");
     assert_eq!(s["leftover_shm_files"], 0);
     assert!(s["latency_us"]["p50"].as_f64().unwrap() > 0.0);
     assert!(s["floor_us"]["p50"].as_f64().unwrap() > 0.0);
@@ -837,6 +838,10 @@ fn realtime_chaos_a_stopped_agent_catches_up() {
     assert_eq!(stopped.len(), 1, "{report}");
     assert_eq!(stopped[0]["survived"], true, "{}", stopped[0]);
     assert!(report["missed_deadlines"].as_u64().unwrap() > 0, "{report}");
+    assert!(
+        s["late_cycles"]["simulator"].is_u64(),
+        "the simulator's cycle is in the summary: {s}"
+    );
     assert!(faults(&report, "").iter().all(|f| f["survived"] == true), "{report}");
     // Only the two kills restarted anything: the stopped agent did not die.
     assert_eq!(report["restarts"], 2, "{report}");

@@ -66,6 +66,7 @@ fn the_corridor_is_learned_over_shared_memory_and_a_seed_repeats_its_episodes() 
         assert!(s["latency_us"]["p50"].as_f64().unwrap() > 0.0);
         assert!(s["floor_us"]["p50"].as_f64().unwrap() > 0.0);
         // The corridor's step is a small part of a cycle's round trip.
+        assert_eq!(s["late_cycles"]["world"], 0, "lock-step keeps no cycle: {s}");
         let turnaround = s["world_turnaround_us"]["p50"].as_f64().unwrap();
         assert!(
             turnaround > 0.0 && turnaround < s["latency_us"]["p50"].as_f64().unwrap(),
@@ -361,7 +362,59 @@ fn in_real_time_a_world_heartbeats_through_its_cycles_and_lives_through_many_hea
         .unwrap_or_else(|| panic!("{line}"));
     let needed = 3 * SHORT_HEARTBEAT_TIMEOUT_S * 1000 / period_ms;
     assert!(cycles > needed, "{cycles} cycles of {period_ms} ms: {line}");
+    // Its late cycles reach the summary through its heartbeat.
+    let late: u64 = line
+        .rsplit(", ")
+        .next()
+        .and_then(|l| l.strip_suffix(" late"))
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    assert_eq!(s["late_cycles"]["world"], late, "{line}: {s}");
     sandbox.assert_clean(&prefixes(&s));
+}
+
+/// A world whose step waits for its robot longer than the heartbeat timeout
+/// keeps house while it waits (as a ROS 2 world does): it is not taken as
+/// silent, and the stalled cycle is late (counted, into the summary). The
+/// same step blocked without keeping house is a hang: the world is killed.
+#[test]
+fn a_step_waiting_longer_than_the_heartbeat_timeout_keeps_the_world_alive_and_a_hang_is_killed() {
+    let sandbox = Sandbox::new("world-stall");
+    let block_ms = SHORT_HEARTBEAT_TIMEOUT_S * 1000 * 3 / 2;
+    let timeout = SHORT_HEARTBEAT_TIMEOUT_S.to_string();
+    let mut args = corridor_run(5);
+    args[1] = format!("{CORRIDOR} --stall-ms {block_ms}");
+    args.extend(
+        [
+            "--mode",
+            "realtime",
+            "--world-period-ms",
+            "50",
+            "--heartbeat-timeout",
+            &timeout,
+        ]
+        .map(str::to_string),
+    );
+    let output = run(&sandbox, "stall", &args);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let s = summary(&sandbox.out("stall"));
+    assert_eq!(s["complete"], true, "{s}");
+    assert_eq!(s["restarts"], 0, "the stalled world was not taken as silent: {s}");
+    assert!(s["late_cycles"]["world"].as_u64().unwrap() >= 1, "{s}");
+    let mut used = prefixes(&s);
+    let mut args = corridor_run(5);
+    args[1] = format!("{CORRIDOR} --hang-ms {block_ms}");
+    args.extend(["--heartbeat-timeout", &timeout, "--max-restarts", "0"].map(str::to_string));
+    let output = run(&sandbox, "hang", &args);
+    assert!(!output.status.success());
+    let s = summary(&sandbox.out("hang"));
+    let failure = s["failure"].as_str().unwrap();
+    assert!(
+        failure.contains(&format!("world silent for {timeout} s: killed")),
+        "{failure}"
+    );
+    used.extend(prefixes(&s));
+    sandbox.assert_clean(&used);
 }
 
 #[test]

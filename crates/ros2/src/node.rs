@@ -7,6 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicI64, AtomicU64, Ordering};
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
+use learnpnp_system::multiprocess::world_host::Housekeeping;
 use thiserror::Error;
 use zenoh::Session;
 use zenoh::Wait;
@@ -34,6 +35,12 @@ pub enum Ros2Error {
         service: String,
         /// The wait.
         ms: u128,
+    },
+    /// A call given up before its reply or timeout: the run stops.
+    #[error("service '{service}': the call was given up (the run stops)")]
+    GivenUp {
+        /// The service.
+        service: String,
     },
     /// A reply refused (see [`Refusal`]).
     #[error("service '{service}': {refusal}")]
@@ -430,8 +437,14 @@ pub(crate) struct Client {
 impl Client {
     /// Calls the service with `request`; the first reply within `timeout`.
     /// A reply that does not decode, or whose attachment does not carry this
-    /// request's sequence number, is refused.
-    pub(crate) fn call(&self, request: &Value, timeout: Duration) -> Result<Value, Ros2Error> {
+    /// request's sequence number, is refused. The host's house is kept
+    /// while the reply is awaited; the call is given up if the run stops.
+    pub(crate) fn call(
+        &self,
+        request: &Value,
+        timeout: Duration,
+        house: &mut Housekeeping<'_>,
+    ) -> Result<Value, Ros2Error> {
         let payload = self.registry.encode(&self.request, request)?;
         let sequence = self.sequence.fetch_add(1, Ordering::Relaxed);
         let attachment = Attachment {
@@ -454,7 +467,18 @@ impl Client {
             service: self.service.clone(),
             refusal: Box::new(refusal),
         };
-        while let Ok(reply) = replies.recv() {
+        loop {
+            if !house.keep() {
+                return Err(Ros2Error::GivenUp {
+                    service: self.service.clone(),
+                });
+            }
+            // The query's timeout closes the channel: Err once it has.
+            let reply = match replies.recv_timeout(Housekeeping::EVERY) {
+                Ok(Some(reply)) => reply,
+                Ok(None) => continue,
+                Err(_) => break,
+            };
             let Ok(sample) = reply.result() else { continue };
             let key = sample.key_expr().as_str().to_string();
             let got = decode(

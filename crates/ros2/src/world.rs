@@ -1,7 +1,10 @@
 //! The world a mapping file makes of a ROS 2 robot: a
 //! [`ServedWorld`](learnpnp_system::multiprocess::world_host::ServedWorld) whose state is the latest message on each mapped topic,
 //! stepped in lock-step (each step waits for the robot's answer, so the run
-//! goes at the robot's rate).
+//! goes at the robot's rate). Every wait for the robot (an answer, a
+//! service's reply, a goal's result) keeps the host's house in slices
+//! ([`Housekeeping`]), so the world heartbeats however long the robot takes,
+//! and is given up when the run stops.
 
 use std::borrow::Cow;
 use std::collections::BTreeMap;
@@ -10,7 +13,7 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 use learnpnp_system::ipc::world::{ActionStatus, Vocabulary};
-use learnpnp_system::multiprocess::world_host::{Observation, ServedWorld, StepResult};
+use learnpnp_system::multiprocess::world_host::{Housekeeping, Observation, ServedWorld, StepResult};
 use serde::Serialize;
 
 use crate::keys::action::{self as names, GoalStatus};
@@ -291,9 +294,10 @@ impl Ros2World {
         self.sequence
     }
 
-    /// Waits for the answer `awaited` (when the mapping has answers): false
-    /// if it did not come in time (counted).
-    fn await_answer(&self, awaited: Awaited) -> bool {
+    /// Waits for the answer `awaited` (when the mapping has answers),
+    /// keeping house: false if it did not come in time (counted) or the run
+    /// stops.
+    fn await_answer(&self, awaited: Awaited, house: &mut Housekeeping<'_>) -> bool {
         if self.loaded.mapping.answer.is_none() {
             return true;
         }
@@ -302,8 +306,18 @@ impl Ros2World {
             Awaited::Sequence(n) => s.matched == Some(n),
         };
         let deadline = Instant::now() + self.timeout;
+        let mut kept = Instant::now();
         let mut s = self.shared.lock();
         while !answered(&s) {
+            if kept.elapsed() >= Housekeeping::EVERY {
+                drop(s);
+                if !house.keep() {
+                    return false;
+                }
+                kept = Instant::now();
+                s = self.shared.lock();
+                continue;
+            }
             let left = deadline.saturating_duration_since(Instant::now());
             if left.is_zero() {
                 s.counts.timeouts += 1;
@@ -323,7 +337,7 @@ impl Ros2World {
             s = self
                 .shared
                 .changed
-                .wait_timeout(s, left)
+                .wait_timeout(s, left.min(Housekeeping::EVERY))
                 .unwrap_or_else(std::sync::PoisonError::into_inner)
                 .0;
         }
@@ -347,7 +361,7 @@ impl Ros2World {
     }
 
     /// Runs a ROS 2 action's goal to its end: the action's status.
-    fn run_goal(&self, clients: &ActionClients, goal: &Value) -> ActionStatus {
+    fn run_goal(&self, clients: &ActionClients, goal: &Value, house: &mut Housekeeping<'_>) -> ActionStatus {
         let ActionClients {
             send_goal,
             get_result,
@@ -363,7 +377,7 @@ impl Ros2World {
             Value::List(uuid.iter().map(|b| Value::Int(i64::from(*b))).collect()),
         )]);
         let request = Value::fields([("goal_id", id.clone()), ("goal", goal.clone())]);
-        match send_goal.call(&request, self.timeout) {
+        match send_goal.call(&request, self.timeout, house) {
             Ok(r) if r.get("accepted") == Some(&Value::Bool(true)) => {}
             Ok(_) => {
                 self.shared.lock().counts.goals_rejected += 1;
@@ -374,7 +388,7 @@ impl Ros2World {
                 return ActionStatus::Failed;
             }
         }
-        match get_result.call(&Value::fields([("goal_id", id.clone())]), self.timeout) {
+        match get_result.call(&Value::fields([("goal_id", id.clone())]), self.timeout, house) {
             Ok(r) => {
                 let code = r.get("status").and_then(Value::as_f64).map_or(-1, |c| c as i64);
                 match GoalStatus::from_code(code) {
@@ -397,7 +411,7 @@ impl Ros2World {
             Err(e) => {
                 self.failed("get_result", &e);
                 let info = Value::fields([("goal_info", Value::fields([("goal_id", id)]))]);
-                if let Err(e) = cancel.call(&info, self.timeout) {
+                if let Err(e) = cancel.call(&info, self.timeout, house) {
                     self.failed("cancel_goal", &e);
                 }
                 ActionStatus::Failed
@@ -412,10 +426,10 @@ impl Ros2World {
     }
 
     /// The step's reward: the constant, what came on the reward topic, or the service's answer.
-    fn take_reward(&self) -> f64 {
+    fn take_reward(&self, house: &mut Housekeeping<'_>) -> f64 {
         let mut reward = self.loaded.mapping.step_reward + std::mem::take(&mut self.shared.lock().reward);
         if let Some(p) = &self.reward_service {
-            match p.client.call(&Value::fields([]), self.timeout) {
+            match p.client.call(&Value::fields([]), self.timeout, house) {
                 Ok(v) => reward += p.source.number(&v).unwrap_or(0.0),
                 Err(e) => self.failed("reward service", &e),
             }
@@ -423,9 +437,9 @@ impl Ros2World {
         reward
     }
 
-    fn poll_end(&mut self) {
+    fn poll_end(&mut self, house: &mut Housekeeping<'_>) {
         if let Some((client, _)) = &self.end_service {
-            match client.call(&Value::fields([]), self.timeout) {
+            match client.call(&Value::fields([]), self.timeout, house) {
                 Ok(v) => self.end_value = Some(v),
                 Err(e) => self.failed("end service", &e),
             }
@@ -535,7 +549,7 @@ impl ServedWorld for Ros2World {
         }
     }
 
-    fn reset(&mut self, _seed: Option<u64>) {
+    fn reset(&mut self, _seed: Option<u64>, house: &mut Housekeeping<'_>) {
         self.steps = 0;
         self.shared.lock().counts.resets += 1;
         let before = self.answers();
@@ -548,8 +562,11 @@ impl ServedWorld for Ros2World {
                 .and_then(|r| Value::from_toml(&toml::Value::Table(r.request.clone())))
                 .unwrap_or_else(|| Value::fields([]));
             let mut tries = 0;
-            while let Err(e) = reset.call(&request, self.timeout) {
+            while let Err(e) = reset.call(&request, self.timeout, house) {
                 self.failed("reset", &e);
+                if matches!(e, Ros2Error::GivenUp { .. }) {
+                    return;
+                }
                 tries += 1;
                 if tries == 5 {
                     // The robot is gone: end the world so that the supervisor sees it.
@@ -561,10 +578,10 @@ impl ServedWorld for Ros2World {
         // Answers matched by sequence number: the reset service's reply
         // (matched by its request) is the reset's answer.
         if !self.matched() {
-            self.await_answer(Awaited::After(before));
+            self.await_answer(Awaited::After(before), house);
         }
         self.shared.lock().reward = 0.0;
-        self.poll_end();
+        self.poll_end(house);
     }
 
     fn observe(&self, _agent: usize) -> Observation {
@@ -584,7 +601,7 @@ impl ServedWorld for Ros2World {
         Observation { atoms, fluents }
     }
 
-    fn step(&mut self, actions: &[Option<usize>]) -> Vec<StepResult> {
+    fn step(&mut self, actions: &[Option<usize>], house: &mut Housekeeping<'_>) -> Vec<StepResult> {
         self.steps += 1;
         self.shared.lock().counts.steps += 1;
         let index = actions.first().copied().flatten().filter(|&a| a < self.commands.len());
@@ -612,19 +629,19 @@ impl ServedWorld for Ros2World {
                     ActionStatus::Failed
                 }
             },
-            Some(Command::Action(g)) => self.run_goal(&g.clients, &with_number(&g.goal, numbered)),
+            Some(Command::Action(g)) => self.run_goal(&g.clients, &with_number(&g.goal, numbered), house),
         };
         // An answer that does not come in time fails the action; a failed
         // action waits for nothing more.
         let status = match (status, awaited) {
-            (ActionStatus::Finished, Some(awaited)) if !self.await_answer(awaited) => ActionStatus::Failed,
+            (ActionStatus::Finished, Some(awaited)) if !self.await_answer(awaited, house) => ActionStatus::Failed,
             (status, _) => status,
         };
         if status == ActionStatus::Failed {
             self.shared.lock().counts.failed_actions += 1;
         }
-        let reward = self.take_reward();
-        self.poll_end();
+        let reward = self.take_reward(house);
+        self.poll_end(house);
         let mut out = vec![
             StepResult {
                 reward: 0.0,
@@ -797,8 +814,8 @@ message = { direction = 1 }
         // Wait until the world's session sees the robot's servers.
         assert!(sees_servers(&a, 3), "the robot's action servers are seen");
         let mut world = Ros2World::new(loaded, world_node).unwrap();
-        world.reset(None);
-        let done = world.step(&[Some(0)]);
+        world.reset(None, &mut Housekeeping::none());
+        let done = world.step(&[Some(0)], &mut Housekeeping::none());
         assert_eq!(done[0].action, ActionStatus::Finished);
         let start = Instant::now();
         while world.observe(0).atoms != vec![0] && start.elapsed() < Duration::from_secs(5) {
@@ -806,9 +823,15 @@ message = { direction = 1 }
         }
         assert_eq!(world.observe(0).atoms, vec![0], "the robot's state after the goal");
         status.store(9, Ordering::Relaxed);
-        assert_eq!(world.step(&[Some(0)])[0].action, ActionStatus::Failed);
+        assert_eq!(
+            world.step(&[Some(0)], &mut Housekeeping::none())[0].action,
+            ActionStatus::Failed
+        );
         status.store(6, Ordering::Relaxed);
-        assert_eq!(world.step(&[Some(0)])[0].action, ActionStatus::Failed);
+        assert_eq!(
+            world.step(&[Some(0)], &mut Housekeeping::none())[0].action,
+            ActionStatus::Failed
+        );
         let start = Instant::now();
         while world.counts().unknown_action_status < 2 && start.elapsed() < Duration::from_secs(5) {
             std::thread::sleep(Duration::from_millis(20));
@@ -878,12 +901,12 @@ equals = true
             .unwrap();
         assert!(sees_servers(&a, 1), "the robot's service is seen");
         let mut world = Ros2World::new(loaded, world_node).unwrap();
-        world.reset(None);
+        world.reset(None, &mut Housekeeping::none());
         assert!(!world.terminated() && !world.truncated());
-        let step = world.step(&[Some(0)]);
+        let step = world.step(&[Some(0)], &mut Housekeeping::none());
         assert_eq!((step[0].reward, step[0].action), (-2.5, ActionStatus::Finished));
         assert!(world.terminated(), "the service said done");
-        world.step(&[None]);
+        world.step(&[None], &mut Housekeeping::none());
         assert!(world.truncated(), "max_steps = 2");
         assert_eq!(world.counts().timeouts, 0);
     }
@@ -951,27 +974,51 @@ sequence = "command"
             })
             .unwrap();
         let mut world = Ros2World::new(loaded, world_node).unwrap();
-        world.reset(None);
+        world.reset(None, &mut Housekeeping::none());
         // Until the two sessions see each other's subscriptions, commands
         // and answers are lost (timeouts).
         let start = Instant::now();
-        while world.step(&[Some(0)])[0].action != ActionStatus::Finished {
+        while world.step(&[Some(0)], &mut Housekeeping::none())[0].action != ActionStatus::Finished {
             assert!(start.elapsed() < Duration::from_secs(30), "{:?}", world.counts());
         }
         let before = world.counts();
         mode.store(2, Ordering::Relaxed);
-        assert_eq!(world.step(&[Some(0)])[0].action, ActionStatus::Finished);
+        assert_eq!(
+            world.step(&[Some(0)], &mut Housekeeping::none())[0].action,
+            ActionStatus::Finished
+        );
         mode.store(1, Ordering::Relaxed);
         assert_eq!(
-            world.step(&[Some(0)])[0].action,
+            world.step(&[Some(0)], &mut Housekeeping::none())[0].action,
             ActionStatus::Failed,
             "no answer of its own"
         );
         mode.store(0, Ordering::Relaxed);
-        assert_eq!(world.step(&[Some(0)])[0].action, ActionStatus::Finished);
+        assert_eq!(
+            world.step(&[Some(0)], &mut Housekeeping::none())[0].action,
+            ActionStatus::Finished
+        );
         let after = world.counts();
         assert_eq!(after.unmatched_answers - before.unmatched_answers, 2, "{after:?}");
         assert_eq!(after.timeouts - before.timeouts, 1, "{after:?}");
         assert_eq!(after.failed_actions - before.failed_actions, 1, "{after:?}");
+        // A step whose answer does not come keeps the host's house all the
+        // while it waits (400 ms, in slices of Housekeeping::EVERY) ...
+        mode.store(1, Ordering::Relaxed);
+        let mut kept = 0;
+        let mut count = || {
+            kept += 1;
+            true
+        };
+        let step = world.step(&[Some(0)], &mut Housekeeping::new(&mut count));
+        assert_eq!(step[0].action, ActionStatus::Failed);
+        assert!(kept >= 2, "housekeeping {kept} times in a wait of 400 ms");
+        let waited = world.counts();
+        assert_eq!(waited.timeouts - after.timeouts, 1, "{waited:?}");
+        // ... and gives the wait up once the run stops: no timeout.
+        let mut stopping = || false;
+        let step = world.step(&[Some(0)], &mut Housekeeping::new(&mut stopping));
+        assert_eq!(step[0].action, ActionStatus::Failed);
+        assert_eq!(world.counts().timeouts, waited.timeouts, "{:?}", world.counts());
     }
 }

@@ -31,7 +31,9 @@ With ``--plan-state FILE``, the robot also subscribes, as ``ros2 topic echo``
 would, to the agent's plan state (``std_msgs/String`` on
 ``/learnpnp/agent1/pnp/currentActivePlaces``, ``.../runningActions`` and
 ``.../choices``) and appends each message to FILE as a line of JSON
-(``{"topic": ..., "data": ...}``).
+(``{"topic": ..., "data": ...}``), its own commands (``{"topic": "command",
+"data": "forward"}`` or ``"back"``) and resets (``{"topic": "reset"}``)
+among them: one timeline of what it was told and what it was shown.
 
 With ``--faults N``, after its N-th command the robot also sends, once, a
 ``Bool`` whose CDR byte is 7 (malformed) and a ``Bool`` under a wrong type
@@ -115,11 +117,20 @@ def main():
         session.put(wrong, zenoh.ZBytes(b"\x00\x01\x00\x00\x01"), attachment=attachment)
 
     log = open(args.log, "a", buffering=1) if args.log else None
+    echo = open(args.plan_state, "a", buffering=1) if args.plan_state else None
+    echo_lock = threading.Lock()
+
+    def record(message):
+        """Appends ``message`` to the plan-state timeline, if one is kept."""
+        if echo:
+            with echo_lock:
+                echo.write(json.dumps(message) + "\n")
 
     def move(direction):
         with lock:
             if log:
                 log.write(f"{time.time_ns()}\n")
+            record({"topic": "command", "data": "forward" if direction > 0 else "back"})
             state["commands"] += 1
             state["pos"] = min(max(state["pos"] + direction, 0), LENGTH - 1)
             reward.publish(data=-1.0)
@@ -130,6 +141,7 @@ def main():
 
     def on_reset(request):
         with lock:
+            record({"topic": "reset"})
             state["pos"] = min(max(int(request.start), 0), LENGTH - 1)
             publish_state()
         return server.response_msg_class(success=True)
@@ -139,16 +151,10 @@ def main():
     else:
         ROS2Subscriber("/corridor/cmd", "std_msgs/msg/Int32", lambda msg: move(int(msg.data)), **where)
     server = ROS2ServiceServer("/corridor/reset", "corridor_msgs/srv/Reset", callback=on_reset, **where)
-    if args.plan_state:
-        echo = open(args.plan_state, "a", buffering=1)
-        echo_lock = threading.Lock()
+    if echo:
 
         def echoed(topic):
-            def write(msg):
-                with echo_lock:
-                    echo.write(json.dumps({"topic": topic, "data": msg.data}) + "\n")
-
-            return write
+            return lambda msg: record({"topic": topic, "data": msg.data})
 
         for topic in ("currentActivePlaces", "runningActions", "choices"):
             name = f"/learnpnp/agent1/pnp/{topic}"

@@ -282,6 +282,7 @@ pub fn heartbeat(pulse: &Pulse, run_id: u64) -> Heartbeat {
         aborted_episodes: pulse.aborted_episodes,
         checkpoints: pulse.checkpoints,
         checkpoint_failures: pulse.checkpoint_failures,
+        late_cycles: pulse.late_cycles,
     }
 }
 
@@ -308,6 +309,7 @@ pub(crate) fn read_heartbeat(msg: &Heartbeat, run_id: u64, roster: Roster) -> Re
         aborted_episodes: msg.aborted_episodes,
         checkpoints: msg.checkpoints,
         checkpoint_failures: msg.checkpoint_failures,
+        late_cycles: msg.late_cycles,
     })
 }
 
@@ -514,6 +516,7 @@ mod tests {
             aborted_episodes: 0,
             checkpoints: 1,
             checkpoint_failures: 0,
+            late_cycles: 7,
         };
         assert_eq!(read_heartbeat(&heartbeat(&pulse, 3), 3, Roster::Keepaway), Ok(pulse));
 

@@ -236,6 +236,8 @@ pub struct Pulse {
     pub(crate) checkpoints: u64,
     /// Agent: checkpoint writes that failed.
     pub(crate) checkpoint_failures: u64,
+    /// Simulator or world (real time): cycles whose work ran past their deadline.
+    pub late_cycles: u64,
 }
 
 /// A supervisor's command.

@@ -522,7 +522,7 @@ mod tests {
         m.episode_status = 4;
         assert_eq!(read_world_snapshot(&m, 1, 5, 70, 1), Err(Rejection::Content));
         let mut m = msg;
-        m.header.version = 2;
+        m.header.version = shm_layouts::PROTOCOL_VERSION + 1;
         assert_eq!(read_world_snapshot(&m, 1, 5, 70, 1), Err(Rejection::Version));
         assert!(view().holds(69) && view().holds(2) && !view().holds(1));
     }

@@ -14,10 +14,10 @@ use std::time::{Duration, Instant};
 
 use super::HEARTBEAT_EVERY;
 
-/// The longest a [`sleep_until`] sleeps between two calls of its
-/// housekeeping: half a heartbeat, so that a heartbeat is never later than
-/// half its interval for a sleep.
-const SLEEP_SLICE: Duration = Duration::from_millis(HEARTBEAT_EVERY.as_millis() as u64 / 2);
+/// The longest a [`sleep_until`] (or a world's wait for its robot) sleeps
+/// between two calls of its housekeeping: half a heartbeat, so that a
+/// heartbeat is never later than half its interval for a sleep.
+pub(crate) const SLEEP_SLICE: Duration = Duration::from_millis(HEARTBEAT_EVERY.as_millis() as u64 / 2);
 
 /// Cycles of `period` on absolute deadlines from a start.
 #[derive(Debug, Clone)]

@@ -254,6 +254,7 @@ impl Pacemaker {
                 aborted_episodes: 0,
                 checkpoints: 0,
                 checkpoint_failures: 0,
+                late_cycles: 0,
             },
             run_id,
             last: None,

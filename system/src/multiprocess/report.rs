@@ -61,6 +61,10 @@ pub struct SystemSummary {
     pub missed_deadlines: u64,
     /// Real time: commands that arrived after their cycle.
     pub(crate) late_commands: u64,
+    /// Real time: cycles whose work ran past their deadline (each counted,
+    /// the next kept on the grid), by the process that keeps the cycle (the
+    /// simulator, or the world: its incarnations summed), runs summed.
+    pub late_cycles: BTreeMap<String, u64>,
     /// Agents restarted.
     pub restarts: u32,
     /// Every restarted agent resumed with exactly the values checkpointed before it was lost.
@@ -168,6 +172,10 @@ pub(crate) fn summarize(
             *entry = entry.plus(r);
         }
     }
+    let mut late_cycles: BTreeMap<String, u64> = BTreeMap::new();
+    for (process, late) in records.iter().flat_map(|r| &r.late_cycles) {
+        *late_cycles.entry(process.clone()).or_default() += late;
+    }
     SystemSummary {
         complete: failure.is_none()
             && records.len() == config.spec.protocol.runs
@@ -189,6 +197,7 @@ pub(crate) fn summarize(
         },
         missed_deadlines: records.iter().map(|r| r.sim.totals.missed_deadlines).sum(),
         late_commands: records.iter().map(|r| r.sim.totals.late_commands).sum(),
+        late_cycles,
         restarts: records.iter().map(|r| r.restarts).sum(),
         values_survived: records.iter().flat_map(|r| &r.resumes).all(|c| c.survived),
         resumes: records.iter().flat_map(|r| r.resumes.iter().cloned()).collect(),

@@ -167,6 +167,7 @@ impl Link {
         pulse.cycles = totals.cycles;
         pulse.rejected = totals.rejected;
         pulse.missed_deadlines = totals.missed_deadlines;
+        pulse.late_cycles = totals.late_cycles;
         pulse.aborted_episodes = totals.aborted.len() as u64;
         self.pacemaker.tick(&self.ports.heartbeat).map_err(remote)?;
         let run_id = self.context.run_id;

@@ -12,7 +12,7 @@ use shm_layouts::MAX_FLUENTS;
 
 use serde::Serialize;
 
-use super::cadence::{Cadence, sleep_until};
+use super::cadence::{Cadence, SLEEP_SLICE, sleep_until};
 use super::launch::world_env;
 use super::{Clock, HEARTBEAT_EVERY, Pacemaker};
 use crate::ipc::convert::{Rejection, read_agent_report, read_control};
@@ -44,20 +44,57 @@ pub struct StepResult {
     pub action: ActionStatus,
 }
 
-/// A world in Rust, for [`serve`].
+/// A world in Rust, for [`serve`]. A reset or step that waits on something
+/// outside the world (a robot's answer) keeps the host's house while it
+/// waits ([`Housekeeping`]).
 pub trait ServedWorld {
     /// Its atoms, fluents and actions (the agents are the run's).
     fn vocabulary(&self) -> Vocabulary;
     /// Begins an episode; the first one is given the run's seed.
-    fn reset(&mut self, seed: Option<u64>);
+    fn reset(&mut self, seed: Option<u64>, house: &mut Housekeeping<'_>);
     /// What agent `agent` sees now.
     fn observe(&self, agent: usize) -> Observation;
     /// Steps the world with each agent's action (`None`: the agent idles).
-    fn step(&mut self, actions: &[Option<usize>]) -> Vec<StepResult>;
+    fn step(&mut self, actions: &[Option<usize>], house: &mut Housekeeping<'_>) -> Vec<StepResult>;
     /// Whether the episode reached a terminal state.
     fn terminated(&self) -> bool;
     /// Whether the episode is cut short (a step limit).
     fn truncated(&self) -> bool;
+}
+
+/// The host's housekeeping (the heartbeat, the supervisor's orders, the
+/// agents' reports), lent to a world's reset and step: a world whose reset
+/// or step waits on something outside it (a robot's answer) waits in
+/// slices of at most [`Housekeeping::EVERY`] and calls
+/// [`keep`](Housekeeping::keep) between them, so it heartbeats on the wall
+/// clock however long the robot takes. A world blocked without keeping
+/// house (a true hang) sends no heartbeat, and the supervisor kills it.
+pub struct Housekeeping<'h> {
+    /// The host's housekeeping: false once the run stops.
+    keep: Option<&'h mut dyn FnMut() -> bool>,
+}
+
+impl<'h> Housekeeping<'h> {
+    /// The longest a waiting world goes between two calls of
+    /// [`keep`](Housekeeping::keep): half a heartbeat interval.
+    pub const EVERY: Duration = SLEEP_SLICE;
+
+    /// Housekeeping by `keep` (the host's; in a world's tests, a stand-in):
+    /// false once the run stops.
+    pub fn new(keep: &'h mut dyn FnMut() -> bool) -> Self {
+        Housekeeping { keep: Some(keep) }
+    }
+
+    /// No host to keep: a world driven outside [`serve`] (its own tests).
+    pub fn none() -> Self {
+        Housekeeping { keep: None }
+    }
+
+    /// Keeps the host's house now. False once the run stops (the
+    /// supervisor said stop, or the host failed): a wait may end now.
+    pub fn keep(&mut self) -> bool {
+        self.keep.as_mut().is_none_or(|keep| keep())
+    }
 }
 
 /// Why a world cannot be served.
@@ -168,9 +205,9 @@ impl WorldRun {
     }
 }
 
-/// The world's side of the run.
-struct Host<'w, W: ServedWorld> {
-    world: &'w mut W,
+/// The world's side of the run (the world itself is lent to each episode,
+/// so that its waits can keep the host's house).
+struct Host {
     run: WorldRun,
     ports: WorldPorts,
     pacemaker: Pacemaker,
@@ -209,7 +246,7 @@ enum Interruption {
     Lost,
 }
 
-impl<W: ServedWorld> Host<'_, W> {
+impl Host {
     fn count(&mut self, why: Rejection) {
         self.pacemaker.pulse.rejected.count(why);
     }
@@ -218,6 +255,7 @@ impl<W: ServedWorld> Host<'_, W> {
     fn housekeeping(&mut self) -> Result<(), WorldHostError> {
         self.housekept = Instant::now();
         self.pacemaker.pulse.cycles = self.cycle;
+        self.pacemaker.pulse.late_cycles = self.served.late_cycles + self.cadence.as_ref().map_or(0, Cadence::late);
         let beats = self.pacemaker.pulse.sequence;
         self.pacemaker.tick(&self.ports.heartbeat)?;
         // SAFETY: getppid has no effects.
@@ -256,6 +294,21 @@ impl<W: ServedWorld> Host<'_, W> {
         Ok(())
     }
 
+    /// Runs `f` with the host's housekeeping lent (a world's reset or
+    /// step): what `f` made, or the first failure of the housekeeping.
+    fn keeping<T>(&mut self, f: impl FnOnce(&mut Housekeeping<'_>) -> T) -> Result<T, WorldHostError> {
+        let mut failure = None;
+        let mut keep = || match self.housekeeping() {
+            Ok(()) => !self.stop,
+            Err(e) => {
+                failure.get_or_insert(e);
+                false
+            }
+        };
+        let made = f(&mut Housekeeping::new(&mut keep));
+        failure.map_or(Ok(made), Err)
+    }
+
     /// Announces the vocabulary until every agent is ready; false on stop.
     fn await_agents(&mut self) -> Result<bool, WorldHostError> {
         self.pacemaker.pulse.state = ProcessState::Ready;
@@ -286,10 +339,15 @@ impl<W: ServedWorld> Host<'_, W> {
 
     /// Publishes each agent's snapshot of the world now (the end of a
     /// cycle's work).
-    fn publish(&mut self, status: EpisodeStatus, results: &[StepResult]) -> Result<(), WorldHostError> {
+    fn publish(
+        &mut self,
+        world: &impl ServedWorld,
+        status: EpisodeStatus,
+        results: &[StepResult],
+    ) -> Result<(), WorldHostError> {
         self.cycle += 1;
         for a in 0..self.run.agents {
-            let seen = self.world.observe(a);
+            let seen = world.observe(a);
             let mut atoms = [0u64; ATOM_WORDS];
             for &i in &seen.atoms {
                 atoms[i / 64] |= 1 << (i % 64);
@@ -345,8 +403,8 @@ impl<W: ServedWorld> Host<'_, W> {
     }
 
     /// Tells every agent the episode is discarded.
-    fn abort(&mut self) -> Result<(), WorldHostError> {
-        self.publish(EpisodeStatus::Aborted, &[])?;
+    fn abort(&mut self, world: &impl ServedWorld) -> Result<(), WorldHostError> {
+        self.publish(world, EpisodeStatus::Aborted, &[])?;
         self.pacemaker.pulse.aborted_episodes += 1;
         Ok(())
     }
@@ -409,13 +467,13 @@ impl<W: ServedWorld> Host<'_, W> {
     }
 
     /// Plays one episode; `Err` if it was interrupted.
-    fn episode(&mut self) -> Result<Result<(), Interruption>, WorldHostError> {
+    fn episode(&mut self, world: &mut impl ServedWorld) -> Result<Result<(), Interruption>, WorldHostError> {
         let seed = std::mem::take(&mut self.first_reset).then_some(self.run.seed);
-        self.world.reset(seed);
+        self.keeping(|house| world.reset(seed, house))?;
         self.episode += 1;
         self.step = 0;
         let mut last: Vec<Option<usize>> = vec![None; self.run.agents];
-        self.publish(EpisodeStatus::Running, &[])?;
+        self.publish(world, EpisodeStatus::Running, &[])?;
         loop {
             let deadline = self.cadence.as_ref().map(Cadence::deadline);
             let answers = match self.collect(deadline)? {
@@ -425,7 +483,7 @@ impl<W: ServedWorld> Host<'_, W> {
             self.end_cycle()?;
             if answers.iter().all(Option::is_none) && last.iter().all(Option::is_none) {
                 // Real time, nothing told yet: the same state again a cycle later.
-                self.publish(EpisodeStatus::Running, &[])?;
+                self.publish(world, EpisodeStatus::Running, &[])?;
                 continue;
             }
             // A missed command: a robot keeps doing what it was last told.
@@ -437,18 +495,18 @@ impl<W: ServedWorld> Host<'_, W> {
                 Vec::new()
             } else {
                 self.step += 1;
-                self.world.step(&actions)
+                self.keeping(|house| world.step(&actions, house))?
             };
             let status = if plan_ended {
                 EpisodeStatus::Truncated
-            } else if self.world.terminated() {
+            } else if world.terminated() {
                 EpisodeStatus::Terminated
-            } else if self.world.truncated() {
+            } else if world.truncated() {
                 EpisodeStatus::Truncated
             } else {
                 EpisodeStatus::Running
             };
-            self.publish(status, &results)?;
+            self.publish(world, status, &results)?;
             if status.ended() {
                 // Each agent acknowledges the end once it has learned from it.
                 let deadline = self.cadence.as_ref().map(Cadence::deadline);
@@ -478,7 +536,6 @@ pub fn serve<W: ServedWorld>(world: &mut W) -> Result<Served, WorldHostError> {
         actions: vocabulary.actions.len(),
         vocabulary,
         pacemaker: Pacemaker::new(Role::World, run.run_id),
-        world,
         ports,
         episode: 0,
         cycle: 0,
@@ -499,11 +556,11 @@ pub fn serve<W: ServedWorld>(world: &mut W) -> Result<Served, WorldHostError> {
     host.pacemaker.beat(&host.ports.heartbeat)?;
     while host.await_agents()? {
         loop {
-            match host.episode()? {
+            match host.episode(world)? {
                 Ok(()) => host.pacemaker.pulse.episodes += 1,
                 Err(Interruption::Stop) => break,
                 Err(Interruption::Lost) => {
-                    host.abort()?;
+                    host.abort(world)?;
                     break;
                 }
             }
@@ -512,9 +569,10 @@ pub fn serve<W: ServedWorld>(world: &mut W) -> Result<Served, WorldHostError> {
             break;
         }
     }
-    host.pacemaker.pulse.state = ProcessState::Stopping;
-    host.pacemaker.beat(&host.ports.heartbeat)?;
     host.end_cadence();
+    host.pacemaker.pulse.state = ProcessState::Stopping;
+    host.pacemaker.pulse.late_cycles = host.served.late_cycles;
+    host.pacemaker.beat(&host.ports.heartbeat)?;
     host.served.snapshots = host.cycle;
     let served = host.served;
     if let Some(rate) = served.rate() {

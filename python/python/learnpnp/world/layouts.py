@@ -15,7 +15,7 @@ import ctypes
 from typing import Tuple, Type
 
 #: The version of the protocol; a message with another version is refused.
-PROTOCOL_VERSION = 1
+PROTOCOL_VERSION = 2
 #: The ``sender`` of a world's messages (the simulator's).
 SENDER_WORLD = 100
 #: The ``sender`` of the supervisor's messages.
@@ -253,6 +253,7 @@ class Heartbeat(ctypes.Structure):
     aborted_episodes: int
     checkpoints: int
     checkpoint_failures: int
+    late_cycles: int
 
     _fields_ = [
         ("header", Header),
@@ -266,6 +267,7 @@ class Heartbeat(ctypes.Structure):
         ("aborted_episodes", _u64),
         ("checkpoints", _u64),
         ("checkpoint_failures", _u64),
+        ("late_cycles", _u64),
     ]
 
     @staticmethod

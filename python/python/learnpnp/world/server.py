@@ -546,9 +546,22 @@ class _World(Generic[_Obs]):
                 self.heartbeat.episodes += 1
                 return
             self.publish()
-            published_ns = time.monotonic_ns()
-            on_schedule = published_ns - deadline_ns < self.settings.period_ns // 2
-            deadline_ns = (deadline_ns if on_schedule else published_ns) + self.settings.period_ns
+            if self.settings.realtime:
+                deadline_ns = self.next_deadline(deadline_ns)
+
+    def next_deadline(self, deadline_ns: int) -> int:
+        """Real time, once a cycle's snapshots are out: the next cycle's
+        deadline on the episode's grid (cycle k ends at t0 + (k + 1) x period).
+        A cycle whose work ran past that deadline is late: counted in the
+        heartbeat, and the next deadline is the grid's next one ahead (the
+        grid is kept; no cycle is squeezed in to catch up)."""
+        period = self.settings.period_ns
+        deadline_ns += period
+        now = time.monotonic_ns()
+        if now >= deadline_ns:
+            self.heartbeat.late_cycles += 1
+            deadline_ns += ((now - deadline_ns) // period + 1) * period
+        return deadline_ns
 
     def abort(self) -> None:
         """An agent was lost: every agent is told the episode is discarded, and

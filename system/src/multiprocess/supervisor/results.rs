@@ -60,6 +60,9 @@ pub struct RunRecord {
     pub(crate) histograms: Vec<Latency>,
     /// Messages refused, by process (the simulator and each keeper, all incarnations).
     pub rejected: BTreeMap<String, Rejections>,
+    /// Real time: the cycles whose work ran past their deadline, by process
+    /// that keeps a cycle (the simulator, or the world: all incarnations).
+    pub late_cycles: BTreeMap<String, u64>,
     /// Checkpoint writes that failed, over every agent.
     pub(crate) checkpoint_failures: u64,
     /// The learning keepers' final values (their last checkpoints).
@@ -203,6 +206,7 @@ impl Watch<'_> {
         Ok(RunRecord {
             run: self.context.run,
             rejected: self.rejected(&sim),
+            late_cycles: self.late_cycles(&sim),
             sim,
             failure,
             restarts: self.restarts.values().sum::<u32>(),
@@ -316,6 +320,23 @@ impl Watch<'_> {
             }
         }
         by_process
+    }
+
+    /// The late cycles of the process that keeps the run's cycle: the
+    /// simulator's from its result, the world's summed over its
+    /// incarnations' last heartbeats.
+    pub(super) fn late_cycles(&self, sim: &SimulatorResult) -> BTreeMap<String, u64> {
+        let role = self.roster.host();
+        let late = match role {
+            Role::Simulator => sim.totals.late_cycles,
+            _ => self
+                .pulses
+                .iter()
+                .filter(|((r, _), _)| *r == role)
+                .map(|(_, pulse)| pulse.late_cycles)
+                .sum(),
+        };
+        BTreeMap::from([(role.to_string(), late)])
     }
 
     /// World runs: the deadlines the world's incarnations missed.
