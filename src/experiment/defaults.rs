@@ -367,7 +367,7 @@ pub fn parse_threshold(s: &str) -> Result<ThresholdRule, String> {
 }
 
 /// Parameters given on the command line; each replaces the default when set.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Overrides {
     /// Discount per step.
     pub gamma: Option<f64>,
@@ -407,7 +407,35 @@ pub struct Overrides {
     pub exploit_policy: Option<ExploitPolicy>,
 }
 
+impl Default for Overrides {
+    fn default() -> Self {
+        Self::NONE
+    }
+}
+
 impl Overrides {
+    /// No parameter set: every default stays.
+    pub const NONE: Overrides = Overrides {
+        gamma: None,
+        alpha: None,
+        lambda: None,
+        epsilon: None,
+        tau: None,
+        greedy: false,
+        initial_value: None,
+        initial_phase: None,
+        initial_parameter: None,
+        assessment: None,
+        step_size: None,
+        threshold: None,
+        stage_length: None,
+        alpha_min: None,
+        consistent: false,
+        every_marking: false,
+        unestimated: None,
+        exploit_policy: None,
+    };
+
     /// The parameter names [`Overrides::set`] takes: the flags of `learnpnp
     /// experiment`, without dashes.
     pub const NAMES: &'static [&'static str] = &[
