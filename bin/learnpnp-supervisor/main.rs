@@ -13,10 +13,11 @@ use std::time::Duration;
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use learnpnp::experiment::options::DomainName;
+use learnpnp::experiment::options::ExperimentOptions;
 use learnpnp::experiment::result_dir::ResultDir;
 use learnpnp::experiment::spec::{Algorithm, DomainSpec};
 use learnpnp::named::Named;
-use learnpnp_cli::args::{ExperimentFlags, named};
+use learnpnp_cli::args::named;
 use learnpnp_cli::interrupt::Interrupt;
 use learnpnp_cli::view::ViewFlags;
 use learnpnp_system::hosts::PLAIN_TCP_WARNING;
@@ -225,7 +226,7 @@ struct RunArgs {
     #[arg(long, value_name = "FILE")]
     view_jsonl: Option<PathBuf>,
     #[command(flatten)]
-    flags: ExperimentFlags,
+    flags: ExperimentOptions,
 }
 
 /// A soak: the system for a set time, sampled once a second.
@@ -334,7 +335,7 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
         Domain::KeepawayPosition => DomainName::KeepawayPosition,
         Domain::KeepawayPass => DomainName::KeepawayPass,
     };
-    let options = args.flags.options();
+    let options = args.flags.clone();
     let spec = match world_command(args)? {
         Some(command) => {
             let plans = match (&options.plan, args.agent_plans.as_slice()) {
@@ -563,7 +564,7 @@ fn bench(args: BenchArgs) -> Result<ExitCode> {
 fn bench_world_cmd(args: BenchWorldArgs) -> Result<ExitCode> {
     let interrupt = Interrupt::install().context("installing the signal handlers")?;
     let mut run = args.run;
-    if run.flags.options().plan.is_none() {
+    if run.flags.plan.is_none() {
         bail!("bench-world needs the agents' plan: --plan plans/corridor.pnml");
     }
     if run.world_cmd.is_none() {

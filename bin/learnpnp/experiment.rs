@@ -6,7 +6,7 @@ use std::sync::Arc;
 use anyhow::{Context, Result};
 use clap::Args;
 use learnpnp::experiment::checkpoint::{ResumePoint, resume_point};
-use learnpnp::experiment::options::DomainName;
+use learnpnp::experiment::options::{DomainName, ExperimentOptions};
 use learnpnp::experiment::output::{SummaryFile, final_score_text, greedy_text, replay_name, write_shard_results_with};
 use learnpnp::experiment::ranges;
 use learnpnp::experiment::result_dir::{Contents, ResultDir};
@@ -14,7 +14,7 @@ use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_
 use learnpnp::experiment::shard::{Shard, ShardRecord};
 use learnpnp::experiment::spec::ExperimentSpec;
 use learnpnp::feed::FeedSink;
-use learnpnp_cli::args::{ExperimentFlags, named};
+use learnpnp_cli::args::named;
 use learnpnp_cli::interrupt::Interrupt;
 use learnpnp_cli::view::ViewFlags;
 
@@ -26,7 +26,7 @@ pub struct ExperimentArgs {
     #[arg(value_parser = named::<DomainName>())]
     domain: DomainName,
     #[command(flatten)]
-    flags: ExperimentFlags,
+    options: ExperimentOptions,
     /// Output directory (replaced as a whole when the experiment ends; refused
     /// if another experiment is writing there).
     #[arg(long, default_value = "out/experiment")]
@@ -187,7 +187,7 @@ fn initial_values_migration(spec: &ExperimentSpec) -> Result<Option<String>> {
 
 pub fn run(args: &ExperimentArgs) -> Result<()> {
     let interrupt = Interrupt::install().context("installing the signal handlers")?;
-    let spec = args.flags.options().spec(args.domain)?;
+    let spec = args.options.spec(args.domain)?;
     // Checked and locked before any work.
     let mut dir = ResultDir::open(&args.out)?;
     let threads = args.threads.unwrap_or_else(default_threads);

@@ -4,7 +4,7 @@
 
 #![deny(missing_docs)]
 
-/// The experiment's and the supervisor's flags, parsed into `ExperimentOptions`.
+/// The experiment's and the supervisor's flags: `ExperimentOptions`.
 pub mod args;
 /// Stopping long work on Ctrl-C or SIGTERM without losing what is done.
 pub mod interrupt;

@@ -3,8 +3,10 @@
 
 use std::str::FromStr;
 
+use clap::Args;
 use serde::{Deserialize, Serialize};
 
+use super::options::named;
 use super::ranges;
 use super::spec::{Algorithm, DomainSpec, LearnerSpec, Protocol};
 use crate::domains::keepaway::KeepawayMode;
@@ -366,48 +368,110 @@ pub fn parse_threshold(s: &str) -> Result<ThresholdRule, String> {
     })
 }
 
-/// Parameters given on the command line; each replaces the default when set.
-#[derive(Debug, Clone, Default, PartialEq)]
+/// The learner's parameters a user gives (the flags of `learnpnp experiment`,
+/// the keyword arguments from Python); each replaces the default when set.
+#[derive(Args, Debug, Clone, Copy, PartialEq)]
 pub struct Overrides {
-    /// Discount per step.
+    /// Discount per executor step (0 to 1).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::GAMMA.parse(s))]
     pub gamma: Option<f64>,
-    /// Step size (TD) / constant step (SoSMC).
+    /// Step size (above 0, up to 1).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::STEP.parse(s))]
     pub alpha: Option<f64>,
-    /// Trace decay.
+    /// Eligibility trace decay (0 to 1).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::LAMBDA.parse(s))]
     pub lambda: Option<f64>,
-    /// Epsilon schedule (TD: over decisions; SoSMC: assessing phase, over episodes).
+    /// Epsilon (0 to 1): VALUE or START:END:OVER (TD: over decisions; SoSMC: assessing episodes).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| parse_schedule_in(s, ranges::EPSILON))]
     pub epsilon: Option<Schedule>,
-    /// Temperature schedule (switches TD to softmax; SoSMC: assessing phase).
+    /// Softmax temperature (above 0, finite): VALUE or START:END:OVER.
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| parse_schedule_in(s, ranges::TEMPERATURE))]
     pub tau: Option<Schedule>,
-    /// Greedy action selection (TD).
+    /// Act greedily (TD; with an optimistic --initial-value).
+    #[arg(long)]
     pub greedy: bool,
-    /// Initial value of unseen keys.
+    /// Value of unseen markings (a finite number, or -inf).
+    #[arg(long, allow_hyphen_values = true, value_parser = ranges::parse_initial_value)]
     pub initial_value: Option<f64>,
-    /// SoSMC: episodes of the initial phase.
+    /// SoSMC: episodes of the initial exploratory phase.
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::WHOLE.parse(s))]
     pub initial_phase: Option<u64>,
-    /// SoSMC: the epsilon or temperature of the initial phase.
+    /// SoSMC: epsilon (0 to 1) or temperature (above 0) of the initial phase
+    /// (VALUE or START:END:OVER).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| parse_schedule_in(s, ranges::EXPLORATION))]
     pub initial_parameter: Option<Schedule>,
-    /// SoSMC: when the assessing phase explores.
+    /// SoSMC: exploration in the assessing phase: never, per-decision, every:N, after:K, samples:K.
+    #[arg(long = "assess", value_name = "ASSESS", value_parser = |s: &str| s.parse::<AssessmentArg>().map(|a| a.0))]
     pub assessment: Option<Assessment>,
-    /// SoSMC: step size of exploiting updates.
+    /// SoSMC: step size of exploiting updates: a number above 0, up to 1, or 'inverse' (1/n).
+    #[arg(long, value_parser = parse_step_size, allow_hyphen_values = true)]
     pub step_size: Option<StepSize>,
-    /// SoSMC: the threshold rule.
+    /// SoSMC: suspend exploration while the mean of the last WINDOW exploiting returns is at least THRESHOLD.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_threshold, value_name = "THRESHOLD:WINDOW")]
     pub threshold: Option<ThresholdRule>,
-    /// MCESP: episodes per explored pair.
+    /// MCESP: episodes per explored pair (at least 1).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::STAGE_LENGTH.parse(s))]
     pub stage_length: Option<u64>,
-    /// MCESP: smallest step.
+    /// MCESP: smallest step size (above 0, up to 1).
+    #[arg(long, allow_hyphen_values = true, value_parser = |s: &str| ranges::STEP.parse(s))]
     pub alpha_min: Option<f64>,
-    /// TD: consistent exploration.
+    /// TD: repeat the first decision at an observation within an episode.
+    #[arg(long)]
     pub consistent: bool,
-    /// TD: values on every marking ([`Scope::Markings`]) instead of the choices' afterstates.
+    /// TD: value every marking the plan passes through (one-step methods then
+    /// bootstrap at every state of the process, not only at choices).
+    #[arg(long)]
     pub every_marking: bool,
-    /// Soft-SoSMC: the weight of an option with no estimate.
+    /// Soft-SoSMC: the weight of an option valued -inf (no estimate yet): none
+    /// (eq. 1.8 as written: weight 0; the default, where the thesis's domains
+    /// start from a finite pessimistic value) or as-best (that of the best
+    /// estimated option)
+    #[arg(long, value_parser = named::<Unestimated>())]
     pub unestimated: Option<Unestimated>,
-    /// SoSMC: the policy of exploiting episodes.
+    /// SoSMC: the policy of exploiting episodes: greedy (the default: taken
+    /// anew every episode, as the thesis's figures need) or last (Algorithm 1
+    /// as written: the last policy chosen, the greedy one taken anew only
+    /// after an exploratory episode).
+    #[arg(long, value_parser = named::<ExploitPolicy>())]
     pub exploit_policy: Option<ExploitPolicy>,
 }
 
+/// Parses a schedule (see [`parse_schedule`]) whose every value must lie in `range`.
+fn parse_schedule_in(text: &str, range: ranges::RealRange) -> Result<Schedule, String> {
+    let schedule = parse_schedule(text)?;
+    range.check_schedule(&schedule)?;
+    Ok(schedule)
+}
+
+impl Default for Overrides {
+    fn default() -> Self {
+        Self::NONE
+    }
+}
+
 impl Overrides {
+    /// No parameter set: every default stays.
+    pub const NONE: Overrides = Overrides {
+        gamma: None,
+        alpha: None,
+        lambda: None,
+        epsilon: None,
+        tau: None,
+        greedy: false,
+        initial_value: None,
+        initial_phase: None,
+        initial_parameter: None,
+        assessment: None,
+        step_size: None,
+        threshold: None,
+        stage_length: None,
+        alpha_min: None,
+        consistent: false,
+        every_marking: false,
+        unestimated: None,
+        exploit_policy: None,
+    };
+
     /// The parameter names [`Overrides::set`] takes: the flags of `learnpnp
     /// experiment`, without dashes.
     pub const NAMES: &'static [&'static str] = &[
@@ -436,11 +500,7 @@ impl Overrides {
     /// the same range; switches (`greedy`, `consistent`, `every_marking`) take
     /// `true` or `false`.
     pub fn set(&mut self, name: &str, text: &str) -> Result<(), String> {
-        let schedule_in = |range: ranges::RealRange| -> Result<Schedule, String> {
-            let schedule = parse_schedule(text)?;
-            range.check_schedule(&schedule)?;
-            Ok(schedule)
-        };
+        let schedule_in = |range| parse_schedule_in(text, range);
         let switch = || match text {
             "true" | "True" => Ok(true),
             "false" | "False" => Ok(false),
@@ -563,6 +623,17 @@ mod tests {
                 window: 200
             }
         );
+    }
+
+    #[test]
+    fn the_parameter_names_are_the_flags() {
+        let command = Overrides::augment_args(clap::Command::new("parameters"));
+        let flags: Vec<String> = command
+            .get_arguments()
+            .filter_map(|arg| arg.get_long())
+            .map(|long| long.replace('-', "_"))
+            .collect();
+        assert_eq!(flags, Overrides::NAMES);
     }
 
     #[test]

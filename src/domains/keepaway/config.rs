@@ -49,50 +49,6 @@ pub enum KeepawayMode {
     Fixed(FixedPolicy),
 }
 
-/// Keepaway's options of an experiment as a user states them (the Keepaway
-/// flags of `learnpnp experiment` and of the supervisor); `None` leaves the
-/// domain's default.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct KeepawayOptions {
-    /// Evaluation episodes of run 0 saved as RoboCup game logs.
-    pub record: usize,
-    /// The keepers' policy for keepaway-fixed.
-    pub policy: FixedPolicy,
-    /// What the agents perceive.
-    pub vision: VisionMode,
-    /// The soccer server's timer.
-    pub timer: ServerTimer,
-    /// The referee's turnover rule.
-    pub referee: RefereeRule,
-    /// Distance (m) at which the threshold policy passes.
-    pub hold_threshold: Option<f64>,
-    /// Threshold (m) of the takers' distance to a pass line.
-    pub lane_threshold: Option<f64>,
-    /// Threshold (m) of the closest taker's distance.
-    pub taker_threshold: Option<f64>,
-}
-
-impl KeepawayOptions {
-    /// The configuration of `mode` with these options.
-    pub fn config(&self, mode: KeepawayMode) -> KeepawayDomainConfig {
-        let mut config = KeepawayDomainConfig::for_mode(mode);
-        config.vision = self.vision;
-        config.timer = self.timer;
-        config.referee = self.referee;
-        config.record = self.record;
-        if let Some(t) = self.hold_threshold {
-            config.hold_threshold = t;
-        }
-        if let Some(t) = self.lane_threshold {
-            config.thresholds.pass_line = t;
-        }
-        if let Some(t) = self.taker_threshold {
-            config.thresholds.closest_taker = t;
-        }
-        config
-    }
-}
-
 /// Keepaway's parameters beyond the simulator's defaults.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct KeepawayDomainConfig {

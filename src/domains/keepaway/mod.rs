@@ -15,7 +15,7 @@ mod world;
 
 pub use actions::{decision_name, goto_name, registry};
 pub use agent::{MAX_STEPS_PER_CYCLE, PlanKeeper};
-pub use config::{FixedPolicy, KeepawayDomainConfig, KeepawayMode, KeepawayOptions};
+pub use config::{FixedPolicy, KeepawayDomainConfig, KeepawayMode};
 pub use decisions::{Decision, PassDecisions, Start, Stop};
 pub use task::{KeepawayTask, RunSeeds};
 pub use team::{KeeperTeam, LocalTeam, TeamStep};
