@@ -1,4 +1,4 @@
-//! The core crate's integration tests, one binary: plans, checks, executor, schemas, learners, domains, the Keepaway simulator, experiments.
+//! The core crate's integration tests, one binary: plans, checks, executor, schemas, learners, domains, Keepaway's plans and decisions, experiments (the Keepaway simulator's own tests are the keepaway crate's).
 
 // Each crate's test binary includes the workspace's shared helpers; each uses a subset.
 #[allow(dead_code)]
@@ -12,13 +12,7 @@ mod executor_semantics;
 mod experiment_cycles;
 mod generate_plans;
 mod keepaway_decisions;
-mod keepaway_episodes;
-mod keepaway_interception;
-mod keepaway_physics;
 mod keepaway_plans;
-mod keepaway_referee;
-mod keepaway_robustness;
-mod keepaway_skills;
 mod learning_behaviour;
 mod learning_reference;
 mod parr_russell_optimum;

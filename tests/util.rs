@@ -11,8 +11,6 @@ use learnpnp::experiment::spec::ExperimentSpec;
 use learnpnp::learning::{Assessment, ExploitPolicy, Schedule, Sigma, SoSmcConfig, StepSize, Unestimated};
 use learnpnp::net::{PetriNet, PlaceNode, TransitionNode};
 use learnpnp::plan::{PlaceRef, PlanBuilder};
-use learnpnp_keepaway::world::Player;
-use learnpnp_keepaway::{FieldState, KeepawayConfig, Vec2, VisionMode};
 use proptest::test_runner::{Config as ProptestConfig, FileFailurePersistence};
 
 /// The workspace's root directory (where `plans/` and `tests/fixtures/` are).
@@ -114,36 +112,6 @@ pub const SHIPPED_SCHEMAS: [&str; 8] = [
     "keepaway_pass",
     "keepaway_position",
 ];
-
-/// Keepaway's configuration for scripted situations: without the server's
-/// movement noise, and with exact views (full state), so that skills can be
-/// checked against exact numbers.
-pub fn noiseless() -> KeepawayConfig {
-    KeepawayConfig {
-        motion_noise: false,
-        vision: VisionMode::FullState,
-        ..KeepawayConfig::default()
-    }
-}
-
-/// A player standing at `(x, y)`, facing `body` degrees.
-pub fn player(x: f64, y: f64, body: f64) -> Player {
-    Player {
-        pos: Vec2::new(x, y),
-        vel: Vec2::ZERO,
-        body,
-    }
-}
-
-/// A field with every player at rest facing +x, in a row along `y` from `x0`,
-/// `dx` apart; the ball at rest at the origin.
-pub fn players_in_a_row(x0: f64, dx: f64, y: f64) -> FieldState {
-    let mut w = FieldState::default();
-    for (i, p) in w.players.iter_mut().enumerate() {
-        *p = player(x0 + dx * i as f64, y, 0.0);
-    }
-    w
-}
 
 /// A world that logs every action call and pays a fixed reward per step.
 #[derive(Default)]

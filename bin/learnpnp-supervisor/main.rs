@@ -28,7 +28,7 @@ use learnpnp_system::multiprocess::Clock;
 use learnpnp_system::multiprocess::bench_latency::{bench_latency, configurations};
 use learnpnp_system::multiprocess::bench_world::bench_world;
 use learnpnp_system::multiprocess::chaos::{Chaos, GARBAGE_COMMAND, SoakLength, publish_garbage};
-use learnpnp_system::multiprocess::launch::Binaries;
+use learnpnp_system::multiprocess::launch::{Binaries, Needs};
 use learnpnp_system::multiprocess::remote_host::{RemoteConfig, join};
 use learnpnp_system::multiprocess::soak::{Soak, SoakLimits};
 use learnpnp_system::multiprocess::supervisor::{
@@ -373,6 +373,12 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
             stale.removed, stale.prefix
         );
     }
+    let view = (args.view.options().is_some() || args.view_jsonl.is_some()).then(|| ViewConfig {
+        address: args.view.view,
+        record_mcap: args.view.record_mcap.clone(),
+        pnp_monitor: args.view.pnp_monitor,
+        jsonl: args.view_jsonl.clone(),
+    });
     let config = SupervisorConfig {
         spec,
         clock: args.mode,
@@ -383,7 +389,10 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
         heartbeat_timeout: Duration::from_secs(args.heartbeat_timeout),
         max_restarts: args.max_restarts,
         restart_simulator: false,
-        binaries: Binaries::beside_current_exe()?,
+        binaries: Binaries::beside_current_exe(Needs {
+            view: view.is_some(),
+            bridge: !args.remote_agents.is_empty(),
+        })?,
         world_period: Duration::from_millis(args.world_period_ms),
         cluster: match args.remote_agents.is_empty() {
             true => None,
@@ -393,12 +402,7 @@ fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig, ResultDir
                 link_certs: args.link.certs()?,
             }),
         },
-        view: (args.view.options().is_some() || args.view_jsonl.is_some()).then(|| ViewConfig {
-            address: args.view.view,
-            record_mcap: args.view.record_mcap.clone(),
-            pnp_monitor: args.view.pnp_monitor,
-            jsonl: args.view_jsonl.clone(),
-        }),
+        view,
         // A ROS 2 world republishes the agents' feed as the plan's state.
         agents_feed: args.ros2.is_some(),
     };
@@ -594,7 +598,10 @@ fn remote(args: RemoteArgs) -> Result<ExitCode> {
     let config = RemoteConfig {
         link_certs: args.link.certs()?,
         connect: args.bridge_connect,
-        binaries: Binaries::beside_current_exe()?,
+        binaries: Binaries::beside_current_exe(Needs {
+            view: false,
+            bridge: true,
+        })?,
         heartbeat_timeout: Duration::from_secs(args.heartbeat_timeout),
         max_restarts: args.max_restarts,
     };

@@ -7,7 +7,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use learnpnp_cli::args::named;
+use learnpnp::named::Named;
 
 use crate::ipc::wait::WaitStrategy;
 use crate::multiprocess::{Clock, RunContext};
@@ -25,10 +25,10 @@ pub struct RunContextArgs {
     #[arg(long)]
     pub(crate) ipc_prefix: String,
     /// How the simulator's clock advances.
-    #[arg(long, value_parser = named::<Clock>(), default_value = "lockstep")]
+    #[arg(long, value_parser = Clock::from_name, default_value = "lockstep")]
     pub clock: Clock,
     /// How processes wait for messages.
-    #[arg(long, value_parser = named::<WaitStrategy>(), default_value = "yield")]
+    #[arg(long, value_parser = WaitStrategy::from_name, default_value = "yield")]
     pub wait: WaitStrategy,
     /// The experiment (as `summary.json` of a run holds it, under `spec`, or on its own).
     #[arg(long)]

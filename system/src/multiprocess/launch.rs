@@ -52,11 +52,21 @@ pub enum LaunchError {
     #[error("{0} not found (build every binary: cargo build --release --bins)")]
     Missing(PathBuf),
     /// Cargo, to build the missing binaries, cannot be run.
-    #[error("building {SIM_BINARY} and {AGENT_BINARY} failed: {0}")]
-    Cargo(io::Error),
+    #[error("building {binaries} with cargo: {source}")]
+    Cargo {
+        /// The binaries it was to build.
+        binaries: String,
+        /// The error.
+        source: io::Error,
+    },
     /// Building the missing binaries failed.
-    #[error("building {SIM_BINARY} and {AGENT_BINARY} failed: {0}")]
-    Build(std::process::ExitStatus),
+    #[error("building {binaries} with cargo failed: {status}")]
+    Build {
+        /// The binaries it was to build.
+        binaries: String,
+        /// Cargo's exit status.
+        status: ExitStatus,
+    },
     /// The world's program does not exist.
     #[error("the world's program {program} does not exist ({hint})")]
     WorldMissing {
@@ -131,47 +141,64 @@ impl Binaries {
     }
 
     /// The binaries next to the running executable. Under `cargo run`, which
-    /// builds only the binary it runs, missing ones are built first with the
-    /// same cargo and profile.
-    pub fn beside_current_exe() -> Result<Self, LaunchError> {
+    /// builds only the binary it runs, the missing ones among those the run
+    /// `needs` are built first, in one cargo invocation with the same cargo
+    /// and profile; the others wait until a run needs them.
+    pub fn beside_current_exe(needs: Needs) -> Result<Self, LaunchError> {
         let exe = std::env::current_exe().map_err(|source| LaunchError::Spawn {
             what: "locating the supervisor's executable".into(),
             source,
         })?;
         let dir = exe.parent().map(Path::to_path_buf).unwrap_or_default();
-        let binaries = Self::in_dir(&dir);
-        let missing = binaries
-            .as_ref()
-            .map_or(true, |b| b.bridge().is_err() || b.view().is_err());
-        if missing && std::env::var_os("CARGO").is_some() {
-            build_with_cargo(&dir)?;
-            return Self::in_dir(&dir);
+        // (binary, its package, whether the run starts it)
+        let binaries = [
+            (SIM_BINARY, SYSTEM_PACKAGE, true),
+            (AGENT_BINARY, SYSTEM_PACKAGE, true),
+            (VIEW_BINARY, SYSTEM_PACKAGE, needs.view),
+            (BRIDGE_BINARY, BRIDGE_PACKAGE, needs.bridge),
+        ];
+        let missing: Vec<(&str, &str)> = binaries
+            .into_iter()
+            .filter(|&(binary, _, started)| started && !dir.join(binary).is_file())
+            .map(|(binary, package, _)| (binary, package))
+            .collect();
+        if !missing.is_empty() && std::env::var_os("CARGO").is_some() {
+            build_with_cargo(&dir, &missing)?;
         }
-        binaries
+        Self::in_dir(&dir)
     }
 }
 
-/// Builds the sibling binaries with the cargo that runs us (`cargo run`),
-/// in the profile of the directory we run from.
-fn build_with_cargo(dir: &Path) -> Result<(), LaunchError> {
+/// What a run starts besides the simulator and the agents, whose binaries
+/// must then be there too.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Needs {
+    /// The view's process (`--view`, `--record-mcap`, `--pnp-monitor`, `--view-jsonl`).
+    pub view: bool,
+    /// The bridge between hosts (a run across hosts).
+    pub bridge: bool,
+}
+
+/// The package of the simulator's, the agents' and the view's binaries.
+const SYSTEM_PACKAGE: &str = "learnpnp-system";
+
+/// The bridge's package (a package of its own: it links Zenoh, the supervisor does not).
+const BRIDGE_PACKAGE: &str = "learnpnp-bridge";
+
+/// Builds the `missing` sibling binaries (each with its package) with the
+/// cargo that runs us (`cargo run`), in the profile of the directory we run from.
+fn build_with_cargo(dir: &Path, missing: &[(&str, &str)]) -> Result<(), LaunchError> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let mut command = Command::new(cargo);
-    // The bridge is a package of its own (it links Zenoh, the supervisor does not).
-    command.args([
-        "build",
-        "-p",
-        "learnpnp-system",
-        "--bin",
-        SIM_BINARY,
-        "--bin",
-        AGENT_BINARY,
-        "--bin",
-        VIEW_BINARY,
-        "-p",
-        "learnpnp-bridge",
-        "--bin",
-        BRIDGE_BINARY,
-    ]);
+    command.arg("build");
+    let mut packages: Vec<&str> = missing.iter().map(|&(_, package)| package).collect();
+    packages.dedup();
+    for package in packages {
+        command.args(["-p", package]);
+    }
+    for &(binary, _) in missing {
+        command.args(["--bin", binary]);
+    }
     if dir.file_name().is_some_and(|n| n == "release") {
         command.arg("--release");
     }
@@ -180,14 +207,18 @@ fn build_with_cargo(dir: &Path) -> Result<(), LaunchError> {
             .arg("--manifest-path")
             .arg(Path::new(&manifest).join("Cargo.toml"));
     }
+    let binaries = missing.iter().map(|&(binary, _)| binary).collect::<Vec<_>>().join(", ");
     eprintln!(
-        "building {SIM_BINARY}, {AGENT_BINARY}, {VIEW_BINARY} and {BRIDGE_BINARY} (cargo run builds only the supervisor)"
+        "building {binaries} (cargo run builds only the supervisor; the view and the bridge are built when a run asks for them)"
     );
-    let status = command.status().map_err(LaunchError::Cargo)?;
+    let status = command.status().map_err(|source| LaunchError::Cargo {
+        binaries: binaries.clone(),
+        source,
+    })?;
     if status.success() {
         Ok(())
     } else {
-        Err(LaunchError::Build(status))
+        Err(LaunchError::Build { binaries, status })
     }
 }
 

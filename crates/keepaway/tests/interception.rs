@@ -2,7 +2,7 @@
 //! interception one and two cycles away (motion noise off), the fastest teammate,
 //! the interception memory, and takers winning the ball from a holding keeper.
 
-use crate::util::{noiseless, player};
+use crate::{noiseless, player};
 use learnpnp_keepaway::geometry::normalize_deg;
 use learnpnp_keepaway::keeper::{KeeperMemory, keeper_command};
 use learnpnp_keepaway::policies::BaselinePolicy;

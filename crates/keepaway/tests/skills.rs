@@ -1,6 +1,6 @@
 //! Skills, views and abstractions on scripted situations (motion noise off).
 
-use crate::util::{noiseless, player};
+use crate::{noiseless, player};
 use learnpnp_keepaway::features::{FeatureThresholds, Observation, PassLineDistances, observe};
 use learnpnp_keepaway::policies::{hand_coded, threshold_policy};
 use learnpnp_keepaway::skills::get_open::{congestion, grid_points, in_cone, least_congested_point};

@@ -1,7 +1,7 @@
 //! The server's physics against closed forms (motion noise off).
 
-use crate::util::players_in_a_row;
-use learnpnp::rng::seeded;
+use crate::players_in_a_row;
+use learnpnp_common::rng::seeded;
 use learnpnp_keepaway::world::NUM_PLAYERS;
 use learnpnp_keepaway::{Command, FieldState, ServerParams, Vec2};
 

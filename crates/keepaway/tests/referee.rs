@@ -1,6 +1,6 @@
 //! The keepaway referee: end conditions, the possession counter, the reset.
 
-use crate::util::{noiseless, players_in_a_row};
+use crate::{noiseless, players_in_a_row};
 use learnpnp_keepaway::referee::{Referee, TURNOVER_TIME};
 use learnpnp_keepaway::world::NUM_PLAYERS;
 use learnpnp_keepaway::{Command, EndReason, FieldState, KeepawayConfig, RefereeRule, Simulator, Vec2};
