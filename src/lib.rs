@@ -134,10 +134,11 @@
 
 #![deny(missing_docs)]
 
-/// The README's code blocks, compiled and run as doc-tests.
-#[doc = include_str!("../README.md")]
+/// The guide's Rust code blocks (`docs/guide/src/plans.md`), compiled and
+/// run as doc-tests.
+#[doc = include_str!("../docs/guide/src/plans.md")]
 #[cfg(doctest)]
-pub(crate) struct ReadmeDoctests;
+pub(crate) struct GuideDoctests;
 
 /// Agents running a plan with a learner at its choice points.
 pub mod agent;

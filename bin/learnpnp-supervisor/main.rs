@@ -161,7 +161,7 @@ struct RunArgs {
     #[arg(long, conflicts_with = "ros2")]
     world_cmd: Option<String>,
     /// Run a ROS 2 robot as the world over rmw_zenoh: the mapping file of
-    /// `docs/ROS2.md`, served by `learnpnp-ros2-world` beside this binary
+    /// the guide's `docs/guide/src/ros2.md`, served by `learnpnp-ros2-world` beside this binary
     /// (its refusals counted in the world's log); --plan as with --world-cmd.
     #[arg(long, value_name = "MAPPING")]
     ros2: Option<PathBuf>,

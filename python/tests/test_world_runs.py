@@ -94,19 +94,19 @@ def test_doorkey_from_a_python_world_reaches_the_goal_greedily(supervisor, sandb
         assert steps <= 15, f"seed {seed}: greedy episodes take {steps:.1f} steps"
 
 
-def readme_world():
-    """The README's twenty-line world (FrozenLake), as the README shows it."""
-    text = (ROOT / "README.md").read_text()
+def guide_world():
+    """The guide's twenty-line world (FrozenLake), as its page shows it."""
+    text = (ROOT / "docs" / "guide" / "src" / "worlds.md").read_text()
     start = text.index("# my_world.py")
     return text[start : text.index("```", start)]
 
 
-def test_the_readme_world_serves_frozenlake_and_its_plan_is_learned(supervisor, sandbox):
+def test_the_guides_world_serves_frozenlake_and_its_plan_is_learned(supervisor, sandbox):
     import grid
     import learnpnp
 
-    code = readme_world()
-    assert len(code.strip().splitlines()) <= 22, "the README promises about twenty lines"
+    code = guide_world()
+    assert len(code.strip().splitlines()) <= 22, "the guide promises about twenty lines"
     (sandbox / "my_world.py").write_text(code)
     grid.build("lake", 16, grid.LAKE_ACTIONS, {15}).save(str(sandbox / "lake.pnml"))
     out, ipc = sandbox / "lake", sandbox / "ipc"

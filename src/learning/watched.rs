@@ -438,16 +438,7 @@ mod tests {
         watched.plan_started(PlanKey(1), &inner);
         std::thread::sleep(SAMPLE_PERIOD + Duration::from_millis(5));
         watched.transition(PlanKey(1), &inner, 0.0, 1);
-        let markings: Vec<MarkingSample> = kept
-            .0
-            .lock()
-            .unwrap()
-            .iter()
-            .filter_map(|e| match e {
-                FeedEvent::Marking(m) => Some(m.clone()),
-                _ => None,
-            })
-            .collect();
+        let markings = markings(&kept);
         assert_eq!(markings.len(), 2, "{markings:?}");
         assert_eq!(markings[0].sub_plan, None);
         assert_eq!(markings[0].marked[0].label, plan.place_name(PlaceId::new(0)));
@@ -459,17 +450,25 @@ mod tests {
         assert!(!root_json.contains("sub_plan"), "{root_json}");
     }
 
+    /// The records of one kind published, in order (`pick` keeps that kind).
+    fn published<T>(kept: &Kept, pick: impl Fn(&FeedEvent) -> Option<T>) -> Vec<T> {
+        kept.0.lock().unwrap().iter().filter_map(pick).collect()
+    }
+
     /// The markings published, in order.
     fn markings(kept: &Kept) -> Vec<MarkingSample> {
-        kept.0
-            .lock()
-            .unwrap()
-            .iter()
-            .filter_map(|e| match e {
-                FeedEvent::Marking(m) => Some(m.clone()),
-                _ => None,
-            })
-            .collect()
+        published(kept, |e| match e {
+            FeedEvent::Marking(m) => Some(m.clone()),
+            _ => None,
+        })
+    }
+
+    /// The choices published, in order.
+    fn choices(kept: &Kept) -> Vec<ChoiceMade> {
+        published(kept, |e| match e {
+            FeedEvent::Choice(c) => Some(c.clone()),
+            _ => None,
+        })
     }
 
     #[test]
@@ -525,16 +524,7 @@ mod tests {
         for _ in 0..2 {
             watched.choose(PlanKey::ROOT, &state, &options);
         }
-        let choices: Vec<ChoiceMade> = kept
-            .0
-            .lock()
-            .unwrap()
-            .iter()
-            .filter_map(|e| match e {
-                FeedEvent::Choice(c) => Some(c.clone()),
-                _ => None,
-            })
-            .collect();
+        let choices = choices(&kept);
         assert_eq!(choices.len(), 2);
         let expected: Vec<String> = choice
             .options

@@ -6,7 +6,7 @@
 //!   with parallel actions (an action may be a machine of the schema), an
 //!   initial state, final states, and edges `(state, event, condition) -> state`.
 //!   It is read from a file ([`parse_schema`](crate::schema::parse_schema), [`read_schema`](crate::schema::read_schema); the format is
-//!   documented in `docs/SCHEMAS.md`), written back ([`write_schema`](crate::schema::write_schema)) or built
+//!   documented in `docs/guide/src/schemas.md`), written back ([`write_schema`](crate::schema::write_schema)) or built
 //!   in code ([`SchemaBuilder`](crate::schema::SchemaBuilder)).
 //! - [`DecisionProcess`](crate::schema::DecisionProcess) is the construction of section 3.2.1 for every machine:
 //!   action states, condition constituents, zero-time plan-actions and
@@ -16,7 +16,7 @@
 //!   schema wherever they use a Petri Net Plan; the executor runs it with the
 //!   schema's semantics (section 3.1.1, [`Plan::schema_process`](crate::plan::Plan::schema_process)).
 //!
-//! `docs/SCHEMAS.md` describes the format and the semantics for designers.
+//! `docs/guide/src/schemas.md` describes the format and the semantics for designers.
 
 mod builder;
 mod construct;

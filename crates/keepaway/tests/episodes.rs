@@ -70,7 +70,7 @@ fn mean_seconds(cfg: &KeepawayConfig, episodes: u64, make: impl Fn(u64) -> Basel
 }
 
 /// Over 30 episodes the hand-coded keepers keep the ball clearly longer than random
-/// ones (over 1000 episodes, `cargo run --release --example keepaway_baselines`:
+/// ones (over 1000 episodes, `cargo run --release -p learnpnp-probes --example keepaway_baselines`:
 /// 17.6 s against 5.7 s, standard errors 0.42 s and 0.05 s;
 /// the thesis reports about 16 s for the hand-coded policy).
 #[test]

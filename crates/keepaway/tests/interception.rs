@@ -227,7 +227,7 @@ fn takers_close_in_and_win_the_ball_from_a_holding_keeper() {
 
 /// Over whole episodes from the referee's resets, always-holding keepers lose the
 /// ball quickly: over 1000 episodes in full-state vision the longest lasted 6.5
-/// s, 65 cycles (`cargo run --release --example keepaway_baselines`). Every one of
+/// s, 65 cycles (`cargo run --release -p learnpnp-probes --example keepaway_baselines`). Every one of
 /// 50 must end within 150 cycles (without the framework's world-model rule,
 /// takers turn back and forth for ever against a holder shuffling the ball), in
 /// full-state vision (where the rule is applied to exact views) mostly taken; in

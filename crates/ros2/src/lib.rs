@@ -6,7 +6,7 @@
 //! ([`mapping`]) and the world it makes ([`world`], served by the
 //! `learnpnp-ros2-world` binary); the plan's state as ROS 2 topics
 //! ([`plan_state`]), republished from the agents' live feed ([`feed`]).
-//! `docs/ROS2.md` is the user's guide.
+//! The guide's page `docs/guide/src/ros2.md` is the user's guide.
 
 /// CDR as rmw_zenoh sends it.
 pub mod cdr;

@@ -4,7 +4,7 @@
 //! TOML (the `toml` crate), not YAML: TOML has one way to write each value
 //! and a maintained Rust parser with line-and-column errors, while the YAML
 //! crate in our tree (serde_yaml) is deprecated; a ROS 2 user reads TOML's
-//! `[[atom]]` tables as easily as a launch file's YAML. `docs/ROS2.md` is the
+//! `[[atom]]` tables as easily as a launch file's YAML. The guide's `docs/guide/src/ros2.md` is the
 //! reference.
 
 use std::collections::{BTreeMap, BTreeSet};

@@ -1,7 +1,7 @@
 //! `learnpnp-ros2-world MAPPING`: a ROS 2 robot as a learnpnp world, over
 //! rmw_zenoh's wire format (no ROS 2 installed). Started by
 //! `learnpnp-supervisor --world-cmd "learnpnp-ros2-world MAPPING" --plan PLAN`;
-//! the mapping file (TOML, `docs/ROS2.md`) names the router, the topics the
+//! the mapping file (TOML, the guide's `docs/guide/src/ros2.md`) names the router, the topics the
 //! atoms and fluents read, the reward, the episode's end, the reset service
 //! and the topics or ROS 2 actions the plan's actions send, and whether (and
 //! under which namespace) the agents' plan state is republished from their
