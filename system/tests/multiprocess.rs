@@ -586,8 +586,13 @@ fn garbage_on_the_services_is_rejected_and_never_applied() {
                 ..control
             },
         ];
-        // Samples live in the publisher's memory: it keeps them until they are read.
-        let delivered = garbage.publish(&node, Duration::from_millis(300)).unwrap();
+        // Samples live in the publisher's memory: a sample still queued when
+        // its publisher goes is lost, and the simulator reads the keepers'
+        // command services only once its floor measurement (2000 round trips)
+        // is over; so the publishers stay long enough for that on a loaded
+        // machine (with 300 ms, under a load average of 17, the garbage on the
+        // command services went unread).
+        let delivered = garbage.publish(&node, Duration::from_secs(3)).unwrap();
         assert_eq!(delivered.len(), 5, "{delivered:?}");
         for d in &delivered {
             assert!(d.subscribers > 0, "no subscriber on {}", d.service);
