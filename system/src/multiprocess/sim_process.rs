@@ -163,7 +163,11 @@ impl Link {
         pulse.late_cycles = totals.late_cycles;
         pulse.aborted_episodes = totals.aborted.len() as u64;
         self.chassis
-            .keep(&self.ports.heartbeat, &self.ports.control, &mut totals.rejected)
+            .keep(
+                &self.ports.host.heartbeat,
+                &self.ports.host.control,
+                &mut totals.rejected,
+            )
             .map_err(remote)?;
         Ok(())
     }
@@ -171,16 +175,20 @@ impl Link {
     /// Reads the agents' reports: readiness goes to the chassis, episode ends to `ended`.
     fn read_reports(&mut self, episode: u64, ended: &mut [Option<bool>; NUM_KEEPERS]) -> Result<(), TaskError> {
         self.chassis
-            .read_reports(&self.ports.reports, &mut self.totals.rejected, |k, news| match news {
-                AgentNews::Ended {
-                    episode: e,
-                    exploratory,
-                } if e == episode => {
-                    ended[k] = Some(exploratory);
-                    Ok(())
-                }
-                _ => Err(Rejection::Sequence),
-            })
+            .read_reports(
+                &self.ports.host.reports,
+                &mut self.totals.rejected,
+                |k, news| match news {
+                    AgentNews::Ended {
+                        episode: e,
+                        exploratory,
+                    } if e == episode => {
+                        ended[k] = Some(exploratory);
+                        Ok(())
+                    }
+                    _ => Err(Rejection::Sequence),
+                },
+            )
             .map_err(remote)
     }
 
@@ -214,7 +222,7 @@ impl Host for Link {
     }
 
     fn wake(&self) -> &Listener<Ipc> {
-        &self.ports.wake
+        &self.ports.host.wake
     }
 
     fn failure(e: IpcError) -> TaskError {
@@ -263,7 +271,7 @@ impl RemoteTeam {
         // Commands of the discarded episode still queued are not rejections.
         for k in 0..NUM_KEEPERS {
             while let Some(reading) =
-                receive(&link.ports.commands[k], |m| read_command(m, k, run_id)).map_err(remote)?
+                receive(&link.ports.host.commands[k], |m| read_command(m, k, run_id)).map_err(remote)?
             {
                 if let Err(why) = reading {
                     link.count(why);
@@ -313,7 +321,7 @@ impl KeeperTeam for RemoteTeam {
         let mut published = [Instant::now(); NUM_KEEPERS];
         for (k, view) in views.iter().enumerate() {
             published[k] = Instant::now();
-            link.ports.snapshots[k]
+            link.ports.host.snapshots[k]
                 .send(snapshot(view, &meta, run_id))
                 .map_err(remote)?;
         }
@@ -328,7 +336,7 @@ impl KeeperTeam for RemoteTeam {
             for k in 0..NUM_KEEPERS {
                 while commands[k].is_none() {
                     let Some(reading) =
-                        receive(&link.ports.commands[k], |m| read_command(m, k, run_id)).map_err(remote)?
+                        receive(&link.ports.host.commands[k], |m| read_command(m, k, run_id)).map_err(remote)?
                     else {
                         break;
                     };
@@ -380,8 +388,8 @@ impl KeeperTeam for RemoteTeam {
                 return self.abort(link);
             }
             match deadline {
-                Some(deadline) => idle.pause_until(&link.ports.wake, deadline),
-                None => idle.pause(&link.ports.wake, MAX_BLOCK),
+                Some(deadline) => idle.pause_until(&link.ports.host.wake, deadline),
+                None => idle.pause(&link.ports.host.wake, MAX_BLOCK),
             }
             .map_err(remote)?;
         }
@@ -427,7 +435,7 @@ impl KeeperTeam for RemoteTeam {
             if settled {
                 break;
             }
-            idle.pause(&link.ports.wake, MAX_BLOCK).map_err(remote)?;
+            idle.pause(&link.ports.host.wake, MAX_BLOCK).map_err(remote)?;
         }
         if self.start.mode == EpisodeMode::Learn {
             link.totals.learning_episodes += 1;
@@ -545,7 +553,7 @@ fn measure_floor(link: &mut Link, round_trips: usize) -> Result<(), TaskError> {
             if due() && (ends(link)? || sent.elapsed() > FLOOR_ECHO_TIMEOUT) {
                 return Ok(());
             }
-            idle.pause(&link.ports.wake, MAX_BLOCK).map_err(remote)?;
+            idle.pause(&link.ports.host.wake, MAX_BLOCK).map_err(remote)?;
         }
         link.floor.record(sent.elapsed());
     }
@@ -575,7 +583,7 @@ fn sample_floor(link: &mut Link, at: Instant, deadline: Instant) -> Result<(), T
         if Instant::now() >= deadline {
             return Ok(());
         }
-        idle.pause_until(&link.ports.wake, deadline).map_err(remote)?;
+        idle.pause_until(&link.ports.host.wake, deadline).map_err(remote)?;
     }
     link.floor.record(sent.elapsed());
     Ok(())
@@ -734,7 +742,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
     }
     let mut link = link.borrow_mut();
     let link = &mut *link;
-    link.chassis.shut_down(&link.ports.heartbeat)?;
+    link.chassis.shut_down(&link.ports.host.heartbeat)?;
     let result = SimulatorResult {
         complete: outcome.is_ok(),
         error: outcome.err().map(|e| e.to_string()),

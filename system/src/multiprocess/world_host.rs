@@ -248,7 +248,7 @@ impl host_chassis::Host for Host {
     }
 
     fn wake(&self) -> &Listener<Ipc> {
-        &self.ports.wake
+        &self.ports.host.wake
     }
 
     fn failure(e: IpcError) -> WorldHostError {
@@ -282,7 +282,7 @@ impl Host {
         let mut refused = Rejections::default();
         let beat = self
             .chassis
-            .keep(&self.ports.heartbeat, &self.ports.control, &mut refused)?;
+            .keep(&self.ports.host.heartbeat, &self.ports.host.control, &mut refused)?;
         // SAFETY: getppid has no effects.
         if beat && unsafe { libc::getppid() } != self.parent {
             // The process that started the world (the supervisor, or the
@@ -292,7 +292,7 @@ impl Host {
         }
         // The agents' news other than their readiness is not the world's.
         self.chassis
-            .read_reports(&self.ports.reports, &mut refused, |_, _| Ok(()))?;
+            .read_reports(&self.ports.host.reports, &mut refused, |_, _| Ok(()))?;
         self.chassis.pacemaker.pulse.rejected.add(&refused);
         Ok(())
     }
@@ -375,7 +375,7 @@ impl Host {
                 atoms,
                 fluents,
             };
-            self.ports.snapshots[a].send(world_snapshot(&view, a, self.run.run_id))?;
+            self.ports.host.snapshots[a].send(world_snapshot(&view, a, self.run.run_id))?;
         }
         // Real time: the cycle's work is done.
         if let Some(cadence) = &mut self.cadence {
@@ -423,7 +423,7 @@ impl Host {
         loop {
             for (a, slot) in commands.iter_mut().enumerate() {
                 while slot.is_none() {
-                    let read = receive(&self.ports.commands[a], |m| {
+                    let read = receive(&self.ports.host.commands[a], |m| {
                         read_world_command(m, a, self.run.run_id, self.actions)
                     })?;
                     let Some(reading) = read else { break };
@@ -464,8 +464,8 @@ impl Host {
                 return Ok(Err(Interruption::Lost));
             }
             match deadline {
-                Some(deadline) => idle.pause_until(&self.ports.wake, deadline)?,
-                None => idle.pause(&self.ports.wake, MAX_BLOCK)?,
+                Some(deadline) => idle.pause_until(&self.ports.host.wake, deadline)?,
+                None => idle.pause(&self.ports.host.wake, MAX_BLOCK)?,
             }
         }
     }
@@ -554,7 +554,7 @@ pub fn serve<W: ServedWorld>(world: &mut W) -> Result<Served, WorldHostError> {
         parent: unsafe { libc::getppid() },
         run,
     };
-    host.chassis.pacemaker.beat(&host.ports.heartbeat)?;
+    host.chassis.pacemaker.beat(&host.ports.host.heartbeat)?;
     while host.await_agents()? {
         loop {
             match host.episode(world)? {
@@ -572,7 +572,7 @@ pub fn serve<W: ServedWorld>(world: &mut W) -> Result<Served, WorldHostError> {
     }
     host.end_cadence();
     host.chassis.pacemaker.pulse.late_cycles = host.served.late_cycles;
-    host.chassis.shut_down(&host.ports.heartbeat)?;
+    host.chassis.shut_down(&host.ports.host.heartbeat)?;
     host.served.snapshots = host.cycle;
     let served = host.served;
     if let Some(rate) = served.rate() {
