@@ -114,9 +114,11 @@ fn bench(c: &mut Criterion) {
                     reward: 0.1,
                     start: EpisodeStart::LEARN,
                 };
-                ports.snapshots[0].send(snapshot(&view, &meta, RUN_ID)).expect("send");
+                ports.host.snapshots[0]
+                    .send(snapshot(&view, &meta, RUN_ID))
+                    .expect("send");
                 loop {
-                    match receive(&ports.commands[0], |m| read_command(m, 0, RUN_ID)).expect("receive") {
+                    match receive(&ports.host.commands[0], |m| read_command(m, 0, RUN_ID)).expect("receive") {
                         Some(Ok(c)) if c.cycle_seq == sequence => break,
                         Some(_) => {}
                         None => std::thread::yield_now(),

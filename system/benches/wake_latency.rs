@@ -100,7 +100,7 @@ fn round(prefix: &str, ports: &SimPorts, mode: &str, sequence: &mut u64) -> Vec<
         }
     }
     let waitset = waitset();
-    let guard = (mode == "waitset").then(|| waitset.attach_notification(&ports.wake).expect("attach"));
+    let guard = (mode == "waitset").then(|| waitset.attach_notification(&ports.host.wake).expect("attach"));
     let waitset = guard.as_ref().map(|_| &waitset);
     let mut micros = Vec::with_capacity(ROUND_TRIPS);
     for _ in 0..ROUND_TRIPS {
@@ -108,7 +108,7 @@ fn round(prefix: &str, ports: &SimPorts, mode: &str, sequence: &mut u64) -> Vec<
         let expected = *sequence;
         let sent = Instant::now();
         ports.floor_ping.send(floor_ping(RUN_ID, expected)).expect("send");
-        wait_for(waitset, &ports.wake, || {
+        wait_for(waitset, &ports.host.wake, || {
             (receive(&ports.floor_pong, |m| m.cycle_seq).expect("receive") == Some(expected)).then_some(())
         });
         micros.push(sent.elapsed().as_secs_f64() * 1e6);

@@ -315,6 +315,19 @@ impl Rejections {
         *slot += 1;
     }
 
+    /// Adds `other`'s refusals to these.
+    pub(crate) fn add(&mut self, other: &Rejections) {
+        for (slot, more) in [
+            (&mut self.version, other.version),
+            (&mut self.run, other.run),
+            (&mut self.sender, other.sender),
+            (&mut self.content, other.content),
+            (&mut self.sequence, other.sequence),
+        ] {
+            *slot += more;
+        }
+    }
+
     /// All refusals.
     pub fn total(&self) -> u64 {
         self.to_array().iter().sum()

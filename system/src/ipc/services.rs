@@ -353,47 +353,76 @@ fn every_keeper() -> Vec<String> {
     (0..NUM_KEEPERS).map(keeper_process).collect()
 }
 
-/// The simulator's ports.
-pub struct SimPorts {
-    /// Snapshots to keeper k (waking it).
-    pub snapshots: Vec<Outlet<KeeperSnapshot>>,
-    /// Commands from keeper k.
-    pub commands: Vec<Sub<KeeperCommand>>,
-    /// Episode events to every agent (waking them).
-    pub episode: Outlet<EpisodeEvent>,
+/// The names of agent a's services, as functions of a: its snapshots, its
+/// commands and its wake-up.
+type AgentServices = (fn(usize) -> String, fn(usize) -> String, fn(usize) -> String);
+
+/// A host process's ports for its agents, of snapshot payload `S` and
+/// command payload `C` (the simulator's and a world's differ only in these).
+pub struct HostPorts<S: ZeroCopySend + Debug + 'static, C: ZeroCopySend + Debug + 'static> {
+    /// Snapshots to agent a (waking it).
+    pub snapshots: Vec<Outlet<S>>,
+    /// Commands from agent a.
+    pub commands: Vec<Sub<C>>,
     /// Agents' reports.
     pub(crate) reports: Sub<AgentReport>,
     /// Heartbeats to the supervisor.
     pub heartbeat: Pub<Heartbeat>,
     /// The supervisor's commands.
     pub control: Sub<Control>,
+    /// Wakes the host when it blocks.
+    pub wake: Listener<Ipc>,
+}
+
+impl<S: ZeroCopySend + Debug + 'static, C: ZeroCopySend + Debug + 'static> HostPorts<S, C> {
+    /// Opens the ports of host `process` (its wake-up service name) for
+    /// `agents` agents on `node`: agent a's snapshots on service
+    /// `snapshot(a)`, waking `agent(a)` if the run's processes wait with
+    /// `wait`, and its commands on `command(a)`.
+    fn open(
+        node: &Node<Ipc>,
+        process: &str,
+        agents: usize,
+        (snapshot, command, agent): AgentServices,
+        wait: WaitStrategy,
+    ) -> Result<Self, IpcError> {
+        Ok(HostPorts {
+            snapshots: (0..agents)
+                .map(|a| Outlet::open(node, &snapshot(a), POINT_TO_POINT, &[agent(a)], wait))
+                .collect::<Result<_, _>>()?,
+            commands: (0..agents)
+                .map(|a| subscriber(node, &command(a), POINT_TO_POINT))
+                .collect::<Result<_, _>>()?,
+            reports: subscriber(node, services::AGENT_REPORT, SHARED)?,
+            heartbeat: publisher(node, services::HEARTBEAT, SHARED)?,
+            control: subscriber(node, services::CONTROL, SHARED)?,
+            wake: listener(node, process)?,
+        })
+    }
+}
+
+/// The simulator's ports.
+pub struct SimPorts {
+    /// Its keepers' snapshots and commands, their reports, the heartbeat,
+    /// the supervisor's commands and its wake-up.
+    pub host: HostPorts<KeeperSnapshot, KeeperCommand>,
+    /// Episode events to every agent (waking them).
+    pub episode: Outlet<EpisodeEvent>,
     /// Floor measurement pings to agent 0 (waking it).
     pub floor_ping: Outlet<KeeperSnapshot>,
     /// Floor measurement pongs from agent 0.
     pub floor_pong: Sub<KeeperCommand>,
-    /// Wakes the simulator when it blocks.
-    pub wake: Listener<Ipc>,
 }
 
 impl SimPorts {
     /// Opens the simulator's ports on `node`, for processes that wait with `wait`.
     pub fn open(node: &Node<Ipc>, wait: WaitStrategy) -> Result<Self, IpcError> {
-        let keepers = 0..NUM_KEEPERS;
+        let keepers: AgentServices = (services::snapshot, services::command, keeper_process);
         Ok(SimPorts {
-            snapshots: keepers
-                .clone()
-                .map(|k| Outlet::open(node, &services::snapshot(k), POINT_TO_POINT, &[keeper_process(k)], wait))
-                .collect::<Result<_, _>>()?,
-            commands: keepers
-                .map(|k| subscriber(node, &services::command(k), POINT_TO_POINT))
-                .collect::<Result<_, _>>()?,
+            host: HostPorts::open(node, SIM_PROCESS, NUM_KEEPERS, keepers, wait)?,
             episode: Outlet::open(node, services::EPISODE, SHARED, &every_keeper(), wait)?,
-            reports: subscriber(node, services::AGENT_REPORT, SHARED)?,
-            heartbeat: publisher(node, services::HEARTBEAT, SHARED)?,
-            control: subscriber(node, services::CONTROL, SHARED)?,
             floor_ping: Outlet::open(node, services::FLOOR_PING, POINT_TO_POINT, &[keeper_process(0)], wait)?,
             floor_pong: subscriber(node, services::FLOOR_PONG, POINT_TO_POINT)?,
-            wake: listener(node, SIM_PROCESS)?,
         })
     }
 }
@@ -486,45 +515,20 @@ impl WorldAgentPorts {
 /// A world's ports, for a world written in Rust (the Python world kit opens
 /// the same services).
 pub(crate) struct WorldPorts {
-    /// Snapshots to agent a (waking it).
-    pub snapshots: Vec<Outlet<WorldSnapshot>>,
-    /// Commands from agent a.
-    pub commands: Vec<Sub<WorldCommand>>,
+    /// Its agents' snapshots and commands, their readiness reports, the
+    /// heartbeat, the supervisor's commands and its wake-up.
+    pub host: HostPorts<WorldSnapshot, WorldCommand>,
     /// The vocabulary to every agent.
     pub vocabulary: Pub<WorldVocabulary>,
-    /// Agents' readiness reports.
-    pub(crate) reports: Sub<AgentReport>,
-    /// Heartbeats to the supervisor.
-    pub heartbeat: Pub<Heartbeat>,
-    /// The supervisor's commands.
-    pub control: Sub<Control>,
-    /// Wakes the world when it blocks.
-    pub wake: Listener<Ipc>,
 }
 
 impl WorldPorts {
     /// Opens the ports of a world of `agents` agents on `node`, for processes that wait with `wait`.
     pub(crate) fn open(node: &Node<Ipc>, agents: usize, wait: WaitStrategy) -> Result<Self, IpcError> {
+        let agent_services: AgentServices = (services::world_snapshot, services::world_command, agent_process);
         Ok(WorldPorts {
-            snapshots: (0..agents)
-                .map(|a| {
-                    Outlet::open(
-                        node,
-                        &services::world_snapshot(a),
-                        POINT_TO_POINT,
-                        &[agent_process(a)],
-                        wait,
-                    )
-                })
-                .collect::<Result<_, _>>()?,
-            commands: (0..agents)
-                .map(|a| subscriber(node, &services::world_command(a), POINT_TO_POINT))
-                .collect::<Result<_, _>>()?,
+            host: HostPorts::open(node, WORLD_PROCESS, agents, agent_services, wait)?,
             vocabulary: publisher(node, services::WORLD_VOCABULARY, SHARED)?,
-            reports: subscriber(node, services::AGENT_REPORT, SHARED)?,
-            heartbeat: publisher(node, services::HEARTBEAT, SHARED)?,
-            control: subscriber(node, services::CONTROL, SHARED)?,
-            wake: listener(node, WORLD_PROCESS)?,
         })
     }
 }

@@ -40,6 +40,7 @@ pub mod chaos;
 pub mod floor_probe;
 /// Garbage on a run's services, published as a foreign process would.
 pub mod garbage;
+pub(crate) mod host_chassis;
 /// A journal of whole episodes.
 pub mod journal;
 /// Starting the run's processes.

@@ -13,17 +13,17 @@ use std::path::{Path, PathBuf};
 use std::rc::Rc;
 use std::time::{Duration, Instant};
 
+use iceoryx2::port::listener::Listener;
 use serde::{Deserialize, Serialize};
 use shm_layouts::{Header, KeeperCommand, KeeperSnapshot, PROTOCOL_VERSION, SENDER_SIMULATOR};
 
 use super::cadence::{Cadence, sleep_until};
+use super::host_chassis::{self, Host, HostChassis, Readiness};
 use super::journal::{self, Journal};
-use super::{Clock, Pacemaker, ProcessError, RunContext};
-use crate::ipc::convert::{
-    Rejection, Rejections, command_message, episode_event, read_agent_report, read_command, read_control, snapshot,
-};
-use crate::ipc::protocol::{AgentNews, CommandReading, EpisodeNews, Order, ProcessState, Role, SnapshotMeta};
-use crate::ipc::services::{SimPorts, node, receive};
+use super::{Clock, ProcessError, RunContext};
+use crate::ipc::convert::{Rejection, Rejections, command_message, episode_event, read_command, snapshot};
+use crate::ipc::protocol::{AgentNews, CommandReading, EpisodeNews, ProcessState, Role, SnapshotMeta};
+use crate::ipc::services::{Ipc, IpcError, SimPorts, node, receive};
 use crate::ipc::wait::{Idle, MAX_BLOCK};
 use crate::latency::Latency;
 use learnpnp::domains::keepaway::{KeepawayDomainConfig, KeepawayTask, KeeperTeam, RunSeeds, TeamStep};
@@ -136,16 +136,9 @@ pub struct SimulatorResult {
 struct Link {
     context: RunContext,
     ports: SimPorts,
-    pacemaker: Pacemaker,
-    /// Keepers whose (replacement) process has not said it is ready.
-    awaiting: [bool; NUM_KEEPERS],
-    /// Keepers lost since the current episode began.
-    lost: [bool; NUM_KEEPERS],
-    /// The process id each keeper's replacement will have (none before the first loss).
-    expected: [Option<u32>; NUM_KEEPERS],
-    /// The process id of each keeper's last readiness report.
-    ready: [Option<u32>; NUM_KEEPERS],
-    stop: bool,
+    /// The heartbeat, the orders, the keepers' readiness and losses (since
+    /// the current episode began).
+    chassis: HostChassis,
     /// Each keeper's round trips (merged into the round trip histogram when saved).
     keeper_round_trips: [Latency; NUM_KEEPERS],
     floor: Latency,
@@ -161,89 +154,79 @@ impl Link {
 
     /// Heartbeat if due, then the supervisor's commands.
     fn housekeeping(&mut self) -> Result<(), TaskError> {
-        let pulse = &mut self.pacemaker.pulse;
-        let totals = &self.totals;
+        let pulse = &mut self.chassis.pacemaker.pulse;
+        let totals = &mut self.totals;
         pulse.episodes = totals.learning_episodes;
         pulse.cycles = totals.cycles;
         pulse.rejected = totals.rejected;
         pulse.missed_deadlines = totals.missed_deadlines;
         pulse.late_cycles = totals.late_cycles;
         pulse.aborted_episodes = totals.aborted.len() as u64;
-        self.pacemaker.tick(&self.ports.heartbeat).map_err(remote)?;
-        let run_id = self.context.run_id;
-        while let Some(order) =
-            receive(&self.ports.control, |m| read_control(m, Role::Simulator, run_id)).map_err(remote)?
-        {
-            match order {
-                Ok(Some(Order::Stop)) => self.stop = true,
-                Ok(Some(Order::KeeperLost { keeper, pid })) => {
-                    self.lost[keeper] = true;
-                    self.expected[keeper] = Some(pid);
-                    // The replacement may have said it is ready before this was read.
-                    self.awaiting[keeper] = self.ready[keeper] != Some(pid);
-                }
-                Ok(Some(Order::Checkpoint | Order::SimulatorRestarted) | None) => {}
-                Err(why) => self.count(why),
-            }
-        }
+        self.chassis
+            .keep(
+                &self.ports.host.heartbeat,
+                &self.ports.host.control,
+                &mut totals.rejected,
+            )
+            .map_err(remote)?;
         Ok(())
     }
 
-    /// Reads the agents' reports: readiness clears `awaiting`, episode ends go to `ended`.
+    /// Reads the agents' reports: readiness goes to the chassis, episode ends to `ended`.
     fn read_reports(&mut self, episode: u64, ended: &mut [Option<bool>; NUM_KEEPERS]) -> Result<(), TaskError> {
-        let run_id = self.context.run_id;
-        while let Some(report) =
-            receive(&self.ports.reports, |m| read_agent_report(m, run_id, NUM_KEEPERS)).map_err(remote)?
-        {
-            match report {
-                Ok((k, AgentNews::Ready { pid })) => {
-                    self.ready[k] = Some(pid);
-                    // Only the replacement the supervisor named ends the wait.
-                    if self.expected[k].is_none_or(|p| p == pid) {
-                        self.awaiting[k] = false;
-                    }
-                }
-                Ok((
-                    k,
+        self.chassis
+            .read_reports(
+                &self.ports.host.reports,
+                &mut self.totals.rejected,
+                |k, news| match news {
                     AgentNews::Ended {
                         episode: e,
                         exploratory,
-                    },
-                )) if e == episode => ended[k] = Some(exploratory),
-                Ok(_) => self.count(Rejection::Sequence),
-                Err(why) => self.count(why),
-            }
-        }
-        Ok(())
+                    } if e == episode => {
+                        ended[k] = Some(exploratory);
+                        Ok(())
+                    }
+                    _ => Err(Rejection::Sequence),
+                },
+            )
+            .map_err(remote)
     }
 
     /// Waits until no keeper is awaited (every agent connected and ready).
     fn wait_ready(&mut self) -> Result<(), TaskError> {
-        let started = Instant::now();
-        let mut idle = Idle::new(self.context.wait);
-        let mut none = [None; NUM_KEEPERS];
-        loop {
-            self.housekeeping()?;
-            self.read_reports(0, &mut none)?;
-            if self.stop {
-                return Err(TaskError::Stopped);
-            }
-            if !self.awaiting.contains(&true) {
-                return Ok(());
-            }
-            if started.elapsed() > CONNECT_TIMEOUT {
-                let missing: Vec<String> = (0..NUM_KEEPERS)
-                    .filter(|&k| self.awaiting[k])
-                    .map(|k| format!("keeper {}", k + 1))
-                    .collect();
-                return Err(remote(format!(
+        match host_chassis::wait_ready(self, Some(CONNECT_TIMEOUT))? {
+            Readiness::Ready => Ok(()),
+            Readiness::Stopped => Err(TaskError::Stopped),
+            Readiness::TimedOut(missing) => {
+                let missing: Vec<String> = missing.iter().map(|k| format!("keeper {}", k + 1)).collect();
+                Err(remote(format!(
                     "{} did not connect within {} s",
                     missing.join(", "),
                     CONNECT_TIMEOUT.as_secs()
-                )));
+                )))
             }
-            idle.pause(&self.ports.wake, MAX_BLOCK).map_err(remote)?;
         }
+    }
+}
+
+impl Host for Link {
+    type Error = TaskError;
+
+    fn chassis(&self) -> &HostChassis {
+        &self.chassis
+    }
+
+    fn await_round(&mut self) -> Result<(), TaskError> {
+        self.housekeeping()?;
+        self.read_reports(0, &mut [None; NUM_KEEPERS])
+    }
+
+    fn wake(&self) -> &Listener<Ipc> {
+        &self.ports.host.wake
+    }
+
+    fn failure(e: IpcError) -> TaskError {
+        remote(e)
     }
 }
 
@@ -273,7 +256,10 @@ impl RemoteTeam {
             .episode
             .send(episode_event(episode, news, run_id))
             .map_err(remote)?;
-        let keepers = (0..NUM_KEEPERS).filter(|&k| link.lost[k]).map(|k| k + 1).collect();
+        let keepers = (0..NUM_KEEPERS)
+            .filter(|&k| link.chassis.lost(k))
+            .map(|k| k + 1)
+            .collect();
         link.totals.aborted.push(AbortedEpisode {
             episode,
             mode: self.start.mode,
@@ -281,11 +267,11 @@ impl RemoteTeam {
             keepers,
         });
         link.wait_ready()?;
-        link.lost = [false; NUM_KEEPERS];
+        link.chassis.clear_lost();
         // Commands of the discarded episode still queued are not rejections.
         for k in 0..NUM_KEEPERS {
             while let Some(reading) =
-                receive(&link.ports.commands[k], |m| read_command(m, k, run_id)).map_err(remote)?
+                receive(&link.ports.host.commands[k], |m| read_command(m, k, run_id)).map_err(remote)?
             {
                 if let Err(why) = reading {
                     link.count(why);
@@ -300,7 +286,7 @@ impl KeeperTeam for RemoteTeam {
     fn begin_episode(&mut self, start: EpisodeStart) -> Result<(), TaskError> {
         let mut link = self.link.borrow_mut();
         link.wait_ready()?;
-        link.lost = [false; NUM_KEEPERS];
+        link.chassis.clear_lost();
         link.totals.episode_seq += 1;
         self.start = start;
         self.cycles = 0;
@@ -317,10 +303,10 @@ impl KeeperTeam for RemoteTeam {
     ) -> Result<TeamStep, TaskError> {
         let link = &mut *self.link.borrow_mut();
         link.housekeeping()?;
-        if link.stop {
+        if link.chassis.stopped() {
             return Err(TaskError::Stopped);
         }
-        if link.lost.contains(&true) {
+        if link.chassis.any_lost() {
             return self.abort(link);
         }
         link.totals.cycle_seq += 1;
@@ -335,7 +321,7 @@ impl KeeperTeam for RemoteTeam {
         let mut published = [Instant::now(); NUM_KEEPERS];
         for (k, view) in views.iter().enumerate() {
             published[k] = Instant::now();
-            link.ports.snapshots[k]
+            link.ports.host.snapshots[k]
                 .send(snapshot(view, &meta, run_id))
                 .map_err(remote)?;
         }
@@ -350,7 +336,7 @@ impl KeeperTeam for RemoteTeam {
             for k in 0..NUM_KEEPERS {
                 while commands[k].is_none() {
                     let Some(reading) =
-                        receive(&link.ports.commands[k], |m| read_command(m, k, run_id)).map_err(remote)?
+                        receive(&link.ports.host.commands[k], |m| read_command(m, k, run_id)).map_err(remote)?
                     else {
                         break;
                     };
@@ -395,15 +381,15 @@ impl KeeperTeam for RemoteTeam {
                 continue;
             }
             link.housekeeping()?;
-            if link.stop {
+            if link.chassis.stopped() {
                 return Err(TaskError::Stopped);
             }
-            if link.lost.contains(&true) {
+            if link.chassis.any_lost() {
                 return self.abort(link);
             }
             match deadline {
-                Some(deadline) => idle.pause_until(&link.ports.wake, deadline),
-                None => idle.pause(&link.ports.wake, MAX_BLOCK),
+                Some(deadline) => idle.pause_until(&link.ports.host.wake, deadline),
+                None => idle.pause(&link.ports.host.wake, MAX_BLOCK),
             }
             .map_err(remote)?;
         }
@@ -441,15 +427,15 @@ impl KeeperTeam for RemoteTeam {
         loop {
             link.housekeeping()?;
             link.read_reports(episode, &mut ended)?;
-            if link.stop {
+            if link.chassis.stopped() {
                 return Err(TaskError::Stopped);
             }
             // A keeper lost meanwhile will not report; its replacement says it is ready.
-            let settled = (0..NUM_KEEPERS).all(|k| ended[k].is_some() || (link.lost[k] && !link.awaiting[k]));
+            let settled = (0..NUM_KEEPERS).all(|k| ended[k].is_some() || link.chassis.replaced(k));
             if settled {
                 break;
             }
-            idle.pause(&link.ports.wake, MAX_BLOCK).map_err(remote)?;
+            idle.pause(&link.ports.host.wake, MAX_BLOCK).map_err(remote)?;
         }
         if self.start.mode == EpisodeMode::Learn {
             link.totals.learning_episodes += 1;
@@ -555,7 +541,7 @@ fn measure_floor(link: &mut Link, round_trips: usize) -> Result<(), TaskError> {
     // The floor stays as measured so far when the run stops or agent 0 is lost.
     let ends = |link: &mut Link| -> Result<bool, TaskError> {
         link.housekeeping()?;
-        Ok(link.stop || link.lost[0])
+        Ok(link.chassis.stopped() || link.chassis.lost(0))
     };
     for sequence in 1..=round_trips as u64 {
         if due() && ends(link)? {
@@ -567,7 +553,7 @@ fn measure_floor(link: &mut Link, round_trips: usize) -> Result<(), TaskError> {
             if due() && (ends(link)? || sent.elapsed() > FLOOR_ECHO_TIMEOUT) {
                 return Ok(());
             }
-            idle.pause(&link.ports.wake, MAX_BLOCK).map_err(remote)?;
+            idle.pause(&link.ports.host.wake, MAX_BLOCK).map_err(remote)?;
         }
         link.floor.record(sent.elapsed());
     }
@@ -597,7 +583,7 @@ fn sample_floor(link: &mut Link, at: Instant, deadline: Instant) -> Result<(), T
         if Instant::now() >= deadline {
             return Ok(());
         }
-        idle.pause_until(&link.ports.wake, deadline).map_err(remote)?;
+        idle.pause_until(&link.ports.host.wake, deadline).map_err(remote)?;
     }
     link.floor.record(sent.elapsed());
     Ok(())
@@ -702,12 +688,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
     let link = Rc::new(RefCell::new(Link {
         context: context.clone(),
         ports,
-        pacemaker: Pacemaker::new(Role::Simulator, context.run_id),
-        awaiting: [true; NUM_KEEPERS],
-        lost: [false; NUM_KEEPERS],
-        expected: [None; NUM_KEEPERS],
-        ready: [None; NUM_KEEPERS],
-        stop: false,
+        chassis: HostChassis::new(Role::Simulator, context.run_id, context.wait, NUM_KEEPERS),
         keeper_round_trips: std::array::from_fn(|k| Latency::new(keeper_round_trip_histogram(k))),
         floor: Latency::new(FLOOR),
         floor_pings: 0,
@@ -730,11 +711,11 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
             if !resume && context.clock == Clock::Lockstep {
                 // Ready, not yet running: no cycle is played while the floor
                 // is measured, and the supervisor's stall watch waits.
-                link.pacemaker.pulse.state = ProcessState::Ready;
+                link.chassis.set_state(ProcessState::Ready);
                 measure_floor(&mut link, floor_round_trips)?;
                 save_histograms(&context.work_dir, &link).map_err(remote)?;
             }
-            link.pacemaker.pulse.state = ProcessState::Running;
+            link.chassis.set_state(ProcessState::Running);
         }
         let seeds = RunSeeds::draw(&mut task_rng(&spec, context.run));
         let mut task = JournaledTask {
@@ -761,8 +742,7 @@ pub fn run(context: &RunContext, floor_round_trips: usize, resume: bool) -> Resu
     }
     let mut link = link.borrow_mut();
     let link = &mut *link;
-    link.pacemaker.pulse.state = ProcessState::Stopping;
-    link.pacemaker.beat(&link.ports.heartbeat)?;
+    link.chassis.shut_down(&link.ports.host.heartbeat)?;
     let result = SimulatorResult {
         complete: outcome.is_ok(),
         error: outcome.err().map(|e| e.to_string()),

@@ -8,17 +8,19 @@
 
 use std::time::{Duration, Instant};
 
+use iceoryx2::port::listener::Listener;
 use shm_layouts::MAX_FLUENTS;
 
 use serde::Serialize;
 
 use super::cadence::{Cadence, SLEEP_SLICE, sleep_until};
+use super::host_chassis::{self, HostChassis, Readiness};
 use super::launch::world_env;
-use super::{Clock, HEARTBEAT_EVERY, Pacemaker};
-use crate::ipc::convert::{Rejection, read_agent_report, read_control};
+use super::{Clock, HEARTBEAT_EVERY};
+use crate::ipc::convert::{Rejection, Rejections};
 use crate::ipc::namespace::Namespace;
-use crate::ipc::protocol::{AgentNews, Order, ProcessState, Role};
-use crate::ipc::services::{IpcError, WorldPorts, node, receive, send};
+use crate::ipc::protocol::{ProcessState, Role};
+use crate::ipc::services::{Ipc, IpcError, WorldPorts, node, receive, send};
 use crate::ipc::wait::{Idle, MAX_BLOCK, WaitStrategy};
 use crate::ipc::world::{
     ATOM_WORDS, ActionStatus, EpisodeStatus, Vocabulary, VocabularyError, WorldView, monotonic_ns, read_world_command,
@@ -210,7 +212,9 @@ impl WorldRun {
 struct Host {
     run: WorldRun,
     ports: WorldPorts,
-    pacemaker: Pacemaker,
+    /// The heartbeat, the orders, the agents' readiness and losses (since
+    /// they were last all ready).
+    chassis: HostChassis,
     vocabulary: Vocabulary,
     actions: usize,
     episode: u64,
@@ -218,20 +222,38 @@ struct Host {
     step: u32,
     /// Each agent's last command taken: its cycle and when it was read.
     answered: Vec<Option<(u64, u64)>>,
-    /// Each agent's ready process (its pid), and the replacement awaited.
-    ready: Vec<Option<u32>>,
-    expected: Vec<Option<u32>>,
-    lost: bool,
-    stop: bool,
     first_reset: bool,
     /// When the host last kept house.
     housekept: Instant,
+    /// When the vocabulary was last announced (in the wait for the agents).
+    announced: Option<Instant>,
     /// Real time: the cycle on the world's clock since the agents were last ready.
     cadence: Option<Cadence>,
     /// What was served (real time: the cadences before the current one).
     served: Served,
     /// The process that started the world.
     parent: libc::pid_t,
+}
+
+impl host_chassis::Host for Host {
+    type Error = WorldHostError;
+
+    fn chassis(&self) -> &HostChassis {
+        &self.chassis
+    }
+
+    fn await_round(&mut self) -> Result<(), WorldHostError> {
+        self.announce()?;
+        self.housekeeping()
+    }
+
+    fn wake(&self) -> &Listener<Ipc> {
+        &self.ports.host.wake
+    }
+
+    fn failure(e: IpcError) -> WorldHostError {
+        e.into()
+    }
 }
 
 /// Each agent's answer in a cycle: `None` if it missed the cycle (real
@@ -248,49 +270,30 @@ enum Interruption {
 
 impl Host {
     fn count(&mut self, why: Rejection) {
-        self.pacemaker.pulse.rejected.count(why);
+        self.chassis.pacemaker.pulse.rejected.count(why);
     }
 
     /// Heartbeat, the supervisor's orders, the agents' reports.
     fn housekeeping(&mut self) -> Result<(), WorldHostError> {
         self.housekept = Instant::now();
-        self.pacemaker.pulse.cycles = self.cycle;
-        self.pacemaker.pulse.late_cycles = self.served.late_cycles + self.cadence.as_ref().map_or(0, Cadence::late);
-        let beats = self.pacemaker.pulse.sequence;
-        self.pacemaker.tick(&self.ports.heartbeat)?;
+        let pulse = &mut self.chassis.pacemaker.pulse;
+        pulse.cycles = self.cycle;
+        pulse.late_cycles = self.served.late_cycles + self.cadence.as_ref().map_or(0, Cadence::late);
+        let mut refused = Rejections::default();
+        let beat = self
+            .chassis
+            .keep(&self.ports.host.heartbeat, &self.ports.host.control, &mut refused)?;
         // SAFETY: getppid has no effects.
-        if self.pacemaker.pulse.sequence != beats && unsafe { libc::getppid() } != self.parent {
+        if beat && unsafe { libc::getppid() } != self.parent {
             // The process that started the world (the supervisor, or the
             // shell it ran the command with) is gone: so is the run (looked
             // at with each heartbeat).
-            self.stop = true;
+            self.chassis.stop();
         }
-        let run_id = self.run.run_id;
-        while let Some(order) = receive(&self.ports.control, |m| read_control(m, Role::World, run_id))? {
-            match order {
-                Ok(Some(Order::Stop)) => self.stop = true,
-                Ok(Some(Order::KeeperLost { keeper, pid })) if keeper < self.run.agents => {
-                    self.lost = true;
-                    self.expected[keeper] = Some(pid);
-                    if self.ready[keeper] != Some(pid) {
-                        self.ready[keeper] = None;
-                    }
-                }
-                Ok(Some(Order::KeeperLost { .. })) => self.count(Rejection::Content),
-                Ok(_) => {}
-                Err(why) => self.count(why),
-            }
-        }
-        let agents = self.run.agents;
-        while let Some(report) = receive(&self.ports.reports, |m| read_agent_report(m, run_id, agents))? {
-            match report {
-                Ok((a, AgentNews::Ready { pid })) if self.expected[a].is_none_or(|p| p == pid) => {
-                    self.ready[a] = Some(pid);
-                }
-                Ok(_) => {}
-                Err(why) => self.count(why),
-            }
-        }
+        // The agents' news other than their readiness is not the world's.
+        self.chassis
+            .read_reports(&self.ports.host.reports, &mut refused, |_, _| Ok(()))?;
+        self.chassis.pacemaker.pulse.rejected.add(&refused);
         Ok(())
     }
 
@@ -299,7 +302,7 @@ impl Host {
     fn keeping<T>(&mut self, f: impl FnOnce(&mut Housekeeping<'_>) -> T) -> Result<T, WorldHostError> {
         let mut failure = None;
         let mut keep = || match self.housekeeping() {
-            Ok(()) => !self.stop,
+            Ok(()) => !self.chassis.stopped(),
             Err(e) => {
                 failure.get_or_insert(e);
                 false
@@ -311,30 +314,31 @@ impl Host {
 
     /// Announces the vocabulary until every agent is ready; false on stop.
     fn await_agents(&mut self) -> Result<bool, WorldHostError> {
-        self.pacemaker.pulse.state = ProcessState::Ready;
-        let parts = self.vocabulary.parts(self.run.run_id);
-        let mut announced: Option<Instant> = None;
-        let mut idle = Idle::new(self.run.wait);
-        loop {
-            if announced.is_none_or(|t| t.elapsed() >= HEARTBEAT_EVERY) {
-                for part in &parts {
-                    send(&self.ports.vocabulary, *part)?;
-                }
-                announced = Some(Instant::now());
-            }
-            self.housekeeping()?;
-            if self.stop {
-                return Ok(false);
-            }
-            if self.ready.iter().all(Option::is_some) {
-                self.lost = false;
-                self.pacemaker.pulse.state = ProcessState::Running;
+        self.chassis.set_state(ProcessState::Ready);
+        self.announced = None;
+        match host_chassis::wait_ready(self, None)? {
+            Readiness::Ready => {
+                self.chassis.clear_lost();
+                self.chassis.set_state(ProcessState::Running);
                 self.end_cadence();
                 self.cadence = (self.run.clock == Clock::Realtime).then(|| Cadence::new(self.run.period));
-                return Ok(true);
+                Ok(true)
             }
-            idle.pause(&self.ports.wake, MAX_BLOCK)?;
+            // Without a timeout a wait ends ready or stopped.
+            Readiness::Stopped | Readiness::TimedOut(_) => Ok(false),
         }
+    }
+
+    /// Announces the vocabulary, once every heartbeat interval while the
+    /// agents are awaited.
+    fn announce(&mut self) -> Result<(), WorldHostError> {
+        if self.announced.is_none_or(|t| t.elapsed() >= HEARTBEAT_EVERY) {
+            for part in self.vocabulary.parts(self.run.run_id) {
+                send(&self.ports.vocabulary, part)?;
+            }
+            self.announced = Some(Instant::now());
+        }
+        Ok(())
     }
 
     /// Publishes each agent's snapshot of the world now (the end of a
@@ -371,7 +375,7 @@ impl Host {
                 atoms,
                 fluents,
             };
-            self.ports.snapshots[a].send(world_snapshot(&view, a, self.run.run_id))?;
+            self.ports.host.snapshots[a].send(world_snapshot(&view, a, self.run.run_id))?;
         }
         // Real time: the cycle's work is done.
         if let Some(cadence) = &mut self.cadence {
@@ -405,7 +409,7 @@ impl Host {
     /// Tells every agent the episode is discarded.
     fn abort(&mut self, world: &impl ServedWorld) -> Result<(), WorldHostError> {
         self.publish(world, EpisodeStatus::Aborted, &[])?;
-        self.pacemaker.pulse.aborted_episodes += 1;
+        self.chassis.pacemaker.pulse.aborted_episodes += 1;
         Ok(())
     }
 
@@ -419,7 +423,7 @@ impl Host {
         loop {
             for (a, slot) in commands.iter_mut().enumerate() {
                 while slot.is_none() {
-                    let read = receive(&self.ports.commands[a], |m| {
+                    let read = receive(&self.ports.host.commands[a], |m| {
                         read_world_command(m, a, self.run.run_id, self.actions)
                     })?;
                     let Some(reading) = read else { break };
@@ -430,11 +434,11 @@ impl Host {
                         }
                         Ok(order) if order.cycle < self.cycle => {
                             if self.run.clock == Clock::Lockstep {
-                                self.pacemaker.pulse.rejected.count(Rejection::Sequence);
+                                self.count(Rejection::Sequence);
                             }
                         }
-                        Ok(_) => self.pacemaker.pulse.rejected.count(Rejection::Sequence),
-                        Err(why) => self.pacemaker.pulse.rejected.count(why),
+                        Ok(_) => self.count(Rejection::Sequence),
+                        Err(why) => self.count(why),
                     }
                 }
             }
@@ -444,7 +448,7 @@ impl Host {
             if let Some(deadline) = deadline
                 && Instant::now() >= deadline
             {
-                self.pacemaker.pulse.missed_deadlines += commands.iter().filter(|c| c.is_none()).count() as u64;
+                self.chassis.pacemaker.pulse.missed_deadlines += commands.iter().filter(|c| c.is_none()).count() as u64;
                 return Ok(Ok(commands));
             }
             // The supervisor and the agents' reports every HOUSEKEEPING_EVERY
@@ -453,15 +457,15 @@ impl Host {
             if self.housekept.elapsed() >= HOUSEKEEPING_EVERY {
                 self.housekeeping()?;
             }
-            if self.stop {
+            if self.chassis.stopped() {
                 return Ok(Err(Interruption::Stop));
             }
-            if self.lost {
+            if self.chassis.any_lost() {
                 return Ok(Err(Interruption::Lost));
             }
             match deadline {
-                Some(deadline) => idle.pause_until(&self.ports.wake, deadline)?,
-                None => idle.pause(&self.ports.wake, MAX_BLOCK)?,
+                Some(deadline) => idle.pause_until(&self.ports.host.wake, deadline)?,
+                None => idle.pause(&self.ports.host.wake, MAX_BLOCK)?,
             }
         }
     }
@@ -535,29 +539,26 @@ pub fn serve<W: ServedWorld>(world: &mut W) -> Result<Served, WorldHostError> {
     let mut host = Host {
         actions: vocabulary.actions.len(),
         vocabulary,
-        pacemaker: Pacemaker::new(Role::World, run.run_id),
+        chassis: HostChassis::new(Role::World, run.run_id, run.wait, agents),
         ports,
         episode: 0,
         cycle: 0,
         step: 0,
         answered: vec![None; agents],
-        ready: vec![None; agents],
-        expected: vec![None; agents],
-        lost: false,
-        stop: false,
         first_reset: true,
         housekept: Instant::now(),
+        announced: None,
         cadence: None,
         served: Served::default(),
         // SAFETY: getppid has no effects.
         parent: unsafe { libc::getppid() },
         run,
     };
-    host.pacemaker.beat(&host.ports.heartbeat)?;
+    host.chassis.pacemaker.beat(&host.ports.host.heartbeat)?;
     while host.await_agents()? {
         loop {
             match host.episode(world)? {
-                Ok(()) => host.pacemaker.pulse.episodes += 1,
+                Ok(()) => host.chassis.pacemaker.pulse.episodes += 1,
                 Err(Interruption::Stop) => break,
                 Err(Interruption::Lost) => {
                     host.abort(world)?;
@@ -565,14 +566,13 @@ pub fn serve<W: ServedWorld>(world: &mut W) -> Result<Served, WorldHostError> {
                 }
             }
         }
-        if host.stop {
+        if host.chassis.stopped() {
             break;
         }
     }
     host.end_cadence();
-    host.pacemaker.pulse.state = ProcessState::Stopping;
-    host.pacemaker.pulse.late_cycles = host.served.late_cycles;
-    host.pacemaker.beat(&host.ports.heartbeat)?;
+    host.chassis.pacemaker.pulse.late_cycles = host.served.late_cycles;
+    host.chassis.shut_down(&host.ports.host.heartbeat)?;
     host.served.snapshots = host.cycle;
     let served = host.served;
     if let Some(rate) = served.rate() {
