@@ -1,5 +1,5 @@
 //! The flags of `learnpnp experiment` and of the multi-process supervisor:
-//! the core crate's [`ExperimentOptions`], which declares each of them.
+//! the core crate's [`ExperimentOptions`](learnpnp::experiment::options::ExperimentOptions), which declares each of them.
 
 use learnpnp::experiment::options::ExperimentOptions;
 pub use learnpnp::experiment::options::named;
