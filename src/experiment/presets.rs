@@ -2,10 +2,10 @@
 //! where it gives them and documented choices where it does not
 //! (docs/results/RESULTS.md lists both).
 //!
-//! The presets are one table, [`FIGURES`]: a row per figure with its domain,
+//! The presets are one table, `FIGURES`: a row per figure with its domain,
 //! its protocol and its curves, each curve an algorithm with the domain's
 //! defaults and the parameters it changes, stated as `learnpnp experiment`'s
-//! flags state them ([`Overrides`]). [`figures`] builds every figure from it.
+//! flags state them ([`Overrides`](crate::experiment::defaults::Overrides)). [`figures`](crate::experiment::presets::figures) builds every figure from it.
 
 use super::defaults::{Overrides, default_learner, default_protocol};
 use super::spec::{Algorithm, DomainSpec, ExperimentSpec, Protocol};

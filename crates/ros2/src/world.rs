@@ -3,7 +3,7 @@
 //! stepped in lock-step (each step waits for the robot's answer, so the run
 //! goes at the robot's rate). Every wait for the robot (an answer, a
 //! service's reply, a goal's result) keeps the host's house in slices
-//! ([`Housekeeping`]), so the world heartbeats however long the robot takes,
+//! ([`Housekeeping`](learnpnp_system::multiprocess::world_host::Housekeeping)), so the world heartbeats however long the robot takes,
 //! and is given up when the run stops.
 
 use std::borrow::Cow;
