@@ -15,7 +15,7 @@ use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Duration;
 
-use crate::multiprocess::{Sandbox, kill, pids_with_all, prefixes, summary, wait_until};
+use crate::support::{Sandbox, kill, pids_with_all, prefixes, summary, wait_until};
 use crate::util::{shipped_arg, text};
 use serde_json::Value;
 

@@ -22,7 +22,7 @@ use shm_layouts::{
 use zenoh::{Config, Session, Wait};
 
 use crate::hosts::{Certs, Hosts, SHORT, finished, host_a, keeper_3_remote, remote, remote_summary};
-use crate::multiprocess::{Sandbox, first_episode_event, prefixes, summary, wait_until};
+use crate::support::{Sandbox, first_episode_event, prefixes, summary, wait_until};
 use crate::util::text;
 
 /// What an intruder holds.

@@ -9,5 +9,6 @@ mod hosts;
 mod intruders;
 mod ipc_wait;
 mod multiprocess;
+mod support;
 mod view;
 mod world;

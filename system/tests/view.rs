@@ -22,7 +22,7 @@ use learnpnp_system::multiprocess::view_process::ViewCounts;
 use serde_json::Value;
 use shm_layouts::{FeedHeader, PROTOCOL_VERSION};
 
-use crate::multiprocess::{
+use crate::support::{
     Sandbox, assert_plays_in_process, foreign_node, identity, kill, pids_with_all, prefixes, stop, summary, wait_until,
 };
 

@@ -10,7 +10,7 @@ use std::path::Path;
 use std::process::{Child, Output, Stdio};
 use std::time::Duration;
 
-use crate::multiprocess::{Sandbox, identity, kill, pids_with_all, prefixes, summary, wait_until};
+use crate::support::{Sandbox, identity, kill, pids_with_all, prefixes, summary, wait_until};
 use crate::util::{shipped_arg, text};
 use learnpnp_system::ipc::namespace::Namespace;
 use learnpnp_system::ipc::services::node;
