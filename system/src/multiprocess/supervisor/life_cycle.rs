@@ -16,7 +16,7 @@ use super::config::{
 };
 use super::observe::{Request, RunObserver, RunView};
 use super::results::{describe, last_log_line, log_tail};
-use super::watch::{Fault, Fleet, PendingResume, Watch};
+use super::watch::{Fault, Findings, Fleet, Heard, PendingResume, Restarts, Watch};
 use crate::hosts::report::LinkReport;
 use crate::ipc::convert::{control_message, read_heartbeat};
 use crate::ipc::namespace::Namespace;
@@ -117,10 +117,10 @@ impl Watch<'_> {
         if let Some(priority) = self.fifo_priority()
             && let Err(e) = set_fifo_priority(process.pid(), priority)
         {
-            self.fifo_refused.get_or_insert(e.to_string());
+            self.findings.fifo_refused.get_or_insert(e.to_string());
         }
         self.fleet.processes.insert(role, process);
-        self.last_heard.insert(role, Instant::now());
+        self.heard.last.insert(role, Instant::now());
         Ok(())
     }
 
@@ -136,7 +136,7 @@ impl Watch<'_> {
 
     /// How the run's processes were scheduled, as the report says it.
     pub(super) fn scheduling(&self) -> String {
-        match (self.fifo_priority(), &self.fifo_refused) {
+        match (self.fifo_priority(), &self.findings.fifo_refused) {
             (None, _) => "normal".to_string(),
             (Some(priority), None) => format!("SCHED_FIFO {priority}"),
             (Some(priority), Some(why)) => format!("normal (SCHED_FIFO {priority} refused: {why})"),
@@ -144,7 +144,7 @@ impl Watch<'_> {
     }
 
     pub(super) fn fault(&mut self, kind: String, outcome: String) {
-        self.faults.push(Fault {
+        self.findings.faults.push(Fault {
             run: self.context.run,
             seconds: self.started.elapsed().as_secs_f64(),
             kind,
@@ -175,24 +175,26 @@ impl Watch<'_> {
                     .filter(|p| p.leads(pulse.pid))
                     .map(Process::pid);
                 if current.is_some() {
-                    self.last_heard.insert(pulse.role, Instant::now());
+                    self.heard.last.insert(pulse.role, Instant::now());
                     if pulse.role == self.roster.host() {
-                        let first = self.host_episodes.map_or(pulse.episodes, |(first, _)| first);
-                        self.host_episodes = Some((first, pulse.episodes));
+                        let first = self.heard.host_episodes.map_or(pulse.episodes, |(first, _)| first);
+                        self.heard.host_episodes = Some((first, pulse.episodes));
                     }
                 }
                 if let Role::Agent(a) = pulse.role
                     && self.is_remote(a)
                     && pulse.state == ProcessState::Stopping
-                    && !self.done.contains(&a)
+                    && !self.heard.agents_done.contains(&a)
                 {
                     // A remote world agent has completed its protocol.
-                    self.done.push(a);
+                    self.heard.agents_done.push(a);
                     if self.agents_done() {
                         self.order(Order::Stop, Some(Role::World))?;
                     }
                 }
-                self.pulses.insert((pulse.role, current.unwrap_or(pulse.pid)), pulse);
+                self.heard
+                    .pulses
+                    .insert((pulse.role, current.unwrap_or(pulse.pid)), pulse);
             }
         }
         Ok(())
@@ -200,8 +202,8 @@ impl Watch<'_> {
 
     /// Counts one more restart of `role`; returns how many so far.
     pub(super) fn count_restart(&mut self, role: Role) -> u32 {
-        self.last_restart = Some(Instant::now());
-        let restarts = self.restarts.entry(role).or_default();
+        self.restarts.last = Some(Instant::now());
+        let restarts = self.restarts.counts.entry(role).or_default();
         *restarts += 1;
         *restarts
     }
@@ -232,7 +234,7 @@ impl Watch<'_> {
         self.start(role, true)?;
         let pid = self.fleet.processes.get(&role).map_or(0, Process::pid);
         self.order(Order::KeeperLost { keeper: k, pid }, Some(self.roster.host()))?;
-        self.resumes.push(PendingResume {
+        self.restarts.pending_resumes.push(PendingResume {
             keeper: k,
             pid,
             expected,
@@ -258,7 +260,7 @@ impl Watch<'_> {
 
     /// World runs: every agent has completed its protocol.
     pub(super) fn agents_done(&self) -> bool {
-        self.roster != Roster::Keepaway && self.done.len() == self.roster.agents()
+        self.roster != Roster::Keepaway && self.heard.agents_done.len() == self.roster.agents()
     }
 
     /// Replaces the host after it `what`: a new simulator continues from its
@@ -271,17 +273,17 @@ impl Watch<'_> {
     pub(super) fn restart_host(&mut self, what: String, own_exit: bool) -> Result<(), SupervisorError> {
         let host = self.roster.host();
         let log = last_log_line(&self.log(host));
-        let early = own_exit && self.host_episodes.is_none_or(|(first, last)| last <= first);
-        self.host_episodes = None;
+        let early = own_exit && self.heard.host_episodes.is_none_or(|(first, last)| last <= first);
+        self.heard.host_episodes = None;
         let failure = (what.clone(), log.clone());
-        if early && self.early_host_failure.as_ref() == Some(&failure) {
+        if early && self.restarts.early_host_failure.as_ref() == Some(&failure) {
             self.fault(
                 what.clone(),
                 "not restarted: it failed the same way at its last start".into(),
             );
             return Err(RunFailure::HostFailsAtStart { what, log }.into());
         }
-        self.early_host_failure = early.then_some(failure);
+        self.restarts.early_host_failure = early.then_some(failure);
         if self.count_restart(host) > self.config.max_restarts {
             self.fault(
                 what.clone(),
@@ -307,7 +309,7 @@ impl Watch<'_> {
             .fleet
             .processes
             .get(&host)
-            .and_then(|p| self.pulses.get(&(host, p.pid())));
+            .and_then(|p| self.heard.pulses.get(&(host, p.pid())));
         RunView {
             run: self.context.run,
             seconds: self.started.elapsed().as_secs_f64(),
@@ -319,7 +321,7 @@ impl Watch<'_> {
                 .fleet
                 .processes
                 .iter()
-                .filter_map(|(role, p)| self.pulses.get(&(*role, p.pid())).copied())
+                .filter_map(|(role, p)| self.heard.pulses.get(&(*role, p.pid())).copied())
                 .collect(),
             simulator,
             roster: self.roster,
@@ -361,25 +363,26 @@ impl Watch<'_> {
             .fleet
             .processes
             .get(&host)
-            .and_then(|p| self.pulses.get(&(host, p.pid())))
+            .and_then(|p| self.heard.pulses.get(&(host, p.pid())))
             .copied()
         else {
             return Ok(());
         };
         let now = Instant::now();
-        match self.progress {
+        match self.heard.progress {
             Some((cycles, _)) if cycles == pulse.cycles && pulse.state == ProcessState::Running => {}
             _ => {
-                self.progress = Some((pulse.cycles, now));
+                self.heard.progress = Some((pulse.cycles, now));
                 return Ok(());
             }
         }
         let limit = self.config.heartbeat_timeout * STALL_TIMEOUTS;
         let quiet_since = self
+            .heard
             .progress
             .map(|(_, t)| t)
             .into_iter()
-            .chain(self.last_restart)
+            .chain(self.restarts.last)
             .max()
             .unwrap_or(now);
         if now.duration_since(quiet_since) <= limit {
@@ -396,7 +399,7 @@ impl Watch<'_> {
             limit.as_secs()
         );
         self.fault(what.clone(), "run stopped; every agent checkpoints".into());
-        self.stalled = Some(what);
+        self.findings.stalled = Some(what);
         self.stop_requested = true;
         self.order(Order::Stop, Some(host))
     }
@@ -474,7 +477,7 @@ impl Watch<'_> {
                 }
                 Role::Agent(a) if status.success() => {
                     // Its protocol is complete; once every agent's is, the world stops.
-                    self.done.push(a);
+                    self.heard.agents_done.push(a);
                     if self.agents_done() {
                         self.order(Order::Stop, Some(Role::World))?;
                     }
@@ -500,7 +503,7 @@ impl Watch<'_> {
             .fleet
             .processes
             .keys()
-            .filter(|r| self.last_heard.get(r).is_some_and(|t| t.elapsed() > timeout))
+            .filter(|r| self.heard.last.get(r).is_some_and(|t| t.elapsed() > timeout))
             .copied()
             .collect();
         for role in hung {
@@ -609,22 +612,13 @@ impl<'a> Watch<'a> {
                 processes: BTreeMap::new(),
             },
             started: Instant::now(),
-            last_heard: BTreeMap::new(),
-            pulses: BTreeMap::new(),
-            faults: Vec::new(),
             roster: config.roster(),
-            restarts: BTreeMap::new(),
-            done: Vec::new(),
+            control_sequence: 0,
             floor: None,
             stop_requested: false,
-            progress: None,
-            last_restart: None,
-            host_episodes: None,
-            early_host_failure: None,
-            stalled: None,
-            resumes: Vec::new(),
-            control_sequence: 0,
-            fifo_refused: None,
+            heard: Heard::default(),
+            restarts: Restarts::default(),
+            findings: Findings::default(),
         };
         if let Some(cluster) = &config.cluster {
             watch.describe_for_other_hosts(cluster)?;

@@ -176,7 +176,7 @@ impl Watch<'_> {
             Roster::Keepaway => "the simulator",
             Roster::World { .. } => "agent 1",
         };
-        let failure = failure.or_else(|| self.stalled.clone()).or_else(|| {
+        let failure = failure.or_else(|| self.findings.stalled.clone()).or_else(|| {
             let stopped = self.stop_requested;
             sim.error
                 .clone()
@@ -190,7 +190,7 @@ impl Watch<'_> {
             Roster::World { agents } => agents,
         };
         let values = self.final_values(learning, failure.is_some());
-        let checkpoint_failures = self.pulses.values().map(|p| p.checkpoint_failures).sum();
+        let checkpoint_failures = self.heard.pulses.values().map(|p| p.checkpoint_failures).sum();
         let link = self.link_faults(&sim);
         if let Some(floor) = &self.floor {
             floor.save()?;
@@ -209,9 +209,9 @@ impl Watch<'_> {
             late_cycles: self.late_cycles(&sim),
             sim,
             failure,
-            restarts: self.restarts.values().sum::<u32>(),
+            restarts: self.restarts.counts.values().sum::<u32>(),
             resumes: self.resume_checks(learning),
-            faults: std::mem::take(&mut self.faults),
+            faults: std::mem::take(&mut self.findings.faults),
             histograms,
             checkpoint_failures,
             values,
@@ -286,7 +286,8 @@ impl Watch<'_> {
 
     /// For each agent restarted: did it resume with the checkpointed values?
     pub(super) fn resume_checks(&self, learning: usize) -> Vec<ResumeCheck> {
-        self.resumes
+        self.restarts
+            .pending_resumes
             .iter()
             .filter(|r| r.expected.is_some() || r.keeper < learning)
             .map(|r| {
@@ -313,7 +314,7 @@ impl Watch<'_> {
         if self.roster == Roster::Keepaway {
             by_process.insert(Role::Simulator.to_string(), sim.totals.rejected);
         }
-        for ((role, _), pulse) in &self.pulses {
+        for ((role, _), pulse) in &self.heard.pulses {
             if *role != Role::Simulator {
                 let entry = by_process.entry(role.to_string()).or_default();
                 *entry = entry.plus(&pulse.rejected);
@@ -330,6 +331,7 @@ impl Watch<'_> {
         let late = match role {
             Role::Simulator => sim.totals.late_cycles,
             _ => self
+                .heard
                 .pulses
                 .iter()
                 .filter(|((r, _), _)| *r == role)
@@ -341,7 +343,8 @@ impl Watch<'_> {
 
     /// World runs: the deadlines the world's incarnations missed.
     pub(super) fn world_missed_deadlines(&self) -> u64 {
-        self.pulses
+        self.heard
+            .pulses
             .iter()
             .filter(|((role, _), _)| *role == Role::World)
             .map(|(_, pulse)| pulse.missed_deadlines)

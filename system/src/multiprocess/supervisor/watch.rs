@@ -36,38 +36,61 @@ impl Drop for Fleet {
     }
 }
 
-/// One run being supervised.
+/// One run being supervised: what it is, the processes, and what the
+/// supervisor has heard, restarted and found, each job's state apart.
 pub(super) struct Watch<'a> {
     pub(super) config: &'a SupervisorConfig,
     pub(super) namespace: &'a Namespace,
     pub(super) context: RunContext,
-    pub(super) ports: SupervisorPorts,
-    pub(super) fleet: Fleet,
-    pub(super) started: Instant,
-    pub(super) last_heard: BTreeMap<Role, Instant>,
-    pub(super) pulses: BTreeMap<(Role, u32), Pulse>,
-    pub(super) faults: Vec<Fault>,
     pub(super) roster: Roster,
-    /// Restarts of each process so far.
-    pub(super) restarts: BTreeMap<Role, u32>,
-    /// World runs: agents that completed their protocol and exited.
-    pub(super) done: Vec<usize>,
-    /// World runs: the floor measurement's ports (pings to agent 0).
+    pub(super) started: Instant,
+    pub(super) ports: SupervisorPorts,
+    /// The sequence number of the last order sent.
+    pub(super) control_sequence: u64,
+    pub(super) fleet: Fleet,
+    /// World runs in real time: the floor measurement's ports (pings to agent 0).
     pub(super) floor: Option<FloorProbe<WorldFloor>>,
-    /// The run was asked to stop (a signal, or an observer).
+    /// The run was asked to stop (a signal, an observer, a stall).
     pub(super) stop_requested: bool,
-    /// Lock-step: the host's cycle count and when it last moved.
-    pub(super) progress: Option<(u64, Instant)>,
-    /// When a process was last restarted.
-    pub(super) last_restart: Option<Instant>,
+    pub(super) heard: Heard,
+    pub(super) restarts: Restarts,
+    pub(super) findings: Findings,
+}
+
+/// What the processes' heartbeats told (the life cycle's input).
+#[derive(Default)]
+pub(super) struct Heard {
+    /// When each process was last heard from.
+    pub(super) last: BTreeMap<Role, Instant>,
+    /// The last pulse of each process, by role and pid.
+    pub(super) pulses: BTreeMap<(Role, u32), Pulse>,
     /// The episodes the current host reported first and last (`None` before its first heartbeat).
     pub(super) host_episodes: Option<(u64, u64)>,
+    /// Lock-step: the host's cycle count and when it last moved.
+    pub(super) progress: Option<(u64, Instant)>,
+    /// World runs: agents that completed their protocol and exited.
+    pub(super) agents_done: Vec<usize>,
+}
+
+/// The processes restarted, and what a restart must be checked against.
+#[derive(Default)]
+pub(super) struct Restarts {
+    /// Restarts of each process so far.
+    pub(super) counts: BTreeMap<Role, u32>,
+    /// When a process was last restarted.
+    pub(super) last: Option<Instant>,
     /// The host's last failure and its log's last line, if it came before the host ended an episode.
     pub(super) early_host_failure: Option<(String, String)>,
+    /// The checkpoints the replacement agents are to resume from.
+    pub(super) pending_resumes: Vec<PendingResume>,
+}
+
+/// What the supervisor found that the run's record reports.
+#[derive(Default)]
+pub(super) struct Findings {
+    pub(super) faults: Vec<Fault>,
     /// Why the run was stopped as stalled, if it was.
     pub(super) stalled: Option<String>,
-    pub(super) resumes: Vec<PendingResume>,
-    pub(super) control_sequence: u64,
     /// Why the real-time priority could not be given (the first refusal).
     pub(super) fifo_refused: Option<String>,
 }
