@@ -10,8 +10,8 @@ use crate::support::{
 };
 use crate::util::text;
 use std::fs;
-use std::path::Path;
-use std::process::{Command, Stdio};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
 use std::time::Duration;
 
 use iceoryx2::prelude::*;
@@ -87,23 +87,47 @@ fn lockstep_pass_decision_plays_the_in_process_episodes() {
     lockstep_matches_in_process("keepaway-pass", "sarsa-lambda", &["values.bin"]);
 }
 
-#[test]
-fn killed_agent_is_restarted_from_its_checkpoint() {
-    let sandbox = Sandbox::new("kill-agent");
-    let out = sandbox.out("system");
-    let child = sandbox
-        .supervisor("system", &["--episodes", "600", "--checkpoint-every", "10"])
+/// Starts the supervisor of a run of `episodes` checkpointing every
+/// `checkpoint_every` episodes into `sandbox`'s `system`, its output piped.
+fn spawn_run(sandbox: &Sandbox, episodes: &str, checkpoint_every: &str) -> Child {
+    sandbox
+        .supervisor(
+            "system",
+            &["--episodes", episodes, "--checkpoint-every", checkpoint_every],
+        )
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .unwrap();
+        .unwrap()
+}
+
+/// Starts a run of `episodes` checkpointing every 10 episodes, waits until it
+/// is under way, lets `tamper` act on keeper `keeper`'s agent process (its
+/// pid) and the run's work directory while the agent is stopped, then kills
+/// the agent; returns the supervisor's output, the run's output directory and
+/// the work directory as it was during the run.
+fn kill_keeper_after(
+    sandbox: &Sandbox,
+    episodes: &str,
+    keeper: usize,
+    tamper: impl FnOnce(&Path),
+) -> (Output, PathBuf, PathBuf) {
+    let out = sandbox.out("system");
+    let child = spawn_run(sandbox, episodes, "10");
     wait_for_progress(&out);
     let work = run_work_dir(&out, 0);
-    let work = work.to_string_lossy();
-    let agents = pids_with_all(&["learnpnp-agent", &work, "--keeper 2"]);
+    let agents = pids_with_all(&["learnpnp-agent", &work.to_string_lossy(), &format!("--keeper {keeper}")]);
     assert_eq!(agents.len(), 1, "{agents:?}");
+    stop(agents[0]);
+    tamper(&work);
     kill(agents[0], libc::SIGKILL);
-    let output = finish(child);
+    (finish(child), out, work)
+}
+
+#[test]
+fn killed_agent_is_restarted_from_its_checkpoint() {
+    let sandbox = Sandbox::new("kill-agent");
+    let (output, out, _) = kill_keeper_after(&sandbox, "600", 2, |_| {});
     assert!(output.status.success(), "{}", text(&output.stderr));
     let s = summary(&out);
     assert_eq!(s["complete"], true);
@@ -137,12 +161,7 @@ fn killed_agent_is_restarted_from_its_checkpoint() {
 fn killed_simulator_ends_the_run() {
     let sandbox = Sandbox::new("kill-sim");
     let out = sandbox.out("system");
-    let child = sandbox
-        .supervisor("system", &["--episodes", "2000", "--checkpoint-every", "10"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child = spawn_run(&sandbox, "2000", "10");
     wait_for_progress(&out);
     let work = run_work_dir(&out, 0);
     let sims = pids_with_all(&["learnpnp-sim", &work.to_string_lossy()]);
@@ -388,22 +407,10 @@ fn garbage_on_the_services_is_rejected_and_never_applied() {
 #[test]
 fn corrupt_checkpoint_at_restart_resumes_from_the_previous_one() {
     let sandbox = Sandbox::new("corrupt-checkpoint");
-    let out = sandbox.out("system");
-    let child = sandbox
-        .supervisor("system", &["--episodes", "600", "--checkpoint-every", "10"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    wait_for_progress(&out);
-    let work = run_work_dir(&out, 0);
+    let (output, out, work) = kill_keeper_after(&sandbox, "600", 1, |work| {
+        fs::write(work.join("values.bin"), b"LPNPVALS garbage").unwrap();
+    });
     let checkpoint = work.join("values.bin");
-    let agent = pids_with_all(&["learnpnp-agent", &work.to_string_lossy(), "--keeper 1"]);
-    assert_eq!(agent.len(), 1);
-    stop(agent[0]);
-    fs::write(&checkpoint, b"LPNPVALS garbage").unwrap();
-    kill(agent[0], libc::SIGKILL);
-    let output = finish(child);
     assert!(output.status.success(), "{}", text(&output.stderr));
     let log = fs::read_to_string(run_work_dir(&out, 0).join("keeper1.log")).unwrap();
     assert!(
@@ -421,24 +428,12 @@ fn corrupt_checkpoint_at_restart_resumes_from_the_previous_one() {
 #[test]
 fn missing_checkpoint_at_restart_is_a_clear_error() {
     let sandbox = Sandbox::new("missing-checkpoint");
-    let out = sandbox.out("system");
-    let child = sandbox
-        .supervisor("system", &["--episodes", "2000", "--checkpoint-every", "10"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    wait_for_progress(&out);
-    let work = run_work_dir(&out, 0);
+    let (output, out, work) = kill_keeper_after(&sandbox, "2000", 3, |work| {
+        fs::remove_file(work.join("values-agent3.bin")).unwrap();
+        // Keeper 3 may not have written a second checkpoint yet.
+        let _ = fs::remove_file(work.join("values-agent3.bin.prev"));
+    });
     let checkpoint = work.join("values-agent3.bin");
-    let agent = pids_with_all(&["learnpnp-agent", &work.to_string_lossy(), "--keeper 3"]);
-    assert_eq!(agent.len(), 1);
-    stop(agent[0]);
-    fs::remove_file(&checkpoint).unwrap();
-    // Keeper 3 may not have written a second checkpoint yet.
-    let _ = fs::remove_file(work.join("values-agent3.bin.prev"));
-    kill(agent[0], libc::SIGKILL);
-    let output = finish(child);
     assert_eq!(output.status.code(), Some(1), "{}", text(&output.stderr));
     let stderr = text(&output.stderr);
     assert!(
@@ -454,12 +449,7 @@ fn missing_checkpoint_at_restart_is_a_clear_error() {
 fn sigterm_stops_the_run_with_a_final_checkpoint() {
     let sandbox = Sandbox::new("sigterm");
     let out = sandbox.out("system");
-    let child = sandbox
-        .supervisor("system", &["--episodes", "2000", "--checkpoint-every", "1000"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child = spawn_run(&sandbox, "2000", "1000");
     // The first checkpoint is the starting values; the run is under way once
     // the first episode's events flow (keeper 1 has acted).
     assert!(wait_until(Duration::from_secs(120), || {
