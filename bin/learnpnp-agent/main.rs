@@ -7,10 +7,10 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use learnpnp_system::child_args::RunContextArgs;
-use learnpnp_system::multiprocess::agent_process::{self, AgentSettings};
+use learnpnp_system::multiprocess::agent::keeper::{self, AgentSettings};
+use learnpnp_system::multiprocess::agent::world::{self, EXIT_PLAN_DOES_NOT_FIT, WorldAgentSettings};
 use learnpnp_system::multiprocess::floor_probe;
 use learnpnp_system::multiprocess::supervisor::EXIT_CANNOT_RESUME;
-use learnpnp_system::multiprocess::world_agent::{self, EXIT_PLAN_DOES_NOT_FIT, WorldAgentSettings};
 use learnpnp_system::multiprocess::{ProcessError, RunContext};
 
 /// One keeper or one world's agent: its plan, learner and executor, behind iceoryx2 services.
@@ -53,7 +53,7 @@ fn main() -> ExitCode {
                 checkpoint_every: args.checkpoint_every,
                 resume: args.resume,
             };
-            (format!("keeper {keeper}"), agent_process::run(&context, &settings))
+            (format!("keeper {keeper}"), keeper::run(&context, &settings))
         }
         (None, agent) => {
             let agent = agent.unwrap_or(1);
@@ -62,7 +62,7 @@ fn main() -> ExitCode {
                 checkpoint_every: args.checkpoint_every,
                 resume: args.resume,
             };
-            (format!("agent {agent}"), world_agent::run(&context, &settings))
+            (format!("agent {agent}"), world::run(&context, &settings))
         }
     };
     let Err(e) = outcome else {

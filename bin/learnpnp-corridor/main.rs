@@ -1,5 +1,5 @@
 //! `learnpnp-corridor`: a trivial world in its own process, written in Rust
-//! on `learnpnp_system::multiprocess::world_host`, for tests and for
+//! on `learnpnp_system::multiprocess::host::world`, for tests and for
 //! measuring the generic path's cost. Each agent walks its own corridor of
 //! `LENGTH` cells from the first: `forward` or `back`, -1 a step until it is
 //! at the end; the episode terminates when every agent is there, and is cut
@@ -22,7 +22,7 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use learnpnp_system::ipc::world::{ActionStatus, Vocabulary};
-use learnpnp_system::multiprocess::world_host::{Housekeeping, Observation, ServedWorld, StepResult, serve};
+use learnpnp_system::multiprocess::host::world::{Housekeeping, Observation, ServedWorld, StepResult, serve};
 
 /// Cells of a corridor.
 const LENGTH: u32 = 5;

@@ -6,7 +6,8 @@ use std::process::ExitCode;
 use anyhow::Context;
 use clap::Parser;
 use learnpnp_system::child_args::RunContextArgs;
-use learnpnp_system::multiprocess::{RunContext, sim_process};
+use learnpnp_system::multiprocess::RunContext;
+use learnpnp_system::multiprocess::host::simulator;
 
 /// The Keepaway simulator behind iceoryx2 services.
 #[derive(Parser)]
@@ -26,7 +27,7 @@ fn main() -> ExitCode {
     learnpnp_system::multiprocess::start_process();
     let args = Args::parse();
     let context = RunContext::from(args.context);
-    match sim_process::run(&context, args.floor_round_trips, args.resume).context("simulator") {
+    match simulator::run(&context, args.floor_round_trips, args.resume).context("simulator") {
         Ok(result) => {
             if let Some(error) = &result.error {
                 eprintln!("simulator: the run ended early: {error}");

@@ -28,9 +28,9 @@ use learnpnp_system::multiprocess::Clock;
 use learnpnp_system::multiprocess::bench_latency::{bench_latency, configurations};
 use learnpnp_system::multiprocess::bench_world::bench_world;
 use learnpnp_system::multiprocess::chaos::{Chaos, GARBAGE_COMMAND, SoakLength, publish_garbage};
-use learnpnp_system::multiprocess::launch::{Binaries, Needs};
-use learnpnp_system::multiprocess::remote_host::{RemoteConfig, join};
 use learnpnp_system::multiprocess::soak::{Soak, SoakLimits};
+use learnpnp_system::multiprocess::supervisor::launch::{Binaries, Needs};
+use learnpnp_system::multiprocess::supervisor::remote_host::{RemoteConfig, join};
 use learnpnp_system::multiprocess::supervisor::{
     Cluster, Progress, RunObserver, SupervisorConfig, ViewConfig, supervise,
 };
@@ -448,7 +448,7 @@ fn run_system(
     out: &mut ResultDir,
     interrupt: &Interrupt,
     observer: &mut dyn RunObserver,
-) -> Result<learnpnp_system::multiprocess::report::Report> {
+) -> Result<learnpnp_system::multiprocess::supervisor::report::Report> {
     let report = supervise(config, out, interrupt.flag(), observer)?;
     let summary = &report.summary;
     print!("{}", report.latency_table());

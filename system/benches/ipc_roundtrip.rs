@@ -28,7 +28,7 @@ use learnpnp_system::ipc::namespace::Namespace;
 use learnpnp_system::ipc::protocol::{CommandReading, SnapshotMeta};
 use learnpnp_system::ipc::services::{AgentPorts, RunServices, SimPorts, node, receive};
 use learnpnp_system::ipc::wait::WaitStrategy;
-use learnpnp_system::multiprocess::sim_process::{FLOOR_END, floor_ping, floor_pong};
+use learnpnp_system::multiprocess::host::simulator::{FLOOR_END, floor_ping, floor_pong};
 
 const ECHO: &str = "LEARNPNP_BENCH_ECHO";
 const RUN_ID: u64 = 42;

@@ -19,7 +19,7 @@ use iceoryx2::prelude::{CallbackProgression, SignalHandlingMode, WaitSet, WaitSe
 use learnpnp_system::ipc::namespace::Namespace;
 use learnpnp_system::ipc::services::{AgentPorts, Ipc, RunServices, SimPorts, node, receive};
 use learnpnp_system::ipc::wait::{Idle, MAX_BLOCK, WaitStrategy};
-use learnpnp_system::multiprocess::sim_process::{FLOOR_END, floor_ping, floor_pong};
+use learnpnp_system::multiprocess::host::simulator::{FLOOR_END, floor_ping, floor_pong};
 
 /// The echo process's environment variable: `<prefix> <mode>`.
 const ECHO: &str = "LEARNPNP_BENCH_WAKE";

@@ -17,7 +17,7 @@ use std::time::Duration;
 use iceoryx2::prelude::*;
 use learnpnp_system::ipc::namespace::Namespace;
 use learnpnp_system::multiprocess::garbage::Garbage;
-use learnpnp_system::multiprocess::sim_process::JOURNAL_FILE;
+use learnpnp_system::multiprocess::host::simulator::JOURNAL_FILE;
 use learnpnp_system::multiprocess::supervisor::{IDENTITY_FILE, run_work_dir};
 use serde_json::Value;
 use shm_layouts::{
@@ -332,7 +332,7 @@ fn garbage_on_the_services_is_rejected_and_never_applied() {
                 ..command
             },
         ];
-        let mut snapshot: KeeperSnapshot = learnpnp_system::multiprocess::sim_process::floor_ping(run_id, 1);
+        let mut snapshot: KeeperSnapshot = learnpnp_system::multiprocess::host::simulator::floor_ping(run_id, 1);
         snapshot.me = 1;
         snapshot.players[4].pos[0] = f64::NAN;
         garbage.snapshots[1] = vec![snapshot, KeeperSnapshot { me: 7, ..snapshot }];

@@ -13,7 +13,7 @@ use std::time::Duration;
 
 use learnpnp_system::ipc::feed::{FeedCounts, FeedReader};
 use learnpnp_system::ipc::services::node;
-use learnpnp_system::multiprocess::world_host::WorldRun;
+use learnpnp_system::multiprocess::host::world::WorldRun;
 use serde::Serialize;
 
 use crate::plan_state::{Republished, Republisher};

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicI64, AtomicU64, Ordering};
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
-use learnpnp_system::multiprocess::world_host::Housekeeping;
+use learnpnp_system::multiprocess::host::world::Housekeeping;
 use thiserror::Error;
 use zenoh::Session;
 use zenoh::Wait;

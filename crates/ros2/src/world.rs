@@ -1,9 +1,9 @@
 //! The world a mapping file makes of a ROS 2 robot: a
-//! [`ServedWorld`](learnpnp_system::multiprocess::world_host::ServedWorld) whose state is the latest message on each mapped topic,
+//! [`ServedWorld`](learnpnp_system::multiprocess::host::world::ServedWorld) whose state is the latest message on each mapped topic,
 //! stepped in lock-step (each step waits for the robot's answer, so the run
 //! goes at the robot's rate). Every wait for the robot (an answer, a
 //! service's reply, a goal's result) keeps the host's house in slices
-//! ([`Housekeeping`](learnpnp_system::multiprocess::world_host::Housekeeping)), so the world heartbeats however long the robot takes,
+//! ([`Housekeeping`](learnpnp_system::multiprocess::host::world::Housekeeping)), so the world heartbeats however long the robot takes,
 //! and is given up when the run stops.
 
 use std::borrow::Cow;
@@ -13,7 +13,7 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 use learnpnp_system::ipc::world::{ActionStatus, Vocabulary};
-use learnpnp_system::multiprocess::world_host::{Housekeeping, Observation, ServedWorld, StepResult};
+use learnpnp_system::multiprocess::host::world::{Housekeeping, Observation, ServedWorld, StepResult};
 use serde::Serialize;
 
 use crate::keys::action::{self as names, GoalStatus};

@@ -16,11 +16,11 @@ use super::report::{LinkRefusals, LinkReport, MAX_LISTED, RefusedFile};
 use super::run_info::RunInfo;
 use crate::ipc::protocol::Roster;
 use crate::latency::Latency;
-use crate::multiprocess::agent_chassis::checkpoint_name;
-use crate::multiprocess::agent_process::compute_histogram;
+use crate::multiprocess::agent::chassis::checkpoint_name;
+use crate::multiprocess::agent::keeper::compute_histogram;
+use crate::multiprocess::agent::world::{WORLD_TURNAROUND, agent_compute_histogram, agent_result_file};
 use crate::multiprocess::floor_probe::REMOTE_HOST_FLOOR;
-use crate::multiprocess::sim_process::{ROUND_TRIP, SimulatorResult};
-use crate::multiprocess::world_agent::{WORLD_TURNAROUND, agent_compute_histogram, agent_result_file};
+use crate::multiprocess::host::simulator::{ROUND_TRIP, SimulatorResult};
 
 /// The name under which host B ships its own link report.
 pub const HOST_B_LINK_REPORT: &str = "link-host-b.json";

@@ -15,8 +15,8 @@ use std::time::{Duration, Instant};
 use serde::Serialize;
 
 use super::Clock;
+use super::host::simulator::{FLOOR, ROUND_TRIP};
 use super::load::CpuLoad;
-use super::sim_process::{FLOOR, ROUND_TRIP};
 use super::supervisor::{
     Request, RunObserver, RunRecord, RunView, SupervisorConfig, SupervisorError, json_error, supervise_run,
 };

@@ -24,7 +24,7 @@ use std::time::Duration;
 use rand::RngExt;
 
 use super::Clock;
-use super::agent_chassis::checkpoint_name;
+use super::agent::chassis::checkpoint_name;
 use super::garbage::Garbage;
 use super::load::CpuLoad;
 use super::supervisor::observe::{Request, RunView};

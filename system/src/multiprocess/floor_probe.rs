@@ -20,7 +20,7 @@ use iceoryx2::node::Node;
 use iceoryx2::prelude::ZeroCopySend;
 use shm_layouts::{KeeperCommand, KeeperSnapshot, WorldCommand, WorldSnapshot};
 
-use super::sim_process::{FLOOR, FLOOR_END, histogram_file};
+use super::host::simulator::{FLOOR, FLOOR_END, histogram_file};
 use super::supervisor::config::SupervisorError;
 use super::{ProcessError, RunContext};
 use crate::ipc::protocol::Roster;
@@ -55,13 +55,13 @@ impl FloorPayload for KeepawayFloor {
     type Ping = KeeperSnapshot;
     type Pong = KeeperCommand;
     fn ping(run_id: u64, sequence: u64) -> KeeperSnapshot {
-        super::sim_process::floor_ping(run_id, sequence)
+        super::host::simulator::floor_ping(run_id, sequence)
     }
     fn ping_sequence(ping: &KeeperSnapshot, run_id: u64) -> Option<u64> {
         (ping.header.run_id == run_id).then_some(ping.cycle_seq)
     }
     fn pong(run_id: u64, sequence: u64) -> KeeperCommand {
-        super::sim_process::floor_pong(run_id, sequence)
+        super::host::simulator::floor_pong(run_id, sequence)
     }
     fn pong_sequence(pong: &KeeperCommand, run_id: u64) -> Option<u64> {
         (pong.header.run_id == run_id).then_some(pong.cycle_seq)

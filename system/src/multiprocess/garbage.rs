@@ -13,7 +13,7 @@ use shm_layouts::{
     SENDER_WORLD, WorldCommand, WorldSnapshot, WorldVocabulary, services,
 };
 
-use super::sim_process::floor_ping;
+use super::host::simulator::floor_ping;
 use crate::ipc::services::{Ipc, IpcError, Pub, fail};
 
 /// Messages to publish on a run's services, by service (empty: none there).

@@ -1,11 +1,11 @@
 //! A journal of whole episodes: one JSON line per episode. The simulator's
-//! (`super::sim_process::JournalEntry`: its mode, what it earned, the simulator's random state
+//! (`super::host::simulator::JournalEntry`: its mode, what it earned, the simulator's random state
 //! after it, and the counters) lets a simulator that was killed be restarted
 //! from the last episode boundary: it replays the journaled outcomes through
 //! the protocol (rebuilding the run's results without playing them again),
 //! restores the random state, and plays on. A world's agent, which runs the
 //! protocol itself, journals its episodes the same way
-//! (`super::world_agent`).
+//! (`super::agent::world`).
 //!
 //! Lines are appended and handed to the operating system (no `fsync`: they
 //! outlive the process, which is what a restart needs), each at once (the
@@ -178,7 +178,7 @@ fn push_line<E: Serialize>(lines: &mut Vec<u8>, entry: &E) -> io::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::multiprocess::sim_process::{JOURNAL_FILE, JournalEntry, SimTotals};
+    use crate::multiprocess::host::simulator::{JOURNAL_FILE, JournalEntry, SimTotals};
     use learnpnp::domains::EpisodeOutcome;
     use learnpnp::rng::seeded;
 

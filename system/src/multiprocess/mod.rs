@@ -1,68 +1,54 @@
-//! The multi-process learner system: a simulator process and one agent
-//! process per keeper exchange knowledge-base snapshots, commands, episode
-//! events and rewards through iceoryx2 shared memory ([`crate::ipc`]), and a
-//! supervisor starts, watches and restarts them.
+//! The multi-process learner system: a host process (the Keepaway simulator
+//! or a world) and one agent process per keeper or agent exchange
+//! knowledge-base snapshots, commands, episode events and rewards through
+//! iceoryx2 shared memory ([`crate::ipc`]), and a supervisor starts, watches
+//! and restarts them. One submodule per job:
 //!
-//! - [`sim_process`](crate::multiprocess::sim_process): the simulator process (the simulator itself is
-//!   [`learnpnp_keepaway`]): Keepaway with the takers inside, whose
-//!   keepers are a [`learnpnp::domains::keepaway::KeeperTeam`] of remote
-//!   agents; it runs the same episode loop and protocol as the in-process
-//!   experiment ([`learnpnp::experiment::runner::run_protocol`]);
-//! - [`agent_process`](crate::multiprocess::agent_process): one keeper's process: its plan, learner and executor
-//!   (or a fixed policy), checkpointing its values;
-//! - [`supervisor`](crate::multiprocess::supervisor): launching, watching, restarting, stopping, cleaning up;
-//! - [`world_agent`](crate::multiprocess::world_agent), [`world_host`](crate::multiprocess::world_host): a world in its own process: an agent
-//!   on the stepwise executor, and a world written in Rust (the corridor);
-//!   [`floor_probe`](crate::multiprocess::floor_probe): the floor of a world run;
-//! - [`remote_host`](crate::multiprocess::remote_host): a host of remote agents joining a run across hosts;
-//! - [`view_process`](crate::multiprocess::view_process): a run's view, reading the agents' live feeds;
-//! - [`report`](crate::multiprocess::report): what a run writes (summary, episodes, latency files and plot);
+//! - [`host`](crate::multiprocess::host): the simulator process (the simulator itself is
+//!   [`learnpnp_keepaway`]), whose keepers are a
+//!   [`learnpnp::domains::keepaway::KeeperTeam`] of remote agents and which runs
+//!   the same episode loop as the in-process experiment
+//!   ([`learnpnp::experiment::runner::run_protocol`]); a world written in Rust
+//!   (the corridor); the chassis both run on (heartbeat, orders, readiness,
+//!   lost agents) and their real-time cadence;
+//! - [`agent`](crate::multiprocess::agent): one keeper's process (its plan, learner and executor,
+//!   or a fixed policy) and an agent of a world on the stepwise executor, on
+//!   one chassis that checkpoints their values off the decision loop;
+//! - [`supervisor`](crate::multiprocess::supervisor): launching, watching, restarting, stopping and
+//!   cleaning up, what a run writes, and the host of remote agents that joins
+//!   a run across hosts;
+//! - shared by them: [`journal`](crate::multiprocess::journal) (whole episodes),
+//!   [`floor_probe`](crate::multiprocess::floor_probe) (the floor of a world run),
+//!   [`view_process`](crate::multiprocess::view_process) (a run's view, reading the agents' live feeds);
 //! - [`soak`](crate::multiprocess::soak), [`chaos`](crate::multiprocess::chaos) (with [`garbage`](crate::multiprocess::garbage) and [`load`](crate::multiprocess::load)), [`bench_latency`](crate::multiprocess::bench_latency),
 //!   [`bench_world`](crate::multiprocess::bench_world): long runs, fault injection and the benchmarks.
 //!
 //! See docs/ARCHITECTURE.md for one snapshot's way through the processes.
 
-/// The chassis both agent processes run on.
-pub mod agent_chassis;
-/// An agent process: one keeper.
-pub mod agent_process;
-/// An agent's checkpoints written off its decision loop.
-pub mod background_save;
+/// The agents' processes: a keeper, an agent of a world, and their chassis.
+pub mod agent;
 /// The latency benchmark.
 pub mod bench_latency;
 /// How the generic path's cost grows with the agents.
 pub mod bench_world;
-/// Real time on absolute deadlines, with the heartbeat kept while asleep.
-pub(crate) mod cadence;
 /// Faults injected at seeded random times during a soak.
 pub mod chaos;
 /// The iceoryx2 floor: the bare round trip of a run's payloads.
 pub mod floor_probe;
 /// Garbage on a run's services, published as a foreign process would.
 pub mod garbage;
-pub(crate) mod host_chassis;
+/// The hosts' processes: the Keepaway simulator, a world written in Rust, and their chassis.
+pub mod host;
 /// A journal of whole episodes.
 pub mod journal;
-/// Starting the run's processes.
-pub mod launch;
 /// CPU load beside a run.
 pub mod load;
-/// A host of remote agents.
-pub mod remote_host;
-/// What a multi-process run writes.
-pub mod report;
-/// The simulator process.
-pub mod sim_process;
 /// Soak runs.
 pub mod soak;
-/// The supervisor of a run's processes.
+/// The supervisor of a run's processes: launching, watching, reporting, and a host of remote agents.
 pub mod supervisor;
 /// The view process of a run with a view.
 pub mod view_process;
-/// An agent of a world in its own process.
-pub mod world_agent;
-/// A world written in Rust, served as the world process of a run.
-pub mod world_host;
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -194,7 +180,7 @@ pub enum ProcessError {
     Task(learnpnp::domains::TaskError),
     /// A world agent's plan names atoms or actions the world lacks.
     #[error("{0}")]
-    PlanDoesNotFit(Box<world_agent::Misfit>),
+    PlanDoesNotFit(Box<agent::world::Misfit>),
     /// The world announced no vocabulary.
     #[error("the world announced no vocabulary within {0} s")]
     NoVocabulary(u64),

@@ -16,7 +16,7 @@ use std::time::{Duration, Instant, SystemTime};
 use learnpnp_feed::{FeedEvent, FeedSink, LatencySummary, ProcessHealth};
 use serde::{Deserialize, Serialize};
 
-use super::agent_process::roster_compute_histogram;
+use super::agent::keeper::roster_compute_histogram;
 use super::supervisor::ViewConfig;
 use super::{ProcessError, RunContext};
 use crate::ipc::convert::read_heartbeat;

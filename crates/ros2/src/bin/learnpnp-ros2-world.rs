@@ -18,7 +18,7 @@ use learnpnp_ros2::node::Node;
 use learnpnp_ros2::plan_state::Republisher;
 use learnpnp_ros2::world::{Counts, Ros2World};
 use learnpnp_ros2::{link, mapping};
-use learnpnp_system::multiprocess::world_host::{Served, WorldRun, serve};
+use learnpnp_system::multiprocess::host::world::{Served, WorldRun, serve};
 use serde::Serialize;
 
 /// A ROS 2 robot as a learnpnp world.

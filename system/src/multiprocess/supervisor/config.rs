@@ -12,7 +12,7 @@ use crate::ipc::services::IpcError;
 use crate::ipc::wait::WaitStrategy;
 use crate::latency::LatencyError;
 use crate::latency::plot::PlotFailure;
-use crate::multiprocess::launch::{Binaries, LaunchError};
+use crate::multiprocess::supervisor::launch::{Binaries, LaunchError};
 use crate::multiprocess::{Clock, ProcessError};
 use learnpnp::experiment::spec::{ExperimentError, ExperimentSpec};
 use learnpnp::learning::persist::PersistError;

@@ -11,9 +11,9 @@ use super::watch::Watch;
 use crate::hosts::report::LinkReport;
 use crate::hosts::shipped::HOST_B_LINK_REPORT;
 use crate::ipc::protocol::{Order, Role, Roster};
-use crate::multiprocess::agent_chassis::checkpoint_name;
-use crate::multiprocess::sim_process::SimulatorResult;
-use crate::multiprocess::world_agent::agent_result_file;
+use crate::multiprocess::agent::chassis::checkpoint_name;
+use crate::multiprocess::agent::world::agent_result_file;
+use crate::multiprocess::host::simulator::SimulatorResult;
 
 /// How often host A tells the other hosts again to stop while it waits for their files.
 pub(super) const RESTOP_EVERY: Duration = Duration::from_secs(1);

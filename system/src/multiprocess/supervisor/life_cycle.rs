@@ -22,11 +22,11 @@ use crate::ipc::convert::{control_message, read_heartbeat};
 use crate::ipc::namespace::Namespace;
 use crate::ipc::protocol::{Order, ProcessState, Role, Roster};
 use crate::ipc::services::{Ipc, SupervisorPorts, receive};
-use crate::multiprocess::agent_chassis::checkpoint_name;
+use crate::multiprocess::agent::chassis::checkpoint_name;
+use crate::multiprocess::agent::world::EXIT_PLAN_DOES_NOT_FIT;
 use crate::multiprocess::floor_probe::FloorProbe;
-use crate::multiprocess::launch::{Process, agent_args, set_fifo_priority, spawn, spawn_world};
+use crate::multiprocess::supervisor::launch::{Process, agent_args, set_fifo_priority, spawn, spawn_world};
 use crate::multiprocess::view_process::view_args;
-use crate::multiprocess::world_agent::EXIT_PLAN_DOES_NOT_FIT;
 use crate::multiprocess::{Clock, RunContext};
 use iceoryx2::node::Node;
 use learnpnp::learning::persist;
@@ -106,7 +106,7 @@ impl Watch<'_> {
     pub(super) fn learning_agents(&self) -> Result<usize, SupervisorError> {
         Ok(match self.roster {
             Roster::Keepaway => {
-                crate::multiprocess::sim_process::keepaway_config(&self.config.spec)?.learning_keepers()
+                crate::multiprocess::host::simulator::keepaway_config(&self.config.spec)?.learning_keepers()
             }
             Roster::World { agents } => agents,
         })

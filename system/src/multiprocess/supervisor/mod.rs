@@ -14,12 +14,18 @@
 
 pub(crate) mod config;
 pub(crate) mod hand_off;
+/// Starting the run's processes.
+pub mod launch;
 pub(crate) mod life_cycle;
 pub(crate) mod observe;
+/// A host of remote agents.
+pub mod remote_host;
+/// What a multi-process run writes.
+pub mod report;
 pub(crate) mod results;
 pub(crate) mod watch;
 
-pub use crate::multiprocess::launch::world_env;
+pub use crate::multiprocess::supervisor::launch::world_env;
 pub(crate) use config::json_error;
 pub use config::{
     Cluster, EXIT_CANNOT_RESUME, IDENTITY_FILE, RunFailure, SupervisorConfig, SupervisorError, ViewConfig,
@@ -115,7 +121,7 @@ pub fn supervise(
     out: &mut ResultDir,
     stop: &AtomicBool,
     observer: &mut dyn RunObserver,
-) -> Result<crate::multiprocess::report::Report, SupervisorError> {
+) -> Result<crate::multiprocess::supervisor::report::Report, SupervisorError> {
     let started = Instant::now();
     let mut files = out.writer()?;
     let runs_dir = files.scratch_dir(RUNS_DIR)?;
@@ -134,5 +140,5 @@ pub fn supervise(
         }
     }
     observer.finish(&mut files, &records)?;
-    crate::multiprocess::report::write_report(files, config, &records, started.elapsed().as_secs_f64())
+    crate::multiprocess::supervisor::report::write_report(files, config, &records, started.elapsed().as_secs_f64())
 }

@@ -15,12 +15,14 @@ use crate::hosts::report::LinkReport;
 use crate::ipc::convert::Rejections;
 use crate::ipc::protocol::{Role, Roster};
 use crate::latency::Latency;
-use crate::multiprocess::agent_chassis::{checkpoint_name, resumed_file};
-use crate::multiprocess::agent_process::roster_compute_histogram;
+use crate::multiprocess::agent::chassis::{checkpoint_name, resumed_file};
+use crate::multiprocess::agent::keeper::roster_compute_histogram;
+use crate::multiprocess::agent::world::{WORLD_TURNAROUND, agent_result_file};
 use crate::multiprocess::floor_probe::REMOTE_HOST_FLOOR;
-use crate::multiprocess::sim_process::{FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult, keeper_round_trip_histogram};
+use crate::multiprocess::host::simulator::{
+    FLOOR, RESULT_FILE, ROUND_TRIP, SimulatorResult, keeper_round_trip_histogram,
+};
 use crate::multiprocess::view_process::ViewCounts;
-use crate::multiprocess::world_agent::{WORLD_TURNAROUND, agent_result_file};
 use learnpnp::learning::persist::{self, SavedValues};
 
 /// Whether a restarted agent resumed with exactly the values checkpointed
@@ -185,7 +187,7 @@ impl Watch<'_> {
         });
         let learning = match self.roster {
             Roster::Keepaway => {
-                crate::multiprocess::sim_process::keepaway_config(&self.config.spec)?.learning_keepers()
+                crate::multiprocess::host::simulator::keepaway_config(&self.config.spec)?.learning_keepers()
             }
             Roster::World { agents } => agents,
         };

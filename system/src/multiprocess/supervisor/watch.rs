@@ -12,7 +12,7 @@ use crate::ipc::protocol::{Pulse, Role, Roster};
 use crate::ipc::services::SupervisorPorts;
 use crate::multiprocess::RunContext;
 use crate::multiprocess::floor_probe::{FloorProbe, WorldFloor};
-use crate::multiprocess::launch::Process;
+use crate::multiprocess::supervisor::launch::Process;
 use learnpnp::learning::persist::SavedValues;
 use serde::Serialize;
 

@@ -1,5 +1,5 @@
 //! The chassis both agent processes run on (a Keepaway keeper,
-//! [`super::agent_process`](crate::multiprocess::agent_process), and a world's agent, [`super::world_agent`](crate::multiprocess::world_agent)):
+//! [`super::agent_process`](crate::multiprocess::agent::keeper), and a world's agent, [`super::world_agent`](crate::multiprocess::agent::world)):
 //! the heartbeat and its counts, the supervisor's orders, the checkpoints
 //! (written by a background thread, every N learning episodes and on
 //! request) with the compute histogram, the resumed values a restart
@@ -10,14 +10,14 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use super::background_save::{BackgroundSave, CHECKPOINT_SPACING, Checkpoint};
-use super::sim_process::histogram_file;
-use super::{Pacemaker, ProcessError, RunContext};
 use crate::ipc::convert::{Rejection, agent_report, read_control};
 use crate::ipc::feed::FeedPublisher;
 use crate::ipc::protocol::{AgentNews, Order, ProcessState, Role};
 use crate::ipc::services::{IpcError, Outlet, Pub, Sub, receive};
 use crate::latency::Latency;
+use crate::multiprocess::agent::background_save::{BackgroundSave, CHECKPOINT_SPACING, Checkpoint};
+use crate::multiprocess::host::simulator::histogram_file;
+use crate::multiprocess::{Pacemaker, ProcessError, RunContext};
 use learnpnp::feed::{FeedSink, Source};
 use learnpnp::learning::persist::{self, PlanLabels, SavedValues};
 use learnpnp::learning::{Learner, WatchedLearner};

@@ -7,10 +7,10 @@
 //! A checkpoint handed over while another waits replaces it (the newer one
 //! holds all the older one would have); the one being written is finished
 //! first. Periodic checkpoints are written at most once per
-//! [`CHECKPOINT_SPACING`](crate::multiprocess::background_save::CHECKPOINT_SPACING): in a world whose episodes take milliseconds,
+//! [`CHECKPOINT_SPACING`](crate::multiprocess::agent::background_save::CHECKPOINT_SPACING): in a world whose episodes take milliseconds,
 //! "every 100 learning episodes" would otherwise mean hundreds of durable
 //! writes a second, each taking the machine's cores from the run.
-//! [`BackgroundSave::flush`](crate::multiprocess::background_save::BackgroundSave::flush) writes what waits at once and returns when it is
+//! [`BackgroundSave::flush`](crate::multiprocess::agent::background_save::BackgroundSave::flush) writes what waits at once and returns when it is
 //! written: an agent flushes after its first checkpoint (a restart must always
 //! find one), on the supervisor's order to checkpoint, and at its end;
 //! dropping the writer flushes too. A kill loses the learning since the last

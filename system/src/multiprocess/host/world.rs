@@ -1,7 +1,7 @@
 //! A world written in Rust, served as the world process of a run: the
 //! world's side of the protocol of `shm_layouts/README.md` ("A world in its
 //! own process"), the same the Python world kit (`learnpnp.world`) speaks.
-//! A [`ServedWorld`](crate::multiprocess::world_host::ServedWorld) says what holds and steps; [`serve`](crate::multiprocess::world_host::serve) does the rest:
+//! A [`ServedWorld`](crate::multiprocess::host::world::ServedWorld) says what holds and steps; [`serve`](crate::multiprocess::host::world::serve) does the rest:
 //! heartbeats, the vocabulary, waiting for the agents, snapshots and
 //! commands (lock-step, or real time on the world's own clock), the
 //! supervisor's orders, and refusing what does not read.
@@ -13,10 +13,6 @@ use shm_layouts::MAX_FLUENTS;
 
 use serde::Serialize;
 
-use super::cadence::{Cadence, SLEEP_SLICE, sleep_until};
-use super::host_chassis::{self, HostChassis, Readiness};
-use super::launch::world_env;
-use super::{Clock, HEARTBEAT_EVERY};
 use crate::ipc::convert::{Rejection, Rejections};
 use crate::ipc::namespace::Namespace;
 use crate::ipc::protocol::{ProcessState, Role};
@@ -26,6 +22,10 @@ use crate::ipc::world::{
     ATOM_WORDS, ActionStatus, EpisodeStatus, Vocabulary, VocabularyError, WorldView, monotonic_ns, read_world_command,
     world_snapshot,
 };
+use crate::multiprocess::host::cadence::{Cadence, SLEEP_SLICE, sleep_until};
+use crate::multiprocess::host::chassis::{self, HostChassis, Readiness};
+use crate::multiprocess::supervisor::launch::world_env;
+use crate::multiprocess::{Clock, HEARTBEAT_EVERY};
 use learnpnp::named::Named;
 
 /// What one agent sees: the atoms that hold (by index) and the fluents.
@@ -235,7 +235,7 @@ struct Host {
     parent: libc::pid_t,
 }
 
-impl host_chassis::Host for Host {
+impl chassis::Host for Host {
     type Error = WorldHostError;
 
     fn chassis(&self) -> &HostChassis {
@@ -316,7 +316,7 @@ impl Host {
     fn await_agents(&mut self) -> Result<bool, WorldHostError> {
         self.chassis.set_state(ProcessState::Ready);
         self.announced = None;
-        match host_chassis::wait_ready(self, None)? {
+        match chassis::wait_ready(self, None)? {
             Readiness::Ready => {
                 self.chassis.clear_lost();
                 self.chassis.set_state(ProcessState::Running);

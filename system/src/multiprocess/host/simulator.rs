@@ -17,15 +17,15 @@ use iceoryx2::port::listener::Listener;
 use serde::{Deserialize, Serialize};
 use shm_layouts::{Header, KeeperCommand, KeeperSnapshot, PROTOCOL_VERSION, SENDER_SIMULATOR};
 
-use super::cadence::{Cadence, sleep_until};
-use super::host_chassis::{self, Host, HostChassis, Readiness};
-use super::journal::{self, Journal};
-use super::{Clock, ProcessError, RunContext};
 use crate::ipc::convert::{Rejection, Rejections, command_message, episode_event, read_command, snapshot};
 use crate::ipc::protocol::{AgentNews, CommandReading, EpisodeNews, ProcessState, Role, SnapshotMeta};
 use crate::ipc::services::{Ipc, IpcError, SimPorts, node, receive};
 use crate::ipc::wait::{Idle, MAX_BLOCK};
 use crate::latency::Latency;
+use crate::multiprocess::host::cadence::{Cadence, sleep_until};
+use crate::multiprocess::host::chassis::{self, Host, HostChassis, Readiness};
+use crate::multiprocess::journal::{self, Journal};
+use crate::multiprocess::{Clock, ProcessError, RunContext};
 use learnpnp::domains::keepaway::{KeepawayDomainConfig, KeepawayTask, KeeperTeam, RunSeeds, TeamStep};
 use learnpnp::domains::{EpisodeOutcome, Task, TaskError};
 use learnpnp::experiment::runner::{EpisodeRecord, RunOutput, run_protocol, task_rng};
@@ -194,7 +194,7 @@ impl Link {
 
     /// Waits until no keeper is awaited (every agent connected and ready).
     fn wait_ready(&mut self) -> Result<(), TaskError> {
-        match host_chassis::wait_ready(self, Some(CONNECT_TIMEOUT))? {
+        match chassis::wait_ready(self, Some(CONNECT_TIMEOUT))? {
             Readiness::Ready => Ok(()),
             Readiness::Stopped => Err(TaskError::Stopped),
             Readiness::TimedOut(missing) => {
@@ -566,7 +566,7 @@ fn measure_floor(link: &mut Link, round_trips: usize) -> Result<(), TaskError> {
 /// Real time: one floor sample per cycle, at `at` (halfway between two
 /// snapshots), while the agents wait for the next cycle. Agent 0 waits for
 /// the ping, one cycle after the last one, as every agent waits for its
-/// snapshot (see [`super::agent_process::EXPECT_EARLY`]), on the same machine at the
+/// snapshot (see [`crate::multiprocess::agent::keeper::EXPECT_EARLY`]), on the same machine at the
 /// same moment of the run: the floor and the round trips are measured side by
 /// side over the whole run. An echo not back by the cycle's `deadline` is
 /// given up (none is recorded); a cycle that ran past `at` takes no sample.

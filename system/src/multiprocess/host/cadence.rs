@@ -12,7 +12,7 @@
 
 use std::time::{Duration, Instant};
 
-use super::HEARTBEAT_EVERY;
+use crate::multiprocess::HEARTBEAT_EVERY;
 
 /// The longest a [`sleep_until`] (or a world's wait for its robot) sleeps
 /// between two calls of its housekeeping: half a heartbeat, so that a

@@ -11,9 +11,9 @@ use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 
-use super::RunContext;
 use crate::ipc::namespace::Namespace;
 use crate::ipc::protocol::Role;
+use crate::multiprocess::RunContext;
 use learnpnp::experiment::spec::{DomainSpec, ExperimentSpec};
 use learnpnp::rng::derive_seed;
 

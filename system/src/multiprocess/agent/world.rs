@@ -3,7 +3,7 @@
 //!
 //! Before the first episode it reads the world's vocabulary and checks its
 //! plan against it (a plan naming an atom or action the world lacks is
-//! refused with both lists: exit code [`EXIT_PLAN_DOES_NOT_FIT`](crate::multiprocess::world_agent::EXIT_PLAN_DOES_NOT_FIT)). The agent
+//! refused with both lists: exit code [`EXIT_PLAN_DOES_NOT_FIT`](crate::multiprocess::agent::world::EXIT_PLAN_DOES_NOT_FIT)). The agent
 //! runs the experiment's protocol itself ([`run_protocol`](learnpnp::experiment::runner::run_protocol)): each episode the
 //! world plays is the protocol's next one, learning or evaluated. Every whole
 //! episode is journaled, so that a restarted agent (values from its last
@@ -18,10 +18,6 @@ use std::time::{Duration, Instant};
 use serde::{Deserialize, Serialize};
 use shm_layouts::MAX_ARGS;
 
-use super::agent_chassis::{Chassis, load_checkpoint, report};
-use super::journal::{self, Journal};
-use super::sim_process::{ROUND_TRIP, SimTotals, SimulatorResult};
-use super::{Clock, HEARTBEAT_EVERY, Pacemaker, ProcessError, RunContext};
 use crate::ipc::convert::{Rejection, read_control};
 use crate::ipc::protocol::{Order, ProcessState, Role};
 use crate::ipc::services::{WorldAgentPorts, node, receive, send};
@@ -31,6 +27,10 @@ use crate::ipc::world::{
     world_command,
 };
 use crate::latency::Latency;
+use crate::multiprocess::agent::chassis::{Chassis, load_checkpoint, report};
+use crate::multiprocess::host::simulator::{ROUND_TRIP, SimTotals, SimulatorResult};
+use crate::multiprocess::journal::{self, Journal};
+use crate::multiprocess::{Clock, HEARTBEAT_EVERY, Pacemaker, ProcessError, RunContext};
 use learnpnp::agent::stepwise::{ActionOutcome, StepError, StepwiseAgent, action_names, atom_table};
 use learnpnp::domains::{EpisodeOutcome, Task, TaskError};
 use learnpnp::experiment::runner::{RunOutput, learner_for, run_protocol};
@@ -279,12 +279,14 @@ impl WorldAgent {
     fn discard_episode(&mut self) {
         if self.episode.take().is_some() {
             self.stepwise.abort_episode();
-            self.totals.aborted.push(super::sim_process::AbortedEpisode {
-                episode: self.totals.episode_seq,
-                mode: self.stepwise.mode(),
-                cycles: 0,
-                keepers: Vec::new(),
-            });
+            self.totals
+                .aborted
+                .push(crate::multiprocess::host::simulator::AbortedEpisode {
+                    episode: self.totals.episode_seq,
+                    mode: self.stepwise.mode(),
+                    cycles: 0,
+                    keepers: Vec::new(),
+                });
         }
         self.announcing = true;
         self.announced = None;

@@ -5,20 +5,20 @@
 //! A learning keeper checkpoints its values every N learning episodes and on
 //! the supervisor's request, atomically, in the `persist` format. In real
 //! time it sleeps between cycles and is polling again shortly before its next
-//! snapshot is due ([`EXPECT_EARLY`](crate::multiprocess::agent_process::EXPECT_EARLY)).
+//! snapshot is due ([`EXPECT_EARLY`](crate::multiprocess::agent::keeper::EXPECT_EARLY)).
 
 use learnpnp::named::Named;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use super::agent_chassis::{Chassis, load_checkpoint};
-use super::sim_process::{FLOOR_END, floor_pong, keepaway_config};
-use super::world_agent::agent_compute_histogram;
-use super::{Clock, HEARTBEAT_EVERY, ProcessError, RunContext};
 use crate::ipc::convert::{Rejection, agent_report, command_message, read_episode_event, read_snapshot};
 use crate::ipc::protocol::{AgentNews, CommandReading, EpisodeNews, Order, ProcessState, Role, Roster, SnapshotMeta};
 use crate::ipc::services::{AgentPorts, node, receive};
 use crate::ipc::wait::{Idle, MAX_BLOCK, TIMED_WAIT_SLACK};
+use crate::multiprocess::agent::chassis::{Chassis, load_checkpoint};
+use crate::multiprocess::agent::world::agent_compute_histogram;
+use crate::multiprocess::host::simulator::{FLOOR_END, floor_pong, keepaway_config};
+use crate::multiprocess::{Clock, HEARTBEAT_EVERY, ProcessError, RunContext};
 use learnpnp::domains::keepaway::{KeepawayDomainConfig, PlanKeeper, RunSeeds, registry};
 use learnpnp::experiment::runner::{learner_for, task_rng};
 use learnpnp::experiment::spec::ExperimentSpec;

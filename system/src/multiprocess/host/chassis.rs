@@ -1,7 +1,7 @@
 //! The chassis both host processes run on (the Keepaway simulator,
-//! [`super::sim_process`](crate::multiprocess::sim_process), and a world
-//! written in Rust, [`super::world_host`](crate::multiprocess::world_host)),
-//! as the agents run on theirs ([`super::agent_chassis`](crate::multiprocess::agent_chassis)):
+//! [`super::sim_process`](crate::multiprocess::host::simulator), and a world
+//! written in Rust, [`super::world_host`](crate::multiprocess::host::world)),
+//! as the agents run on theirs ([`super::agent_chassis`](crate::multiprocess::agent::chassis)):
 //! the heartbeat, the supervisor's orders (stop, an agent lost and its
 //! replacement), the agents' readiness, the lost-agent protocol and the last
 //! heartbeat of shutdown. What a host steps, what its heartbeat counts and
@@ -18,11 +18,11 @@ use std::time::{Duration, Instant};
 use iceoryx2::port::listener::Listener;
 use shm_layouts::{AgentReport, Control, Heartbeat};
 
-use super::Pacemaker;
 use crate::ipc::convert::{Rejection, Rejections, read_agent_report, read_control};
 use crate::ipc::protocol::{AgentNews, Order, ProcessState, Role};
 use crate::ipc::services::{Ipc, IpcError, Pub, Sub, receive};
 use crate::ipc::wait::{Idle, MAX_BLOCK, WaitStrategy};
+use crate::multiprocess::Pacemaker;
 
 /// What every host process carries: its heartbeat, the run's stop, and
 /// each agent's readiness and loss.

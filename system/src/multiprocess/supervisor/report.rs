@@ -10,20 +10,20 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use super::Clock;
-use super::agent_process::compute_histogram;
-use super::floor_probe::REMOTE_HOST_FLOOR;
-use super::sim_process::{AbortedEpisode, FLOOR, ROUND_TRIP, keeper_round_trip_histogram};
-use super::supervisor::config::{SupervisorConfig, SupervisorError, json_error};
-use super::supervisor::results::{ResumeCheck, RunRecord};
-use super::supervisor::watch::Fault;
-use super::view_process::ViewCounts;
-use super::world_agent::WORLD_TURNAROUND;
 use crate::hosts::report::LinkReport;
 use crate::ipc::convert::Rejections;
 use crate::ipc::wait::WaitStrategy;
 use crate::latency::plot::{ReferenceLine, percentile_plot};
 use crate::latency::{Latency, Percentiles};
+use crate::multiprocess::Clock;
+use crate::multiprocess::agent::keeper::compute_histogram;
+use crate::multiprocess::agent::world::WORLD_TURNAROUND;
+use crate::multiprocess::floor_probe::REMOTE_HOST_FLOOR;
+use crate::multiprocess::host::simulator::{AbortedEpisode, FLOOR, ROUND_TRIP, keeper_round_trip_histogram};
+use crate::multiprocess::supervisor::config::{SupervisorConfig, SupervisorError, json_error};
+use crate::multiprocess::supervisor::results::{ResumeCheck, RunRecord};
+use crate::multiprocess::supervisor::watch::Fault;
+use crate::multiprocess::view_process::ViewCounts;
 use learnpnp::experiment::output::{SummaryFile, stage_results};
 use learnpnp::experiment::result_dir::{Progress, ResultWriter};
 use learnpnp::experiment::runner::ExperimentOutput;
@@ -157,7 +157,7 @@ pub(crate) fn summarize(
 ) -> SystemSummary {
     let percentiles = |name: &str| find(histograms, name).map(Latency::percentiles).unwrap_or_default();
     let (latency, floor) = (percentiles(ROUND_TRIP), percentiles(FLOOR));
-    let seconds_per_cycle = super::sim_process::keepaway_config(&config.spec)
+    let seconds_per_cycle = crate::multiprocess::host::simulator::keepaway_config(&config.spec)
         .map(|c| c.simulator().server.cycle_seconds)
         .unwrap_or(0.1);
     let learning_cycles: u64 = records.iter().map(|r| r.sim.output.actions).sum();

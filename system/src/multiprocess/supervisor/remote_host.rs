@@ -19,13 +19,6 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 
-use super::RunContext;
-use super::agent_chassis::checkpoint_name;
-use super::floor_probe::{FloorPayload, FloorProbe, KeepawayFloor, WorldFloor};
-use super::launch::{Binaries, Helper, Process, agent_args, spawn};
-use super::supervisor::config::{EXIT_CANNOT_RESUME, SupervisorError, json_error};
-use super::supervisor::hand_off::BRIDGE_STOP_GRACE;
-use super::supervisor::watch::Fault;
 use crate::hosts::JOIN_TIMEOUT;
 use crate::hosts::report::LINK_REPORT_FILE;
 use crate::hosts::report::LinkReport;
@@ -35,6 +28,13 @@ use crate::ipc::convert::{control_message, read_heartbeat};
 use crate::ipc::namespace::Namespace;
 use crate::ipc::protocol::{Order, Role, Roster};
 use crate::ipc::services::{Ipc, RunServices, SupervisorPorts, node, receive};
+use crate::multiprocess::RunContext;
+use crate::multiprocess::agent::chassis::checkpoint_name;
+use crate::multiprocess::floor_probe::{FloorPayload, FloorProbe, KeepawayFloor, WorldFloor};
+use crate::multiprocess::supervisor::config::{EXIT_CANNOT_RESUME, SupervisorError, json_error};
+use crate::multiprocess::supervisor::hand_off::BRIDGE_STOP_GRACE;
+use crate::multiprocess::supervisor::launch::{Binaries, Helper, Process, agent_args, spawn};
+use crate::multiprocess::supervisor::watch::Fault;
 use iceoryx2::node::Node;
 use learnpnp::experiment::spec::ExperimentSpec;
 
@@ -140,7 +140,7 @@ impl Host<'_> {
             "--side".into(),
             "remote".into(),
             "--run-info".into(),
-            self.work_dir.join(super::supervisor::hand_off::RUN_INFO_FILE).into(),
+            self.work_dir.join(super::hand_off::RUN_INFO_FILE).into(),
             "--work-dir".into(),
             self.work_dir.clone().into(),
         ];
@@ -201,7 +201,7 @@ impl Host<'_> {
 
     /// Waits for the bridge to fetch the run's description; `None` on stop.
     fn await_run(&mut self, stop: &AtomicBool) -> Result<Option<RunInfo>, SupervisorError> {
-        let path = self.work_dir.join(super::supervisor::hand_off::RUN_INFO_FILE);
+        let path = self.work_dir.join(super::hand_off::RUN_INFO_FILE);
         let deadline = Instant::now() + JOIN_TIMEOUT + Duration::from_secs(5);
         while Instant::now() < deadline && !stop.load(Ordering::Relaxed) {
             if let Ok(info) = RunInfo::read(&path) {
