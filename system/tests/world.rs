@@ -12,9 +12,9 @@ use std::time::Duration;
 
 use crate::support::{Sandbox, identity, kill, pids_with_all, prefixes, summary, wait_until};
 use crate::util::{shipped_arg, text};
+use learnpnp_harness::garbage::Garbage;
 use learnpnp_system::ipc::namespace::Namespace;
 use learnpnp_system::ipc::services::node;
-use learnpnp_system::multiprocess::garbage::Garbage;
 use learnpnp_system::multiprocess::supervisor::run_work_dir;
 use serde_json::Value;
 

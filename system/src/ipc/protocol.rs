@@ -235,7 +235,7 @@ pub struct Pulse {
     /// Agent: checkpoints written.
     pub(crate) checkpoints: u64,
     /// Agent: checkpoint writes that failed.
-    pub(crate) checkpoint_failures: u64,
+    pub checkpoint_failures: u64,
     /// Simulator or world (real time): cycles whose work ran past their deadline.
     pub late_cycles: u64,
 }

@@ -54,22 +54,22 @@ pub enum LatencyError {
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Percentiles {
     /// Median.
-    pub(crate) p50: f64,
+    pub p50: f64,
     /// 90th percentile.
     pub(crate) p90: f64,
     /// 99th percentile.
-    pub(crate) p99: f64,
+    pub p99: f64,
     /// 99.9th percentile.
-    pub(crate) p999: f64,
+    pub p999: f64,
     /// The largest value.
     pub max: f64,
     /// The mean (what a rate of back-to-back round trips is the inverse of).
-    pub(crate) mean: f64,
+    pub mean: f64,
 }
 
 /// A named latency histogram.
 #[derive(Debug, Clone)]
-pub(crate) struct Latency {
+pub struct Latency {
     name: String,
     histogram: Histogram<u64>,
 }
@@ -80,7 +80,7 @@ fn new_histogram() -> Histogram<u64> {
 
 impl Latency {
     /// An empty histogram called `name`.
-    pub(crate) fn new(name: impl Into<String>) -> Self {
+    pub fn new(name: impl Into<String>) -> Self {
         Latency {
             name: name.into(),
             histogram: new_histogram(),
@@ -88,12 +88,12 @@ impl Latency {
     }
 
     /// Its name (also its file name).
-    pub(crate) fn name(&self) -> &str {
+    pub fn name(&self) -> &str {
         &self.name
     }
 
     /// Values recorded.
-    pub(crate) fn count(&self) -> u64 {
+    pub fn count(&self) -> u64 {
         self.histogram.len()
     }
 
@@ -104,7 +104,7 @@ impl Latency {
     }
 
     /// Adds every value of `other`.
-    pub(crate) fn merge(&mut self, other: &Latency) -> Result<(), LatencyError> {
+    pub fn merge(&mut self, other: &Latency) -> Result<(), LatencyError> {
         self.histogram.add(&other.histogram).map_err(|e| LatencyError::Merge {
             name: self.name.clone(),
             detail: format!("{e:?}"),
@@ -117,7 +117,7 @@ impl Latency {
     }
 
     /// p50, p90, p99, p99.9, max and mean in microseconds (zeros when empty).
-    pub(crate) fn percentiles(&self) -> Percentiles {
+    pub fn percentiles(&self) -> Percentiles {
         if self.histogram.is_empty() {
             return Percentiles::default();
         }
@@ -142,7 +142,7 @@ impl Latency {
 
     /// HdrHistogram's percentile-distribution text (as its tools print and
     /// plot it), values in microseconds.
-    pub(crate) fn to_hgrm(&self) -> String {
+    pub fn to_hgrm(&self) -> String {
         let h = &self.histogram;
         let mut text = String::from("       Value     Percentile TotalCount 1/(1-Percentile)\n\n");
         let mut total = 0u64;
@@ -178,7 +178,7 @@ impl Latency {
     }
 
     /// The compact V2 serialisation (HdrHistogram's own binary format).
-    pub(crate) fn to_bytes(&self) -> Result<Vec<u8>, LatencyError> {
+    pub fn to_bytes(&self) -> Result<Vec<u8>, LatencyError> {
         let mut bytes = Vec::new();
         V2Serializer::new()
             .serialize(&self.histogram, &mut bytes)

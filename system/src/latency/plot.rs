@@ -10,11 +10,11 @@ use learnpnp::experiment::plot::{FONT, PLOT_SIZE, colour};
 
 /// A horizontal line at `micros` labelled `label`.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct ReferenceLine {
+pub struct ReferenceLine {
     /// The legend text.
-    pub(crate) label: String,
+    pub label: String,
     /// Its height in microseconds.
-    pub(crate) micros: f64,
+    pub micros: f64,
 }
 
 /// Why a plot cannot be drawn.
@@ -29,7 +29,7 @@ pub struct PlotFailure {
 
 impl PlotFailure {
     /// `what` cannot be drawn because of the drawing library's `error`.
-    pub(crate) fn new(what: &'static str, error: impl std::fmt::Display) -> Self {
+    pub fn new(what: &'static str, error: impl std::fmt::Display) -> Self {
         PlotFailure {
             what,
             detail: error.to_string(),
@@ -38,7 +38,7 @@ impl PlotFailure {
 }
 
 /// The SVG text of the percentile plot of `histograms` with `references`.
-pub(crate) fn percentile_plot(
+pub fn percentile_plot(
     title: &str,
     histograms: &[&Latency],
     references: &[ReferenceLine],

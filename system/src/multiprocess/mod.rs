@@ -19,32 +19,22 @@
 //!   a run across hosts;
 //! - shared by them: [`journal`](crate::multiprocess::journal) (whole episodes),
 //!   [`floor_probe`](crate::multiprocess::floor_probe) (the floor of a world run),
-//!   [`view_process`](crate::multiprocess::view_process) (a run's view, reading the agents' live feeds);
-//! - [`soak`](crate::multiprocess::soak), [`chaos`](crate::multiprocess::chaos) (with [`garbage`](crate::multiprocess::garbage) and [`load`](crate::multiprocess::load)), [`bench_latency`](crate::multiprocess::bench_latency),
-//!   [`bench_world`](crate::multiprocess::bench_world): long runs, fault injection and the benchmarks.
+//!   [`view_process`](crate::multiprocess::view_process) (a run's view, reading the agents' live feeds).
+//!
+//! Soaks, fault injection and the benchmarks watch a run from outside, as
+//! [`RunObserver`](crate::multiprocess::supervisor::RunObserver)s: they are
+//! the crate `learnpnp-harness` (the binary `learnpnp-soak`).
 //!
 //! See docs/ARCHITECTURE.md for one snapshot's way through the processes.
 
 /// The agents' processes: a keeper, an agent of a world, and their chassis.
 pub mod agent;
-/// The latency benchmark.
-pub mod bench_latency;
-/// How the generic path's cost grows with the agents.
-pub mod bench_world;
-/// Faults injected at seeded random times during a soak.
-pub mod chaos;
 /// The iceoryx2 floor: the bare round trip of a run's payloads.
 pub mod floor_probe;
-/// Garbage on a run's services, published as a foreign process would.
-pub mod garbage;
 /// The hosts' processes: the Keepaway simulator, a world written in Rust, and their chassis.
 pub mod host;
 /// A journal of whole episodes.
 pub mod journal;
-/// CPU load beside a run.
-pub mod load;
-/// Soak runs.
-pub mod soak;
 /// The supervisor of a run's processes: launching, watching, reporting, and a host of remote agents.
 pub mod supervisor;
 /// The view process of a run with a view.

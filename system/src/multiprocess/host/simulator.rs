@@ -49,7 +49,7 @@ pub(crate) fn keeper_round_trip_histogram(k: usize) -> String {
 }
 
 /// Histogram of the bare iceoryx2 round trip of the same payload.
-pub(crate) const FLOOR: &str = "floor";
+pub const FLOOR: &str = "floor";
 
 /// How long the simulator waits for its agents to connect, or for a lost
 /// keeper's replacement, before it gives up.
@@ -93,7 +93,7 @@ pub struct SimTotals {
     /// The last cycle's sequence number.
     pub(crate) cycle_seq: u64,
     /// Learning episodes completed.
-    pub(crate) learning_episodes: u64,
+    pub learning_episodes: u64,
     /// Cycles played (every episode, aborted ones included).
     pub cycles: u64,
     /// Wall-clock seconds of the episode loop (from the first episode on).
@@ -129,7 +129,7 @@ pub struct SimulatorResult {
     pub output: RunOutput,
     /// The counters.
     #[serde(flatten)]
-    pub(crate) totals: SimTotals,
+    pub totals: SimTotals,
 }
 
 /// The state the remote team and the simulator's main loop share.

@@ -28,7 +28,8 @@ pub(crate) mod watch;
 pub use crate::multiprocess::supervisor::launch::world_env;
 pub(crate) use config::json_error;
 pub use config::{
-    Cluster, EXIT_CANNOT_RESUME, IDENTITY_FILE, RunFailure, SupervisorConfig, SupervisorError, ViewConfig,
+    Cluster, EXIT_CANNOT_RESUME, IDENTITY_FILE, RunFailure, SampleLogError, SupervisorConfig, SupervisorError,
+    ViewConfig,
 };
 pub use hand_off::{BRIDGE_STOP_GRACE, REMOTE_FILES_TIMEOUT, RUN_INFO_FILE};
 pub use life_cycle::STALL_TIMEOUTS;
@@ -52,7 +53,7 @@ use watch::Watch;
 /// (created): returns what it produced once the simulator has ended and every
 /// process has stopped, also when the run failed ([`RunRecord::failure`]).
 /// The run's namespace is removed in every case.
-pub(crate) fn supervise_run(
+pub fn supervise_run(
     config: &SupervisorConfig,
     run: usize,
     work_dir: &Path,

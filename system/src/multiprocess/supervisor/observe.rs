@@ -20,17 +20,17 @@ pub struct RunView<'a> {
     /// Its iceoryx2 namespace.
     pub namespace: &'a Namespace,
     /// Its working directory (checkpoints, logs, histograms).
-    pub(crate) work_dir: &'a Path,
+    pub work_dir: &'a Path,
     /// Its id (every message carries it).
     pub run_id: u64,
     /// The processes alive now, with their ids.
-    pub(crate) processes: Vec<(Role, u32)>,
+    pub processes: Vec<(Role, u32)>,
     /// The last heartbeat of each process alive now.
-    pub(crate) pulses: Vec<Pulse>,
+    pub pulses: Vec<Pulse>,
     /// The current host's (simulator's or world's) last heartbeat.
     pub simulator: Option<&'a Pulse>,
     /// The run's processes.
-    pub(crate) roster: Roster,
+    pub roster: Roster,
 }
 
 /// What an observer asks of the supervisor.

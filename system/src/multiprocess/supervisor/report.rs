@@ -56,7 +56,7 @@ pub struct SystemSummary {
     /// Cycles played.
     pub cycles: u64,
     /// Cycles per second of the episode loop.
-    pub(crate) cycles_per_second: f64,
+    pub cycles_per_second: f64,
     /// Real time: commands that missed their cycle.
     pub missed_deadlines: u64,
     /// Real time: commands that arrived after their cycle.
@@ -89,11 +89,11 @@ pub struct SystemSummary {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub remote_host_floor_us: Option<Percentiles>,
     /// The agents' compute time per cycle (executor and learner), microseconds.
-    pub(crate) compute_us: Percentiles,
+    pub compute_us: Percentiles,
     /// A world run: the world's turnaround per cycle as its agents saw it,
     /// microseconds (see [`WORLD_TURNAROUND`]).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) world_turnaround_us: Option<Percentiles>,
+    pub world_turnaround_us: Option<Percentiles>,
     /// Median round trip as a multiple of the median floor.
     pub(crate) round_trip_over_floor_p50: f64,
     /// Messages from shared memory refused, by process and reason.

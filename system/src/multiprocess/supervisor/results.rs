@@ -37,9 +37,9 @@ pub struct ResumeCheck {
     pub pid: u32,
     /// What it should have loaded: "checkpoint", or "previous checkpoint" when
     /// the last one was unusable.
-    pub(crate) source: String,
+    pub source: String,
     /// It loaded exactly those values.
-    pub(crate) survived: bool,
+    pub survived: bool,
 }
 
 /// What one run of the system produced.
@@ -51,15 +51,15 @@ pub struct RunRecord {
     pub sim: SimulatorResult,
     /// Why the run did not complete normally (a process the run cannot do
     /// without died, or could not be restarted).
-    pub(crate) failure: Option<String>,
+    pub failure: Option<String>,
     /// Faults and restarts, in order.
-    pub(crate) faults: Vec<Fault>,
+    pub faults: Vec<Fault>,
     /// Processes restarted (agents and, in chaos soaks, the simulator).
     pub restarts: u32,
     /// For each agent restart: did it resume with the checkpointed values?
-    pub(crate) resumes: Vec<ResumeCheck>,
+    pub resumes: Vec<ResumeCheck>,
     /// The run's histograms: round trip, floor, and each keeper's compute time.
-    pub(crate) histograms: Vec<Latency>,
+    pub histograms: Vec<Latency>,
     /// Messages refused, by process (the simulator and each keeper, all incarnations).
     pub rejected: BTreeMap<String, Rejections>,
     /// Real time: the cycles whose work ran past their deadline, by process
@@ -72,7 +72,7 @@ pub struct RunRecord {
     /// Wall-clock seconds of the run.
     pub seconds: f64,
     /// Files of the run's namespace left after cleanup (0 unless cleanup failed).
-    pub(crate) leftover_files: usize,
+    pub leftover_files: usize,
     /// The run's iceoryx2 prefix.
     pub prefix: String,
     /// How the simulator and the agents were scheduled.

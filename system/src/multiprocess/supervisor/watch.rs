@@ -103,9 +103,9 @@ pub struct Fault {
     /// Seconds since the run's processes started.
     pub seconds: f64,
     /// What happened (e.g. "keeper 2 exited: signal 9 (SIGKILL)").
-    pub(crate) kind: String,
+    pub kind: String,
     /// What the supervisor did, and with what result.
-    pub(crate) outcome: String,
+    pub outcome: String,
 }
 
 /// The checkpoint a replacement agent is to resume from, as it was when the

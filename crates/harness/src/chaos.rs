@@ -23,17 +23,16 @@ use std::time::Duration;
 
 use rand::RngExt;
 
-use super::Clock;
-use super::agent::chassis::checkpoint_name;
-use super::garbage::Garbage;
-use super::load::CpuLoad;
-use super::supervisor::observe::{Request, RunView};
-use super::supervisor::results::RunRecord;
-use crate::ipc::namespace::Namespace;
-use crate::ipc::protocol::{Order, Role, Roster};
-use crate::ipc::services::{IpcError, node};
+use crate::garbage::Garbage;
+use crate::load::CpuLoad;
 use learnpnp::learning::persist;
 use learnpnp::rng::{SimRng, seeded};
+use learnpnp_system::ipc::namespace::Namespace;
+use learnpnp_system::ipc::protocol::{Order, Role, Roster};
+use learnpnp_system::ipc::services::{IpcError, node};
+use learnpnp_system::multiprocess::Clock;
+use learnpnp_system::multiprocess::agent::chassis::checkpoint_name;
+use learnpnp_system::multiprocess::supervisor::{Request, RunRecord, RunView};
 
 /// How long an agent stays stopped.
 const STOP_FOR: Duration = Duration::from_secs(2);

@@ -14,11 +14,11 @@ use std::sync::atomic::AtomicBool;
 use plotters::prelude::*;
 use serde::Serialize;
 
-use super::supervisor::{Progress, SupervisorConfig, SupervisorError, supervise};
-use crate::latency::plot::PlotFailure;
 use learnpnp::experiment::plot::{FONT, PLOT_SIZE, colour};
 use learnpnp::experiment::result_dir::ResultDir;
 use learnpnp::experiment::spec::DomainSpec;
+use learnpnp_system::latency::plot::PlotFailure;
+use learnpnp_system::multiprocess::supervisor::{Progress, SupervisorConfig, SupervisorError, supervise};
 
 /// One run of the benchmark.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]

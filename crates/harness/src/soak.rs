@@ -1,7 +1,7 @@
 //! Soak runs: the system runs for a set time (or number of cycles) while the
 //! supervisor samples every process once a second (resident memory, open
 //! file descriptors) and the run's shared-memory files, optionally with
-//! faults injected ([`super::chaos`](crate::multiprocess::chaos)). At the end it writes `soak.csv`,
+//! faults injected ([`crate::chaos`]). At the end it writes `soak.csv`,
 //! `soak.svg` and `soak.json`, and a verdict line.
 //!
 //! Memory growth is measured after a warm-up (the first fifth of each
@@ -19,15 +19,14 @@ use std::time::{Duration, Instant};
 use plotters::prelude::*;
 use serde::Serialize;
 
-use super::chaos::{Chaos, ChaosRecord, SoakClock};
-use super::supervisor::config::{SupervisorError, json_error};
-use super::supervisor::observe::{Request, RunObserver, RunView};
-use super::supervisor::results::RunRecord;
-use super::supervisor::watch::Fault;
-use crate::ipc::namespace::SHM_DIR;
-use crate::latency::plot::PlotFailure;
+use crate::chaos::{Chaos, ChaosRecord, SoakClock};
+use crate::json_error;
 use learnpnp::experiment::plot::{FONT, PLOT_SIZE, colour};
 use learnpnp::experiment::result_dir::ResultWriter;
+use learnpnp_system::ipc::namespace::SHM_DIR;
+use learnpnp_system::latency::plot::PlotFailure;
+pub use learnpnp_system::multiprocess::supervisor::SampleLogError;
+use learnpnp_system::multiprocess::supervisor::{Fault, Request, RunObserver, RunRecord, RunView, SupervisorError};
 
 /// Share of each process's life treated as warm-up.
 const WARM_UP_SHARE: f64 = 0.2;
@@ -190,8 +189,6 @@ impl Soak {
         log.flush();
     }
 }
-
-pub use super::supervisor::config::SampleLogError;
 
 /// `soak.csv`, written as the samples are taken.
 #[derive(Debug)]

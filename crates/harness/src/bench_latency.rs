@@ -14,16 +14,17 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 
-use super::Clock;
-use super::host::simulator::{FLOOR, ROUND_TRIP};
-use super::load::CpuLoad;
-use super::supervisor::{
-    Request, RunObserver, RunRecord, RunView, SupervisorConfig, SupervisorError, json_error, supervise_run,
-};
-use crate::ipc::wait::WaitStrategy;
-use crate::latency::plot::{ReferenceLine, percentile_plot};
-use crate::latency::{Latency, Percentiles};
+use crate::json_error;
+use crate::load::CpuLoad;
 use learnpnp::experiment::result_dir::{Progress, ResultDir};
+use learnpnp_system::ipc::wait::WaitStrategy;
+use learnpnp_system::latency::plot::{ReferenceLine, percentile_plot};
+use learnpnp_system::latency::{Latency, Percentiles};
+use learnpnp_system::multiprocess::Clock;
+use learnpnp_system::multiprocess::host::simulator::{FLOOR, ROUND_TRIP};
+use learnpnp_system::multiprocess::supervisor::{
+    Request, RunObserver, RunRecord, RunView, SupervisorConfig, SupervisorError, supervise_run,
+};
 
 /// One configuration of the benchmark.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,5 +1,5 @@
 //! Garbage on a run's services, published as a foreign process would: what
-//! chaos soaks inject ([`Garbage::every_kind`](crate::multiprocess::garbage::Garbage::every_kind)) and what the tests send to
+//! chaos soaks inject ([`Garbage::every_kind`](crate::garbage::Garbage::every_kind)) and what the tests send to
 //! check that every process refuses and counts it.
 
 use std::fmt::Debug;
@@ -13,8 +13,8 @@ use shm_layouts::{
     SENDER_WORLD, WorldCommand, WorldSnapshot, WorldVocabulary, services,
 };
 
-use super::host::simulator::floor_ping;
-use crate::ipc::services::{Ipc, IpcError, Pub, fail};
+use learnpnp_system::ipc::services::{Ipc, IpcError, Pub, fail};
+use learnpnp_system::multiprocess::host::simulator::floor_ping;
 
 /// Messages to publish on a run's services, by service (empty: none there).
 #[derive(Debug, Clone, Default)]
