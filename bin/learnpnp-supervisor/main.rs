@@ -37,7 +37,7 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Run the system (what it does with no command).
-    Run(RunArgs),
+    Run(Box<RunArgs>),
     /// Join a run across hosts as a host of remote agents: its bridge connects
     /// to the run's host (started with --remote-agents), and it runs those
     /// agents here until that host ends the run.
@@ -199,7 +199,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         None => run(cli.run),
-        Some(Command::Run(args)) => run(args),
+        Some(Command::Run(args)) => run(*args),
         Some(Command::Remote(args)) => remote(args),
         Some(Command::LinkCerts(args)) => link_certs(args),
     };
