@@ -705,7 +705,7 @@ fn until(active: &Active) -> f64 {
     }
 }
 
-/// The supervisor's command that runs [`publish_garbage`] in a process of
+/// `learnpnp-soak`'s command that runs [`publish_garbage`] in a process of
 /// its own (a foreign process, as far as the run can tell).
 pub const GARBAGE_COMMAND: &str = "publish-garbage";
 
