@@ -154,7 +154,7 @@ pub(crate) struct RunArgs {
     pub(crate) flags: ExperimentOptions,
 }
 
-/// Runs of a run of the system when the user gives no --runs: one.
+/// The experiment's runs when the user gives no --runs: one.
 const DEFAULT_RUNS: usize = 1;
 
 /// Learning episodes of a world run when the user gives no --episodes.
