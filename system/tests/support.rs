@@ -48,6 +48,23 @@ pub(crate) fn supervisor_binary() -> PathBuf {
         .unwrap_or_else(|| workspace_binary("learnpnp-supervisor"))
 }
 
+/// A short lock-step Keepaway run (150 episodes, evaluated every 50) with its
+/// seed and learner; without them, its first 8 arguments.
+pub(crate) const SHORT: [&str; 12] = [
+    "--episodes",
+    "150",
+    "--eval-every",
+    "50",
+    "--eval-episodes",
+    "3",
+    "--greedy-episodes",
+    "3",
+    "--seed",
+    "5",
+    "--algo",
+    "soft-sosmc",
+];
+
 /// A test's directories: results, and iceoryx2 namespaces (kept short:
 /// unix socket paths are).
 pub(crate) struct Sandbox {

@@ -26,9 +26,9 @@ use crate::support::{
     Sandbox, assert_plays_in_process, foreign_node, identity, kill, pids_with_all, prefixes, stop, summary, wait_until,
 };
 
-/// The runs' protocol: the hosts' short one (150 episodes) without its seed and algorithm.
+/// The runs' protocol: the short one without its seed and algorithm.
 fn protocol() -> &'static [&'static str] {
-    &crate::hosts::SHORT[..8]
+    &crate::support::SHORT[..8]
 }
 
 /// The learner and seed of every run here.

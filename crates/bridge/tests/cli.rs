@@ -1,7 +1,5 @@
 //! `learnpnp-bridge` as a supervisor starts it: a certificates directory
-//! that is not there is refused, naming it, before any connection. (Also
-//! makes `cargo test --workspace` build the binary the system crate's
-//! multi-host tests start.)
+//! that is not there is refused, naming it, before any connection.
 
 use std::process::Command;
 

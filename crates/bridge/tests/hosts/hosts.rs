@@ -11,11 +11,12 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
-use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Duration;
 
-use crate::support::{Sandbox, kill, pids_with_all, prefixes, summary, wait_until};
+use crate::support::{
+    SHORT, Sandbox, kill, pids_with_all, prefixes, summary, supervisor_binary, wait_until, workspace_binary,
+};
 use crate::util::{shipped_arg, text};
 use serde_json::Value;
 
@@ -42,39 +43,22 @@ fn ip(args: &[&str]) -> bool {
         .is_ok_and(|s| s.success())
 }
 
-/// Builds the bridge's binary beside the supervisor's if it is missing, once
-/// per test binary: it is the crate `learnpnp-bridge`, which `cargo test -p
-/// learnpnp-system` alone does not build (`cargo test --workspace` does).
-fn build_bridge() {
-    static BUILT: OnceLock<()> = OnceLock::new();
-    BUILT.get_or_init(|| {
-        let supervisor = PathBuf::from(env!("CARGO_BIN_EXE_learnpnp-supervisor"));
-        // `cargo test --workspace` builds it (the bridge crate's own test
-        // needs it): building it again here with only its package selected
-        // would build zenoh with another feature set, minutes of work.
-        if supervisor.with_file_name("learnpnp-bridge").is_file() {
-            return;
-        }
-        let release = supervisor
-            .parent()
-            .and_then(Path::file_name)
-            .is_some_and(|dir| dir == "release");
-        let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-        let mut build = Command::new(cargo);
-        build.args(["build", "-p", "learnpnp-bridge", "--bin", "learnpnp-bridge"]);
-        if release {
-            build.arg("--release");
-        }
-        let status = build.status().expect("cargo runs");
-        assert!(status.success(), "building learnpnp-bridge failed: {status}");
-    });
+/// Checks that the supervisor will start this package's bridge: it looks for
+/// it beside itself, in `target/<profile>/`, where cargo built both.
+fn assert_bridge_beside_supervisor() {
+    let bridge = Path::new(env!("CARGO_BIN_EXE_learnpnp-bridge"));
+    let beside = supervisor_binary().with_file_name("learnpnp-bridge");
+    assert_eq!(
+        bridge, beside,
+        "the supervisor starts the bridge beside itself, not the one cargo built for this test"
+    );
 }
 
 impl Hosts {
     /// Two namespaces joined by a veth pair 198.18.N.1 <-> 198.18.N.2, or
     /// loopback if they cannot be made.
     pub(crate) fn new() -> Self {
-        build_bridge();
+        assert_bridge_beside_supervisor();
         let n = HOSTS.fetch_add(1, Ordering::Relaxed);
         let tag = format!("{}{n}", std::process::id() % 100_000);
         let (na, nb) = (format!("lpa{tag}"), format!("lpb{tag}"));
@@ -118,7 +102,7 @@ impl Hosts {
 
     /// Makes the run's certificates in `dir` (host A's named by its address).
     pub(crate) fn certs(&self, dir: &Path) -> Certs {
-        let made = Command::new(env!("CARGO_BIN_EXE_learnpnp-supervisor"))
+        let made = Command::new(supervisor_binary())
             .args(["link-certs", "--host-a", &self.a, "--dir"])
             .arg(dir)
             .output()
@@ -177,7 +161,7 @@ pub(crate) struct Certs {
 /// Host B's supervisor, joining host A's run at `endpoint` with host B's
 /// certificates, its files in `out`.
 pub(crate) fn remote(sandbox: &Sandbox, out: &Path, endpoint: &str, certs: &Certs) -> Command {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_learnpnp-supervisor"));
+    let mut command = Command::new(supervisor_binary());
     command
         .args([
             "remote",
@@ -215,21 +199,6 @@ pub(crate) fn finished(child: Child) -> Output {
 pub(crate) fn remote_summary(out: &Path) -> Value {
     serde_json::from_str(&fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
 }
-
-pub(crate) const SHORT: [&str; 12] = [
-    "--episodes",
-    "150",
-    "--eval-every",
-    "50",
-    "--eval-episodes",
-    "3",
-    "--greedy-episodes",
-    "3",
-    "--seed",
-    "5",
-    "--algo",
-    "soft-sosmc",
-];
 
 /// Host A's arguments for [`SHORT`] with keeper 3 on host B, whose bridge
 /// connects to `endpoint` (host A's certificates in `certs`).
@@ -304,9 +273,10 @@ fn a_keeper_on_another_host_plays_exactly_the_one_host_episodes() {
 
 /// The corridor world, agent 1 on host B, in real time at 20 ms a cycle.
 fn realtime_world(episodes: &str) -> Vec<String> {
+    let corridor = workspace_binary("learnpnp-corridor").display().to_string();
     [
         "--world-cmd",
-        env!("CARGO_BIN_EXE_learnpnp-corridor"),
+        &corridor,
         "--plan",
         &shipped_arg("corridor.pnml"),
         "--algo",

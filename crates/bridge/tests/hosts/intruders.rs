@@ -21,8 +21,8 @@ use shm_layouts::{
 };
 use zenoh::{Config, Session, Wait};
 
-use crate::hosts::{Certs, Hosts, SHORT, finished, host_a, keeper_3_remote, remote, remote_summary};
-use crate::support::{Sandbox, first_episode_event, prefixes, summary, wait_until};
+use crate::hosts::{Certs, Hosts, finished, host_a, keeper_3_remote, remote, remote_summary};
+use crate::support::{SHORT, Sandbox, first_episode_event, prefixes, summary, wait_until};
 use crate::util::text;
 
 /// What an intruder holds.
