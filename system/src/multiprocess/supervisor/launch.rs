@@ -4,7 +4,7 @@
 //! process group), so that the supervisor alone decides how they stop.
 
 use learnpnp::named::Named;
-use std::ffi::OsString;
+use std::ffi::{OsStr, OsString};
 use std::fs::File;
 use std::io;
 use std::os::unix::process::CommandExt;
@@ -88,7 +88,7 @@ pub enum LaunchError {
 /// The bridge's binary (runs across hosts).
 pub(crate) const BRIDGE_BINARY: &str = "learnpnp-bridge";
 
-/// The view's binary (a run with a view).
+/// The view's binary (a run with a view; the package `learnpnp-view-process`).
 pub(crate) const VIEW_BINARY: &str = "learnpnp-view";
 
 /// The simulator's, the agents', the bridge's and the view's binaries.
@@ -150,17 +150,17 @@ impl Binaries {
             source,
         })?;
         let dir = exe.parent().map(Path::to_path_buf).unwrap_or_default();
-        // (binary, its package, whether the run starts it)
+        // (binary, whether the run starts it)
         let binaries = [
-            (SIM_BINARY, SYSTEM_PACKAGE, true),
-            (AGENT_BINARY, SYSTEM_PACKAGE, true),
-            (VIEW_BINARY, SYSTEM_PACKAGE, needs.view),
-            (BRIDGE_BINARY, BRIDGE_PACKAGE, needs.bridge),
+            (SIM_BINARY, true),
+            (AGENT_BINARY, true),
+            (VIEW_BINARY, needs.view),
+            (BRIDGE_BINARY, needs.bridge),
         ];
-        let missing: Vec<(&str, &str)> = binaries
+        let missing: Vec<&str> = binaries
             .into_iter()
-            .filter(|&(binary, _, started)| started && !dir.join(binary).is_file())
-            .map(|(binary, package, _)| (binary, package))
+            .filter(|&(binary, started)| started && !dir.join(binary).is_file())
+            .map(|(binary, _)| binary)
             .collect();
         if !missing.is_empty() && std::env::var_os("CARGO").is_some() {
             build_with_cargo(&dir, &missing)?;
@@ -179,35 +179,27 @@ pub struct Needs {
     pub bridge: bool,
 }
 
-/// The package of the simulator's, the agents' and the view's binaries.
-const SYSTEM_PACKAGE: &str = "learnpnp-system";
-
-/// The bridge's package (a package of its own: it links Zenoh, the supervisor does not).
-const BRIDGE_PACKAGE: &str = "learnpnp-bridge";
-
-/// Builds the `missing` sibling binaries (each with its package) with the
-/// cargo that runs us (`cargo run`), in the profile of the directory we run from.
-fn build_with_cargo(dir: &Path, missing: &[(&str, &str)]) -> Result<(), LaunchError> {
+/// Builds the `missing` sibling binaries with the cargo that runs us (`cargo
+/// run`), in the profile of the directory we run from. Cargo builds them in
+/// the workspace's root, selecting them with `--bin` alone, as `cargo run`
+/// there selected the supervisor: the same packages, so the same features,
+/// and every dependency built for the supervisor is reused (naming their
+/// packages with `-p` would resolve the features anew and rebuild most of them).
+fn build_with_cargo(dir: &Path, missing: &[&str]) -> Result<(), LaunchError> {
+    let binaries = missing.join(", ");
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let mut command = Command::new(cargo);
-    command.arg("build");
-    let mut packages: Vec<&str> = missing.iter().map(|&(_, package)| package).collect();
-    packages.dedup();
-    for package in packages {
-        command.args(["-p", package]);
-    }
-    for &(binary, _) in missing {
+    let root = workspace_root(&cargo).map_err(|source| LaunchError::Cargo {
+        binaries: binaries.clone(),
+        source,
+    })?;
+    let mut command = Command::new(&cargo);
+    command.arg("build").current_dir(root);
+    for binary in missing {
         command.args(["--bin", binary]);
     }
     if dir.file_name().is_some_and(|n| n == "release") {
         command.arg("--release");
     }
-    if let Some(manifest) = std::env::var_os("CARGO_MANIFEST_DIR") {
-        command
-            .arg("--manifest-path")
-            .arg(Path::new(&manifest).join("Cargo.toml"));
-    }
-    let binaries = missing.iter().map(|&(binary, _)| binary).collect::<Vec<_>>().join(", ");
     eprintln!(
         "building {binaries} (cargo run builds only the supervisor; the view and the bridge are built when a run asks for them)"
     );
@@ -220,6 +212,28 @@ fn build_with_cargo(dir: &Path, missing: &[(&str, &str)]) -> Result<(), LaunchEr
     } else {
         Err(LaunchError::Build { binaries, status })
     }
+}
+
+/// The workspace's root directory, as `cargo` locates it from the package
+/// `cargo run` ran (its directory in `CARGO_MANIFEST_DIR`; else from ours).
+fn workspace_root(cargo: &OsStr) -> io::Result<PathBuf> {
+    let mut locate = Command::new(cargo);
+    locate.args(["locate-project", "--workspace", "--message-format", "plain"]);
+    if let Some(package) = std::env::var_os("CARGO_MANIFEST_DIR") {
+        locate.current_dir(package);
+    }
+    let output = locate.stdin(Stdio::null()).stderr(Stdio::inherit()).output()?;
+    if !output.status.success() {
+        return Err(io::Error::other(format!(
+            "cargo locate-project failed: {}",
+            output.status
+        )));
+    }
+    let manifest = PathBuf::from(String::from_utf8_lossy(&output.stdout).trim());
+    manifest
+        .parent()
+        .map(Path::to_path_buf)
+        .ok_or_else(|| io::Error::other(format!("no workspace root above {}", manifest.display())))
 }
 
 impl RunContext {
