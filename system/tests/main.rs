@@ -13,5 +13,4 @@ mod hosts {
 mod ipc_wait;
 mod multiprocess;
 mod support;
-mod view;
 mod world;
