@@ -12,7 +12,7 @@ use clap::{Parser, ValueEnum};
 use learnpnp_bridge::link::{Endpoints, Security};
 use learnpnp_bridge::refusals::ZenohRefusals;
 use learnpnp_bridge::{BridgeConfig, Side, run};
-use learnpnp_cli::interrupt::Interrupt;
+use learnpnp_flags::interrupt::Interrupt;
 use learnpnp_system::hosts::certs::HostFiles;
 
 /// Which host the bridge serves.

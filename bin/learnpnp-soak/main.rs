@@ -14,8 +14,8 @@ use std::time::Duration;
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand};
-use learnpnp_cli::args::named;
-use learnpnp_cli::interrupt::Interrupt;
+use learnpnp_flags::args::named;
+use learnpnp_flags::interrupt::Interrupt;
 use learnpnp_harness::bench_latency::{bench_latency, configurations};
 use learnpnp_harness::bench_world::bench_world;
 use learnpnp_harness::chaos::{Chaos, GARBAGE_COMMAND, SoakLength, publish_garbage};

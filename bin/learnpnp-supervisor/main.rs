@@ -14,7 +14,7 @@ use std::time::Duration;
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
-use learnpnp_cli::interrupt::Interrupt;
+use learnpnp_flags::interrupt::Interrupt;
 use learnpnp_system::hosts::certs::{self, CertRequest};
 use learnpnp_system::ipc::namespace::clean_stale;
 use learnpnp_system::multiprocess::supervisor::Progress;

@@ -15,9 +15,9 @@ use learnpnp::experiment::options::ExperimentOptions;
 use learnpnp::experiment::result_dir::ResultDir;
 use learnpnp::experiment::spec::{Algorithm, DomainSpec};
 use learnpnp::named::Named;
-use learnpnp_cli::args::named;
-use learnpnp_cli::interrupt::Interrupt;
-use learnpnp_cli::view::ViewFlags;
+use learnpnp_flags::args::named;
+use learnpnp_flags::interrupt::Interrupt;
+use learnpnp_flags::view::ViewFlags;
 use learnpnp_system::hosts::PLAIN_TCP_WARNING;
 use learnpnp_system::hosts::certs::HostFiles;
 use learnpnp_system::ipc::namespace::clean_stale;
@@ -235,7 +235,7 @@ pub(crate) fn prepare(args: &RunArgs, episodes: u64) -> Result<(SupervisorConfig
             stale.removed, stale.prefix
         );
     }
-    let view = (args.view.options().is_some() || args.view_jsonl.is_some()).then(|| ViewConfig {
+    let view = (args.view.asked() || args.view_jsonl.is_some()).then(|| ViewConfig {
         address: args.view.view,
         record_mcap: args.view.record_mcap.clone(),
         pnp_monitor: args.view.pnp_monitor,

@@ -15,8 +15,8 @@ use std::sync::{Arc, Mutex};
 
 use anyhow::{Context, Result};
 use clap::Parser;
-use learnpnp_cli::interrupt::Interrupt;
 use learnpnp_feed::{FeedEvent, FeedSink, KINDS};
+use learnpnp_flags::interrupt::Interrupt;
 use learnpnp_system::child_args::RunContextArgs;
 use learnpnp_system::multiprocess::{RunContext, view_process};
 use learnpnp_view::{View, ViewOptions};

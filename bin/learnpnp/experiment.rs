@@ -14,9 +14,10 @@ use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_
 use learnpnp::experiment::shard::{Shard, ShardRecord};
 use learnpnp::experiment::spec::ExperimentSpec;
 use learnpnp::feed::FeedSink;
-use learnpnp_cli::args::named;
-use learnpnp_cli::interrupt::Interrupt;
-use learnpnp_cli::view::ViewFlags;
+use learnpnp_flags::args::named;
+use learnpnp_flags::interrupt::Interrupt;
+use learnpnp_flags::view::ViewFlags;
+use learnpnp_view::{View, ViewError, ViewOptions};
 
 use super::Interrupted;
 
@@ -196,7 +197,7 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
         "configuration ({threads} worker threads; saved in {} with the results):\n{configuration}",
         args.out.join("summary.json").display()
     );
-    let view = args.view.start().context("starting the view")?.map(Arc::new);
+    let view = start_view(&args.view).context("starting the view")?.map(Arc::new);
     let feed = view.clone().map(|v| v as Arc<dyn FeedSink>);
     let finished = run_into(
         &spec,
@@ -246,4 +247,25 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Starts the view `flags` ask for in this process (`None` when none is),
+/// and says on standard error where it is served.
+fn start_view(flags: &ViewFlags) -> Result<Option<View>, ViewError> {
+    if !flags.asked() {
+        return Ok(None);
+    }
+    let view = View::start(ViewOptions {
+        address: flags.view,
+        record_mcap: flags.record_mcap.clone(),
+        pnp_monitor: flags.pnp_monitor,
+        ..ViewOptions::default()
+    })?;
+    if let Some(address) = view.address() {
+        eprintln!("view: http://{address}/ (Foxglove: ws://{address})");
+    }
+    if let Some(address) = view.pnp_monitor_address() {
+        eprintln!("PNP monitor line: tcp://{address}");
+    }
+    Ok(Some(view))
 }

@@ -18,8 +18,8 @@ use learnpnp::experiment::result_dir::ResultDir;
 use learnpnp::experiment::shard::Shard;
 use learnpnp::experiment::spec::{DomainSpec, ExperimentSpec};
 use learnpnp::experiment::verdict::verdict_markdown;
-use learnpnp_cli::args::named;
-use learnpnp_cli::interrupt::Interrupt;
+use learnpnp_flags::args::named;
+use learnpnp_flags::interrupt::Interrupt;
 use learnpnp_keepaway::params::RefereeRule;
 use serde::{Deserialize, Serialize};
 

@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use learnpnp_cli::interrupt::Interrupt;
+use learnpnp_flags::interrupt::Interrupt;
 use learnpnp_view::{View, ViewOptions};
 
 #[derive(Args, Debug)]

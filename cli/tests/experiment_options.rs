@@ -9,7 +9,7 @@ use proptest::prelude::*;
 /// `cases` cases; failures are saved next to this file (integration tests have
 /// no lib.rs for proptest's default to find).
 fn parse(args: &[&str]) -> Result<ExperimentOptions, clap::Error> {
-    learnpnp_cli::args::parse_experiment_flags(args)
+    learnpnp_flags::args::parse_experiment_flags(args)
 }
 
 /// The error text of refused flags.

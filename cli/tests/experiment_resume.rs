@@ -14,7 +14,7 @@ use learnpnp::experiment::runner::{Completed, ExperimentOutput, RunOptions, run_
 use learnpnp::experiment::spec::ExperimentSpec;
 
 fn spec(args: &[&str]) -> ExperimentSpec {
-    learnpnp_cli::args::parse_experiment_flags(args)
+    learnpnp_flags::args::parse_experiment_flags(args)
         .expect("valid flags")
         .spec(DomainName::ParrRussell)
         .expect("a valid spec")

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use learnpnp::domains::keepaway::{KeepawayDomainConfig, KeepawayMode, KeepawayTask};
 use learnpnp::experiment::options::DomainName;
-use learnpnp_cli::args::parse_experiment_flags;
+use learnpnp_flags::args::parse_experiment_flags;
 
 use learnpnp::learning::{EpisodeMode, Learner, RandomLearner};
 use learnpnp::rng::seeded;

@@ -9,7 +9,7 @@ use learnpnp::experiment::options::DomainName;
 use learnpnp::experiment::output::{greedy_text, summary};
 use learnpnp::experiment::presets;
 use learnpnp::experiment::report::summary_markdown;
-use learnpnp_cli::args::parse_experiment_flags;
+use learnpnp_flags::args::parse_experiment_flags;
 
 #[test]
 fn a_baseline_is_the_same_through_reproduce_and_experiment() {

@@ -98,7 +98,7 @@ fn shards_merged_are_the_experiment_one_machine_runs() {
 #[test]
 fn a_partial_shard_is_refused_with_the_runs_it_lacks() {
     let dir = temp_dir("shards-partial");
-    let spec = learnpnp_cli::args::parse_experiment_flags(&EXPERIMENT[2..])
+    let spec = learnpnp_flags::args::parse_experiment_flags(&EXPERIMENT[2..])
         .unwrap()
         .spec(learnpnp::experiment::options::DomainName::ParrRussell)
         .unwrap();

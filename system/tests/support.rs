@@ -14,7 +14,7 @@ use learnpnp::experiment::options::DomainName;
 use learnpnp::experiment::output::write_results;
 use learnpnp::experiment::result_dir::ResultDir;
 use learnpnp::named::Named;
-use learnpnp_cli::args::parse_experiment_flags;
+use learnpnp_flags::args::parse_experiment_flags;
 use learnpnp_system::ipc::namespace::{Namespace, SHM_DIR};
 use learnpnp_system::multiprocess::supervisor::{IDENTITY_FILE, run_work_dir};
 use serde_json::Value;

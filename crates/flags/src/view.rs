@@ -5,7 +5,6 @@ use std::net::SocketAddr;
 use std::path::PathBuf;
 
 use clap::Args;
-use learnpnp_view::{View, ViewError, ViewOptions};
 
 /// Where a run's live feed goes; nothing is served or written unless asked.
 #[derive(Args, Debug, Clone, Default)]
@@ -29,32 +28,8 @@ pub struct ViewFlags {
 }
 
 impl ViewFlags {
-    /// What the view is to do; `None` when no flag asks for one.
-    pub fn options(&self) -> Option<ViewOptions> {
-        if self.view.is_none() && self.record_mcap.is_none() && self.pnp_monitor.is_none() {
-            return None;
-        }
-        Some(ViewOptions {
-            address: self.view,
-            record_mcap: self.record_mcap.clone(),
-            pnp_monitor: self.pnp_monitor,
-            ..ViewOptions::default()
-        })
-    }
-
-    /// Starts the view the flags ask for (`None` when none is), and says on
-    /// standard error where it is served.
-    pub fn start(&self) -> Result<Option<View>, ViewError> {
-        let Some(options) = self.options() else {
-            return Ok(None);
-        };
-        let view = View::start(options)?;
-        if let Some(address) = view.address() {
-            eprintln!("view: http://{address}/ (Foxglove: ws://{address})");
-        }
-        if let Some(address) = view.pnp_monitor_address() {
-            eprintln!("PNP monitor line: tcp://{address}");
-        }
-        Ok(Some(view))
+    /// Whether any flag asks for the view.
+    pub fn asked(&self) -> bool {
+        self.view.is_some() || self.record_mcap.is_some() || self.pnp_monitor.is_some()
     }
 }
