@@ -194,6 +194,14 @@ fn build_with_cargo(dir: &Path, missing: &[&str]) -> Result<(), LaunchError> {
     })?;
     let mut command = Command::new(&cargo);
     command.arg("build").current_dir(root);
+    // `cargo run` gave us its package's variables; a build script that
+    // watches one (ring's watches CARGO_MANIFEST_DIR) would run again, and
+    // everything above it be rebuilt.
+    for (name, _) in std::env::vars_os() {
+        if is_package_variable(&name) {
+            command.env_remove(name);
+        }
+    }
     for binary in missing {
         command.args(["--bin", binary]);
     }
@@ -212,6 +220,18 @@ fn build_with_cargo(dir: &Path, missing: &[&str]) -> Result<(), LaunchError> {
     } else {
         Err(LaunchError::Build { binaries, status })
     }
+}
+
+/// Whether `name` is one of the variables `cargo run` describes the running
+/// binary's package with (not cargo's own settings, such as `CARGO_TARGET_DIR`).
+fn is_package_variable(name: &OsStr) -> bool {
+    name.to_str().is_some_and(|name| {
+        name.starts_with("CARGO_PKG_")
+            || matches!(
+                name,
+                "CARGO_MANIFEST_DIR" | "CARGO_MANIFEST_PATH" | "CARGO_CRATE_NAME" | "CARGO_BIN_NAME"
+            )
+    })
 }
 
 /// The workspace's root directory, as `cargo` locates it from the package
