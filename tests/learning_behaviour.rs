@@ -147,6 +147,12 @@ fn synthetic_episode(learner: &mut dyn Learner, ret: f64) {
 
 /// [`synthetic_episode`] begun with `start`.
 fn synthetic_episode_from(learner: &mut dyn Learner, start: EpisodeStart, ret: f64) {
+    one_choice_episode(learner, start, |_| ret);
+}
+
+/// An episode begun with `start` of one choice between two options, which
+/// returns `reward` of the option taken.
+fn one_choice_episode(learner: &mut dyn Learner, start: EpisodeStart, reward: impl FnOnce(usize) -> f64) {
     learner.begin_episode(start);
     let state = Marking::from_tokens(vec![1, 0, 0]);
     let options = [Marking::from_tokens(vec![0, 1, 0]), Marking::from_tokens(vec![0, 0, 1])];
@@ -154,7 +160,7 @@ fn synthetic_episode_from(learner: &mut dyn Learner, start: EpisodeStart, ret: f
     let i = learner.choose(PlanKey::ROOT, &state, &options);
     learner.transition(PlanKey::ROOT, &options[i], 0.0, 1);
     learner.end_episode(PendingReward {
-        reward: ret,
+        reward: reward(i),
         elapsed: 1,
     });
 }
@@ -249,16 +255,7 @@ fn the_threshold_rule_overrides_a_forced_exploration() {
 
 /// One choice between two options; option 0 returns -1, option 1 returns -2.
 fn two_returns_episode(learner: &mut dyn Learner) {
-    learner.begin_episode(EpisodeStart::LEARN);
-    let state = Marking::from_tokens(vec![1, 0, 0]);
-    let options = [Marking::from_tokens(vec![0, 1, 0]), Marking::from_tokens(vec![0, 0, 1])];
-    learner.plan_started(PlanKey::ROOT, &state);
-    let i = learner.choose(PlanKey::ROOT, &state, &options);
-    learner.transition(PlanKey::ROOT, &options[i], 0.0, 1);
-    learner.end_episode(PendingReward {
-        reward: if i == 0 { -1.0 } else { -2.0 },
-        elapsed: 1,
-    });
+    one_choice_episode(learner, EpisodeStart::LEARN, |i| if i == 0 { -1.0 } else { -2.0 });
 }
 
 /// Figure 4.3's assessment counts exploiting episodes since the last

@@ -12,11 +12,6 @@
 #[path = "../../tests/util.rs"]
 mod util;
 
-/// The short run's protocol, where `multiprocess.rs` looks for it (the
-/// multi-host tests that held it are the bridge package's now).
-mod hosts {
-    pub(crate) use crate::support::SHORT;
-}
 mod ipc_wait;
 mod multiprocess;
 mod support;

@@ -269,7 +269,7 @@ fn garbage_on_the_services_is_rejected_and_never_applied() {
     let sandbox = Sandbox::new("garbage");
     let out = sandbox.out("system");
     // The hosts' short protocol without its seed and algorithm.
-    let protocol = &crate::hosts::SHORT[..8];
+    let protocol = &crate::support::SHORT[..8];
     let child = sandbox
         .supervisor("system", &["--seed", "7", "--algo", "soft-sosmc"])
         .args(protocol)
