@@ -4,7 +4,7 @@
 # first, in its own directory:
 #   cargo bench --no-run -p learnpnp -p learnpnp-system \
 #     --bench executor_step --bench keepaway_sim --bench keepaway_plans --bench parr_russell
-#   cargo build --release -p learnpnp-system --bins
+#   cargo build --release --bins
 # Usage: BASE=../old HEAD=. ROUNDS=3 SUPERVISOR_ROUNDS=3 OUT=/tmp/structure-speed \
 #          bash scripts/measure-structure-speed.sh
 # Each bench binary runs once a round on each side, the two sides next to each

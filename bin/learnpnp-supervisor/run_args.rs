@@ -174,7 +174,7 @@ fn world_command(args: &RunArgs) -> Result<Option<String>> {
     let world = exe.with_file_name("learnpnp-ros2-world");
     if !world.exists() {
         bail!(
-            "--ros2: the ROS 2 world {} is not built (build it: cargo build --release -p learnpnp-ros2)",
+            "--ros2: the ROS 2 world {} is not built (build it: cargo build --release --bin learnpnp-ros2-world)",
             world.display()
         );
     }

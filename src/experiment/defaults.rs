@@ -73,6 +73,22 @@ fn learner_of(
     }
 }
 
+/// The one-step and eligibility-trace learners over the plan's choices
+/// (undiscounted, epsilon-greedy on `epsilon`, values starting at
+/// `initial_value`), by their lambda and target.
+fn td_over_choices(alpha: f64, epsilon: Schedule, initial_value: f64) -> impl Fn(f64, Target) -> TdConfig {
+    move |lambda, target| TdConfig {
+        gamma: 1.0,
+        alpha,
+        lambda,
+        target,
+        scope: Scope::Choices,
+        exploration: Exploration::EpsilonGreedy(epsilon),
+        initial_value,
+        consistent: false,
+    }
+}
+
 /// Keepaway's defaults (thesis chapter 7; choices documented in RESULTS.md).
 /// Returns are episode durations in seconds.
 fn keepaway_learner(algorithm: Algorithm, mode: KeepawayMode) -> LearnerSpec {
@@ -97,21 +113,16 @@ fn keepaway_learner(algorithm: Algorithm, mode: KeepawayMode) -> LearnerSpec {
         unestimated: Unestimated::None,
         exploit: ExploitPolicy::Greedy,
     };
-    let td = |lambda: f64, target: Target| TdConfig {
-        gamma: 1.0,
-        alpha: if position { 0.1 } else { 0.125 },
-        lambda,
-        target,
-        scope: Scope::Choices,
-        exploration: Exploration::EpsilonGreedy(if position {
+    let td = td_over_choices(
+        if position { 0.1 } else { 0.125 },
+        if position {
             // One decision per episode: 4500 decisions are 4500 episodes.
             Schedule::linear(0.2, 0.0, 4500)
         } else {
             Schedule::constant(0.01)
-        }),
-        initial_value: 0.0,
-        consistent: false,
-    };
+        },
+        0.0,
+    );
     learner_of(
         algorithm,
         sosmc,
@@ -132,20 +143,15 @@ pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec
     let sutton = matches!(domain, DomainSpec::Sutton { .. });
     // Figure 4.3: the assessment with k = 50, memoryless averages (4.2.2, 4.3).
     let nmdp = matches!(domain, DomainSpec::Nmdp { .. });
-    let td = |lambda: f64, target: Target| TdConfig {
-        gamma: 1.0,
-        alpha: if sutton { 0.1 } else { 0.01 },
-        lambda,
-        target,
-        scope: Scope::Choices,
-        exploration: Exploration::EpsilonGreedy(if sutton {
+    let td = td_over_choices(
+        if sutton { 0.1 } else { 0.01 },
+        if sutton {
             Schedule::constant(0.1)
         } else {
             Schedule::linear(0.2, 0.0, 80_000)
-        }),
-        initial_value: if sutton { b.high } else { b.low },
-        consistent: false,
-    };
+        },
+        if sutton { b.high } else { b.low },
+    );
     let sosmc = |sigma: Sigma, initial: Schedule, assessing: Schedule| SoSmcConfig {
         gamma: 1.0,
         initial_phase: if sutton { 0 } else { 100 },
@@ -204,16 +210,7 @@ pub fn default_learner(algorithm: Algorithm, domain: &DomainSpec) -> LearnerSpec
 /// return no policy falls below gives it as `initial_value` with
 /// `unestimated="none"` for the thesis's rule.
 pub fn plan_learner(algorithm: Algorithm) -> LearnerSpec {
-    let td = |lambda: f64, target: Target| TdConfig {
-        gamma: 1.0,
-        alpha: 0.1,
-        lambda,
-        target,
-        scope: Scope::Choices,
-        exploration: Exploration::EpsilonGreedy(Schedule::constant(0.1)),
-        initial_value: 0.0,
-        consistent: false,
-    };
+    let td = td_over_choices(0.1, Schedule::constant(0.1), 0.0);
     let sosmc = |sigma: Sigma, initial: Schedule, assessing: Schedule| SoSmcConfig {
         gamma: 1.0,
         initial_phase: 100,

@@ -427,7 +427,7 @@ fn a_world_whose_program_does_not_exist_is_an_error_naming_it() {
     let stderr = text(&output.stderr);
     assert!(
         stderr.contains("/nonexistent/learnpnp-ros2-world does not exist")
-            && stderr.contains("cargo build --release -p learnpnp-ros2"),
+            && stderr.contains("cargo build --release --bin learnpnp-ros2-world"),
         "{stderr}"
     );
 }

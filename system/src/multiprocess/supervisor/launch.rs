@@ -431,10 +431,8 @@ pub(crate) fn spawn_world(
 fn build_hint(program: &str) -> String {
     let name = Path::new(program).file_name().map(|n| n.to_string_lossy().into_owned());
     match name.as_deref() {
-        Some("learnpnp-ros2-world") => "build it: cargo build --release -p learnpnp-ros2".into(),
-        Some("learnpnp-corridor") => {
-            "build it: cargo build --release -p learnpnp-system --bin learnpnp-corridor".into()
-        }
+        Some("learnpnp-ros2-world") => "build it: cargo build --release --bin learnpnp-ros2-world".into(),
+        Some("learnpnp-corridor") => "build it: cargo build --release --bin learnpnp-corridor".into(),
         _ => "check the world's command (--world-cmd)".into(),
     }
 }
