@@ -20,14 +20,16 @@ fn run(arg: Option<String>) -> Result<(), Box<dyn std::error::Error>> {
     let dir = arg.map_or_else(|| std::env::temp_dir().join("learnpnp-build-and-save"), PathBuf::from);
     std::fs::create_dir_all(&dir)?;
 
-    // The penalty kick of thesis Figure 3.6: walk straight or turn, then kick.
-    let mut b = PlanBuilder::new("penalty_kick_plain");
+    // A delivery robot: it reaches the office by one of three routes (the
+    // choice point a learner will settle), then hands the parcel over.
+    let mut b = PlanBuilder::new("deliver");
     let start = b.initial_place("start");
-    let ready = b.place("ready");
-    b.action_into(start, "WalkStraight", ready);
-    b.action_into(start, "Turn", ready);
     let goal = b.goal_place();
-    b.action_into(ready, "Kick", goal);
+    let at_office = b.place("at_office");
+    for route in ["ViaCorridor", "ViaLab", "ViaStairs"] {
+        b.action_into(start, route, at_office);
+    }
+    b.action_into(at_office, "HandOver", goal);
 
     // The net as the file will hold it, then the plan it means.
     let net = b.build_net()?;
@@ -36,8 +38,8 @@ fn run(arg: Option<String>) -> Result<(), Box<dyn std::error::Error>> {
     print!("{report}");
     assert!(report.passed(), "the plan passes every check");
 
-    let jarp = dir.join("penalty_kick_plain.pnml");
-    let standard = dir.join("penalty_kick_plain.std.pnml");
+    let jarp = dir.join("deliver.pnml");
+    let standard = dir.join("deliver.std.pnml");
     pnml::write_file(&net, Dialect::Jarp, &jarp)?;
     pnml::write_file(&net, Dialect::Standard, &standard)?;
 
@@ -45,7 +47,7 @@ fn run(arg: Option<String>) -> Result<(), Box<dyn std::error::Error>> {
     for file in [&jarp, &standard] {
         let back = load_plan(file, AllowedAtoms::Open)?;
         assert_eq!(back.net().places().len(), plan.net().places().len());
-        assert_eq!(back.actions().len(), 3);
+        assert_eq!(back.actions().len(), 4);
         println!(
             "wrote {} ({} places, {} transitions)",
             file.display(),

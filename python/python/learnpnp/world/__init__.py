@@ -17,65 +17,11 @@ The message types (``WorldSnapshot``, ``WorldCommand``, ...) mirror
 iceoryx2 package (``pip install iceoryx2==0.10.0``, or the ``world`` extra).
 """
 
-from .layouts import (
-    MAX_ACTIONS,
-    MAX_AGENTS,
-    MAX_ARGS,
-    MAX_ATOMS,
-    MAX_FLUENTS,
-    MESSAGE_TYPES,
-    NAME_LEN,
-    NAMES_PER_PART,
-    NO_ACTION,
-    PROTOCOL_VERSION,
-    SENDER_SUPERVISOR,
-    SENDER_WORLD,
-    ActionStatus,
-    AgentReport,
-    Control,
-    ControlCommand,
-    EpisodeStatus,
-    Header,
-    Heartbeat,
-    Reject,
-    Report,
-    State,
-    WorldCommand,
-    WorldSnapshot,
-    WorldVocabulary,
-)
+from . import layouts
+from .layouts import *  # noqa: F403 (the constants and message types, as layouts lists them)
 from .ports import WorldError
 from .record import RecordEpisodes
 from .server import RunSettings, serve
 
-__all__ = [
-    "RecordEpisodes",
-    "MAX_ACTIONS",
-    "MAX_AGENTS",
-    "MAX_ARGS",
-    "MAX_ATOMS",
-    "MAX_FLUENTS",
-    "MESSAGE_TYPES",
-    "NAME_LEN",
-    "NAMES_PER_PART",
-    "NO_ACTION",
-    "PROTOCOL_VERSION",
-    "SENDER_SUPERVISOR",
-    "SENDER_WORLD",
-    "ActionStatus",
-    "AgentReport",
-    "Control",
-    "ControlCommand",
-    "EpisodeStatus",
-    "Header",
-    "Heartbeat",
-    "Reject",
-    "Report",
-    "RunSettings",
-    "State",
-    "WorldCommand",
-    "WorldError",
-    "WorldSnapshot",
-    "WorldVocabulary",
-    "serve",
-]
+__all__ = ["RecordEpisodes", "RunSettings", "WorldError", "serve"]
+__all__ += layouts.__all__

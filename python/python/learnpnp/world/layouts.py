@@ -14,6 +14,35 @@ from __future__ import annotations
 import ctypes
 from typing import Tuple, Type
 
+#: What ``learnpnp.world`` re-exports: the constants and the message types.
+__all__ = [
+    "MAX_ACTIONS",
+    "MAX_AGENTS",
+    "MAX_ARGS",
+    "MAX_ATOMS",
+    "MAX_FLUENTS",
+    "MESSAGE_TYPES",
+    "NAME_LEN",
+    "NAMES_PER_PART",
+    "NO_ACTION",
+    "PROTOCOL_VERSION",
+    "SENDER_SUPERVISOR",
+    "SENDER_WORLD",
+    "ActionStatus",
+    "AgentReport",
+    "Control",
+    "ControlCommand",
+    "EpisodeStatus",
+    "Header",
+    "Heartbeat",
+    "Reject",
+    "Report",
+    "State",
+    "WorldCommand",
+    "WorldSnapshot",
+    "WorldVocabulary",
+]
+
 #: The version of the protocol; a message with another version is refused.
 PROTOCOL_VERSION = 2
 #: The ``sender`` of a world's messages (the simulator's).
